@@ -1,0 +1,221 @@
+// The double pendulum: parameters, potential, mass matrix, Hamiltonian, Hamilton's equations and
+// their Jacobian (paper Sec. 2 and App. C, generalised to rigid links; derivation in
+// docs/theory.md#model).
+//
+// Every double pendulum (point masses or rigid links) has, with angles measured from the downward
+// vertical,
+//     T = 1/2 A th1'^2 + 1/2 B th2'^2 + C cos(th1 - th2) th1' th2'
+//     V = alpha (1 - cos th1) + beta (1 - cos th2),
+// with, for links of mass m_i, centre-of-mass distances a_i (link 1 from the pivot, link 2 from the
+// joint), moments of inertia I_i about the centres of mass and pivot-to-joint length L1,
+//     A = I1 + m1 a1^2 + m2 L1^2,  B = I2 + m2 a2^2,  C = m2 L1 a2,
+//     alpha = g (m1 a1 + m2 L1),   beta = g m2 a2.
+// Point masses at the link ends (a1 = L1, a2 = L2, I = 0) give the paper's
+// A = (m1+m2) L1^2, B = m2 L2^2, C = m2 L1 L2, alpha = (m1+m2) g L1, beta = m2 g L2.
+//
+// The canonical momenta are l = M(th) th' with M = [[A, C c], [C c, B]], c = cos(th1 - th2), and
+//     det M = A B - C^2 c^2 = D0 + C^2 sin^2(th1 - th2),
+//     D0 := A B - C^2 = (I1 + m1 a1^2)(I2 + m2 a2^2) + m2 L1^2 I2 > 0,
+// written so that no cancellation occurs (NOTE: A B - C^2 evaluated directly loses all digits when
+// m1 << m2). H = 1/2 l^T M^-1 l + V, and Hamilton's equations read (w = M^-1 l, s = sin(th1 - th2))
+//     th1' = w1, th2' = w2,
+//     l1' = -C s w1 w2 - alpha sin th1,   l2' = +C s w1 w2 - beta sin th2,
+// using dH/dq|_l = -dL/dq|_q'.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/real.hpp"
+
+namespace flipflux {
+
+/// A phase-space point (th1, th2, l1, l2): angles and their canonical momenta.
+template <class Real>
+using phase_point = std::array<Real, 4>;
+
+/// The two arms. Arm 2 flips over the down-up saddle (0, pi); arm 1 over the up-down saddle (pi,
+/// 0).
+enum class arm { one = 1, two = 2 };
+
+/// Physical parameters of a double pendulum made of two rigid links (defaults: the paper's
+/// "egalitarian" pendulum, unit point masses on unit massless rods, g = 1).
+template <class Real>
+struct physical_parameters {
+    Real m1{1};  ///< mass of link 1 (> 0)
+    Real m2{1};  ///< mass of link 2 (> 0)
+    Real L1{1};  ///< pivot-to-joint length of link 1 (> 0)
+    Real L2{1};  ///< length of link 2 (> 0); the default of a2
+    Real a1{1};  ///< pivot to the centre of mass of link 1 (> 0); point mass: a1 = L1
+    Real a2{1};  ///< joint to the centre of mass of link 2 (> 0); point mass: a2 = L2
+    Real I1{0};  ///< moment of inertia of link 1 about its centre of mass (>= 0)
+    Real I2{0};  ///< moment of inertia of link 2 about its centre of mass (>= 0)
+    Real g{1};   ///< gravitational acceleration (> 0)
+};
+
+/// The Lagrangian's coefficients: T = A/2 th1'^2 + B/2 th2'^2 + C c th1' th2',
+/// V = alpha (1 - cos th1) + beta (1 - cos th2); D0 = A B - C^2 (computed without cancellation).
+template <class Real>
+struct lagrangian_coefficients {
+    Real A, B, C, alpha, beta, D0;
+};
+
+/// Derives the coefficients, validating the parameters (throws input_error naming the parameter).
+template <class Real>
+lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p) {
+    using boost::multiprecision::isfinite;
+    using std::isfinite;
+    auto require = [](const Real& v, bool ok, const char* name, const char* rule) {
+        if (!isfinite(v) || !ok) {
+            throw input_error(std::string("--") + name + ": '" + to_decimal(v) + "' is invalid (" +
+                              rule + ")");
+        }
+    };
+    require(p.m1, p.m1 > 0, "m1", "a mass must be > 0");
+    require(p.m2, p.m2 > 0, "m2", "a mass must be > 0");
+    require(p.L1, p.L1 > 0, "L1", "a length must be > 0");
+    require(p.L2, p.L2 > 0, "L2", "a length must be > 0");
+    require(p.a1, p.a1 > 0, "a1", "a centre-of-mass distance must be > 0");
+    require(p.a2, p.a2 > 0, "a2", "a centre-of-mass distance must be > 0");
+    require(p.I1, p.I1 >= 0, "I1", "a moment of inertia must be >= 0");
+    require(p.I2, p.I2 >= 0, "I2", "a moment of inertia must be >= 0");
+    require(p.g, p.g > 0, "g", "gravity must be > 0");
+    lagrangian_coefficients<Real> k;
+    const Real J1 = p.I1 + p.m1 * p.a1 * p.a1;  // link 1's moment of inertia about the pivot
+    const Real J2 = p.I2 + p.m2 * p.a2 * p.a2;  // link 2's about the joint
+    k.A = J1 + p.m2 * p.L1 * p.L1;
+    k.B = J2;
+    k.C = p.m2 * p.L1 * p.a2;
+    k.alpha = p.g * (p.m1 * p.a1 + p.m2 * p.L1);
+    k.beta = p.g * p.m2 * p.a2;
+    k.D0 = J1 * J2 + p.m2 * p.L1 * p.L1 * p.I2;
+    for (const Real* v : {&k.A, &k.B, &k.C, &k.alpha, &k.beta, &k.D0}) {
+        if (!isfinite(*v) || !(*v > 0)) {
+            throw input_error(
+                "model: the parameters give a kinetic energy that is not positive definite or a "
+                "coefficient that is not finite (A B - C^2 = " +
+                to_decimal(k.D0) + ")");
+        }
+    }
+    return k;
+}
+
+/// A 2x2 symmetric matrix [[xx, xy], [xy, yy]].
+template <class Real>
+struct sym2 {
+    Real xx, xy, yy;
+};
+
+template <class Real>
+class double_pendulum {
+  public:
+    /// The paper's egalitarian pendulum.
+    double_pendulum() : double_pendulum(physical_parameters<Real>{}) {}
+    explicit double_pendulum(const physical_parameters<Real>& p)
+        : params_(p), k_(coefficients_of(p)) {}
+
+    const physical_parameters<Real>& parameters() const { return params_; }
+    const lagrangian_coefficients<Real>& coefficients() const { return k_; }
+
+    // ---- configuration space ----------------------------------------------------------------
+    /// V(th1, th2) = 2 alpha sin^2(th1/2) + 2 beta sin^2(th2/2): zero at the minimum, accurate near
+    /// it.
+    Real potential(const Real& th1, const Real& th2) const {
+        using std::sin;
+        const Real s1 = sin(th1 / 2), s2 = sin(th2 / 2);
+        return 2 * (k_.alpha * s1 * s1 + k_.beta * s2 * s2);
+    }
+    /// grad V = (alpha sin th1, beta sin th2).
+    std::array<Real, 2> potential_gradient(const Real& th1, const Real& th2) const {
+        using std::sin;
+        return {k_.alpha * sin(th1), k_.beta * sin(th2)};
+    }
+    /// M(th) = [[A, C cos(th1-th2)], [C cos(th1-th2), B]].
+    sym2<Real> mass_matrix(const Real& th1, const Real& th2) const {
+        using std::cos;
+        return {k_.A, k_.C * cos(th1 - th2), k_.B};
+    }
+    /// det M = D0 + C^2 sin^2(th1 - th2).
+    Real mass_determinant(const Real& th1, const Real& th2) const {
+        using std::sin;
+        const Real s = sin(th1 - th2);
+        return k_.D0 + k_.C * k_.C * s * s;
+    }
+    sym2<Real> inverse_mass_matrix(const Real& th1, const Real& th2) const {
+        using std::cos;
+        using std::sin;
+        const Real d = th1 - th2;
+        const Real c = cos(d), s = sin(d);
+        const Real det = k_.D0 + k_.C * k_.C * s * s;
+        return {k_.B / det, -k_.C * c / det, k_.A / det};
+    }
+
+    // ---- phase space --------------------------------------------------------------------------
+    /// Angular velocities th' = M^-1 l.
+    std::array<Real, 2> velocities(const phase_point<Real>& x) const {
+        const sym2<Real> w = inverse_mass_matrix(x[0], x[1]);
+        return {w.xx * x[2] + w.xy * x[3], w.xy * x[2] + w.yy * x[3]};
+    }
+    /// Canonical momenta l = M th'.
+    std::array<Real, 2> momenta(const Real& th1, const Real& th2, const Real& w1,
+                                const Real& w2) const {
+        const sym2<Real> m = mass_matrix(th1, th2);
+        return {m.xx * w1 + m.xy * w2, m.xy * w1 + m.yy * w2};
+    }
+    /// Kinetic energy 1/2 l^T M^-1 l.
+    Real kinetic_energy(const phase_point<Real>& x) const {
+        const std::array<Real, 2> w = velocities(x);
+        return (w[0] * x[2] + w[1] * x[3]) / 2;
+    }
+    Real hamiltonian(const phase_point<Real>& x) const {
+        return kinetic_energy(x) + potential(x[0], x[1]);
+    }
+    /// Hamilton's equations (th1', th2', l1', l2').
+    phase_point<Real> rhs(const phase_point<Real>& x) const {
+        using std::sin;
+        const std::array<Real, 2> w = velocities(x);
+        const Real P = k_.C * sin(x[0] - x[1]) * w[0] * w[1];
+        return {w[0], w[1], -P - k_.alpha * sin(x[0]), P - k_.beta * sin(x[1])};
+    }
+    /// Jacobian d rhs / d x (row i = component i of rhs), for the variational equations.
+    std::array<std::array<Real, 4>, 4> rhs_jacobian(const phase_point<Real>& x) const {
+        using std::cos;
+        using std::sin;
+        const Real d = x[0] - x[1];
+        const Real c = cos(d), s = sin(d);
+        const Real det = k_.D0 + k_.C * k_.C * s * s;
+        const Real i11 = k_.B / det, i12 = -k_.C * c / det, i22 = k_.A / det;
+        const Real w1 = i11 * x[2] + i12 * x[3];
+        const Real w2 = i12 * x[2] + i22 * x[3];
+        // derivatives along d = th1 - th2 at fixed momenta
+        const Real ddet = 2 * k_.C * k_.C * s * c;
+        const Real dw1 = (k_.C * s * x[3] - w1 * ddet) / det;
+        const Real dw2 = (k_.C * s * x[2] - w2 * ddet) / det;
+        // P = C s w1 w2
+        const Real dP_dd = k_.C * (c * w1 * w2 + s * (dw1 * w2 + w1 * dw2));
+        const Real dP_dl1 = k_.C * s * (i11 * w2 + w1 * i12);
+        const Real dP_dl2 = k_.C * s * (i12 * w2 + w1 * i22);
+        std::array<std::array<Real, 4>, 4> J;
+        J[0] = {dw1, -dw1, i11, i12};
+        J[1] = {dw2, -dw2, i12, i22};
+        J[2] = {-dP_dd - k_.alpha * cos(x[0]), dP_dd, -dP_dl1, -dP_dl2};
+        J[3] = {dP_dd, -dP_dd - k_.beta * cos(x[1]), dP_dl1, dP_dl2};
+        return J;
+    }
+
+    // ---- energies of the critical points ----------------------------------------------------
+    /// Energy of the index-one saddle over which `a` flips: arm 2 -> (0, pi), 2 beta; arm 1 ->
+    /// (pi, 0), 2 alpha.
+    Real saddle_energy(arm a) const { return a == arm::two ? 2 * k_.beta : 2 * k_.alpha; }
+    /// Energy of the maximum (pi, pi): 2 (alpha + beta).
+    Real maximum_energy() const { return 2 * (k_.alpha + k_.beta); }
+
+  private:
+    physical_parameters<Real> params_;
+    lagrangian_coefficients<Real> k_;
+};
+
+}  // namespace flipflux

@@ -1,0 +1,47 @@
+#include "common.hpp"
+
+#include <cstdio>
+
+namespace flipflux::cli {
+
+void add_model_options(CLI::App& app, model_options& o) {
+    auto* g = "Model (decimal numbers, parsed in the working precision)";
+    app.add_option("--m1", o.m1, "mass of link 1 (> 0)")->group(g)->capture_default_str();
+    app.add_option("--m2", o.m2, "mass of link 2 (> 0)")->group(g)->capture_default_str();
+    app.add_option("--L1", o.L1, "pivot-to-joint length of link 1 (> 0)")
+        ->group(g)
+        ->capture_default_str();
+    app.add_option("--L2", o.L2, "length of link 2 (> 0)")->group(g)->capture_default_str();
+    app.add_option("--a1", o.a1, "pivot to link 1's centre of mass (> 0) [default: L1]")->group(g);
+    app.add_option("--a2", o.a2, "joint to link 2's centre of mass (> 0) [default: L2]")->group(g);
+    app.add_option("--I1", o.I1, "link 1's moment of inertia about its centre of mass (>= 0)")
+        ->group(g)
+        ->capture_default_str();
+    app.add_option("--I2", o.I2, "link 2's moment of inertia about its centre of mass (>= 0)")
+        ->group(g)
+        ->capture_default_str();
+    app.add_option("--g", o.g, "gravitational acceleration (> 0)")->group(g)->capture_default_str();
+}
+
+void add_precision_option(CLI::App& app, precision_option& o) {
+    app.add_option("--precision", o.text,
+                   "working precision: double, quad (float128) or mp:DIGITS (MPFR, 1 <= DIGITS <= "
+                   "100, computed at 50 or 100 digits)")
+        ->capture_default_str();
+}
+
+std::vector<command>& commands() {
+    static std::vector<command> list;
+    return list;
+}
+
+register_command::register_command(std::function<void(CLI::App&)> setup) {
+    commands().push_back({std::move(setup)});
+}
+
+void print(const std::string& text) {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    std::fflush(stdout);
+}
+
+}  // namespace flipflux::cli

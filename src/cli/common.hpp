@@ -1,0 +1,79 @@
+// Shared pieces of the command-line layer: the model options every subcommand takes, the
+// precision option, JSON output with every number as a decimal string.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/real.hpp"
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux::cli {
+
+using json = nlohmann::ordered_json;
+
+/// Model parameters as given on the command line: decimal text, parsed in the working precision.
+struct model_options {
+    std::string m1 = "1", m2 = "1", L1 = "1", L2 = "1", a1, a2, I1 = "0", I2 = "0", g = "1";
+};
+void add_model_options(CLI::App& app, model_options& options);
+
+struct precision_option {
+    std::string text = "double";
+};
+void add_precision_option(CLI::App& app, precision_option& option);
+
+template <class Real>
+physical_parameters<Real> parse_parameters(const model_options& o) {
+    physical_parameters<Real> p;
+    p.m1 = parse_real<Real>(o.m1, "--m1");
+    p.m2 = parse_real<Real>(o.m2, "--m2");
+    p.L1 = parse_real<Real>(o.L1, "--L1");
+    p.L2 = parse_real<Real>(o.L2, "--L2");
+    p.a1 = o.a1.empty() ? p.L1 : parse_real<Real>(o.a1, "--a1");
+    p.a2 = o.a2.empty() ? p.L2 : parse_real<Real>(o.a2, "--a2");
+    p.I1 = parse_real<Real>(o.I1, "--I1");
+    p.I2 = parse_real<Real>(o.I2, "--I2");
+    p.g = parse_real<Real>(o.g, "--g");
+    return p;
+}
+
+template <class Real>
+json parameters_json(const double_pendulum<Real>& model) {
+    const auto& p = model.parameters();
+    const auto& k = model.coefficients();
+    return json{{"m1", to_decimal(p.m1)},
+                {"m2", to_decimal(p.m2)},
+                {"L1", to_decimal(p.L1)},
+                {"L2", to_decimal(p.L2)},
+                {"a1", to_decimal(p.a1)},
+                {"a2", to_decimal(p.a2)},
+                {"I1", to_decimal(p.I1)},
+                {"I2", to_decimal(p.I2)},
+                {"g", to_decimal(p.g)},
+                {"coefficients",
+                 {{"A", to_decimal(k.A)},
+                  {"B", to_decimal(k.B)},
+                  {"C", to_decimal(k.C)},
+                  {"alpha", to_decimal(k.alpha)},
+                  {"beta", to_decimal(k.beta)},
+                  {"AB_minus_C2", to_decimal(k.D0)}}}};
+}
+
+/// Registry of subcommands: each src/cli/*_command.cpp registers one at static-init time.
+struct command {
+    std::function<void(CLI::App&)> setup;  ///< adds the subcommand, its options and its callback
+};
+std::vector<command>& commands();
+struct register_command {
+    explicit register_command(std::function<void(CLI::App&)> setup);
+};
+
+/// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
+void print(const std::string& text);
+
+}  // namespace flipflux::cli

@@ -1,0 +1,38 @@
+// flipflux: the command-line tool. A thin layer: each subcommand parses its options, calls the
+// library in the requested precision and prints JSON (or writes files atomically).
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "common.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/version.hpp"
+
+int main(int argc, char** argv) {
+    using namespace flipflux;
+    CLI::App app{"flipflux: verified flip-rate predictions for the double pendulum", "flipflux"};
+    app.set_version_flag(
+        "--version", std::string("flipflux ") + version_string() + " (git " + git_commit() + ")");
+    app.require_subcommand(1);
+    for (const auto& c : cli::commands())
+        c.setup(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "flipflux: error: %s\n", e.what());
+        return 2;
+    } catch (const input_error& e) {
+        std::fprintf(stderr, "flipflux: error: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "flipflux: internal error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

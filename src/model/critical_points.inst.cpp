@@ -1,0 +1,70 @@
+#include "flipflux/model/critical_points.hpp"
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/core/instantiate.hpp"
+
+namespace flipflux {
+
+namespace detail {
+
+template <class Real>
+critical_point<Real> make_critical_point(const double_pendulum<Real>& model, int e1, int e2) {
+    using std::abs;
+    using std::sqrt;
+    const auto& k = model.coefficients();
+    critical_point<Real> cp;
+    cp.theta1 = e1 > 0 ? Real(0) : pi<Real>();
+    cp.theta2 = e2 > 0 ? Real(0) : pi<Real>();
+    cp.name = std::string(e1 > 0 ? "down" : "up") + "-" + (e2 > 0 ? "down" : "up");
+    cp.energy = (e1 > 0 ? Real(0) : 2 * k.alpha) + (e2 > 0 ? Real(0) : 2 * k.beta);
+    cp.kind = e1 > 0 && e2 > 0   ? critical_kind::minimum
+              : e1 < 0 && e2 < 0 ? critical_kind::maximum
+                                 : critical_kind::saddle;
+    const int e = e1 * e2;
+    // D0 x^2 - b x + c0 = 0
+    const Real b = e1 * k.alpha * k.B + e2 * k.beta * k.A;
+    const Real c0 = e * k.alpha * k.beta;
+    // NOTE: the discriminant as a sum of non-negative terms, for either sign of e.
+    const Real disc = e > 0 ? (e1 * k.alpha * k.B - e2 * k.beta * k.A) *
+                                      (e1 * k.alpha * k.B - e2 * k.beta * k.A) +
+                                  4 * k.C * k.C * k.alpha * k.beta
+                            : b * b + 4 * k.D0 * k.alpha * k.beta;
+    const Real root = sqrt(disc);
+    // stable roots: q = (b + sign(b) sqrt(disc)) / 2, x1 = q / D0, x2 = c0 / q
+    const Real q = (b >= 0 ? b + root : b - root) / 2;
+    Real x1 = q / k.D0, x2 = c0 / q;
+    if (x1 < x2) std::swap(x1, x2);
+    int i = 0;
+    for (const Real& x : {x1, x2}) {
+        normal_mode<Real>& m = cp.modes[i++];
+        m.omega_squared = x;
+        m.oscillatory = x > 0;
+        m.rate = sqrt(abs(x));
+        // (K* - x M*) a = 0; use the row whose coefficient of a2 is larger in magnitude.
+        const Real row2_a1 = -x * k.C * e, row2_a2 = e2 * k.beta - x * k.B;
+        const Real row1_a1 = e1 * k.alpha - x * k.A, row1_a2 = -x * k.C * e;
+        const Real ratio = abs(row2_a2) >= abs(row1_a2) ? -row2_a1 / row2_a2 : -row1_a1 / row1_a2;
+        m.direction = {Real(1), ratio};
+    }
+    return cp;
+}
+
+}  // namespace detail
+
+template <class Real>
+std::array<critical_point<Real>, 4> critical_points(const double_pendulum<Real>& model) {
+    return {detail::make_critical_point(model, 1, 1), detail::make_critical_point(model, 1, -1),
+            detail::make_critical_point(model, -1, 1), detail::make_critical_point(model, -1, -1)};
+}
+
+template <class Real>
+critical_point<Real> flip_saddle(const double_pendulum<Real>& model, arm a) {
+    return a == arm::two ? detail::make_critical_point(model, 1, -1)
+                         : detail::make_critical_point(model, -1, 1);
+}
+
+template std::array<critical_point<inst_real>, 4> critical_points<inst_real>(
+    const double_pendulum<inst_real>&);
+template critical_point<inst_real> flip_saddle<inst_real>(const double_pendulum<inst_real>&, arm);
+
+}  // namespace flipflux
