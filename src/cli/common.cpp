@@ -45,3 +45,13 @@ void print(const std::string& text) {
 }
 
 }  // namespace flipflux::cli
+
+namespace flipflux::cli {
+
+arm parse_arm(const std::string& text, std::string_view option) {
+    if (text == "1") return arm::one;
+    if (text == "2") return arm::two;
+    throw input_error(std::string(option) + ": '" + text + "' is not an arm (expected 1 or 2)");
+}
+
+}  // namespace flipflux::cli

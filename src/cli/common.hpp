@@ -9,6 +9,7 @@
 #include <string>
 
 #include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 
@@ -75,5 +76,12 @@ struct register_command {
 
 /// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
 void print(const std::string& text);
+
+}  // namespace flipflux::cli
+
+namespace flipflux::cli {
+
+/// Parses "1" or "2"; throws input_error naming `option` otherwise.
+arm parse_arm(const std::string& text, std::string_view option = "--arm");
 
 }  // namespace flipflux::cli

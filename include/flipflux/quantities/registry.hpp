@@ -1,0 +1,81 @@
+// The named quantities flipflux evaluates ("omega", "flux-upright", "period", ...): one registry
+// shared by `flipflux eval`, golden-data generation, validation and scenes, so that a quantity's
+// name, domain and methods are defined once.
+//
+// Each module contributes its quantities through an add_*_quantities() function called by
+// quantities() (explicit calls, not static registrars, which a static library would drop).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "flipflux/core/real.hpp"
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux {
+
+/// A value with its estimated absolute error and the method that produced it.
+template <class Real>
+struct quantity_value {
+    Real value;
+    Real error_estimate;
+    std::string method;
+};
+
+/// Evaluates a quantity at energy E for arm a (ignored by quantities that are not per arm) with a
+/// named method ("" = the default). Throws input_error for an energy outside the domain or an
+/// unknown method.
+template <class Real>
+using quantity_function = std::function<quantity_value<Real>(
+    const double_pendulum<Real>&, arm, const Real& energy, const std::string& method)>;
+
+struct quantity {
+    std::string name;
+    std::string description;
+    std::vector<std::string> methods;  ///< the first is the default
+    bool per_arm = true;
+    quantity_function<double> f_double;
+    quantity_function<quad> f_quad;
+    quantity_function<mp50> f_mp50;
+    quantity_function<mp100> f_mp100;
+
+    template <class Real>
+    quantity_value<Real> evaluate(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                  const std::string& method) const {
+        if constexpr (std::is_same_v<Real, double>)
+            return f_double(model, a, energy, method);
+        else if constexpr (std::is_same_v<Real, quad>)
+            return f_quad(model, a, energy, method);
+        else if constexpr (std::is_same_v<Real, mp50>)
+            return f_mp50(model, a, energy, method);
+        else
+            return f_mp100(model, a, energy, method);
+    }
+};
+
+/// Builds a quantity from a generic callable f.template operator()<Real>(model, arm, E, method).
+template <class F>
+quantity make_quantity(std::string name, std::string description, std::vector<std::string> methods,
+                       bool per_arm, F f) {
+    quantity q{
+        std::move(name), std::move(description), std::move(methods), per_arm, {}, {}, {}, {}};
+    q.f_double = [f](auto&&... a) { return f.template operator()<double>(a...); };
+    q.f_quad = [f](auto&&... a) { return f.template operator()<quad>(a...); };
+    q.f_mp50 = [f](auto&&... a) { return f.template operator()<mp50>(a...); };
+    q.f_mp100 = [f](auto&&... a) { return f.template operator()<mp100>(a...); };
+    return q;
+}
+
+/// Every registered quantity, in a stable order.
+const std::vector<quantity>& quantities();
+
+/// The quantity called `name`; throws input_error listing the known names otherwise.
+const quantity& find_quantity(std::string_view name);
+
+// Contributions of the modules (src/quantities/*.cpp).
+void add_prediction_quantities(std::vector<quantity>& list);  // omega, fluxes, rates
+void add_orbit_quantities(std::vector<quantity>& list);       // period, action, saddle flux, ...
+
+}  // namespace flipflux

@@ -1,0 +1,27 @@
+#include "flipflux/quantities/registry.hpp"
+
+#include "flipflux/core/error.hpp"
+
+namespace flipflux {
+
+const std::vector<quantity>& quantities() {
+    static const std::vector<quantity> list = [] {
+        std::vector<quantity> v;
+        add_prediction_quantities(v);
+        add_orbit_quantities(v);
+        return v;
+    }();
+    return list;
+}
+
+const quantity& find_quantity(std::string_view name) {
+    std::string known;
+    for (const quantity& q : quantities()) {
+        if (q.name == name) return q;
+        known += (known.empty() ? "" : ", ") + q.name;
+    }
+    throw input_error("quantity: '" + std::string(name) +
+                      "' is not a known quantity (known: " + known + ")");
+}
+
+}  // namespace flipflux
