@@ -58,6 +58,10 @@ struct register_command {
     explicit register_command(std::function<void(CLI::App&)> setup);
 };
 
+/// The process exit status once the subcommand has run (0 unless it sets a failure, e.g.
+/// `validate` sets 1 when a row fails); bad input is reported by throwing input_error (status 2).
+int& exit_status();
+
 /// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
 void print(const std::string& text);
 
