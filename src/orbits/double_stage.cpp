@@ -150,9 +150,13 @@ long shooting_steps(const shooting_setup<double>& setup, double beta, double per
 }  // namespace
 
 double_continuation continue_double(const double_pendulum<double>& model, arm a, bool periodic,
-                                    int stages, double tolerance, std::vector<double_orbit> known,
-                                    double beta_lin, double period_lin, double target_excess) {
+                                    int stages, double tolerance, double beta_lin,
+                                    double period_lin, const std::vector<double>& targets) {
     double_continuation out;
+    if (targets.empty()) {
+        out.success = true;
+        return out;
+    }
     const double range = model.maximum_energy() - model.saddle_energy(a);
     auto sigma = [&](double excess) { return -std::log(range - excess); };
     auto solve = [&](double excess, double beta, double period) {
@@ -161,39 +165,41 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         return periodic ? ceres_periodic_shooting(model, a, excess, beta, period, n, stages)
                         : newton_symmetric_shooting(model, a, excess, beta, period, n, stages);
     };
-    if (known.size() > 2) known.erase(known.begin(), known.end() - 2);
-    if (known.empty()) {
-        // start on the centre mode at a small excess, where the linear guess is O(excess) off
-        const double e0 = std::min(target_excess, 1e-4 * range);
+    std::size_t next_target = 0;
+    auto record = [&](double excess, double beta, double period) {
+        const bool requested = next_target < targets.size() && excess == targets[next_target];
+        if (requested) ++next_target;
+        out.orbits.push_back({excess, beta, period, requested});
+    };
+    // the centre mode itself (E - E_s = 0) is the secant's first point
+    std::vector<double_orbit> known{{0.0, beta_lin, period_lin, false}};
+    {
+        // the first orbit at a small excess, where the linear guess is O(excess) off
+        const double e0 = std::min(targets.front(), 1e-4 * range);
         const auto r = solve(e0, beta_lin, period_lin);
-        continuation_step st{0, e0, r.converged, r.iterations, r.converged ? "" : r.report};
-        out.steps.push_back(st);
+        out.steps.push_back({0, e0, r.converged, r.iterations, r.converged ? "" : r.report});
         if (!r.converged || std::abs(r.period - period_lin) > 0.2 * period_lin) {
             out.stop_reason = "no orbit near the centre mode at E - E_s = " + std::to_string(e0) +
                               ": " + r.report;
             return out;
         }
-        // the centre mode itself (E - E_s = 0) is the secant's first point
-        known.push_back({0.0, beta_lin, period_lin});
-        known.push_back({e0, wrap_angle(r.beta), r.period});
-        out.orbits.push_back(known.back());
+        known.push_back({e0, wrap_angle(r.beta), r.period, false});
+        record(e0, known.back().beta, known.back().period);
+        out.highest_excess = e0;
     }
     double dsigma = 0.25;
     const double min_dsigma = 1e-7;
-    while (known.back().excess < target_excess) {
+    while (next_target < targets.size()) {
+        const double target = targets[next_target];
         const double_orbit& last = known.back();
         double next = range - (range - last.excess) * std::exp(-dsigma);
-        if (next > target_excess || target_excess - next < 1e-3 * (next - last.excess))
-            next = target_excess;
+        if (next > target || target - next < 1e-3 * (next - last.excess)) next = target;
         // secant predictor in sigma
-        double beta = last.beta, period = last.period;
-        if (known.size() >= 2) {
-            const double_orbit& prev = known[known.size() - 2];
-            const double f =
-                (sigma(next) - sigma(last.excess)) / (sigma(last.excess) - sigma(prev.excess));
-            beta = last.beta + f * wrap_angle(last.beta - prev.beta);
-            period = last.period + f * (last.period - prev.period);
-        }
+        const double_orbit& prev = known[known.size() - 2];
+        const double f =
+            (sigma(next) - sigma(last.excess)) / (sigma(last.excess) - sigma(prev.excess));
+        const double beta = last.beta + f * wrap_angle(last.beta - prev.beta);
+        const double period = last.period + f * (last.period - prev.period);
         const auto r = solve(next, beta, period);
         const double dbeta = std::abs(wrap_angle(r.beta - beta));
         const bool accepted =
@@ -217,9 +223,10 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
             continue;
         }
         out.steps.push_back(st);
-        known.push_back({next, wrap_angle(r.beta), r.period});
+        known.push_back({next, wrap_angle(r.beta), r.period, false});
         if (known.size() > 2) known.erase(known.begin());
-        out.orbits.push_back(known.back());
+        record(next, known.back().beta, known.back().period);
+        out.highest_excess = next;
         if (r.iterations <= 6) dsigma = std::min(1.0, dsigma * 1.5);
     }
     out.success = true;

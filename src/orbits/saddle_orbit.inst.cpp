@@ -201,7 +201,10 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         // NOTE: Newton converges quadratically (up to the O(tol) inexactness of the T column), so
         // an update at the tolerance means the next would be at rounding; a stall (no halving)
         // means the rounding floor of the residual is reached.
-        if (size <= tol) {
+        // the next update predicted at the observed rate (conservative for quadratic
+        // convergence): stop when it would be below the tolerance
+        const Real predicted = it >= 2 ? size * size / last : std::numeric_limits<Real>::max();
+        if (size <= tol || predicted <= tol / 4) {
             converged = true;
             break;
         }
@@ -306,9 +309,9 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     // its basin is that of a quarter period, about sqrt(|mu|) times wider than the periodic
     // shooting's (Ceres' continuation stalls near E_max, see docs/theory.md); the orbit itself
     // is then found by the requested formulation from this guess.
-    const auto c = detail::continue_double(md, a, false, default_stages<double>(), 1e-12, {},
+    const auto c = detail::continue_double(md, a, false, default_stages<double>(), 1e-12,
                                            static_cast<double>(lin.beta),
-                                           static_cast<double>(lin.period), target);
+                                           static_cast<double>(lin.period), {target});
     if (!c.success) {
         saddle_orbit<Real> failed;
         failed.flip_arm = a;
@@ -321,6 +324,41 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     const detail::double_orbit& o = c.orbits.back();
     return refine_saddle_orbit(model, a, energy, orbit_guess<Real>{Real(o.beta), Real(o.period)},
                                options);
+}
+
+template <class Real>
+saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
+                                           const std::vector<Real>& energies,
+                                           const orbit_options<Real>& options) {
+    saddle_family<Real> family;
+    family.flip_arm = a;
+    std::vector<double> targets;
+    for (std::size_t i = 0; i < energies.size(); ++i) {
+        check_orbit_energy(model, a, energies[i]);
+        if (i > 0 && !(energies[i] > energies[i - 1]))
+            throw input_error("--energy: the energies must increase ('" + to_decimal(energies[i]) +
+                              "' follows '" + to_decimal(energies[i - 1]) + "')");
+        targets.push_back(static_cast<double>(energies[i] - model.saddle_energy(a)));
+        if (i > 0 && !(targets[i] > targets[i - 1]))
+            throw input_error("--energy: '" + to_decimal(energies[i]) +
+                              "' is not distinguishable from the previous energy at double");
+    }
+    const orbit_guess<Real> lin = linear_guess(model, a);
+    const auto c = detail::continue_double(to_double(model), a, false, default_stages<double>(),
+                                           1e-12, static_cast<double>(lin.beta),
+                                           static_cast<double>(lin.period), targets);
+    family.steps = c.steps;
+    family.halvings = c.halvings;
+    family.highest_excess = c.highest_excess;
+    family.stop_reason = c.stop_reason;
+    std::size_t i = 0;
+    for (const detail::double_orbit& o : c.orbits) {
+        if (!o.requested) continue;
+        family.orbits.push_back(refine_saddle_orbit(
+            model, a, energies[i], orbit_guess<Real>{Real(o.beta), Real(o.period)}, options));
+        ++i;
+    }
+    return family;
 }
 
 template <class Real>
@@ -375,6 +413,9 @@ template saddle_orbit<inst_real> refine_saddle_orbit<inst_real>(const double_pen
 template saddle_orbit<inst_real> solve_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
                                                                arm, const inst_real&,
                                                                const orbit_options<inst_real>&);
+template saddle_family<inst_real> continue_saddle_family<inst_real>(
+    const double_pendulum<inst_real>&, arm, const std::vector<inst_real>&,
+    const orbit_options<inst_real>&);
 template phase_point<inst_real> orbit_state<inst_real>(const double_pendulum<inst_real>&,
                                                        const saddle_orbit<inst_real>&,
                                                        const inst_real&);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux::detail {
 
@@ -31,17 +32,10 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
                                               double excess, double beta0, double period0,
                                               long quarter_steps, int stages);
 
-/// One attempted continuation step (kept as a record: the step halvings are part of the result).
-struct continuation_step {
-    double from_excess = 0, to_excess = 0;  ///< E - E_s before and after the step
-    bool accepted = false;
-    int iterations = 0;
-    std::string note;  ///< why a step was rejected
-};
-
 /// A solved orbit of the double continuation.
 struct double_orbit {
     double excess = 0, beta = 0, period = 0;
+    bool requested = false;  ///< one of the targets (else an intermediate step)
 };
 
 struct double_continuation {
@@ -49,15 +43,16 @@ struct double_continuation {
     std::vector<double_orbit> orbits;  ///< every accepted orbit, increasing excess
     std::vector<continuation_step> steps;
     int halvings = 0;
+    double highest_excess = 0;
     std::string stop_reason;
 };
 
-/// Continues the family at double from `known` (the last one or two solved orbits; empty = start
-/// from the centre mode (beta_lin, T_lin) at a small excess) up to `target_excess`, with a secant
-/// predictor in sigma = -log(E_max - E) and step halving on failure. `periodic` selects Ceres
-/// periodic shooting, else the symmetric Newton iteration.
+/// Continues the family at double from the centre mode (beta_lin, T_lin) through every excess
+/// E - E_s in `targets` (increasing), with a secant predictor in sigma = -log(E_max - E) and
+/// step halving on failure. `periodic` selects Ceres periodic shooting as the corrector, else the
+/// symmetric Newton iteration. Stops at the first excess it cannot reach (success = false).
 double_continuation continue_double(const double_pendulum<double>& model, arm a, bool periodic,
-                                    int stages, double tolerance, std::vector<double_orbit> known,
-                                    double beta_lin, double period_lin, double target_excess);
+                                    int stages, double tolerance, double beta_lin,
+                                    double period_lin, const std::vector<double>& targets);
 
 }  // namespace flipflux::detail

@@ -116,6 +116,26 @@ struct saddle_orbit {
     Real quarter_step{0};
 };
 
+/// One attempted step of the continuation in energy (the record keeps the rejected steps, i.e.
+/// the step halvings).
+struct continuation_step {
+    double from_excess = 0, to_excess = 0;  ///< E - E_s before and after the step
+    bool accepted = false;
+    int iterations = 0;  ///< corrector iterations
+    std::string note;    ///< why a step was rejected
+};
+
+/// A continued family: the orbits at the requested energies and the continuation's record.
+template <class Real>
+struct saddle_family {
+    arm flip_arm = arm::two;
+    std::vector<saddle_orbit<Real>> orbits;  ///< at the requested energies reached, in order
+    std::vector<continuation_step> steps;    ///< every attempted step (double stage)
+    int halvings = 0;                        ///< rejected steps (each halved the step)
+    double highest_excess = 0;               ///< largest E - E_s the double continuation reached
+    std::string stop_reason;                 ///< why it stopped short ("" if every energy reached)
+};
+
 /// The centre mode's guess: beta of the mode's momentum, T_lin = 2 pi / omega.
 template <class Real>
 orbit_guess<Real> linear_guess(const double_pendulum<Real>& model, arm a);
@@ -130,6 +150,15 @@ template <class Real>
 saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
                                        const Real& energy, const orbit_guess<Real>& guess,
                                        const orbit_options<Real>& options = {});
+
+/// The family through the given energies (increasing, each inside the family's range): a
+/// continuation at double from the centre mode (symmetric Newton corrector; secant predictor in
+/// -log(E_max - E); step halving on failure, recorded), then each requested orbit refined in Real
+/// by options.method. Throws input_error for an energy outside the range or a decreasing list.
+template <class Real>
+saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
+                                           const std::vector<Real>& energies,
+                                           const orbit_options<Real>& options = {});
 
 /// The absolute state (theta1, theta2, l1, l2) on the orbit at time t (any real t; reduced modulo
 /// T and by the orbit's time-reversal and reflection symmetries to the stored quarter orbit).
@@ -150,6 +179,8 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& e
                                                           const R&, const orbit_options<R>&);      \
     extern template saddle_orbit<R> refine_saddle_orbit<R>(                                        \
         const double_pendulum<R>&, arm, const R&, const orbit_guess<R>&, const orbit_options<R>&); \
+    extern template saddle_family<R> continue_saddle_family<R>(                                    \
+        const double_pendulum<R>&, arm, const std::vector<R>&, const orbit_options<R>&);           \
     extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,                       \
                                                   const saddle_orbit<R>&, const R&);               \
     extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const R&)
