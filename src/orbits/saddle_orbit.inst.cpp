@@ -159,6 +159,9 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     orbit.steps = steps;
     Real last = std::numeric_limits<Real>::max();
     std::array<std::array<Real, 4>, 4> phi{};
+    std::array<std::array<Real, 2>, 4> jac4{};  // last Jacobian (periodic)
+    std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
+    Real beta_at_jacobian = beta;
     bool converged = false, stalled = false, failed = false;
     int it = 0;
     for (it = 1; it <= options.max_newton_iterations; ++it) {
@@ -175,6 +178,8 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
             using std::sqrt;
             orbit.residual = sqrt(rn);
             phi = pr.end.phi;
+            jac4 = pr.jacobian;
+            beta_at_jacobian = beta;
             d = detail::least_squares_4x2(pr.jacobian, pr.r);
         } else {
             const auto sr = detail::symmetric_shooting(setup, beta, period / 4, steps);
@@ -185,6 +190,8 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
             using std::sqrt;
             orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
             phi = sr.end.phi;
+            jac2 = sr.jacobian;
+            beta_at_jacobian = beta;
             d = detail::solve_2x2(sr.jacobian, sr.r);
             d[1] *= 4;  // tau -> T
         }
@@ -291,10 +298,37 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     }
     orbit.floquet = floquet_analysis(orbit.monodromy);
 
+    // ---- dT/dE from the last Jacobian: J (dbeta, dT)/dE = -dr/dE, where x0 depends on E through
+    // l0 = sqrt(2 (E - E_s)) S u(beta), dl0/dE = l0 / (2 (E - E_s)) ------------------------------
+    {
+        const auto l0 = setup.momentum(beta_at_jacobian);
+        const Real inv = 1 / (2 * excess * setup.momentum_scale);  // scaled residuals
+        const std::array<Real, 2> dl{l0[0] * inv, l0[1] * inv};
+        if (periodic) {
+            std::array<Real, 4> dr;
+            for (int i = 0; i < 4; ++i) {
+                Real v = phi[i][2] * dl[0] + phi[i][3] * dl[1];
+                if (i >= 2) v -= dl[i - 2];
+                dr[i] = -v;
+            }
+            orbit.period_derivative = detail::least_squares_4x2(jac4, dr)[1];
+        } else {
+            std::array<Real, 2> dr;
+            for (int i = 0; i < 2; ++i)
+                dr[i] = -(phi[2 + i][2] * dl[0] + phi[2 + i][3] * dl[1]);
+            orbit.period_derivative = 4 * detail::solve_2x2(jac2, dr)[1];
+        }
+    }
+
     // ---- error estimates ---------------------------------------------------------------------
+    // NOTE: besides the integration and Newton errors, rounding perturbs the orbit's energy by
+    // about eps E (plus the measured drift), which moves T by |dT/dE| dE: near E_max, where
+    // T ~ log(1 / (E_max - E)), this dominates the period's error (the action is well conditioned,
+    // dF/dE = T).
     const Real rel = max({integration_error, orbit.last_update, 16 * eps});
-    orbit.error_estimate_period = rel * period;
-    orbit.error_estimate_action = rel * orbit.action;
+    const Real denergy = 4 * eps * energy + energy_error * excess;
+    orbit.error_estimate_period = rel * period + abs(orbit.period_derivative) * denergy;
+    orbit.error_estimate_action = rel * orbit.action + period * denergy;
     return orbit;
 }
 

@@ -69,6 +69,7 @@ class saddle_curve {
     std::array<Real, 2> domain() const { return {-s_max_, s_max_}; }
     /// h(s); s is clamped to the domain.
     Real offset(const Real& s) const {
+        if (s == 0) return Real(0);  // the saddle itself (h is odd)
         const bool negative = s < 0;
         const Real v = eval(values_, negative ? Real(-s) : s);
         return negative ? Real(-v) : v;

@@ -83,11 +83,12 @@ floquet_multipliers<Real> floquet_analysis(const std::array<std::array<Real, 4>,
 template <class Real>
 struct saddle_orbit {
     arm flip_arm = arm::two;
-    Real energy{0};  ///< E
-    Real excess{0};  ///< E - E_s, the kinetic energy at the saddle
-    Real beta{0};    ///< direction of the circularised momentum at the saddle
-    Real period{0};  ///< T
-    Real action{0};  ///< F = oint (l1 dth1 + l2 dth2) > 0
+    Real energy{0};             ///< E
+    Real excess{0};             ///< E - E_s, the kinetic energy at the saddle
+    Real beta{0};               ///< direction of the circularised momentum at the saddle
+    Real period{0};             ///< T
+    Real action{0};             ///< F = oint (l1 dth1 + l2 dth2) > 0
+    Real period_derivative{0};  ///< dT/dE along the family (from the shooting Jacobian)
     Real flux() const { return 2 * action; }  ///< f3 = 2 F (bidirectional saddle flux)
     std::array<Real, 2> saddle{};             ///< q*
     phase_point<Real> start{};                ///< (q*, l0): the state at t = 0
