@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "../support.hpp"
 #include "flipflux/model/double_pendulum.hpp"
-#include "support.hpp"
 
 namespace flipflux::test {
 
@@ -41,6 +41,14 @@ double_pendulum<Real> make_model(const model_spec& s) {
     p.I2 = r(s.I2);
     p.g = r(s.g);
     return double_pendulum<Real>(p);
+}
+
+/// x converted exactly to a type of at least its precision (through 140 significant digits;
+/// tests/support.hpp's convert keeps only the digits that round-trip, which is not exact and
+/// matters where a quantity depends on E - E_s ~ 1e-12).
+template <class To, class From>
+To exactly(const From& x) {
+    return parse_real<To>(to_decimal(x, 140), "exactly");
 }
 
 /// eps of Real times c, with a floor of 1e-95 for mp100 (references computed in mp100 itself).

@@ -51,11 +51,10 @@ TYPED_TEST(Fluxes, UprightFluxMatchesThePapersClosedForms) {
     for (const auto& c : f1_paper) {
         const Real E = parse_real<Real>(c.energy, "E");
         const mp100 expected = parse_real<mp100>(c.value, "ref");
-        const auto methods =
-            is_mp_v<Real>
-                ? std::vector{upright_flux_method::elliptic, upright_flux_method::integral}
-                : std::vector{upright_flux_method::elliptic, upright_flux_method::integral,
-                              upright_flux_method::curve, upright_flux_method::momentum};
+        // NOTE: the 2-D momentum route in double only, the curve route up to quad (test time)
+        std::vector methods{upright_flux_method::elliptic, upright_flux_method::integral};
+        if (!is_mp_v<Real>) methods.push_back(upright_flux_method::curve);
+        if (std::is_same_v<Real, double>) methods.push_back(upright_flux_method::momentum);
         for (upright_flux_method m : methods) {
             const Real f = upright_flux(model, arm::two, E, m).value;
             EXPECT_LE(relative_error(f, expected), tolerance<Real>(64))
@@ -73,10 +72,11 @@ TYPED_TEST(Fluxes, UprightRoutesAgreeForEveryPendulumAndArm) {
         if (!full && spec.name != "light-first-link") continue;
         const double_pendulum<Real> model = test::make_model<Real>(spec);
         for (arm a : {arm::one, arm::two}) {
+            if (!full && a == arm::one) continue;
             const Real es = model.saddle_energy(a), em = model.maximum_energy();
             for (const Real& E : {Real(es + (em - es) / 8), Real(es + (em - es) * 7 / 8),
                                   Real(2 * em), Real(1000000)}) {
-                if (!full && E > 2 * em) continue;
+                if (!full && E != es + (em - es) * 7 / 8) continue;
                 const Real ref = upright_flux(model, a, E).value;
                 for (upright_flux_method m :
                      {upright_flux_method::integral, upright_flux_method::curve,
@@ -126,7 +126,7 @@ TYPED_TEST(Fluxes, PowerLawsJustAboveTheSaddles) {
                       tolerance<Real>(64));
             // the leading law is the minimum over slopes: the upright one is larger
             EXPECT_GT(near_saddle_flux(model, a, E, Real(0)), leading);
-            if constexpr (!is_mp_v<Real>) {
+            if constexpr (std::is_same_v<Real, double>) {
                 const Real f2m = curve_flux(model, E, curve, curve_flux_method::momentum).value;
                 EXPECT_LE(relative_error(f2m, f2.value), target<Real>()) << spec.name;
             }
@@ -181,7 +181,7 @@ TYPED_TEST(Fluxes, HugeEnergy) {
         EXPECT_LE(relative_error(f, 8 * pi<Real>() * sqrt(2 * J * E)), 1e-5);
         const Real f2 = approximate_saddle_flux(model, a, E).value;
         EXPECT_GT(f2, Real(0));
-        if constexpr (!is_mp_v<Real>) {
+        if constexpr (std::is_same_v<Real, double>) {
             EXPECT_LE(
                 relative_error(
                     approximate_saddle_flux(model, a, E, curve_flux_method::momentum).value, f2),
@@ -208,7 +208,7 @@ TYPED_TEST(Fluxes, ApproximateSaddleFluxMatchesThePaperWithKOnTheCurve) {
         EXPECT_LE(relative_error(f2.value, expected), tol) << "E " << c.E;
         EXPECT_GT(relative_error(f2.value, parse_real<mp100>("10.3548766538103974", "wrong")),
                   0.05);
-        if constexpr (!is_mp_v<Real>) {
+        if constexpr (std::is_same_v<Real, double>) {
             EXPECT_LE(
                 relative_error(
                     approximate_saddle_flux(model, arm::two, E, curve_flux_method::momentum).value,
@@ -289,7 +289,7 @@ TYPED_TEST(Fluxes, GeneralCurvesRespectDomainsZerosAndGrazing) {
     const test_curve<Real> wiggly{arm::two, Real(3) / 2, Real(-9) / 4, -pi<Real>(), pi<Real>()};
     const curve_flux_result<Real> w = curve_flux(model, Real(3), wiggly);
     EXPECT_GE(w.intervals.size(), 2u);
-    if constexpr (!is_mp_v<Real>) {
+    if constexpr (std::is_same_v<Real, double>) {
         EXPECT_LE(
             relative_error(curve_flux(model, Real(3), wiggly, curve_flux_method::momentum).value,
                            w.value),

@@ -92,6 +92,7 @@ TYPED_TEST(Quadrature, GaussKronrodAdaptiveAndFixed) {
 // int_0^1 int_0^x sqrt(x - y) dy dx = int_0^1 (2/3) x^(3/2) dx = 4/15.
 TYPED_TEST(Quadrature, NestedIntegralPropagatesInnerResults) {
     using Real = TypeParam;
+    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
     using std::sqrt;
     auto inner = [](const Real& x, const Real&, const Real&) {
         return tanh_sinh_integrate<Real>(
