@@ -28,6 +28,7 @@ struct curve_frame {
     const double_pendulum<Real>& model;
     const curve_view<Real>& curve;
     Real delta;          ///< E - E_s
+    Real above_max;      ///< E - E_max
     Real w_s, w_f;       ///< weights of s and of the flip angle in V
     Real M_ss, M_ff, C;  ///< diagonal entries of M for s and for the flip angle; C
 
@@ -39,6 +40,7 @@ struct curve_frame {
         const auto& k = m.coefficients();
         const bool two = c.flip_arm == arm::two;
         delta = energy - m.saddle_energy(c.flip_arm);
+        above_max = energy - m.maximum_energy();
         w_s = two ? k.alpha : k.beta;
         w_f = two ? k.beta : k.alpha;
         M_ss = two ? k.A : k.B;
@@ -46,11 +48,20 @@ struct curve_frame {
         C = k.C;
     }
 
-    /// K = (E - E_s) - 2 w_s sin^2(s/2) + 2 w_f sin^2(h/2): E - V at (s, pi + h).
+    /// K = (E - E_s) - 2 w_s sin^2(s/2) + 2 w_f sin^2(h/2): E - V at (s, pi + h); for
+    /// |s| > pi/2 as (E - E_max) + 2 w_s cos^2(s/2) + 2 w_f sin^2(h/2), whose terms are small
+    /// where K is (near the maximum).
     Real kinetic(const Real& s) const {
+        using std::abs;
+        using std::cos;
         using std::sin;
         const Real h = curve.offset(s);
-        const Real ss = sin(s / 2), sh = sin(h / 2);
+        const Real sh = sin(h / 2);
+        if (abs(s) > half_pi<Real>()) {
+            const Real cs = cos(s / 2);
+            return above_max + 2 * w_s * cs * cs + 2 * w_f * sh * sh;
+        }
+        const Real ss = sin(s / 2);
         return delta - 2 * w_s * ss * ss + 2 * w_f * sh * sh;
     }
     /// dK/ds = -w_s sin s + w_f sin(h) h'.
@@ -91,11 +102,22 @@ Real bracketed_zero(F f, const Real& a, const Real& b, const Real& fa, const Rea
     return (bracket.first + bracket.second) / 2;
 }
 
+/// The accessible pieces of the curve with, for each end, the distance to the nearest branch
+/// point of sqrt(K) beyond it (the zero across a forbidden gap, or the complex zeros of K near
+/// a grazing minimum): what tanh_sinh_integrate_graded needs.
 template <class Real>
-std::vector<std::array<Real, 2>> intervals_of(const curve_frame<Real>& frame) {
+struct accessible_pieces {
+    std::vector<std::array<Real, 2>> pieces;
+    std::vector<std::array<Real, 2>> radii;
+};
+
+template <class Real>
+accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
     using boost::multiprecision::isfinite;
+    using std::abs;
     using std::ceil;
     using std::isfinite;
+    using std::sqrt;
     const Real lo = frame.curve.domain[0], hi = frame.curve.domain[1];
     if (!isfinite(lo) || !isfinite(hi) || !(lo < hi)) {
         throw std::domain_error("curve_flux: the curve's domain must be a finite interval");
@@ -111,6 +133,7 @@ std::vector<std::array<Real, 2>> intervals_of(const curve_frame<Real>& frame) {
     auto kinetic = [&frame](const Real& x) { return frame.kinetic(x); };
     auto kinetic_slope = [&frame](const Real& x) { return frame.kinetic_slope(x); };
     std::vector<Real> breaks{lo, hi};
+    std::vector<std::array<Real, 2>> grazing;  // (point, radius of the complex zeros of K)
     for (int i = 0; i < n; ++i) {
         const Real &a = s[i], &b = s[i + 1];
         if (K[i] == 0) breaks.push_back(a);
@@ -129,17 +152,48 @@ std::vector<std::array<Real, 2>> intervals_of(const curve_frame<Real>& frame) {
             breaks.push_back(bracketed_zero<Real>(kinetic, a, m, K[i], Km));
             breaks.push_back(bracketed_zero<Real>(kinetic, m, b, Km, K[i + 1]));
         } else if (minimum) {
-            breaks.push_back(m);  // grazing: K touches zero (or nearly) at m
+            // grazing: K touches zero (or nearly) at m; K ~ Km + K''/2 (s - m)^2 has complex
+            // zeros at distance sqrt(2 Km / K'') from m
+            const Real h = sqrt(epsilon<Real>()) * (1 + abs(m));
+            const Real curvature =
+                (frame.kinetic_slope(Real(m + h)) - frame.kinetic_slope(Real(m - h))) / (2 * h);
+            // NOTE: a minimum below the rounding level of K's terms is a true touch (radius 0:
+            // sqrt(K) ~ |s - m| is smooth on each side); resolving noise would never converge.
+            const Real noise =
+                16 * epsilon<Real>() * (abs(frame.delta) + 2 * frame.w_s + 2 * frame.w_f);
+            const Real radius =
+                curvature > 0 && Km > noise ? Real(sqrt(2 * Km / curvature)) : Real(0);
+            breaks.push_back(m);
+            grazing.push_back({m, radius});
         }
     }
     std::sort(breaks.begin(), breaks.end());
     breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
-    std::vector<std::array<Real, 2>> pieces;
-    for (std::size_t j = 0; j + 1 < breaks.size(); ++j) {
-        const Real mid = (breaks[j] + breaks[j + 1]) / 2;
-        if (frame.kinetic(mid) > 0) pieces.push_back({breaks[j], breaks[j + 1]});
+    const std::size_t nb = breaks.size();
+    std::vector<bool> open(nb - 1);
+    for (std::size_t j = 0; j + 1 < nb; ++j)
+        open[j] = frame.kinetic((breaks[j] + breaks[j + 1]) / 2) > 0;
+    const bool periodic = abs(hi - lo - two_pi<Real>()) <= 16 * epsilon<Real>() * two_pi<Real>();
+    // the radius at break point j seen from the piece on its `side` (+1: piece j, -1: piece j-1)
+    auto radius = [&](std::size_t j, int side) -> Real {
+        for (const auto& g : grazing)
+            if (g[0] == breaks[j]) return g[1];
+        // the neighbouring piece across break j
+        std::ptrdiff_t other = side > 0 ? std::ptrdiff_t(j) - 1 : std::ptrdiff_t(j);
+        if (other < 0 || other >= std::ptrdiff_t(nb - 1)) {
+            if (!periodic) return Real(0);
+            other = other < 0 ? std::ptrdiff_t(nb - 2) : 0;
+        }
+        if (open[other]) return Real(0);           // K > 0 on both sides: no branch point here
+        return breaks[other + 1] - breaks[other];  // the zero at the far end of the gap
+    };
+    accessible_pieces<Real> result;
+    for (std::size_t j = 0; j + 1 < nb; ++j) {
+        if (!open[j]) continue;
+        result.pieces.push_back({breaks[j], breaks[j + 1]});
+        result.radii.push_back({radius(j, +1), radius(j + 1, -1)});
     }
-    return pieces;
+    return result;
 }
 
 /// Gauss-Kronrod (61 points, Boost's nodes in Real) on `panels` equal panels of
@@ -264,7 +318,7 @@ template <class Real>
 std::vector<std::array<Real, 2>> accessible_intervals(const double_pendulum<Real>& model,
                                                       const Real& energy,
                                                       const curve_view<Real>& curve) {
-    return intervals_of(curve_frame<Real>(model, energy, curve));
+    return intervals_of(curve_frame<Real>(model, energy, curve)).pieces;
 }
 
 template <class Real>
@@ -273,20 +327,23 @@ curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model, const Rea
     using std::sqrt;
     const curve_frame<Real> frame(model, energy, curve);
     curve_flux_result<Real> r;
-    r.intervals = intervals_of(frame);
+    const accessible_pieces<Real> found = intervals_of(frame);
+    r.intervals = found.pieces;
     quadrature_result<Real> total;
-    for (const auto& piece : r.intervals) {
+    for (std::size_t j = 0; j < found.pieces.size(); ++j) {
+        const auto& piece = found.pieces[j];
+        const auto& near = found.radii[j];
         if (method == curve_flux_method::kinetic) {
             auto f = [&frame](const Real& s, const Real&, const Real&) -> Real {
                 const Real K = frame.kinetic(s);
                 return K > 0 ? 4 * sqrt(2 * K * frame.normal_weight(s)) : Real(0);
             };
-            total += tanh_sinh_integrate<Real>(f, piece[0], piece[1]);
+            total += tanh_sinh_integrate_graded<Real>(f, piece[0], piece[1], near[0], near[1]);
         } else {
             auto inner = [&frame](const Real& s, const Real&, const Real&) {
                 return momentum_integral(frame, s);
             };
-            total += nested_integrate<Real>(inner, piece[0], piece[1]);
+            total += nested_integrate<Real>(inner, piece[0], piece[1], near[0], near[1]);
         }
     }
     r.value = total.value;

@@ -67,7 +67,8 @@ quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model, co
             const Real t = sup.half_width(th, Real(edge_gap + to_b), to_a);
             return marginal_from_half_width(model, th, t);
         };
-        r += tanh_sinh_integrate<Real>(f, a, b);
+        const std::array<Real, 2> near = detail::singularity_distances(sup, b);
+        r += tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
     }
     return r;
 }

@@ -68,7 +68,8 @@ prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& 
             // th1 in [-t1, t1] is u = th1 - th2 in [-t1 - th2, t1 - th2]
             return sqrt_det_integral(k, Real(-t1 - th2), Real(t1 - th2), strip);
         };
-        total += nested_integrate<Real>(inner, sup.theta_full, sup.theta_edge);
+        const std::array<Real, 2> near = singularity_distances(sup, sup.theta_edge);
+        total += nested_integrate<Real>(inner, sup.theta_full, sup.theta_edge, near[0], near[1]);
     }
     // th2 in [-pi, 0] mirrors [0, pi]; the momenta contribute 2 pi.
     const Real factor = 2 * two_pi<Real>();

@@ -11,6 +11,7 @@
 // (sin^2 a - sin^2 b = sin(a - b) sin(a + b)), so that neither loses digits near its zero.
 #pragma once
 
+#include <array>
 #include <cmath>
 
 #include "flipflux/core/constants.hpp"
@@ -23,31 +24,57 @@ template <class Real>
 struct angle_support {
     Real energy;
     Real w_this, w_other;
-    Real theta_full;  ///< t = pi on [0, theta_full]
-    Real theta_edge;  ///< t = 0 beyond theta_edge
+    Real theta_full;                        ///< t = pi on [0, theta_full]
+    Real theta_edge;                        ///< t = 0 beyond theta_edge
+    Real full_supplement, edge_supplement;  ///< pi - theta_full, pi - theta_edge (accurate)
 
     angle_support(const double_pendulum<Real>& model, const Real& E, configuration_angle which)
         : energy(E) {
-        using std::asin;
-        using std::sqrt;
         const auto& k = model.coefficients();
         w_this = which == configuration_angle::theta1 ? k.alpha : k.beta;
         w_other = which == configuration_angle::theta1 ? k.beta : k.alpha;
-        const Real above_other = E - 2 * w_other;  // E minus the energy that frees th_o entirely
-        theta_full = above_other <= 0            ? Real(0)
-                     : above_other >= 2 * w_this ? pi<Real>()
-                                                 : 2 * asin(sqrt(above_other / (2 * w_this)));
-        theta_edge = E <= 0            ? Real(0)
-                     : E >= 2 * w_this ? pi<Real>()
-                                       : 2 * asin(sqrt(E / (2 * w_this)));
+        // sin^2(theta_full/2) = (E - 2 w_other)/(2 w_this), cos^2(...) = (E_max - E)/(2 w_this)
+        half_angles(Real(E - 2 * w_other), Real(model.maximum_energy() - E), theta_full,
+                    full_supplement);
+        // sin^2(theta_edge/2) = E/(2 w_this), cos^2(...) = (2 w_this - E)/(2 w_this)
+        half_angles(E, Real(2 * w_this - E), theta_edge, edge_supplement);
+    }
+
+    /// theta in [0, pi] with sin^2(theta/2) = p/(2 w_this), cos^2(theta/2) = q/(2 w_this)
+    /// (p + q = 2 w_this), and pi - theta, each from the smaller of p and q (no cancellation).
+    void half_angles(const Real& p, const Real& q, Real& theta, Real& supplement) const {
+        using std::asin;
+        using std::sqrt;
+        if (!(p > 0)) {
+            theta = 0;
+            supplement = pi<Real>();
+        } else if (!(q > 0)) {
+            theta = pi<Real>();
+            supplement = 0;
+        } else if (p <= q) {
+            theta = 2 * asin(sqrt(p / (2 * w_this)));
+            supplement = pi<Real>() - theta;
+        } else {
+            supplement = 2 * asin(sqrt(q / (2 * w_this)));
+            theta = pi<Real>() - supplement;
+        }
+    }
+
+    /// sin((theta + th)/2) for th = theta + d (d may be negative), from the supplement when theta
+    /// is near pi (then (theta + th)/2 is near pi too and its sine small).
+    Real sine_of_mean(const Real& theta, const Real& supplement, const Real& d) const {
+        using std::sin;
+        return theta <= half_pi<Real>() ? sin(theta + d / 2) : sin(supplement - d / 2);
     }
 
     /// rem(th) for 0 <= th <= pi, given d_edge = theta_edge - th (used when theta_edge < pi).
     Real rem(const Real& th, const Real& d_edge) const {
         using std::cos;
         using std::sin;
-        if (theta_edge < pi<Real>())
-            return 2 * w_this * sin(d_edge / 2) * sin((theta_edge + th) / 2);
+        if (theta_edge < pi<Real>()) {
+            return 2 * w_this * sin(d_edge / 2) *
+                   sine_of_mean(theta_edge, edge_supplement, -d_edge);
+        }
         const Real c = cos(th / 2);  // E >= 2 w_this: rem = (E - 2 w_this) + 2 w_this cos^2(th/2)
         return (energy - 2 * w_this) + 2 * w_this * c * c;
     }
@@ -55,7 +82,9 @@ struct angle_support {
     /// gap(th) = 2 w_other - rem(th) for 0 <= th <= pi, given d_full = th - theta_full.
     Real gap(const Real& th, const Real& d_full) const {
         using std::sin;
-        if (theta_full > 0) return 2 * w_this * sin(d_full / 2) * sin((th + theta_full) / 2);
+        if (theta_full > 0) {
+            return 2 * w_this * sin(d_full / 2) * sine_of_mean(theta_full, full_supplement, d_full);
+        }
         const Real s = sin(th / 2);  // E <= 2 w_other: gap = (2 w_other - E) + 2 w_this sin^2
         return (2 * w_other - energy) + 2 * w_this * s * s;
     }
@@ -73,6 +102,30 @@ struct angle_support {
         return 2 * atan2(sqrt(r), sqrt(g));
     }
 };
+
+/// Distances of the nearest singularities of the marginal beyond the ends of its middle piece
+/// [a, b] (a = theta_full, b <= theta_edge), for tanh_sinh_integrate_graded: the mirror images
+/// of the support's edges (t has square-root branch points there) or, when an edge is absent,
+/// the complex zero of rem or gap closest to the end.
+template <class Real>
+std::array<Real, 2> singularity_distances(const angle_support<Real>& sup, const Real& b) {
+    using std::sqrt;
+    std::array<Real, 2> r{Real(0), Real(0)};
+    if (sup.theta_full > 0) {
+        r[0] = 2 * sup.theta_full;  // the zero of gap at -theta_full
+    } else if (sup.energy < 2 * sup.w_other) {
+        r[0] =
+            sqrt(2 * (2 * sup.w_other - sup.energy) / sup.w_this);  // gap ~ (2w_o - E) + w_t th^2/2
+    }
+    if (b == sup.theta_edge) {
+        if (sup.theta_edge < pi<Real>()) {
+            r[1] = 2 * sup.edge_supplement;  // the zero of rem at 2 pi - theta_edge
+        } else if (sup.energy > 2 * sup.w_this) {
+            r[1] = sqrt(2 * (sup.energy - 2 * sup.w_this) / sup.w_this);  // rem ~ (E - 2w_t) + ...
+        }
+    }
+    return r;
+}
 
 /// |theta| reduced to [0, pi] (the marginals are even and 2 pi-periodic).
 template <class Real>

@@ -43,20 +43,30 @@ prediction_result<Real> upright_flux_integral(const upright_geometry<Real>& g) {
     if (!(g.delta > 0)) return r;
     quadrature_result<Real> q;
     if (g.below_max > 0) {
-        // K = 2 w (sin^2(s*/2) - sin^2(s/2)) = 2 w sin((s* - s)/2) sin((s* + s)/2) on [0, s*]
-        const Real s_star = 2 * asin(sqrt(g.delta / (2 * g.w)));
-        auto f = [&](const Real& s, const Real&, const Real& to_b) -> Real {
-            const Real K = 2 * g.w * sin(to_b / 2) * sin((s_star + s) / 2);
+        // K = 2 w (sin^2(s*/2) - sin^2(s/2)) = 2 w sin((s* - s)/2) sin(s* - (s* - s)/2) on
+        // [0, s*]; when s* is near pi the second sine is taken from u* = pi - s*, computed from
+        // E_max - E, as sin(u* + (s* - s)/2).
+        const bool near_pi = g.delta > g.w;  // s* > pi/2
+        const Real s_star = near_pi ? Real(pi<Real>() - 2 * asin(sqrt(g.below_max / (2 * g.w))))
+                                    : Real(2 * asin(sqrt(g.delta / (2 * g.w))));
+        const Real u_star = near_pi ? Real(2 * asin(sqrt(g.below_max / (2 * g.w)))) : Real(0);
+        auto f = [&](const Real&, const Real&, const Real& to_b) -> Real {
+            const Real mean = near_pi ? sin(u_star + to_b / 2) : sin(s_star - to_b / 2);
+            const Real K = 2 * g.w * sin(to_b / 2) * mean;
             return K > 0 ? sqrt(K) : Real(0);
         };
-        q = tanh_sinh_integrate<Real>(f, Real(0), s_star);
+        // sqrt(K) has its next branch point at the mirror zero 2 pi - s*, 2 u* beyond s*
+        q = tanh_sinh_integrate_graded<Real>(f, Real(0), s_star, Real(0),
+                                             Real(2 * (pi<Real>() - s_star)));
     } else {
-        // K = (E - E_max) + 2 w cos^2(s/2) > 0 on [0, pi]: no zero, no cancellation
-        auto f = [&](const Real& s, const Real&, const Real&) -> Real {
-            const Real c = cos(s / 2);
+        // K = (E - E_max) + 2 w sin^2((pi - s)/2) > 0 on [0, pi]: no zero, no cancellation; its
+        // complex zeros lie sqrt(2 (E - E_max)/w) beyond pi
+        auto f = [&](const Real&, const Real&, const Real& to_b) -> Real {
+            const Real c = sin(to_b / 2);
             return sqrt(-g.below_max + 2 * g.w * c * c);
         };
-        q = tanh_sinh_integrate<Real>(f, Real(0), pi<Real>());
+        q = tanh_sinh_integrate_graded<Real>(f, Real(0), pi<Real>(), Real(0),
+                                             Real(sqrt(-2 * g.below_max / g.w)));
     }
     const Real factor = 8 * sqrt(2 * g.J);  // 4 sqrt(2J) and the mirror half [-pi, 0]
     r.value = factor * q.value;

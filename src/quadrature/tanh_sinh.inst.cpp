@@ -35,8 +35,8 @@ boost::math::quadrature::tanh_sinh<Real>& thread_integrator() {
 
 template <class Real>
 Real default_quadrature_tolerance() {
-    using std::sqrt;
-    return sqrt(epsilon<Real>());
+    using std::pow;
+    return pow(epsilon<Real>(), Real(2) / 3);
 }
 
 template <class Real>
@@ -86,9 +86,47 @@ quadrature_result<Real> tanh_sinh_integrate_pieces(endpoint_integrand<Real> f,
 }
 
 template <class Real>
+quadrature_result<Real> tanh_sinh_integrate_graded(endpoint_integrand<Real> f, const Real& a,
+                                                   const Real& b, const Real& r_a, const Real& r_b,
+                                                   const quadrature_options<Real>& opt) {
+    const Real width = b - a;
+    // NOTE: no grading below the rounding level of the interval (nothing to resolve there)
+    const Real finest = 64 * epsilon<Real>() * width;
+    // offsets from a of the break points: the a-side grading, then the b-side one
+    std::vector<Real> left{Real(0)}, right;
+    if (r_a > finest && 4 * r_a < width) {
+        for (Real x = r_a; x < width / 2; x *= 4)
+            left.push_back(x);
+    }
+    if (r_b > finest && 4 * r_b < width) {
+        for (Real x = r_b; x < width / 2; x *= 4)
+            right.push_back(x);  // distances from b
+    }
+    std::vector<Real> offsets = left;  // increasing offsets from a; b-side as width - distance
+    for (auto it = right.rbegin(); it != right.rend(); ++it) {
+        const Real o = width - *it;
+        if (o > offsets.back()) offsets.push_back(o);
+    }
+    quadrature_result<Real> total;
+    for (std::size_t i = 0; i < offsets.size(); ++i) {
+        const bool last = i + 1 == offsets.size();
+        const Real lo = a + offsets[i];
+        const Real hi = last ? b : a + offsets[i + 1];
+        const Real from_a = offsets[i];  // exact 0 on the first piece
+        const Real to_end = last ? Real(0) : Real(width - offsets[i + 1]);  // exact 0 on the last
+        auto g = [&](const Real& x, const Real& da, const Real& db) -> Real {
+            return f(x, from_a + da, to_end + db);
+        };
+        total += tanh_sinh_integrate<Real>(g, lo, hi, opt);
+    }
+    return total;
+}
+
+template <class Real>
 quadrature_result<Real> nested_integrate(
     function_ref<quadrature_result<Real>(const Real&, const Real&, const Real&)> inner,
-    const Real& a, const Real& b, const quadrature_options<Real>& opt) {
+    const Real& a, const Real& b, const Real& r_a, const Real& r_b,
+    const quadrature_options<Real>& opt) {
     using std::abs;
     std::size_t evaluations = 0;
     Real worst_relative = 0;
@@ -101,7 +139,7 @@ quadrature_result<Real> nested_integrate(
         }
         return r.value;
     };
-    quadrature_result<Real> r = tanh_sinh_integrate<Real>(outer, a, b, opt);
+    quadrature_result<Real> r = tanh_sinh_integrate_graded<Real>(outer, a, b, r_a, r_b, opt);
     r.error_estimate += worst_relative * r.l1_norm;
     r.evaluations = evaluations;
     return r;
@@ -114,9 +152,12 @@ quadrature_result<Real> nested_integrate(
                                                          const R&, const quadrature_options<R>&); \
     template quadrature_result<R> tanh_sinh_integrate_pieces<R>(                                  \
         endpoint_integrand<R>, const std::vector<R>&, const quadrature_options<R>&);              \
+    template quadrature_result<R> tanh_sinh_integrate_graded<R>(endpoint_integrand<R>, const R&,  \
+                                                                const R&, const R&, const R&,     \
+                                                                const quadrature_options<R>&);    \
     template quadrature_result<R> nested_integrate<R>(                                            \
         function_ref<quadrature_result<R>(const R&, const R&, const R&)>, const R&, const R&,     \
-        const quadrature_options<R>&)
+        const R&, const R&, const quadrature_options<R>&)
 FLIPFLUX_TANH_SINH_INSTANTIATE(inst_real);
 
 }  // namespace flipflux

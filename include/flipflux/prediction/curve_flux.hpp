@@ -27,14 +27,20 @@
 // ((w_s, w_flip) = (alpha, beta) for arm 2, (beta, alpha) for arm 1), without cancellation near
 // the saddle energy, so fluxes keep their relative accuracy as E -> E_s.
 // Zeros of K: K and K' are sampled on 128 points per 2 pi of domain; sign changes of K are
-// refined by TOMS 748, local minima of K (sign changes of K') by TOMS 748 on K' and, if K < 0
-// there, the two zeros around them; minima with K >= 0 (grazing) become break points too.
+// refined by TOMS 748 to full precision, extrema of K between samples of equal sign (sign
+// changes of K') by TOMS 748 on K' and, if they cross zero, the two zeros around them; minima
+// with K >= 0 (grazing) become break points too. Each accessible piece is integrated by graded
+// tanh-sinh (quadrature.hpp), graded towards an end whose next branch point of sqrt(K) (the zero
+// across a narrow forbidden gap, or the complex zeros near a grazing minimum) lies close beyond
+// it: E = E_max +- 1e-12 keeps full relative accuracy.
 //
 // Domain: any finite E (f = 0 when K <= 0 on the whole curve, e.g. below the saddle energy);
 // the curve's offset and slope must be finite on its domain. Errors: std::domain_error for a
 // non-finite energy or an empty domain.
-// Accuracy: relative a few eps (double) to a few hundred eps (mp100) for the sine and upright
-// curves at 2 < E <= 1e6, both routes; see docs/accuracy.md.
+// Accuracy (tests/prediction, verification/prediction_routes.cpp, docs/accuracy.md): relative
+// error a few eps for the sine and upright curves from E_s + 1e-12 to 1e6, both arms, both
+// routes, at double, quad, mp50 and mp100. The error estimate is the quadrature's last-level
+// difference: conservative, usually by many orders of magnitude.
 #pragma once
 
 #include <array>

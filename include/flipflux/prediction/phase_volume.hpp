@@ -11,12 +11,14 @@
 // in the parameter convention of special/elliptic.hpp; likewise rho_2(th2) with t1(th2).
 // Routes for Omega:
 //   elliptic       integral of rho_1 over th1 (tanh-sinh, split where t2 reaches 0 and pi, so
-//                  every piece has only square-root endpoint behaviour): the paper's 1-D
-//                  reduction, generalised. Exactly the closed form when E >= E_max.
+//                  every piece has only square-root endpoint behaviour, and graded towards an
+//                  end whose mirror branch point is close): the paper's 1-D reduction,
+//                  generalised. Exactly the closed form when E >= E_max.
 //   quadrature_2d  integral of rho_2 over th2 whose inner integral over th1 is done numerically
-//                  (adaptive Gauss-Kronrod between the boundary points -t1, t1 of V = E): the
-//                  paper's 2-D integral with the boundary resolved, in the other order and with
-//                  another rule than the elliptic route.
+//                  between the boundary points -t1, t1 of V = E (Gauss-Kronrod panels sized by
+//                  the strip where sqrt(det M) is analytic; tanh-sinh as fallback): the paper's
+//                  2-D integral with the boundary resolved, in the other order, no elliptic
+//                  integrals.
 //   closed_form    16 pi^2 sqrt(D0) E(-C^2/D0), valid for E >= E_max = 2(alpha + beta) only.
 //
 // Domain: any finite E. Omega = 0 and the densities vanish for E <= 0 (empty energy surface).

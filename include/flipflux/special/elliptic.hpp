@@ -20,7 +20,8 @@
 //     m > 1:  |phi| <= arcsin(1/sqrt m), i.e. m sin^2 phi <= 1 with |phi| <= pi/2 (beyond, the
 //             integrand is imaginary somewhere on [0, phi]). A computed 1 - m sin^2 phi that is
 //             negative by at most 8 ulp (the rounding of phi = asin(1/sqrt m)) is taken as 0.
-//     F, K additionally need m sin^2 phi < 1 (F diverges at the boundary).
+//     F is finite on the boundary m sin^2 phi = 1 for m > 1; it diverges only at m = 1,
+//     phi = +-pi/2 (mod pi), and K(m) needs m < 1.
 // Accuracy: a few ulp times a condition estimate. Near m = 1, phi = pi/2 the two Carlson terms
 // are each ~ log(1/cos phi) and cancel to ~ 1: relative error ~ eps log(1/cos phi). Where the
 // caller knows 1 - m or 1 - m sin^2 phi more accurately than by subtraction (GeographicLib's
@@ -51,7 +52,7 @@ Real elliptic_k_complete(const Real& m, const Real& mc);
 template <class Real>
 Real elliptic_k(const Real& m);
 
-/// F(phi|m) for any real phi (m < 1) or |phi| < arcsin(1/sqrt m) (m >= 1).
+/// F(phi|m) for any real phi (m < 1), |phi| < pi/2 (m = 1) or |phi| <= arcsin(1/sqrt m) (m > 1).
 template <class Real>
 Real elliptic_f(const Real& phi, const Real& m);
 
@@ -62,7 +63,7 @@ Real elliptic_f(const Real& phi, const Real& m);
 template <class Real>
 Real elliptic_e_carlson(const Real& s, const Real& c2, const Real& d, const Real& m);
 
-/// F(phi|m) for |phi| <= pi/2 from s, c2 and d = 1 - m s^2 > 0 as above.
+/// F(phi|m) for |phi| <= pi/2 from s, c2 and d = 1 - m s^2 as above (not both c2 and d zero).
 template <class Real>
 Real elliptic_f_carlson(const Real& s, const Real& c2, const Real& d, const Real& m);
 

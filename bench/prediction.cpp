@@ -1,0 +1,63 @@
+// Google Benchmark: every registered quantity (prediction and, once registered, orbits) with each
+// of its methods at double, quad, mp:50 and mp:100, for the egalitarian pendulum at a
+// representative energy (omega: E = 3.5 and 7; arm 2: E = 3.5; arm 1: E = 5). Registered from the
+// quantity registry at start-up, so new quantities are benchmarked without an edit here.
+// Filter with --benchmark_filter, e.g. 'omega/elliptic' or '/mp:50'.
+#include <benchmark/benchmark.h>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/quantities/registry.hpp"
+
+namespace {
+
+using namespace flipflux;
+
+template <class Real>
+void run(benchmark::State& state, const quantity* q, std::string method, arm a, std::string e) {
+    const double_pendulum<Real> model;
+    const Real energy = parse_real<Real>(e, "--energy");
+    for (auto _ : state) {
+        try {
+            benchmark::DoNotOptimize(q->evaluate(model, a, energy, method));
+        } catch (const input_error& err) {
+            state.SkipWithError(err.what());
+            break;
+        }
+    }
+}
+
+template <class Real>
+void register_all() {
+    for (const quantity& q : quantities()) {
+        std::vector<std::pair<arm, std::string>> cases;
+        if (q.per_arm)
+            cases = {{arm::two, "3.5"}, {arm::one, "5"}};
+        else
+            cases = {{arm::two, "3.5"}, {arm::two, "7"}};
+        for (const std::string& m : q.methods) {
+            for (const auto& [a, e] : cases) {
+                const std::string name = q.name + "/" + m +
+                                         (q.per_arm ? "/arm" + to_string(a) : "") + "/E=" + e +
+                                         "/" + precision_name<Real>();
+                benchmark::RegisterBenchmark(name.c_str(), run<Real>, &q, m, a, e)
+                    ->Unit(benchmark::kMicrosecond);
+            }
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    register_all<double>();
+    register_all<quad>();
+    register_all<mp50>();
+    register_all<mp100>();
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

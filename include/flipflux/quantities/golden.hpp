@@ -1,0 +1,64 @@
+// Golden reference data: every registered quantity on an energy grid, with its certified digits
+// (`flipflux golden`; data/golden/README.md describes the files).
+//
+// A row's value is computed by the quantity's default method in mp:100. Its certified digits are
+//     min( agreement of the default method in mp:50 with mp:100,
+//          agreement of the first other method that applies, in mp:50, with mp:100 ),
+// agreement = floor(-log10(|a - b| / |b|)), at most 50; the value is written with that many
+// significant digits. Rows whose quantity is zero (a flux below its saddle) or whose energy is
+// outside the quantity's domain (input_error) are left out. Driven by the registry: quantities
+// registered by other modules join without change here.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux {
+
+struct golden_row {
+    std::string quantity;
+    std::string arm;     ///< "1", "2", or "" for quantities that are not per arm
+    std::string energy;  ///< decimal text, exactly as parsed in every precision
+    std::string value;   ///< the mp:100 value with `digits` significant digits
+    int digits = 0;      ///< certified significant digits
+    std::string method;  ///< "default|checked" methods, e.g. "elliptic|quadrature-2d"
+};
+
+/// The energy grid of a quantity for the egalitarian pendulum (or any model: E_s and E_max are
+/// taken from it): every 0.05 from just above `start` up to E_max, then 6.5, 7, 7.5, 8, 9, 10,
+/// 12, 15, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100 (those above E_max). start = 0 for quantities
+/// not per arm, else the arm's saddle energy.
+std::vector<std::string> golden_energies(double start, double maximum);
+
+struct golden_options {
+    std::vector<std::string> quantities;  ///< empty: every registered quantity
+    int jobs = 1;                         ///< OpenMP threads
+    std::size_t max_rows = 0;             ///< 0: all (for quick runs and tests)
+    /// called after each row (from one thread at a time), for progress reports
+    std::function<void(const golden_row&, std::size_t done, std::size_t total)> progress;
+};
+
+/// Generates the rows for the egalitarian pendulum (the paper's).
+std::vector<golden_row> generate_golden(const golden_options& options);
+
+/// Certified significant digits of `value` given a reference: floor(-log10 |a - b| / |b|),
+/// clamped to [0, cap]; cap when they are equal.
+int agreement_digits(const std::string& value, const std::string& reference, int cap = 50);
+
+/// Writes rows.csv-style text: header "quantity,arm,energy,value,digits,method".
+std::string golden_csv(const std::vector<golden_row>& rows);
+
+/// Parses golden_csv text; throws input_error naming the line on malformed input.
+std::vector<golden_row> parse_golden_csv(const std::string& text);
+
+/// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
+/// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count.
+std::string golden_provenance(const std::string& command, std::size_t rows);
+
+/// Writes `text` to `path` atomically (a temporary in the same directory, then rename).
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace flipflux

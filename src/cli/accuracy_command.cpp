@@ -1,0 +1,72 @@
+// flipflux accuracy [--out FILE] [--quantities a,b]: digits achieved against time per evaluation
+// for every registered quantity, method and precision, as Markdown (docs/accuracy.md).
+#include <sstream>
+
+#include "common.hpp"
+#include "flipflux/quantities/accuracy.hpp"
+#include "flipflux/quantities/golden.hpp"
+#include "flipflux/quantities/registry.hpp"
+
+namespace flipflux::cli {
+namespace {
+
+struct accuracy_state {
+    std::string out = "docs/accuracy.md";
+    std::string quantities;
+    std::string precisions = "double,quad,mp:50,mp:100";
+    double min_seconds = 0.2;
+};
+
+const register_command registration([](CLI::App& app) {
+    auto s = std::make_shared<accuracy_state>();
+    CLI::App* sub =
+        app.add_subcommand("accuracy",
+                           "Measure digits achieved and time per evaluation of every registered "
+                           "quantity, method and precision; write a Markdown report");
+    sub->add_option("--out", s->out, "the report (Markdown), written atomically")
+        ->capture_default_str();
+    sub->add_option("--quantities", s->quantities,
+                    "comma-separated quantity names (default: every registered quantity)");
+    sub->add_option("--precisions", s->precisions,
+                    "comma-separated subset of double, quad, mp:50, mp:100")
+        ->capture_default_str();
+    sub->add_option("--min-seconds", s->min_seconds, "timing budget per cell")
+        ->capture_default_str();
+    sub->callback([s] {
+        accuracy_options options;
+        std::stringstream in(s->quantities);
+        std::string item;
+        while (std::getline(in, item, ',')) {
+            if (item.empty()) continue;
+            find_quantity(item);  // input_error naming an unknown quantity
+            options.quantities.push_back(item);
+        }
+        std::stringstream list(s->precisions);
+        for (bool& p : options.precisions)
+            p = false;
+        while (std::getline(list, item, ',')) {
+            const precision p = parse_precision(item, "--precisions");
+            if (p == precision::double_) options.precisions[0] = true;
+            if (p == precision::quad) options.precisions[1] = true;
+            if (p == precision::mp50) options.precisions[2] = true;
+            if (p == precision::mp100) options.precisions[3] = true;
+        }
+        if (!(s->min_seconds >= 0)) {
+            throw input_error("--min-seconds: must be >= 0");
+        }
+        options.min_seconds = s->min_seconds;
+        options.progress = [](const std::string& line) {
+            std::fprintf(stderr, "accuracy: %s\n", line.c_str());
+        };
+        std::string command = "flipflux accuracy --out " + s->out;
+        if (!s->quantities.empty()) command += " --quantities " + s->quantities;
+        if (s->precisions != "double,quad,mp:50,mp:100")
+            command += " --precisions " + s->precisions;
+        const auto entries = measure_accuracy(options);
+        write_file_atomically(s->out, accuracy_markdown(entries, command));
+        print(json{{"entries", entries.size()}, {"out", s->out}}.dump(2) + "\n");
+    });
+});
+
+}  // namespace
+}  // namespace flipflux::cli

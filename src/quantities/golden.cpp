@@ -1,0 +1,255 @@
+// Golden reference data (include/flipflux/quantities/golden.hpp).
+#include "flipflux/quantities/golden.hpp"
+
+#include <gmp.h>
+#include <mpfr.h>
+
+#include <Eigen/Core>
+#include <boost/version.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/version.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/quantities/registry.hpp"
+
+namespace flipflux {
+namespace {
+
+/// k/20 as the shortest decimal ("2.05", "2.1", "3").
+std::string twentieths(long k) {
+    const long hundredths = 5 * k;
+    std::string text = std::to_string(hundredths / 100);
+    const long frac = hundredths % 100;
+    if (frac != 0) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, ".%02ld", frac);
+        text += buf;
+        if (text.back() == '0') text.pop_back();
+    }
+    return text;
+}
+
+const double high_energies[] = {6.5, 7,  7.5, 8,  9,  10, 12, 15, 20,
+                                25,  30, 40,  50, 60, 70, 80, 90, 100};
+
+struct golden_task {
+    const quantity* q;
+    arm a;
+    std::string energy;
+};
+
+std::optional<golden_row> compute_row(const golden_task& t) {
+    const double_pendulum<mp50> model50;
+    const double_pendulum<mp100> model100;
+    const mp50 e50 = parse_real<mp50>(t.energy, "--energy");
+    const mp100 e100 = parse_real<mp100>(t.energy, "--energy");
+    quantity_value<mp100> high;
+    quantity_value<mp50> low;
+    try {
+        high = t.q->evaluate(model100, t.a, e100, "");
+        low = t.q->evaluate(model50, t.a, e50, "");
+    } catch (const input_error&) {
+        return std::nullopt;  // outside the quantity's domain
+    }
+    if (high.value == 0) return std::nullopt;
+    const std::string reference = to_decimal(high.value);
+    int digits = agreement_digits(to_decimal(low.value), reference);
+    std::string checked;
+    for (std::size_t i = 1; i < t.q->methods.size() && checked.empty(); ++i) {
+        try {
+            const quantity_value<mp50> other = t.q->evaluate(model50, t.a, e50, t.q->methods[i]);
+            digits = std::min(digits, agreement_digits(to_decimal(other.value), reference));
+            checked = other.method;
+        } catch (const input_error&) {
+            // this method does not apply at this energy (e.g. a closed form): try the next
+        }
+    }
+    golden_row row;
+    row.quantity = t.q->name;
+    row.arm = t.q->per_arm ? to_string(t.a) : "";
+    row.energy = t.energy;
+    row.digits = digits;
+    row.value = to_decimal(high.value, std::max(digits, 1));
+    row.method = high.method + (checked.empty() ? "" : "|" + checked);
+    return row;
+}
+
+}  // namespace
+
+std::vector<std::string> golden_energies(double start, double maximum) {
+    std::vector<std::string> grid;
+    for (long k = static_cast<long>(std::floor(start * 20 + 1e-9)) + 1; k <= maximum * 20 + 1e-9;
+         ++k)
+        grid.push_back(twentieths(k));
+    for (double e : high_energies) {
+        if (e > maximum) {
+            std::ostringstream out;
+            out << e;
+            grid.push_back(out.str());
+        }
+    }
+    return grid;
+}
+
+int agreement_digits(const std::string& value, const std::string& reference, int cap) {
+    using std::abs;
+    using std::floor;
+    using std::log10;
+    const mp100 a = parse_real<mp100>(value, "value"),
+                b = parse_real<mp100>(reference, "reference");
+    const mp100 diff = abs(a - b);
+    if (diff == 0) return cap;
+    if (b == 0) return 0;
+    const mp100 digits = floor(-log10(diff / abs(b)));
+    if (digits < 0) return 0;
+    return digits > cap ? cap : static_cast<int>(digits);
+}
+
+std::vector<golden_row> generate_golden(const golden_options& options) {
+    const double_pendulum<double> model;
+    std::vector<golden_task> tasks;
+    for (const quantity& q : quantities()) {
+        if (!options.quantities.empty() &&
+            std::find(options.quantities.begin(), options.quantities.end(), q.name) ==
+                options.quantities.end()) {
+            continue;
+        }
+        if (!q.per_arm) {
+            for (const std::string& e : golden_energies(0, model.maximum_energy()))
+                tasks.push_back({&q, arm::two, e});
+            continue;
+        }
+        for (arm a : {arm::two, arm::one}) {
+            for (const std::string& e :
+                 golden_energies(model.saddle_energy(a), model.maximum_energy()))
+                tasks.push_back({&q, a, e});
+        }
+    }
+    if (options.max_rows > 0 && tasks.size() > options.max_rows) {
+        // an evenly spread sample
+        std::vector<golden_task> sample;
+        for (std::size_t i = 0; i < options.max_rows; ++i)
+            sample.push_back(tasks[i * tasks.size() / options.max_rows]);
+        tasks.swap(sample);
+    }
+    std::vector<std::optional<golden_row>> rows(tasks.size());
+    std::size_t done = 0;
+    const long n = static_cast<long>(tasks.size());
+#pragma omp parallel for schedule(dynamic) num_threads(options.jobs > 0 ? options.jobs : 1)
+    for (long i = 0; i < n; ++i) {
+        rows[i] = compute_row(tasks[i]);
+#pragma omp critical(flipflux_golden_progress)
+        {
+            ++done;
+            if (options.progress && rows[i]) options.progress(*rows[i], done, tasks.size());
+        }
+    }
+    std::vector<golden_row> out;
+    for (auto& r : rows)
+        if (r) out.push_back(std::move(*r));
+    return out;
+}
+
+std::string golden_csv(const std::vector<golden_row>& rows) {
+    std::string text = "quantity,arm,energy,value,digits,method\n";
+    for (const golden_row& r : rows) {
+        text += r.quantity + "," + r.arm + "," + r.energy + "," + r.value + "," +
+                std::to_string(r.digits) + "," + r.method + "\n";
+    }
+    return text;
+}
+
+std::vector<golden_row> parse_golden_csv(const std::string& text) {
+    std::vector<golden_row> rows;
+    std::istringstream in(text);
+    std::string line;
+    std::size_t number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        if (number == 1 || line.empty()) continue;  // header
+        std::vector<std::string> fields;
+        std::string field;
+        std::istringstream cells(line);
+        while (std::getline(cells, field, ','))
+            fields.push_back(field);
+        if (fields.size() == 5 && line.back() == ',') fields.emplace_back();
+        if (fields.size() != 6) {
+            throw input_error("golden csv: line " + std::to_string(number) +
+                              " does not have 6 fields");
+        }
+        golden_row r{fields[0], fields[1], fields[2], fields[3], 0, fields[5]};
+        try {
+            r.digits = std::stoi(fields[4]);
+        } catch (const std::exception&) {
+            throw input_error("golden csv: line " + std::to_string(number) + ": digits '" +
+                              fields[4] + "' is not an integer");
+        }
+        rows.push_back(std::move(r));
+    }
+    return rows;
+}
+
+std::string golden_provenance(const std::string& command, std::size_t rows) {
+    nlohmann::ordered_json j;
+    j["command"] = command;
+    j["flipflux_version"] = version_string();
+    j["git_commit"] = git_commit();
+    const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+    char date[32];
+    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    j["generated_utc"] = date;
+    j["compiler"] = std::string("g++ ") + __VERSION__;
+    j["libraries"] = {
+        {"boost", BOOST_LIB_VERSION},
+        {"mpfr", mpfr_get_version()},
+        {"gmp", gmp_version},
+        {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) +
+                      "." + std::to_string(EIGEN_MINOR_VERSION)}};
+    j["precision"] = {
+        {"values", "mp:100 (MPFR, 100 decimal digits), the quantity's default method"},
+        {"certification",
+         "digits = min(agreement of the default method in mp:50 with mp:100, agreement of the "
+         "first other applicable method in mp:50 with mp:100), capped at 50"}};
+    j["boost_math_policy"] =
+        "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
+        "(domain and evaluation errors throw)";
+    j["model"] =
+        "egalitarian double pendulum: m1 = m2 = L1 = L2 = g = 1 (A = 2, B = C = 1, "
+        "alpha = 2, beta = 1)";
+    j["grid"] =
+        "per quantity and arm: every 0.05 from above the saddle energy (0 for omega) to E_max = 6, "
+        "then 6.5, 7, 7.5, 8, 9, 10, 12, 15, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100; energies are "
+        "decimal text parsed in each precision";
+    j["columns"] = {{"quantity", "registered name (flipflux eval --help)"},
+                    {"arm", "1 or 2; empty for quantities that are not per arm"},
+                    {"energy", "E as decimal text"},
+                    {"value", "mp:100 value rounded to `digits` significant digits"},
+                    {"digits", "certified significant digits"},
+                    {"method", "default method | independent method that certified it"}};
+    j["rows"] = rows;
+    return j.dump(2) + "\n";
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw input_error("--out: cannot write '" + path + "'");
+        out << text;
+        out.flush();
+        if (!out) throw input_error("--out: cannot write '" + path + "'");
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+}  // namespace flipflux

@@ -1,0 +1,74 @@
+// Pendulums the prediction tests run on: the paper's egalitarian one and non-egalitarian sets
+// (unequal point masses, rigid links with moments of inertia, a light first link that makes the
+// mass matrix nearly singular). Every parameter is exactly representable in binary, so all four
+// precisions see the same pendulum.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "../support.hpp"
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux::test {
+
+struct model_spec {
+    std::string name;
+    const char *m1, *m2, *L1, *L2, *a1, *a2, *I1, *I2, *g;
+};
+
+inline const std::vector<model_spec>& model_specs() {
+    static const std::vector<model_spec> specs{
+        {"egalitarian", "1", "1", "1", "1", "1", "1", "0", "0", "1"},
+        {"unequal-point-masses", "3", "0.5", "0.75", "1.25", "0.75", "1.25", "0", "0", "9.8125"},
+        {"rigid-links", "2", "1", "1", "1.5", "0.5", "0.75", "0.125", "0.1875", "1"},
+        {"light-first-link", "0.0078125", "1", "1", "0.5", "1", "0.5", "0", "0.015625", "1"},
+    };
+    return specs;
+}
+
+template <class Real>
+double_pendulum<Real> make_model(const model_spec& s) {
+    physical_parameters<Real> p;
+    auto r = [](const char* t) { return parse_real<Real>(t, "model"); };
+    p.m1 = r(s.m1);
+    p.m2 = r(s.m2);
+    p.L1 = r(s.L1);
+    p.L2 = r(s.L2);
+    p.a1 = r(s.a1);
+    p.a2 = r(s.a2);
+    p.I1 = r(s.I1);
+    p.I2 = r(s.I2);
+    p.g = r(s.g);
+    return double_pendulum<Real>(p);
+}
+
+/// x converted exactly to a type of at least its precision (through 140 significant digits;
+/// tests/support.hpp's convert keeps only the digits that round-trip, which is not exact and
+/// matters where a quantity depends on E - E_s ~ 1e-12).
+template <class To, class From>
+To exactly(const From& x) {
+    return parse_real<To>(to_decimal(x, 140), "exactly");
+}
+
+/// eps of Real times c, with a floor of 1e-95 for mp100 (references computed in mp100 itself).
+template <class Real>
+double tolerance(double c) {
+    const double t = c * static_cast<double>(eps<Real>());
+    return std::is_same_v<Real, mp100> ? std::max(t, 1e-95) : t;
+}
+
+/// The accuracy targets: double 1e-14, quad 1e-31, mp50 1e-46 (and mp100 1e-95).
+template <class Real>
+double target() {
+    if constexpr (std::is_same_v<Real, double>)
+        return 1e-14;
+    else if constexpr (std::is_same_v<Real, quad>)
+        return 1e-31;
+    else if constexpr (std::is_same_v<Real, mp50>)
+        return 1e-46;
+    else
+        return 1e-95;
+}
+
+}  // namespace flipflux::test

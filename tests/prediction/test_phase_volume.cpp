@@ -1,0 +1,245 @@
+// Phase volume and configuration-space densities (include/flipflux/prediction/phase_volume.hpp):
+// the elliptic 1-D reduction against the 2-D quadrature and the closed form, the kink at E_max and
+// the harmonic limit with their leading power laws, the marginals and the CDF.
+// (More energies, pendulums and precisions: verification/prediction_routes.cpp.)
+#include <stdexcept>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/prediction/phase_volume.hpp"
+#include "flipflux/quadrature/quadrature.hpp"
+#include "models.hpp"
+
+namespace flipflux {
+namespace {
+
+using test::convert;
+using test::eps;
+using test::relative_error;
+using test::target;
+using test::tolerance;
+
+template <class Real>
+class PhaseVolume : public ::testing::Test {};
+TYPED_TEST_SUITE(PhaseVolume, test::real_types, test::real_name);
+
+// 16 pi^2 E(-1) by mpmath 1.3.0 (120 digits).
+const char* const omega_egalitarian_max =
+    "301.6307272929579491278041858189564673289868134930415803493231794541102518930997723177695100"
+    "239061635259975231883";
+
+TYPED_TEST(PhaseVolume, ClosedFormAtTheMaximumIsSixteenPiSquaredE) {
+    using Real = TypeParam;
+    const double_pendulum<Real> model;
+    const Real six(6);
+    const mp100 expected = parse_real<mp100>(omega_egalitarian_max, "ref");
+    for (phase_volume_method m : {phase_volume_method::closed_form, phase_volume_method::elliptic,
+                                  phase_volume_method::quadrature_2d}) {
+        const prediction_result<Real> r = phase_volume(model, six, m);
+        EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(16)) << to_string(m);
+        EXPECT_LE(relative_error(r.value, expected), target<Real>()) << to_string(m);
+    }
+    EXPECT_LE(relative_error(phase_volume_above_maximum(model), expected), tolerance<Real>(16));
+    // above the maximum Omega no longer depends on E
+    const Real huge(1000000);
+    EXPECT_LE(relative_error(phase_volume(model, huge).value, expected), tolerance<Real>(16));
+    EXPECT_LE(relative_error(phase_volume(model, huge, phase_volume_method::quadrature_2d).value,
+                             expected),
+              tolerance<Real>(16));
+}
+
+// Omega(E_max - d) = Omega_max - 4 pi^2 sqrt(D0 / (alpha beta)) d (1 + O(d)): the forbidden
+// ellipse around (pi, pi) has area 2 pi d / sqrt(alpha beta) and sqrt(det M) = sqrt(D0) there.
+TYPED_TEST(PhaseVolume, KinkAtTheMaximumFollowsItsPowerLaw) {
+    using Real = TypeParam;
+    using std::sqrt;
+    const bool mp100_type = std::is_same_v<Real, mp100>;
+    for (std::size_t i : {0, 2}) {
+        if (mp100_type && i > 0) break;  // NOTE: test time; the rigid links at mp100 are verified
+        const auto& spec = test::model_specs()[i];
+        const double_pendulum<Real> model = test::make_model<Real>(spec);
+        const auto& k = model.coefficients();
+        const Real d = Real(1) / 1000000000000;  // 1e-12
+        const Real below = model.maximum_energy() - d;
+        const Real omega_max = phase_volume_above_maximum(model);
+        const prediction_result<Real> r = phase_volume(model, below);
+        const Real slope = 4 * pi<Real>() * pi<Real>() * sqrt(k.D0 / (k.alpha * k.beta));
+        const Real ratio = (omega_max - r.value) / (slope * d);
+        // the difference of two O(1) numbers carries their rounding, magnified by 1/(slope d)
+        const double tol =
+            static_cast<double>(16 * eps<Real>() * omega_max / (slope * d)) + 100 * 1e-12;
+        EXPECT_LE(relative_error(ratio, mp100(1)), tol) << spec.name;
+        // the 2-D route agrees with the elliptic one just below the kink (double, quad)
+        if constexpr (std::is_same_v<Real, double> || std::is_same_v<Real, quad>) {
+            EXPECT_LE(
+                relative_error(phase_volume(model, below, phase_volume_method::quadrature_2d).value,
+                               r.value),
+                target<Real>())
+                << spec.name;
+        }
+        // and Omega is continuous through E_max
+        const Real above = model.maximum_energy() + d;
+        EXPECT_LE(relative_error(phase_volume(model, above).value, omega_max), tolerance<Real>(16));
+    }
+}
+
+// Small E: the harmonic limit Omega = 4 pi^2 sqrt(D0 / (alpha beta)) E (1 + O(E)).
+TYPED_TEST(PhaseVolume, HarmonicLimit) {
+    using Real = TypeParam;
+    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
+    using std::sqrt;
+    const double_pendulum<Real> model = test::make_model<Real>(test::model_specs()[1]);
+    const auto& k = model.coefficients();
+    const Real E = Real(1) / 1000000000;  // 1e-9
+    const Real harmonic = 4 * pi<Real>() * pi<Real>() * sqrt(k.D0 / (k.alpha * k.beta)) * E;
+    EXPECT_LE(relative_error(phase_volume(model, E).value, harmonic), 1e-8);
+    EXPECT_GT(phase_volume(model, E).value, Real(0));
+}
+
+TYPED_TEST(PhaseVolume, RoutesAgreeForEveryPendulum) {
+    using Real = TypeParam;
+    if constexpr (std::is_same_v<Real, mp50> || std::is_same_v<Real, mp100>) {
+        GTEST_SKIP() << "the 2-D route at MPFR precision is in verification/prediction_routes";
+    } else {
+        // NOTE: quad on a subset for test time; the full grid is in verification/
+        const bool full = std::is_same_v<Real, double>;
+        for (const auto& spec : test::model_specs()) {
+            if (!full && spec.name != "rigid-links") continue;
+            const double_pendulum<Real> model = test::make_model<Real>(spec);
+            const Real e_max = model.maximum_energy();
+            for (int i : {1, 3, 5, 7}) {
+                if (!full && (i == 1 || i == 7)) continue;
+                const Real E = e_max * i / 8;
+                const Real a = phase_volume(model, E).value;
+                const Real b = phase_volume(model, E, phase_volume_method::quadrature_2d).value;
+                EXPECT_LE(relative_error(a, b), target<Real>()) << spec.name << " E " << E;
+            }
+        }
+    }
+}
+
+// Against the next precision up (mp50 for double and quad, mp100 for mp50); mp100 itself is
+// checked against the closed form above and across routes in verification/.
+TYPED_TEST(PhaseVolume, HigherPrecisionReference) {
+    using Real = TypeParam;
+    if constexpr (std::is_same_v<Real, mp50> || std::is_same_v<Real, mp100>) {
+        GTEST_SKIP() << "test time: MPFR against mp100 in verification/prediction_routes.cpp";
+    } else {
+        using Ref = std::conditional_t<std::is_same_v<Real, mp50>, mp100, mp50>;
+        const double_pendulum<Real> model = test::make_model<Real>(test::model_specs()[2]);
+        const double_pendulum<Ref> reference = test::make_model<Ref>(test::model_specs()[2]);
+        const Real E = model.maximum_energy() * 5 / 8;
+        const prediction_result<Real> r = phase_volume(model, E);
+        const Ref expected = phase_volume(reference, convert<Ref>(E)).value;
+        EXPECT_LE(relative_error(r.value, expected), target<Real>());
+        EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(64));
+        EXPECT_GT(r.evaluations, 0u);
+        EXPECT_GT(r.error_estimate, Real(0));
+    }
+}
+
+TYPED_TEST(PhaseVolume, OutsideTheDomain) {
+    using Real = TypeParam;
+    const double_pendulum<Real> model;
+    EXPECT_EQ(phase_volume(model, Real(0)).value, Real(0));
+    EXPECT_EQ(phase_volume(model, Real(-1), phase_volume_method::quadrature_2d).value, Real(0));
+    EXPECT_THROW(phase_volume(model, Real(5), phase_volume_method::closed_form), std::domain_error);
+    EXPECT_THROW(phase_volume(model, std::numeric_limits<Real>::quiet_NaN()), std::domain_error);
+    EXPECT_EQ(to_string(phase_volume_method::elliptic), "elliptic");
+    EXPECT_EQ(to_string(phase_volume_method::quadrature_2d), "quadrature-2d");
+    EXPECT_EQ(to_string(phase_volume_method::closed_form), "closed-form");
+}
+
+// rho_i(x) = integral of 2 pi sqrt(det M) over the allowed interval of the other angle, checked by
+// tanh-sinh in mp100 over [-t, t] (t from allowed_half_width, itself checked against V = E).
+TYPED_TEST(PhaseVolume, MarginalDensitiesMatchQuadratureOfTheDensity) {
+    using Real = TypeParam;
+    using std::cos;
+    using std::sqrt;
+    const double_pendulum<Real> model = test::make_model<Real>(test::model_specs()[2]);
+    const double_pendulum<mp100> ref = test::make_model<mp100>(test::model_specs()[2]);
+    const Real E = model.maximum_energy() * 5 / 8;
+    test::random_reals rnd(7);
+    for (configuration_angle which : {configuration_angle::theta1, configuration_angle::theta2}) {
+        for (int i = 0; i < 4; ++i) {
+            const Real x = Real(rnd(-3.1, 3.1));
+            const Real t = allowed_half_width(model, E, which, x);
+            const Real rho = marginal_density(model, E, which, x);
+            if (t == 0) {
+                EXPECT_EQ(rho, Real(0));
+                continue;
+            }
+            // the boundary: V(x, t) = E (unless the whole circle is allowed)
+            const Real V = which == configuration_angle::theta1 ? model.potential(x, t)
+                                                                : model.potential(t, x);
+            if (t < pi<Real>()) {
+                EXPECT_LE(abs(V - E), 64 * eps<Real>() * E);
+            }
+            const mp100 X = convert<mp100>(x), T = convert<mp100>(t);
+            auto f = [&](const mp100& y, const mp100&, const mp100&) -> mp100 {
+                return which == configuration_angle::theta1 ? ref.mass_determinant(X, y)
+                                                            : ref.mass_determinant(y, X);
+            };
+            auto g = [&](const mp100& y, const mp100& a, const mp100& b) -> mp100 {
+                return two_pi<mp100>() * sqrt(f(y, a, b));
+            };
+            const mp100 expected = tanh_sinh_integrate<mp100>(g, -T, T).value;
+            EXPECT_LE(relative_error(rho, expected), tolerance<Real>(64)) << "x " << x;
+            // the density itself: inside, on and outside the allowed region
+            const Real inside = which == configuration_angle::theta1
+                                    ? configuration_density(model, E, x, Real(0))
+                                    : configuration_density(model, E, Real(0), x);
+            EXPECT_LE(relative_error(inside, two_pi<mp100>() * sqrt(f(mp100(0), X, X))),
+                      tolerance<Real>(8));
+        }
+    }
+    EXPECT_EQ(configuration_density(model, E, pi<Real>(), pi<Real>()), Real(0));
+    const double_pendulum<Real> egal;
+    // on the boundary V = E exactly: V(0, pi/2 rounded)... use E = V at a point
+    const Real e_on = egal.potential(Real(1), Real(2));
+    EXPECT_LE(relative_error(configuration_density(egal, e_on, Real(1), Real(2)),
+                             two_pi<Real>() * sqrt(egal.mass_determinant(Real(1), Real(2))) / 2),
+              tolerance<Real>(8));
+}
+
+TYPED_TEST(PhaseVolume, MarginalsNormaliseToOmegaAndTheCdfIsConsistent) {
+    using Real = TypeParam;
+    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
+    const double_pendulum<Real> model;
+    const Real E = Real(7) / 2;
+    const Real omega = phase_volume(model, E).value;
+    // Omega = 2 * integral_0^pi rho_2: the theta2 marginal is an independent 1-D reduction
+    const prediction_result<Real> half =
+        marginal_cdf(model, E, configuration_angle::theta2, Real(0));
+    EXPECT_LE(relative_error(half.value, mp100(1) / 2), tolerance<Real>(4));
+    if (std::is_same_v<Real, mp50>) return;  // NOTE: test time; the rest runs in double and quad
+    EXPECT_EQ(marginal_cdf(model, E, configuration_angle::theta1, pi<Real>()).value, Real(1));
+    EXPECT_EQ(marginal_cdf(model, E, configuration_angle::theta1, Real(-pi<Real>())).value,
+              Real(0));
+    // cdf at x: integral_{-pi}^{x} rho_1 / Omega, with the integral done by tanh-sinh here
+    const Real x = Real(1) / 3;
+    auto rho1 = [&](const Real& y, const Real&, const Real&) -> Real {
+        return marginal_density(model, E, configuration_angle::theta1, y);
+    };
+    // rho_1 has kinks where the support changes: integrate over [0, x] (x below the first kink)
+    const Real part = tanh_sinh_integrate<Real>(rho1, Real(0), x).value;
+    const prediction_result<Real> cdf = marginal_cdf(model, E, configuration_angle::theta1, x);
+    EXPECT_LE(relative_error(cdf.value, Real(Real(1) / 2 + part / omega)), tolerance<Real>(64));
+    EXPECT_LE(relative_error(marginal_cdf(model, E, configuration_angle::theta1, Real(-x)).value,
+                             Real(Real(1) / 2 - part / omega)),
+              tolerance<Real>(64));
+    EXPECT_GT(cdf.evaluations, 0u);
+    EXPECT_THROW(marginal_cdf(model, E, configuration_angle::theta1, Real(4)), std::domain_error);
+    EXPECT_THROW(marginal_cdf(model, Real(0), configuration_angle::theta1, Real(1)),
+                 std::domain_error);
+    // periodicity and evenness of the marginal
+    const Real a = marginal_density(model, E, configuration_angle::theta2, Real(1));
+    EXPECT_LE(
+        relative_error(
+            marginal_density(model, E, configuration_angle::theta2, Real(1 + 4 * pi<Real>())), a),
+        tolerance<Real>(64));
+    EXPECT_EQ(marginal_density(model, E, configuration_angle::theta2, Real(-1)), a);
+    EXPECT_EQ(marginal_density(model, Real(-1), configuration_angle::theta2, Real(1)), Real(0));
+}
+
+}  // namespace
+}  // namespace flipflux

@@ -1,0 +1,134 @@
+// The quadrature layer (include/flipflux/quadrature/quadrature.hpp): known integrals with endpoint
+// singularities at every precision, endpoint distances, error estimates that bound the actual
+// error, the fixed and adaptive Gauss-Kronrod rules, nesting, and thread safety under OpenMP.
+#include <omp.h>
+
+#include <boost/math/special_functions/bessel.hpp>
+#include <stdexcept>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/quadrature/quadrature.hpp"
+#include "support.hpp"
+
+namespace flipflux {
+namespace {
+
+using test::eps;
+using test::relative_error;
+
+template <class Real>
+class Quadrature : public ::testing::Test {};
+TYPED_TEST_SUITE(Quadrature, test::real_types, test::real_name);
+
+TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
+    using Real = TypeParam;
+    using std::sqrt;
+    const double tol = 8 * static_cast<double>(eps<Real>());
+    // int_0^1 sqrt(1 - x) dx = 2/3, with the distance to b (no cancellation in 1 - x)
+    auto f = [](const Real&, const Real&, const Real& to_b) -> Real { return sqrt(to_b); };
+    const quadrature_result<Real> a = tanh_sinh_integrate<Real>(f, Real(0), Real(1));
+    EXPECT_LE(relative_error(a.value, mp100(2) / 3), tol);
+    EXPECT_GE(a.error_estimate, abs(a.value - Real(2) / 3));  // a conservative estimate
+    EXPECT_GT(a.evaluations, 0u);
+    EXPECT_GT(a.levels, 0u);
+    // int_{-1}^{1} dx / sqrt(1 - x^2) = pi: both endpoints singular, distances used
+    auto g = [](const Real& x, const Real& to_a, const Real& to_b) -> Real {
+        return 1 / sqrt(x < 0 ? to_a * (2 - to_a) : to_b * (2 - to_b));
+    };
+    const quadrature_result<Real> b = tanh_sinh_integrate<Real>(g, Real(-1), Real(1));
+    EXPECT_LE(relative_error(b.value, pi<mp100>()), tol);
+    // the distances agree with x to the rounding of x (they are more accurate than x - a near a)
+    auto h = [](const Real& x, const Real& to_a, const Real& to_b) -> Real {
+        using std::abs;
+        EXPECT_LE(abs(to_a - (x - 2)), 8 * eps<Real>());
+        EXPECT_LE(abs(to_a + to_b - 3), 8 * eps<Real>());
+        return x;
+    };
+    EXPECT_LE(relative_error(tanh_sinh_integrate<Real>(h, Real(2), Real(5)).value, mp100(21) / 2),
+              tol);
+}
+
+TYPED_TEST(Quadrature, PiecesAndEmptyIntervals) {
+    using Real = TypeParam;
+    using std::abs;
+    using std::sin;
+    auto f = [](const Real& x, const Real&, const Real&) -> Real { return abs(sin(x)); };
+    const std::vector<Real> p{Real(0), pi<Real>(), two_pi<Real>(), Real(3 * pi<Real>())};
+    const quadrature_result<Real> r = tanh_sinh_integrate_pieces<Real>(f, p);
+    EXPECT_LE(relative_error(r.value, mp100(6)), 8 * static_cast<double>(eps<Real>()));
+    EXPECT_EQ(tanh_sinh_integrate<Real>(f, Real(1), Real(1)).value, Real(0));
+    EXPECT_THROW(tanh_sinh_integrate<Real>(f, Real(2), Real(1)), std::domain_error);
+    EXPECT_THROW(tanh_sinh_integrate<Real>(f, Real(0), std::numeric_limits<Real>::infinity()),
+                 std::domain_error);
+}
+
+// int_0^pi exp(cos x) dx = pi I_0(1) (Boost's Bessel function as reference).
+TYPED_TEST(Quadrature, GaussKronrodAdaptiveAndFixed) {
+    using Real = TypeParam;
+    using std::cos;
+    using std::exp;
+    auto f = [](const Real& x) -> Real { return exp(cos(x)); };
+    const Real expected = pi<Real>() * boost::math::cyl_bessel_i(0, Real(1));
+    const double tol = 16 * static_cast<double>(eps<Real>());
+    const quadrature_result<Real> a = gauss_kronrod_integrate<Real>(f, Real(0), pi<Real>());
+    EXPECT_LE(relative_error(a.value, expected), tol);
+    EXPECT_GT(a.evaluations, 0u);
+    // exp(cos z) is entire: any strip works; use the panels for a strip of half-width 1
+    const std::size_t panels = kronrod_panels(pi<Real>(), Real(1));
+    ASSERT_GT(panels, 0u);
+    const quadrature_result<Real> b = gauss_kronrod_fixed<Real>(f, Real(0), pi<Real>(), panels);
+    EXPECT_LE(relative_error(b.value, expected), tol);
+    EXPECT_EQ(b.evaluations, panels * 61);
+    // panel counts grow with precision and shrink with the strip
+    EXPECT_GE(kronrod_panels(pi<Real>(), Real(1) / 2), panels);
+    EXPECT_EQ(kronrod_panels(pi<Real>(), Real(0)), 0u);
+    EXPECT_EQ(kronrod_panels(Real(0), Real(1)), 1u);
+    EXPECT_EQ(kronrod_panels(pi<Real>(), Real(1) / 1000000, 8), 0u);
+    EXPECT_EQ(gauss_kronrod_integrate<Real>(f, Real(1), Real(1)).value, Real(0));
+    EXPECT_THROW(gauss_kronrod_integrate<Real>(f, Real(1), Real(0)), std::domain_error);
+    EXPECT_THROW(gauss_kronrod_fixed<Real>(f, Real(0), Real(1), 0), std::domain_error);
+}
+
+// int_0^1 int_0^x sqrt(x - y) dy dx = int_0^1 (2/3) x^(3/2) dx = 4/15.
+TYPED_TEST(Quadrature, NestedIntegralPropagatesInnerResults) {
+    using Real = TypeParam;
+    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
+    using std::sqrt;
+    auto inner = [](const Real& x, const Real&, const Real&) {
+        return tanh_sinh_integrate<Real>(
+            [](const Real&, const Real&, const Real& to_b) -> Real { return sqrt(to_b); }, Real(0),
+            x);
+    };
+    const quadrature_result<Real> r = nested_integrate<Real>(inner, Real(0), Real(1));
+    EXPECT_LE(relative_error(r.value, mp100(4) / 15), 16 * static_cast<double>(eps<Real>()));
+    EXPECT_GT(r.evaluations, 100u);
+    EXPECT_GE(r.error_estimate, abs(r.value - Real(4) / 15));
+}
+
+// A shared tanh-sinh object gives wrong answers under OpenMP while it adds levels (TOOLCHAIN.md):
+// every thread must get exactly the serial answer.
+TYPED_TEST(Quadrature, ThreadSafeUnderOpenMP) {
+    using Real = TypeParam;
+    using std::sqrt;
+    const int n = std::is_same_v<Real, mp100> ? 8 : 32;
+    std::vector<Real> serial(n), parallel(n);
+    auto integral = [](int i) {
+        const Real c = Real(i + 1) / 7;
+        return tanh_sinh_integrate<Real>(
+                   [&c](const Real& x, const Real&, const Real& to_b) -> Real {
+                       return sqrt(to_b) / (c + x * x);
+                   },
+                   Real(0), Real(1))
+            .value;
+    };
+    for (int i = 0; i < n; ++i)
+        serial[i] = integral(i);
+#pragma omp parallel for num_threads(4) schedule(dynamic)
+    for (int i = 0; i < n; ++i)
+        parallel[i] = integral(i);
+    for (int i = 0; i < n; ++i)
+        EXPECT_EQ(parallel[i], serial[i]) << i;
+}
+
+}  // namespace
+}  // namespace flipflux

@@ -1,0 +1,149 @@
+// Golden data (data/golden/, include/flipflux/quantities/golden.hpp): the committed rows are
+// regenerated on a sample and compared, their certification and grid are checked, and the
+// `golden` and `accuracy` commands are run on small selections.
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/quantities/golden.hpp"
+#include "flipflux/quantities/registry.hpp"
+#include "support.hpp"
+
+namespace flipflux {
+namespace {
+
+using test::relative_error;
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream buf;
+    buf << in.rdbuf();
+    return buf.str();
+}
+
+const std::vector<std::string> prediction_quantities{"omega", "flux-upright", "flux-approx",
+                                                     "rate-upright", "rate-approx"};
+
+bool is_prediction(const std::string& name) {
+    return std::find(prediction_quantities.begin(), prediction_quantities.end(), name) !=
+           prediction_quantities.end();
+}
+
+std::vector<golden_row> committed_rows() {
+    return parse_golden_csv(
+        read_text(std::string(FLIPFLUX_SOURCE_DIR) + "/data/golden/golden.csv"));
+}
+
+TEST(Golden, CommittedRowsAreCertifiedAndCoverTheGrid) {
+    const std::vector<golden_row> rows = committed_rows();
+    ASSERT_GT(rows.size(), 700u);
+    for (const std::string& name : prediction_quantities) {
+        for (const std::string a : {"1", "2"}) {
+            if (name == "omega" && a == "1") continue;
+            const std::string arm_text = name == "omega" ? "" : a;
+            const double start = name == "omega" ? 0 : (a == "2" ? 2 : 4);
+            for (const std::string& e : golden_energies(start, 6)) {
+                const auto it = std::find_if(rows.begin(), rows.end(), [&](const golden_row& r) {
+                    return r.quantity == name && r.arm == arm_text && r.energy == e;
+                });
+                ASSERT_NE(it, rows.end()) << name << " arm " << arm_text << " E " << e;
+                EXPECT_GE(it->digits, 40) << name << " arm " << arm_text << " E " << e;
+                EXPECT_NE(it->method.find('|'), std::string::npos);  // certified by a 2nd method
+            }
+        }
+    }
+    const nlohmann::json provenance = nlohmann::json::parse(
+        read_text(std::string(FLIPFLUX_SOURCE_DIR) + "/data/golden/provenance.json"));
+    for (const char* key : {"command", "git_commit", "compiler", "libraries", "precision",
+                            "boost_math_policy", "grid", "rows"})
+        EXPECT_TRUE(provenance.contains(key)) << key;
+    EXPECT_EQ(provenance["rows"].get<std::size_t>(), rows.size());
+}
+
+// A sample of the committed rows, recomputed in quad by the default method: equal to the quad
+// rounding (the golden value carries >= 40 digits).
+TEST(Golden, SampleOfRowsRegeneratesInQuad) {
+    const std::vector<golden_row> rows = committed_rows();
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < rows.size(); i += rows.size() / 13) {
+        const golden_row& r = rows[i];
+        if (!is_prediction(r.quantity)) continue;
+        const quantity& q = find_quantity(r.quantity);
+        const arm a = r.arm == "1" ? arm::one : arm::two;
+        const quantity_value<quad> v =
+            q.evaluate(double_pendulum<quad>(), a, parse_real<quad>(r.energy, "E"), "");
+        EXPECT_LE(relative_error(v.value, parse_real<mp100>(r.value, "golden")), 1e-31)
+            << r.quantity << " arm " << r.arm << " E " << r.energy;
+        ++checked;
+    }
+    EXPECT_GE(checked, 10u);
+}
+
+TEST(Golden, GridCsvAndDigits) {
+    const std::vector<std::string> grid = golden_energies(2, 6);
+    ASSERT_EQ(grid.front(), "2.05");
+    EXPECT_EQ(grid[1], "2.1");
+    EXPECT_EQ(grid[79], "6");
+    EXPECT_EQ(grid[80], "6.5");
+    EXPECT_EQ(grid.back(), "100");
+    EXPECT_EQ(golden_energies(0, 6).front(), "0.05");
+    EXPECT_EQ(agreement_digits("1.2345", "1.2345"), 50);
+    EXPECT_EQ(agreement_digits("1.2346", "1.2345"), 4);
+    EXPECT_EQ(agreement_digits("3", "1"), 0);
+    EXPECT_EQ(agreement_digits("1", "0"), 0);
+    const std::vector<golden_row> rows{{"omega", "", "1", "3.25", 3, "a|b"},
+                                       {"flux-upright", "2", "3", "13.0", 3, "elliptic|integral"}};
+    const std::vector<golden_row> back = parse_golden_csv(golden_csv(rows));
+    ASSERT_EQ(back.size(), 2u);
+    EXPECT_EQ(back[0].arm, "");
+    EXPECT_EQ(back[1].method, "elliptic|integral");
+    EXPECT_EQ(back[1].digits, 3);
+    EXPECT_THROW(parse_golden_csv("header\na,b\n"), input_error);
+    EXPECT_THROW(parse_golden_csv("header\na,b,c,d,x,f\n"), input_error);
+}
+
+TEST(Golden, CommandWritesASmallSelection) {
+    const std::string dir = ::testing::TempDir() + "flipflux_golden_" + std::to_string(getpid());
+    const test::command_result r = test::run_flipflux(
+        "golden --out " + dir + " --quantities flux-upright --max-rows 2 --jobs 2");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::vector<golden_row> rows = parse_golden_csv(read_text(dir + "/golden.csv"));
+    ASSERT_EQ(rows.size(), 2u);
+    for (const golden_row& row : rows) {
+        EXPECT_EQ(row.quantity, "flux-upright");
+        EXPECT_GE(row.digits, 45);
+        EXPECT_EQ(row.method, "elliptic|integral");
+    }
+    const nlohmann::json summary = nlohmann::json::parse(r.out);
+    EXPECT_EQ(summary["rows"], 2);
+    EXPECT_TRUE(std::filesystem::exists(dir + "/provenance.json"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/golden.csv.tmp"));
+    std::filesystem::remove_all(dir);
+    const test::command_result bad =
+        test::run_flipflux("golden --quantities nonsense --out " + dir);
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("nonsense"), std::string::npos);
+    EXPECT_EQ(test::run_flipflux("golden --jobs 0 --out " + dir).status, 2);
+}
+
+TEST(Accuracy, CommandWritesATable) {
+    const std::string out =
+        ::testing::TempDir() + "flipflux_accuracy_" + std::to_string(getpid()) + ".md";
+    const test::command_result r = test::run_flipflux(
+        "accuracy --out " + out + " --quantities flux-upright --precisions double --min-seconds 0");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string md = read_text(out);
+    EXPECT_NE(md.find("## flux-upright"), std::string::npos);
+    EXPECT_NE(md.find("| elliptic | "), std::string::npos);
+    EXPECT_NE(md.find("| momentum | "), std::string::npos);
+    EXPECT_NE(md.find("generated by `flipflux accuracy"), std::string::npos);
+    std::filesystem::remove(out);
+    EXPECT_EQ(test::run_flipflux("accuracy --precisions single --out " + out).status, 2);
+    EXPECT_EQ(test::run_flipflux("accuracy --quantities nonsense --out " + out).status, 2);
+    EXPECT_EQ(test::run_flipflux("accuracy --min-seconds -1 --out " + out).status, 2);
+}
+
+}  // namespace
+}  // namespace flipflux

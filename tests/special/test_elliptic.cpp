@@ -1,0 +1,317 @@
+// Elliptic integrals E(phi|m), F(phi|m), E(m), K(m) (include/flipflux/special/elliptic.hpp)
+// against three independent references: values computed with mpmath 1.3.0 (ellipe, ellipf,
+// ellipk at 70 digits), direct tanh-sinh quadrature of the defining integral in 100-digit
+// arithmetic, and DLMF's imaginary- and reciprocal-modulus transformations evaluated with Boost's
+// ellint_1/ellint_2 (which take the modulus k and apply only for 0 <= k^2 sin^2 phi < 1).
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/ellint_2.hpp>
+#include <stdexcept>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/quadrature/quadrature.hpp"
+#include "flipflux/special/elliptic.hpp"
+#include "support.hpp"
+
+namespace flipflux {
+namespace {
+
+using test::convert;
+using test::eps;
+using test::relative_error;
+
+template <class Real>
+class Elliptic : public ::testing::Test {};
+TYPED_TEST_SUITE(Elliptic, test::real_types, test::real_name);
+
+template <class Real>
+Real R(const char* text) {
+    return parse_real<Real>(text, "test");
+}
+
+/// c eps of Real; for mp100 not below 1e-95, the accuracy of references that are themselves
+/// computed in mp100 (quadrature, DLMF transformations with their cancellations).
+template <class Real>
+double tolerance(double c) {
+    const double t = c * static_cast<double>(eps<Real>());
+    return std::is_same_v<Real, mp100> ? std::max(t, 1e-95) : t;
+}
+
+/// E(phi|m) by tanh-sinh quadrature of sqrt(1 - m sin^2 u) in mp100, split at multiples of
+/// pi/2 (where sqrt(1 - sin^2 u) = |cos u| has its kinks when m = 1).
+mp100 e_by_quadrature(const mp100& phi, const mp100& m) {
+    using std::abs;
+    using std::sin;
+    using std::sqrt;
+    auto f = [&](const mp100& u, const mp100&, const mp100&) -> mp100 {
+        const mp100 s = sin(u);
+        const mp100 d = 1 - m * s * s;
+        return d > 0 ? sqrt(d) : mp100(0);
+    };
+    std::vector<mp100> p{mp100(0)};
+    const mp100 step = half_pi<mp100>();
+    const mp100 target = abs(phi);
+    while (p.back() + step < target)
+        p.push_back(p.back() + step);
+    p.push_back(target);
+    const mp100 v = tanh_sinh_integrate_pieces<mp100>(f, p).value;
+    return phi < 0 ? mp100(-v) : v;
+}
+
+struct mpmath_case {
+    const char *phi, *m, *value;
+};
+// mpmath.ellipe(phi, m) at 70 digits (inputs exactly representable in double).
+const mpmath_case mpmath_e[] = {
+    {"1.25", "-3",
+     "1.7886980007014390259151870616591636352444507435346571531873784498193365569104943468270160011"
+     "456684367129512507"},
+    {"0.5", "4",
+     "0.4018194805534948653088910160972210227798828286323500729712391389777333494934817646536615387"
+     "6970320367989534231"},
+    {"7", "0.75",
+     "5.5171292345676972923608610890046944263414471753491670120722594742944820915916663816462129836"
+     "175487647799676174"},
+    {"-2.5", "-1000000",
+     "-1801."
+     "1485634696251253566996469782682705408870117455509518931662941599784801985945935666846915"
+     "194044448875990233"},
+    {"1.5", "0", "1.5"},
+    {"3", "1",
+     "1.8588799919401327778992551971918897201530667357477344158481173587675779900329855280887178271"
+     "465501362495863271"},
+    {"-10", "-1",
+     "-12."
+     "064284079205484607269758738845488898956595698856469044024677907362283573343346932883368352"
+     "584407952046814039"},
+    {"0.125", "0.5",
+     "0.1248375576047894033559274800232039925103912809109592267168759310521340457688620958826624545"
+     "0926016537639569579"},
+    {"100", "-0.25",
+     "106.00987221783960293350803939944613331368901828513354207178681763116927881465314773904555975"
+     "344996320495345218"},
+    // phi = pi/2 rounded to double, m = 1 - 2^-53: the corner where the Carlson terms cancel
+    {"1.5707963267948965579989817342720925807952880859375",
+     "0.99999999999999988897769753748434595763683319091796875",
+     "1.0000000000000010688502657583019236445727426553688838053557263484273731492972681076274618432"
+     "7414262493031043"},
+};
+
+TYPED_TEST(Elliptic, IncompleteSecondKindMatchesMpmath) {
+    using Real = TypeParam;
+    double worst = 0;
+    for (const auto& c : mpmath_e) {
+        const Real value = elliptic_e(R<Real>(c.phi), R<Real>(c.m));
+        const double err = relative_error(value, R<mp100>(c.value));
+        worst = std::max(worst, err);
+        // NOTE: 64 eps covers the corner m -> 1, phi -> pi/2, where the two Carlson terms are
+        // each ~ log(1/cos phi) ~ 37 and cancel to 1.
+        EXPECT_LE(err, 64 * static_cast<double>(eps<Real>())) << "phi " << c.phi << " m " << c.m;
+    }
+    ::testing::Test::RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+TYPED_TEST(Elliptic, CompleteAndFirstKindMatchMpmath) {
+    using Real = TypeParam;
+    const double tol = 16 * static_cast<double>(eps<Real>());
+    EXPECT_LE(
+        relative_error(elliptic_e(Real(-1)), R<mp100>("1."
+                                                      "91009889451385600895238104108572164595498380"
+                                                      "7323637360540248328373597900607164960533"
+                                                      "0905447256112414110214889")),
+        tol);
+    EXPECT_LE(relative_error(elliptic_k(Real(1) / 2),
+                             R<mp100>("1."
+                                      "854074677301371918433850347195260046217598823521766905585928"
+                                      "045056021776838119978357"
+                                      "271861650371897277771871")),
+              tol);
+    EXPECT_LE(relative_error(elliptic_f(R<Real>("1.25"), Real(-3)),
+                             R<mp100>("0."
+                                      "915766948798575060740100419173648567481908842432039520102132"
+                                      "910037110254470023289705"
+                                      "32334543594065926759062563")),
+              tol);
+    EXPECT_LE(relative_error(elliptic_f(R<Real>("0.5"), Real(4)),
+                             R<mp100>("0."
+                                      "677417538203930386580891364645540813208927669811008158617960"
+                                      "111371864017983053244725"
+                                      "36634252457378915819841952")),
+              tol);
+    EXPECT_EQ(elliptic_e(Real(1)), Real(1));
+    EXPECT_LE(relative_error(elliptic_e(Real(0)), half_pi<mp100>()), tol);
+}
+
+TYPED_TEST(Elliptic, BoundaryOfTheRealDomainMatchesMpmath) {
+    using Real = TypeParam;
+    const double tol = 16 * static_cast<double>(eps<Real>());
+    // m sin^2 phi = 1 exactly: sin phi = 1/2, m = 4, and sin phi = 1/1000, m = 10^6.
+    const Real e4 = elliptic_e_carlson(Real(1) / 2, Real(3) / 4, Real(0), Real(4));
+    EXPECT_LE(relative_error(e4, R<mp100>("0."
+                                          "40629888645996024661278504728321678779952216344283035482"
+                                          "1658826141497900219061130698"
+                                          "4006005620903488621669239")),
+              tol);
+    const Real s = Real(1) / 1000;
+    const Real e6 = elliptic_e_carlson(s, Real(1 - s * s), Real(0), Real(1000000));
+    EXPECT_LE(
+        relative_error(
+            e6,
+            R<mp100>(
+                "0."
+                "000785398261572255549854783574760113532827306679411090369496154288139522863970508"
+                "32158552008489545469989804426398")),
+        tol);
+    // through elliptic_e with phi = asin(1/sqrt m) rounded: d may come out an ulp below 0
+    using std::asin;
+    EXPECT_LE(relative_error(elliptic_e(asin(Real(1) / 2), Real(4)), e4), tol);
+    // F is finite on the boundary for m > 1
+    const Real f4 = elliptic_f_carlson(Real(1) / 2, Real(3) / 4, Real(0), Real(4));
+    EXPECT_TRUE(f4 > Real(0) && f4 < Real(1));
+}
+
+// DLMF 19.7.5 (imaginary modulus), k^2 = -m > 0, kappa = k / sqrt(1 + k^2):
+//   E(phi, ik) = sqrt(1 + k^2) [E(theta, kappa) - kappa^2 sin(theta) cos(theta) /
+//                sqrt(1 - kappa^2 sin^2 theta)],  sin theta = sqrt(1 + k^2) sin phi / sqrt(1 + k^2
+//                sin^2 phi),
+// for 0 <= phi <= pi/2.
+TYPED_TEST(Elliptic, NegativeParameterMatchesImaginaryModulusTransformation) {
+    using Real = TypeParam;
+    using std::asin;
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    test::random_reals rnd(19);
+    double worst = 0;
+    for (int i = 0; i < 12; ++i) {
+        const Real phi = Real(rnd(0.01, 1.57));
+        const Real k2 = Real(rnd(0.001, 50));  // m = -k2
+        // the transformation, evaluated in mp100 (it cancels near phi = pi/2, kappa -> 1)
+        const mp100 p = convert<mp100>(phi), K2 = convert<mp100>(k2);
+        const mp100 kappa = sqrt(K2 / (1 + K2));
+        const mp100 sp = sin(p);
+        const mp100 theta = asin(sqrt(1 + K2) * sp / sqrt(1 + K2 * sp * sp));
+        const mp100 st = sin(theta), ct = cos(theta);
+        const mp100 expected = (boost::math::ellint_2(kappa, theta) -
+                                kappa * kappa * st * ct / sqrt(1 - kappa * kappa * st * st)) *
+                               sqrt(1 + K2);
+        const double err = relative_error(elliptic_e(phi, Real(-k2)), expected);
+        worst = std::max(worst, err);
+        EXPECT_LE(err, tolerance<Real>(16)) << "phi " << phi << " m " << -k2;
+    }
+    ::testing::Test::RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+// DLMF 19.7.4 (reciprocal modulus), m > 1, sin beta = sqrt(m) sin phi:
+//   E(phi|m) = sqrt(m) E(beta|1/m) - ((m - 1)/sqrt(m)) F(beta|1/m).
+TYPED_TEST(Elliptic, ParameterAboveOneMatchesReciprocalModulusTransformation) {
+    using Real = TypeParam;
+    using std::asin;
+    using std::sin;
+    using std::sqrt;
+    test::random_reals rnd(23);
+    for (int i = 0; i < 12; ++i) {
+        const Real m = Real(rnd(1.01, 200));
+        const Real phi_max = asin(1 / sqrt(m));
+        const Real phi = phi_max * Real(rnd(0.05, 0.999));
+        // the transformation in mp100 (its two terms ~ sqrt(m) phi cancel)
+        const mp100 M = convert<mp100>(m), p = convert<mp100>(phi);
+        const mp100 k = 1 / sqrt(M);
+        const mp100 beta = asin(sqrt(M) * sin(p));
+        const mp100 expected = sqrt(M) * boost::math::ellint_2(k, beta) -
+                               (M - 1) / sqrt(M) * boost::math::ellint_1(k, beta);
+        EXPECT_LE(relative_error(elliptic_e(phi, m), expected), tolerance<Real>(16))
+            << "phi " << phi << " m " << m;
+    }
+}
+
+// The Legendre relation E(m) K(1-m) + E(1-m) K(m) - K(m) K(1-m) = pi/2 (DLMF 19.7.1).
+TYPED_TEST(Elliptic, LegendreRelation) {
+    using Real = TypeParam;
+    for (const char* text : {"0.001", "0.25", "0.5", "0.875", "0.999999"}) {
+        const Real m = R<Real>(text), mc = 1 - m;
+        const Real lhs = elliptic_e_complete(m, mc) * elliptic_k_complete(mc, m) +
+                         elliptic_e_complete(mc, m) * elliptic_k_complete(m, mc) -
+                         elliptic_k_complete(m, mc) * elliptic_k_complete(mc, m);
+        EXPECT_LE(relative_error(lhs, half_pi<mp100>()), 64 * static_cast<double>(eps<Real>()))
+            << "m " << text;
+    }
+}
+
+TYPED_TEST(Elliptic, QuasiPeriodicityAndOddness) {
+    using Real = TypeParam;
+    const Real m = R<Real>("-0.75"), phi = R<Real>("0.625");
+    for (int k : {-3, -1, 1, 2, 5}) {
+        const Real shifted = elliptic_e(Real(phi + k * pi<Real>()), m);
+        const Real expected = elliptic_e(phi, m) + 2 * k * elliptic_e(m);
+        EXPECT_LE(relative_error(shifted, expected), 16 * static_cast<double>(eps<Real>()));
+    }
+    EXPECT_EQ(elliptic_e(Real(-phi), m), -elliptic_e(phi, m));
+    EXPECT_EQ(elliptic_e(Real(0), m), Real(0));
+    EXPECT_LE(relative_error(elliptic_f(Real(phi + 2 * pi<Real>()), m),
+                             elliptic_f(phi, m) + 4 * elliptic_k(m)),
+              16 * static_cast<double>(eps<Real>()));
+}
+
+// Against the defining integral on a grid covering m < 0, 0 <= m <= 1, m > 1 and |phi| > pi/2.
+// mp100 is checked on a few points only (its quadrature reference is the expensive part).
+TYPED_TEST(Elliptic, MatchesQuadratureOfTheDefiningIntegral) {
+    using Real = TypeParam;
+    const bool mp = std::is_same_v<Real, mp100>;
+    const std::vector<std::pair<const char*, const char*>> grid = {
+        {"0.75", "-50"}, {"2.25", "-2"},     {"-4.5", "-0.0001"}, {"1", "0.0000001"},
+        {"1.5", "0.9"},  {"5.5", "0.999"},   {"0.3", "10"},       {"0.0625", "200"},
+        {"9", "1"},      {"-1.25", "0.375"}, {"1.5625", "1"},     {"3.125", "-1000"}};
+    double worst = 0;
+    std::size_t n = 0;
+    for (const auto& [phi_text, m_text] : grid) {
+        if (mp && ++n > 4) break;
+        const Real phi = R<Real>(phi_text), m = R<Real>(m_text);
+        const mp100 reference = e_by_quadrature(convert<mp100>(phi), convert<mp100>(m));
+        const double err = relative_error(elliptic_e(phi, m), reference);
+        worst = std::max(worst, err);
+        EXPECT_LE(err, tolerance<Real>(32)) << "phi " << phi_text << " m " << m_text;
+    }
+    ::testing::Test::RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+TYPED_TEST(Elliptic, HardCases) {
+    using Real = TypeParam;
+    using std::sqrt;
+    const double tol = 64 * static_cast<double>(eps<Real>());
+    // m -> 0: E(phi|m) ~ phi - m (2 phi - sin 2 phi)/8
+    const Real tiny = std::numeric_limits<Real>::min() * 1024;
+    EXPECT_LE(relative_error(elliptic_e(Real(1), tiny), Real(1)), tol);
+    // m -> 1 from below with the complement given exactly: E(m) = 1 + (mc/4)(ln(16/mc) - 1) + ...
+    const Real mc = Real(1) / (Real(1) * 1024 * 1024 * 1024 * 1024 * 1024 * 1024);
+    const Real e = elliptic_e_complete(Real(1 - mc), mc);
+    using std::log;
+    const Real series = 1 + mc / 4 * (log(16 / mc) - 1);
+    EXPECT_LE(relative_error(e, series), tol + 1e-35);
+    // phi -> pi/2 from below is continuous with the complete integral
+    const Real m = R<Real>("0.5");
+    const Real near = elliptic_e(Real(half_pi<Real>() - sqrt(eps<Real>())), m);
+    EXPECT_LE(relative_error(near, elliptic_e(m)), 2 * static_cast<double>(sqrt(eps<Real>())));
+    // large |m|: E(pi/2|-M) ~ sqrt(M) for M -> infinity (E = sqrt(1+M) E(M/(1+M)) -> sqrt(M))
+    const Real big = Real(1) * 1000000 * 1000000;
+    EXPECT_LE(relative_error(elliptic_e(Real(-big)), sqrt(big)), 1e-10);
+}
+
+TYPED_TEST(Elliptic, OutsideTheDomainThrows) {
+    using Real = TypeParam;
+    const Real nan = std::numeric_limits<Real>::quiet_NaN();
+    EXPECT_THROW(elliptic_e(nan, Real(0)), std::domain_error);
+    EXPECT_THROW(elliptic_e(Real(1), nan), std::domain_error);
+    EXPECT_THROW(elliptic_e(Real(1), Real(4)), std::domain_error);  // 4 sin^2(1) > 1
+    EXPECT_THROW(elliptic_e(Real(3), Real(2)), std::domain_error);  // |phi| > pi/2 with m > 1
+    EXPECT_THROW(elliptic_e(Real(2)), std::domain_error);           // complete needs m <= 1
+    EXPECT_THROW(elliptic_k(Real(1)), std::domain_error);
+    EXPECT_THROW(elliptic_f(half_pi<Real>(), Real(1)), std::domain_error);
+    EXPECT_THROW(elliptic_f(Real(4), Real(1)), std::domain_error);
+    EXPECT_THROW(elliptic_e_carlson(Real(1) / 2, Real(-1), Real(0), Real(1)), std::domain_error);
+    EXPECT_THROW(elliptic_f_carlson(Real(1), Real(0), Real(0), Real(1)), std::domain_error);
+    EXPECT_THROW(elliptic_e_complete(Real(1), Real(-1)), std::domain_error);
+    EXPECT_THROW(elliptic_k_complete(Real(1), Real(0)), std::domain_error);
+}
+
+}  // namespace
+}  // namespace flipflux
