@@ -48,6 +48,22 @@ class periodic_cost final : public ceres::SizedCostFunction<4, 2> {
 
 }  // namespace
 
+/// Marks a converged result as not converged when its orbit leaves the saddle's strip
+/// |delta| < pi (see quarter_extent): another periodic orbit, not the saddle orbit.
+static void check_family(const shooting_setup<double>& setup, double_stage_result& r,
+                         long quarter_steps) {
+    const auto m = quarter_extent(setup, r.beta, r.period / 4, quarter_steps);
+    if (m[0] >= M_PI || m[1] >= M_PI) {
+        r.converged = false;
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "; the solution left the saddle's strip (max |delta| = %.4g, %.4g): another "
+                      "periodic orbit",
+                      m[0], m[1]);
+        r.report += buf;
+    }
+}
+
 double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model, arm a,
                                             double excess, double beta0, double period0, long steps,
                                             int stages) {
@@ -89,8 +105,11 @@ double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model
             norm = std::max(norm, std::abs(pr.jacobian[i][0]));
         floor = 1e3 * 2.220446049250313e-16 * norm;
     }
-    r.converged = summary.IsSolutionUsable() && (r.residual < 1e-6 || r.residual <= floor);
+    // (a floor of order one or more means double cannot resolve the orbit at all)
+    r.converged =
+        summary.IsSolutionUsable() && (r.residual < 1e-6 || (r.residual <= floor && floor < 1e-3));
     r.report = summary.BriefReport();
+    if (r.converged) check_family(setup, r, steps / 4);
     return r;
 }
 
@@ -109,8 +128,10 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
         auto d = solve_2x2(sr.jacobian, sr.r);
         if (!std::isfinite(d[0]) || !std::isfinite(d[1])) break;
         // damping: at most 0.3 rad in beta and 30 % of tau per step
-        const double damp = std::min({1.0, 0.3 / std::max(std::abs(d[0]), 1e-300),
-                                      0.3 * tau / std::max(std::abs(d[1]), 1e-300)});
+        // NOTE: damped to 0.1 rad in beta and 10 % of tau: l(tau) = 0 has later roots (later
+        // brake points of other orbits), which an undamped step can jump to
+        const double damp = std::min({1.0, 0.1 / std::max(std::abs(d[0]), 1e-300),
+                                      0.1 * tau / std::max(std::abs(d[1]), 1e-300)});
         beta -= damp * d[0];
         tau -= damp * d[1];
         const double size = std::max(std::abs(d[0]) / (1 + std::abs(beta)), std::abs(d[1]) / tau);
@@ -126,6 +147,7 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
     out.beta = beta;
     out.period = 4 * tau;
     out.iterations = it;
+    if (out.converged) check_family(setup, out, quarter_steps);
     char buf[160];
     std::snprintf(buf, sizeof buf,
                   "Newton (symmetric): %d iterations, |l(tau)|/sqrt(2 dE) = %.3e, %s", it,
