@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "flipflux/orbits/shooting.hpp"
 
@@ -47,6 +48,22 @@ class periodic_cost final : public ceres::SizedCostFunction<4, 2> {
 
 }  // namespace
 
+/// Marks a converged result as not converged when its orbit leaves the saddle's strip
+/// |delta| < pi (see quarter_extent): another periodic orbit, not the saddle orbit.
+static void check_family(const shooting_setup<double>& setup, double_stage_result& r,
+                         long quarter_steps) {
+    const auto m = quarter_extent(setup, r.beta, r.period / 4, quarter_steps);
+    if (m[0] >= M_PI || m[1] >= M_PI) {
+        r.converged = false;
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "; the solution left the saddle's strip (max |delta| = %.4g, %.4g): another "
+                      "periodic orbit",
+                      m[0], m[1]);
+        r.report += buf;
+    }
+}
+
 double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model, arm a,
                                             double excess, double beta0, double period0, long steps,
                                             int stages) {
@@ -77,9 +94,22 @@ double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model
     r.iterations = static_cast<int>(summary.iterations.size());
     r.residual = std::sqrt(2 * summary.final_cost);
     // converged = Ceres found a zero of the residual (the cost is a sum of squares that vanishes
-    // at the orbit; a local minimum with a non-zero cost is not an orbit)
-    r.converged = summary.IsSolutionUsable() && r.residual < 1e-6;
+    // at the orbit; a local minimum with a non-zero cost is not an orbit). NOTE: rounding errors
+    // of the integration are amplified by the multiplier |mu| over a period, so the residual
+    // cannot fall below ~ eps |dr/dbeta| ~ eps |mu|: a residual at that floor is a zero.
+    double floor = 0;
+    if (summary.IsSolutionUsable() && r.residual >= 1e-6) {
+        const auto pr = periodic_shooting(setup, r.beta, r.period, steps);
+        double norm = 0;
+        for (int i = 0; i < 4; ++i)
+            norm = std::max(norm, std::abs(pr.jacobian[i][0]));
+        floor = 1e3 * 2.220446049250313e-16 * norm;
+    }
+    // (a floor of order one or more means double cannot resolve the orbit at all)
+    r.converged =
+        summary.IsSolutionUsable() && (r.residual < 1e-6 || (r.residual <= floor && floor < 1e-3));
     r.report = summary.BriefReport();
+    if (r.converged) check_family(setup, r, steps / 4);
     return r;
 }
 
@@ -91,19 +121,24 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
     double_stage_result out;
     double last = HUGE_VAL;
     int it = 0;
-    for (it = 1; it <= 60; ++it) {
+    for (it = 1; it <= 30; ++it) {
         const auto sr = symmetric_shooting(setup, beta, tau, quarter_steps);
         if (!sr.end.success) break;
         out.residual = std::hypot(sr.r[0], sr.r[1]);
         auto d = solve_2x2(sr.jacobian, sr.r);
         if (!std::isfinite(d[0]) || !std::isfinite(d[1])) break;
         // damping: at most 0.3 rad in beta and 30 % of tau per step
-        const double damp = std::min({1.0, 0.3 / std::max(std::abs(d[0]), 1e-300),
-                                      0.3 * tau / std::max(std::abs(d[1]), 1e-300)});
+        // NOTE: damped to 0.1 rad in beta and 10 % of tau: l(tau) = 0 has later roots (later
+        // brake points of other orbits), which an undamped step can jump to
+        const double damp = std::min({1.0, 0.1 / std::max(std::abs(d[0]), 1e-300),
+                                      0.1 * tau / std::max(std::abs(d[1]), 1e-300)});
         beta -= damp * d[0];
         tau -= damp * d[1];
         const double size = std::max(std::abs(d[0]) / (1 + std::abs(beta)), std::abs(d[1]) / tau);
-        if (damp == 1.0 && (size <= 1e-14 || (size >= last / 2 && size <= 1e-10))) {
+        // NOTE: near E_max the rounding floor of the updates rises (errors amplified by the
+        // quarter period's growth), so stagnation below 1e-7 is accepted as convergence: the
+        // polish in the working precision reports the attained accuracy
+        if (damp == 1.0 && (size <= 1e-14 || (size >= last / 2 && size <= 1e-7))) {
             out.converged = true;
             break;
         }
@@ -112,6 +147,7 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
     out.beta = beta;
     out.period = 4 * tau;
     out.iterations = it;
+    if (out.converged) check_family(setup, out, quarter_steps);
     char buf[160];
     std::snprintf(buf, sizeof buf,
                   "Newton (symmetric): %d iterations, |l(tau)|/sqrt(2 dE) = %.3e, %s", it,
@@ -121,6 +157,12 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
 }
 
 namespace {
+
+std::string g(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
 
 /// beta reduced to (-pi, pi].
 double wrap_angle(double b) {
@@ -179,8 +221,8 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         const auto r = solve(e0, beta_lin, period_lin);
         out.steps.push_back({0, e0, r.converged, r.iterations, r.converged ? "" : r.report});
         if (!r.converged || std::abs(r.period - period_lin) > 0.2 * period_lin) {
-            out.stop_reason = "no orbit near the centre mode at E - E_s = " + std::to_string(e0) +
-                              ": " + r.report;
+            out.stop_reason =
+                "no orbit near the centre mode at E - E_s = " + g(e0) + ": " + r.report;
             return out;
         }
         known.push_back({e0, wrap_angle(r.beta), r.period, false});
@@ -189,11 +231,24 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
     }
     double dsigma = 0.25;
     const double min_dsigma = 1e-7;
+    // NOTE: near E_max the corrector's rounding floor rises until no step converges; rather than
+    // halving to min_dsigma, stop after this many consecutive failures
+    const int max_consecutive_failures = 8;
+    int failures = 0;
     while (next_target < targets.size()) {
         const double target = targets[next_target];
         const double_orbit& last = known.back();
         double next = range - (range - last.excess) * std::exp(-dsigma);
         if (next > target || target - next < 1e-3 * (next - last.excess)) next = target;
+        if (!(next > last.excess)) {
+            out.stop_reason =
+                "the step in energy fell below the resolution of double at E - E_s = " +
+                g(last.excess);
+            return out;
+        }
+        if (std::getenv("FLIPFLUX_DEBUG_CONTINUATION"))
+            std::fprintf(stderr, "continuation: %.17g -> %.17g (dsigma %.3g)\n", last.excess, next,
+                         dsigma);
         // secant predictor in sigma
         const double_orbit& prev = known[known.size() - 2];
         const double f =
@@ -207,22 +262,27 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         continuation_step st{last.excess, next, accepted, r.iterations, ""};
         if (!accepted) {
             st.note = !r.converged ? "corrector failed: " + r.report
-                                   : "corrector left the family (beta moved " +
-                                         std::to_string(dbeta) + ", T " + std::to_string(r.period) +
-                                         " for predicted " + std::to_string(period) + ")";
+                                   : "corrector left the family (beta moved " + g(dbeta) + ", T " +
+                                         g(r.period) + " for predicted " + g(period) + ")";
             out.steps.push_back(st);
             ++out.halvings;
             dsigma /= 2;
+            if (++failures >= max_consecutive_failures) {
+                out.stop_reason = std::to_string(failures) +
+                                  " consecutive corrector failures at E - E_s = " + g(last.excess) +
+                                  " (E_max - E = " + g(range - last.excess) + "): " + st.note;
+                return out;
+            }
             if (dsigma < min_dsigma) {
-                out.stop_reason =
-                    "step size fell below " + std::to_string(min_dsigma) +
-                    " in -log(E_max - E) at E - E_s = " + std::to_string(last.excess) + ": " +
-                    st.note;
+                out.stop_reason = "step size fell below " + g(min_dsigma) +
+                                  " in -log(E_max - E) at E - E_s = " + g(last.excess) + ": " +
+                                  st.note;
                 return out;
             }
             continue;
         }
         out.steps.push_back(st);
+        failures = 0;
         known.push_back({next, wrap_angle(r.beta), r.period, false});
         if (known.size() > 2) known.erase(known.begin());
         record(next, known.back().beta, known.back().period);

@@ -118,6 +118,7 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 
     // ---- double stage ---------------------------------------------------------------------
     Real beta = guess.beta, period = guess.period;
+    bool double_ok = true;
     {
         const double_pendulum<double> md = to_double(model);
         const double ed = static_cast<double>(excess);
@@ -135,93 +136,123 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         const auto r = periodic ? detail::ceres_periodic_shooting(md, a, ed, bd, pd, n, sd)
                                 : detail::newton_symmetric_shooting(md, a, ed, bd, pd, n, sd);
         orbit.double_stage = r.report;
-        if (!r.converged) {
+        if (r.converged) {
+            beta = Real(std::remainder(r.beta, 2 * M_PI));
+            period = Real(r.period);
+        } else if constexpr (std::is_same_v<Real, double>) {
             orbit.status = orbit_status::not_converged;
             return orbit;
+        } else {
+            double_ok = false;
+            // NOTE: near E_max the periodic residual's rounding floor at double, eps |mu|, can
+            // exceed the orbit's scale (|mu| ~ 1e27 at E_max - 1e-6), while in Real it does not:
+            // the polish then starts from the guess itself
+            orbit.double_stage +=
+                "; not converged at double, polishing the guess in " + precision_name<Real>();
         }
-        beta = Real(std::remainder(r.beta, 2 * M_PI));
-        period = Real(r.period);
     }
 
     // ---- polish in Real ----------------------------------------------------------------------
     const detail::shooting_setup<Real> setup(model, a, excess, stages);
     const auto scale = orbit_scales(setup, beta, period);
-    long steps;
+    long quarter_steps;
     Real integration_error;
     {
         const auto x0 = setup.start(beta);
         const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
         const auto est = steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
                                                       period / 4, tol, stages, scale, 4);
-        steps = periodic ? 4 * est.steps : est.steps;
+        quarter_steps = est.steps;
         integration_error = est.error_estimate;
     }
+    const long steps = periodic ? 4 * quarter_steps : quarter_steps;
     orbit.steps = steps;
-    Real last = std::numeric_limits<Real>::max();
     std::array<std::array<Real, 4>, 4> phi{};
     std::array<std::array<Real, 2>, 4> jac4{};  // last Jacobian (periodic)
     std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
     Real beta_at_jacobian = beta;
     bool converged = false, stalled = false, failed = false;
-    int it = 0;
-    for (it = 1; it <= options.max_newton_iterations; ++it) {
-        std::array<Real, 2> d;
-        if (periodic) {
-            const auto pr = detail::periodic_shooting(setup, beta, period, steps);
-            if (!pr.end.success) {
+    // Newton / Gauss-Newton on one formulation from (beta, period), updating them
+    auto newton = [&](bool per) {
+        Real last = std::numeric_limits<Real>::max();
+        converged = stalled = failed = false;
+        const long n = per ? 4 * quarter_steps : quarter_steps;
+        int it = 0;
+        for (it = 1; it <= options.max_newton_iterations; ++it) {
+            std::array<Real, 2> d;
+            if (per) {
+                const auto pr = detail::periodic_shooting(setup, beta, period, n);
+                if (!pr.end.success) {
+                    failed = true;
+                    break;
+                }
+                Real rn = 0;
+                for (const Real& v : pr.r)
+                    rn += v * v;
+                using std::sqrt;
+                orbit.residual = sqrt(rn);
+                phi = pr.end.phi;
+                jac4 = pr.jacobian;
+                beta_at_jacobian = beta;
+                d = detail::least_squares_4x2(pr.jacobian, pr.r);
+            } else {
+                const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n);
+                if (!sr.end.success) {
+                    failed = true;
+                    break;
+                }
+                using std::sqrt;
+                orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
+                phi = sr.end.phi;
+                jac2 = sr.jacobian;
+                beta_at_jacobian = beta;
+                d = detail::solve_2x2(sr.jacobian, sr.r);
+                d[1] *= 4;  // tau -> T
+            }
+            using boost::multiprecision::isfinite;
+            using std::isfinite;
+            if (!isfinite(d[0]) || !isfinite(d[1])) {
                 failed = true;
                 break;
             }
-            Real rn = 0;
-            for (const Real& v : pr.r)
-                rn += v * v;
-            using std::sqrt;
-            orbit.residual = sqrt(rn);
-            phi = pr.end.phi;
-            jac4 = pr.jacobian;
-            beta_at_jacobian = beta;
-            d = detail::least_squares_4x2(pr.jacobian, pr.r);
-        } else {
-            const auto sr = detail::symmetric_shooting(setup, beta, period / 4, steps);
-            if (!sr.end.success) {
+            beta -= d[0];
+            period -= d[1];
+            const Real size = max(abs(d[0]), abs(d[1]) / period);
+            orbit.last_update = size;
+            // NOTE: Newton converges quadratically (up to the O(tol) inexactness of the T
+            // column); the next update is predicted at the observed rate (conservative for
+            // quadratic convergence), and the iteration stops when it would be below the
+            // tolerance. A stall (no halving) means the rounding floor of the residual.
+            const Real predicted = it >= 2 ? size * size / last : std::numeric_limits<Real>::max();
+            if (size <= tol || predicted <= tol / 4) {
+                converged = true;
+                break;
+            }
+            if (it >= 2 && size > last / 2) {
+                stalled = size <= sqrt(tol);
+                if (stalled) break;
+            }
+            // NOTE: the polish starts in Newton's basin (from the double stage, 1e-10 or
+            // better): a large or growing correction means it did not, and further iterations
+            // only wander
+            if (size > Real(1) / 1000 || (it >= 2 && size > 2 * last)) {
                 failed = true;
                 break;
             }
-            using std::sqrt;
-            orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
-            phi = sr.end.phi;
-            jac2 = sr.jacobian;
-            beta_at_jacobian = beta;
-            d = detail::solve_2x2(sr.jacobian, sr.r);
-            d[1] *= 4;  // tau -> T
+            last = size;
         }
-        using boost::multiprecision::isfinite;
-        using std::isfinite;
-        if (!isfinite(d[0]) || !isfinite(d[1])) {
-            failed = true;
-            break;
-        }
-        beta -= d[0];
-        period -= d[1];
-        const Real size = max(abs(d[0]), abs(d[1]) / period);
-        orbit.last_update = size;
-        // NOTE: Newton converges quadratically (up to the O(tol) inexactness of the T column), so
-        // an update at the tolerance means the next would be at rounding; a stall (no halving)
-        // means the rounding floor of the residual is reached.
-        // the next update predicted at the observed rate (conservative for quadratic
-        // convergence): stop when it would be below the tolerance
-        const Real predicted = it >= 2 ? size * size / last : std::numeric_limits<Real>::max();
-        if (size <= tol || predicted <= tol / 4) {
-            converged = true;
-            break;
-        }
-        if (it >= 3 && size > last / 2) {
-            stalled = size <= sqrt(tol);
-            if (stalled) break;
-        }
-        last = size;
+        orbit.newton_iterations += it;
+    };
+    if (periodic && !double_ok) {
+        // NOTE: where double cannot resolve the periodic residual (eps |mu| too large), the
+        // periodic shooting's Newton basin (~ 1 / |mu| in beta) is narrower than the guess's
+        // accuracy: the symmetric formulation brings the guess to the working precision first;
+        // the periodic residual then decides the orbit.
+        newton(false);
+        orbit.double_stage += failed ? "; the symmetric pre-polish failed too"
+                                     : "; guess pre-polished by the symmetric formulation";
     }
-    orbit.newton_iterations = it;
+    if (!failed) newton(periodic);
     if (failed || (!converged && !stalled)) {
         orbit.status = orbit_status::not_converged;
         return orbit;
@@ -233,8 +264,7 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 
     // ---- the final orbit: quarter grid, action, turning points ------------------------------
     const auto x0 = setup.start(beta);
-    const long quarter_steps = periodic ? steps / 4 : steps;
-    orbit.quarter_step = periodic ? period / steps : period / 4 / steps;
+    orbit.quarter_step = period / 4 / quarter_steps;
     orbit.quarter.reserve(static_cast<std::size_t>(quarter_steps + 1));
     orbit.quarter.push_back(x0);
     {
@@ -252,6 +282,14 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         // the other three). Integrating the whole period instead would follow the unstable orbit
         // for four times longer, with rounding errors amplified by |mu| instead of |mu|^(1/4).
         orbit.action = 4 * y[4];
+    }
+    // the saddle orbit stays in its saddle's strip |delta| < pi (see detail::quarter_extent)
+    for (const auto& z : orbit.quarter) {
+        if (!(abs(z[0]) < pi<Real>()) || !(abs(z[1]) < pi<Real>())) {
+            orbit.status = orbit_status::not_converged;
+            orbit.double_stage += "; the refined solution left the saddle's strip |delta| < pi";
+            return orbit;
+        }
     }
     Real energy_error = 0;
     for (const auto& z : orbit.quarter) {
@@ -322,11 +360,12 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 
     // ---- error estimates ---------------------------------------------------------------------
     // NOTE: besides the integration and Newton errors, rounding perturbs the orbit's energy by
-    // about eps E (plus the measured drift), which moves T by |dT/dE| dE: near E_max, where
+    // about eps (E - E_s) (the frame's quantities are all on that scale; plus the measured
+    // drift), which moves T by |dT/dE| dE: near E_max, where
     // T ~ log(1 / (E_max - E)), this dominates the period's error (the action is well conditioned,
     // dF/dE = T).
     const Real rel = max({integration_error, orbit.last_update, 16 * eps});
-    const Real denergy = 4 * eps * energy + energy_error * excess;
+    const Real denergy = (4 * eps + energy_error) * excess;
     orbit.error_estimate_period = rel * period + abs(orbit.period_derivative) * denergy;
     orbit.error_estimate_action = rel * orbit.action + period * denergy;
     return orbit;

@@ -8,6 +8,8 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
+#include "flipflux/prediction/phase_volume.hpp"
+#include "flipflux/prediction/result.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux {
@@ -106,6 +108,19 @@ struct stability_fn {
     }
 };
 
+struct rate_fn {
+    template <class Real>
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                    const std::string& method) const {
+        const auto o = orbit_for(model, a, energy, method);
+        const prediction_result<Real> flux{o.flux(), 2 * o.error_estimate_action, 0};
+        const auto omega = phase_volume(model, energy, phase_volume_method::elliptic);
+        const auto r = rate_from(flux, omega);
+        return {r.value, r.error_estimate,
+                "R3 = f3 / Omega (Omega: elliptic route), " + method_text(o)};
+    }
+};
+
 }  // namespace
 
 void add_orbit_quantities(std::vector<quantity>& list) {
@@ -115,6 +130,9 @@ void add_orbit_quantities(std::vector<quantity>& list) {
                                  orbit_methods, true, action_fn{}));
     list.push_back(make_quantity("flux-saddle", "saddle-orbit flux f3 = 2 F (both directions)",
                                  orbit_methods, true, flux_fn{}));
+    list.push_back(make_quantity("rate-saddle",
+                                 "predicted flip rate R3 = f3 / Omega (saddle-orbit criterion)",
+                                 orbit_methods, true, rate_fn{}));
     list.push_back(make_quantity("multiplier",
                                  "Floquet multiplier |mu| > 1 of the (hyperbolic) saddle orbit",
                                  orbit_methods, true, multiplier_fn{}));

@@ -130,6 +130,26 @@ state_end<Real> integrate_state(const shooting_setup<Real>& setup, const std::ar
     return out;
 }
 
+/// The largest |delta1|, |delta2| along the quarter orbit from the saddle (beta, duration tau).
+/// The saddle orbit stays in the strip around its saddle: |delta| < pi for both angles (it never
+/// swings either arm through the other vertical). A shooting solution outside it is another
+/// periodic orbit (e.g. one that passes over the top), not the saddle orbit.
+template <class Real>
+std::array<Real, 2> quarter_extent(const shooting_setup<Real>& setup, const Real& beta,
+                                   const Real& tau, long steps) {
+    using std::abs;
+    const auto x0 = setup.start(beta);
+    std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
+    std::array<Real, 2> m{Real(0), Real(0)};
+    gauss_legendre<Real, 5> gl(setup.stages);
+    gl.integrate(orbit_flow<Real>{&setup.frame}, y, tau / steps, steps,
+                 [&m](long, const std::array<Real, 5>& z) {
+                     if (abs(z[0]) > m[0]) m[0] = abs(z[0]);
+                     if (abs(z[1]) > m[1]) m[1] = abs(z[1]);
+                 });
+    return m;
+}
+
 /// Periodic-shooting residual r (scaled) and Jacobian d r / d(beta, T) at (beta, T).
 template <class Real>
 struct periodic_residual {
