@@ -245,8 +245,8 @@ struct kepler_with_tangent {
         const double j00 = -1 / (r2 * r) + 3 * x[0] * x[0] / r5;
         const double j01 = 3 * x[0] * x[1] / r5;
         const double j11 = -1 / (r2 * r) + 3 * x[1] * x[1] / r5;
-        return {f[0], f[1], f[2], f[3], x[6], x[7], j00 * x[4] + j01 * x[5],
-                j01 * x[4] + j11 * x[5]};
+        return {
+            f[0], f[1], f[2], f[3], x[6], x[7], j00 * x[4] + j01 * x[5], j01 * x[4] + j11 * x[5]};
     }
 };
 

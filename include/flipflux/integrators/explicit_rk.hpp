@@ -42,17 +42,18 @@ namespace flipflux {
 
 /// Options of an explicit Runge-Kutta integration.
 struct rk_options {
-    double rtol = 1e-10;                 ///< relative tolerance (> 0)
-    double atol = 1e-10;                 ///< absolute tolerance per component (> 0)
+    double rtol = 1e-10;                    ///< relative tolerance (> 0)
+    double atol = 1e-10;                    ///< absolute tolerance per component (> 0)
     std::size_t controlled_components = 0;  ///< error norm over the first this many (0 = all)
-    double initial_step = 0;             ///< 0: Hairer's automatic starting step
+    double initial_step = 0;                ///< 0: Hairer's automatic starting step
     double max_step = std::numeric_limits<double>::infinity();
-    double fixed_step = 0;               ///< > 0: no error control, steps of this size (tests)
+    double fixed_step = 0;  ///< > 0: no error control, steps of this size (tests)
 };
 
 enum class rk_status {
     ok,                   ///< the step was accepted
-    step_size_underflow,  ///< the step size fell below 16 ulp of t: the problem is too stiff/singular
+    step_size_underflow,  ///< the step size fell below 16 ulp of t: the problem is too
+                          ///< stiff/singular
     non_finite,           ///< the right-hand side produced NaN or infinity
 };
 
@@ -87,17 +88,14 @@ struct dormand_prince_5 {
         {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84},
     }};
     // b - b_hat (5th minus 4th order), over the 7 stages
-    static constexpr std::array<double, 7> e{71.0 / 57600,      0,           -71.0 / 16695,
-                                             71.0 / 1920,       -17253.0 / 339200,
-                                             22.0 / 525,        -1.0 / 40};
+    static constexpr std::array<double, 7> e{
+        71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
     // Shampine's dense-output coefficients
-    static constexpr std::array<double, 7> d{-12715105075.0 / 11282082432.0,
-                                             0,
-                                             87487479700.0 / 32700410799.0,
-                                             -10690763975.0 / 1880347072.0,
-                                             701980252875.0 / 199316789632.0,
-                                             -1453857185.0 / 822651844.0,
-                                             69997945.0 / 29380423.0};
+    static constexpr std::array<double, 7> d{
+        -12715105075.0 / 11282082432.0,  0,
+        87487479700.0 / 32700410799.0,   -10690763975.0 / 1880347072.0,
+        701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
+        69997945.0 / 29380423.0};
 };
 
 /// Hairer's DOP853 (8th order, 5th/3rd-order error estimators, 7th-order dense output).
@@ -134,8 +132,8 @@ struct dormand_prince_853 {
          9.24834003261792003115737966543e-1},
         {3.7037037037037037037037037037e-2, 0, 0, 1.70828608729473871279604482173e-1,
          1.25467687566822425016691814123e-1},
-        {3.7109375e-2, 0, 0, 1.70252211019544039314978060272e-1,
-         6.02165389804559606850219397283e-2, -1.7578125e-2},
+        {3.7109375e-2, 0, 0, 1.70252211019544039314978060272e-1, 6.02165389804559606850219397283e-2,
+         -1.7578125e-2},
         {3.70920001185047927108779319836e-2, 0, 0, 1.70383925712239993810214054705e-1,
          1.07262030446373284651809199168e-1, -1.53194377486244017527936158236e-2,
          8.27378916381402288758473766002e-3},
@@ -245,7 +243,7 @@ class explicit_rk {
         facold_ = 1e-4;
         last_rejected_ = false;
         dense_ready_ = false;
-        h_ = opt_.fixed_step > 0    ? opt_.fixed_step
+        h_ = opt_.fixed_step > 0     ? opt_.fixed_step
              : opt_.initial_step > 0 ? opt_.initial_step
                                      : initial_step();
         h_ = std::min(h_, opt_.max_step);
@@ -346,8 +344,8 @@ class explicit_rk {
     double t_previous() const { return t_prev_; }
     const state& x() const { return x_; }
     const state& x_previous() const { return x_prev_; }
-    const state& derivative() const { return fx_; }                    ///< f(t, x)
-    const state& derivative_previous() const { return f_prev_; }       ///< at the last step's start
+    const state& derivative() const { return fx_; }               ///< f(t, x)
+    const state& derivative_previous() const { return f_prev_; }  ///< at the last step's start
     double last_step() const { return h_last_; }
     double next_step() const { return h_; }
     long accepted_steps() const { return accepted_; }
@@ -391,8 +389,8 @@ class explicit_rk {
         }
         d2 = std::sqrt(d2 / m) / h0;
         const double dm = std::max(d1, d2);
-        const double h1 = dm <= 1e-15 ? std::max(1e-6, h0 * 1e-3)
-                                      : std::pow(0.01 / dm, 1.0 / Method::order);
+        const double h1 =
+            dm <= 1e-15 ? std::max(1e-6, h0 * 1e-3) : std::pow(0.01 / dm, 1.0 / Method::order);
         const double h = std::min(100 * h0, h1);
         return std::isfinite(h) && h > 0 ? h : 1e-6;
     }
@@ -435,8 +433,7 @@ class explicit_rk {
                     e5 += Method::e5[j] * k_[j][i];
                     e3 += Method::a[12][j] * k_[j][i];
                 }
-                e3 -= Method::bhh0 * k_[0][i] + Method::bhh8 * k_[8][i] +
-                      Method::bhh11 * k_[11][i];
+                e3 -= Method::bhh0 * k_[0][i] + Method::bhh8 * k_[8][i] + Method::bhh11 * k_[11][i];
                 const double sc = scale(i, x_, x_new_);
                 err5 += (e5 / sc) * (e5 / sc);
                 err3 += (e3 / sc) * (e3 / sc);
