@@ -52,6 +52,13 @@ double chaos_threshold_rate(const double_pendulum<double>& model, double thresho
     return threshold * std::sqrt(k.alpha / k.A);
 }
 
+bool chaos_classification_reliable(const double_pendulum<double>& model, double threshold,
+                                   double time) {
+    const auto& k = model.coefficients();
+    const double nu = std::sqrt(k.alpha / k.A);
+    return std::log1p(time * nu) / time <= 0.25 * chaos_threshold_rate(model, threshold);
+}
+
 namespace {
 
 constexpr double pi = std::numbers::pi;

@@ -99,6 +99,13 @@ void validate(const ensemble_options& options);
 /// The chaos threshold in the model's time units: threshold * sqrt(alpha / A).
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold);
 
+/// Whether T is long enough for the classification: a regular trajectory's lambda_T is about
+/// ln(1 + T nu) / T (tangent vectors grow linearly), nu = sqrt(alpha / A); the classification is
+/// called reliable when that is at most a quarter of the threshold rate (egalitarian, default
+/// threshold: T >= ~500).
+bool chaos_classification_reliable(const double_pendulum<double>& model, double threshold,
+                                   double time);
+
 /// Integrates from x0 to options.time with the given detectors (one per criterion; start() is
 /// called on each). `index` selects the tangent vector's random stream (with options.chaos).
 /// The energy drift is measured against H(x0).

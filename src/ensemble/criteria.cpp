@@ -1,0 +1,54 @@
+// Flip criteria by name (include/flipflux/ensemble/criteria.hpp).
+#include "flipflux/ensemble/criteria.hpp"
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+
+namespace flipflux {
+
+const std::vector<std::string>& criterion_names() {
+    static const std::vector<std::string> names{"upright", "approx", "saddle"};
+    return names;
+}
+
+void check_criterion_name(const std::string& name, const std::string& option) {
+    for (const std::string& n : criterion_names())
+        if (n == name) return;
+    throw input_error(option + ": '" + name + "' is not a criterion (upright, approx, saddle)");
+}
+
+double criterion_threshold(const double_pendulum<double>& model, arm a, const std::string& name) {
+    check_criterion_name(name);
+    return model.saddle_energy(a);
+}
+
+flip_criterion make_criterion(const double_pendulum<double>& model, arm a, const std::string& name,
+                              double energy) {
+    const double threshold = criterion_threshold(model, a, name);
+    if (!(energy > threshold))
+        throw input_error("--energy: '" + to_decimal(energy) + "' is at or below the threshold " +
+                          to_decimal(threshold) + " of criterion '" + name + "' for arm " +
+                          to_string(a) + " (the saddle energy: no flips are possible)");
+    const pendulum_flow flow(model);
+    if (name == "upright") return {name, make_flip_detector(upright_curve<double>{a}, flow)};
+    if (name == "approx")
+        return {name, make_flip_detector(approximate_saddle_curve(model, a), flow)};
+    // NOTE: the saddle-orbit curve comes from the orbits module (issue 4); until it is part of
+    // this build the criterion is refused as bad input.
+    throw input_error(
+        "--criteria: 'saddle' needs the saddle-orbit module, which this build does "
+        "not contain yet");
+}
+
+std::optional<quantity_value<double>> predicted_rate(const double_pendulum<double>& model, arm a,
+                                                     const std::string& name, double energy) {
+    check_criterion_name(name);
+    const std::string qname = "rate-" + name;
+    for (const quantity& q : quantities())
+        if (q.name == qname) return q.evaluate(model, a, energy, "");
+    return std::nullopt;
+}
+
+}  // namespace flipflux
