@@ -21,7 +21,8 @@ namespace {
 struct simulate_state {
     std::string energy, arm_text = "2", criteria = "upright,approx,saddle", trajectories, time,
                         seed = "0", rtol = "1e-10", threads = "0", csv_dir, method = "dop853",
-                        chaos_threshold = "0.05", first_index = "0", bins = "0";
+                        chaos_threshold = "0.05", first_index = "0", bins = "0",
+                        sample_interval = "0";
     bool no_chaos = false;
     model_options model;
 };
@@ -162,6 +163,17 @@ void write_csvs(const std::filesystem::path& dir, const std::string& label,
         t += "\n";
     }
     write_atomically(dir / ("trajectories_E" + label + ".csv"), t);
+    if (!r.trajectories.empty() && !r.trajectories.front().samples.empty()) {
+        std::string smp = "trajectory,t,theta1,theta2,l1,l2\n";
+        for (const trajectory_result& x : r.trajectories)
+            for (const auto& v : x.samples) {
+                smp += std::to_string(x.index);
+                for (double c : v)
+                    smp += "," + to_decimal(c);
+                smp += "\n";
+            }
+        write_atomically(dir / ("samples_E" + label + ".csv"), smp);
+    }
     for (std::size_t c = 0; c < r.criteria.size(); ++c) {
         const std::string& name = r.criteria[c];
         std::string res = "trajectory,crossing_time,residence_time\n";
@@ -199,6 +211,10 @@ json simulate(const simulate_state& s) {
     o.chaos = !s.no_chaos;
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
     const std::size_t bins = parse_unsigned(s.bins, "--bins", false);
+    o.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
+    if (o.sample_interval != 0 && s.csv_dir.empty())
+        throw input_error("--sample-interval: '" + s.sample_interval +
+                          "' needs --csv-dir (the sampled trajectories are written there)");
     std::filesystem::path dir;
     if (!s.csv_dir.empty()) {
         dir = s.csv_dir;
@@ -352,6 +368,9 @@ const register_command registration([](CLI::App& app) {
     sub->add_flag("--no-chaos", s->no_chaos,
                   "skip the variational equations (no chaotic/regular classification)");
     sub->add_option("--bins", s->bins, "histogram bins (0: square-root rule)")
+        ->capture_default_str();
+    sub->add_option("--sample-interval", s->sample_interval,
+                    "store every trajectory's state at this time interval (needs --csv-dir)")
         ->capture_default_str();
     sub->add_option("--csv-dir", s->csv_dir,
                     "write per-trajectory rates, residence times and histograms as CSV here");

@@ -40,6 +40,9 @@ void validate(const ensemble_options& o) {
         throw input_error("--energy: '" + to_decimal(o.energy) + "' is invalid (must be > 0)");
     if (o.threads < 0)
         throw input_error("--threads: '" + std::to_string(o.threads) + "' is invalid (>= 0)");
+    if (!std::isfinite(o.sample_interval) || o.sample_interval < 0)
+        throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
+                          "' is invalid (must be >= 0)");
     if (!std::isfinite(o.chaos_threshold) || !(o.chaos_threshold > 0))
         throw input_error("--chaos-threshold: '" + to_decimal(o.chaos_threshold) +
                           "' is invalid (must be > 0)");
@@ -135,6 +138,20 @@ void integrate(const double_pendulum<double>& model, const ensemble_options& o,
     }
     std::vector<crossing> found;
     const dense_adapter<integrator> dense(rk);
+    std::uint64_t next_sample = 0;
+    auto record_samples = [&](double t_end) {
+        while (o.sample_interval > 0) {
+            const double ts = static_cast<double>(next_sample) * o.sample_interval;
+            if (ts > t_end || ts > o.time) break;
+            const std::array<double, 4> x = ts == rk.t() ? first4(rk.x()) : dense.state(ts);
+            r.samples.push_back({ts, x[0], x[1], x[2], x[3]});
+            ++next_sample;
+        }
+    };
+    if (o.sample_interval > 0) {
+        r.samples.push_back({0.0, x0[0], x0[1], x0[2], x0[3]});
+        next_sample = 1;
+    }
     const std::size_t nc = detectors.size();
     const double energy = flow.hamiltonian(x0);
     r.status = rk_status::ok;
@@ -146,6 +163,7 @@ void integrate(const double_pendulum<double>& model, const ensemble_options& o,
         }
         const std::array<double, 4> x1 = first4(rk.x()), f1 = first4(rk.derivative());
         const step_view view{rk.t_previous(), rk.t(), x1, f1, dense};
+        record_samples(rk.t());
         for (std::size_t c = 0; c < nc; ++c) {
             found.clear();
             if (detectors[c]->step(view, found) > 0) {

@@ -37,7 +37,8 @@ TEST(SimulateCommand, JsonAgreesWithCsvAndThreadCounts) {
     const std::filesystem::path dir =
         std::filesystem::path(::testing::TempDir()) / ("flipflux_sim_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
-    const auto r1 = run_flipflux(base + " --threads 1 --csv-dir " + dir.string());
+    const auto r1 =
+        run_flipflux(base + " --threads 1 --sample-interval 5 --csv-dir " + dir.string());
     ASSERT_EQ(r1.status, 0) << r1.err;
     const auto r2 = run_flipflux(base + " --threads 2");
     ASSERT_EQ(r2.status, 0) << r2.err;
@@ -76,7 +77,8 @@ TEST(SimulateCommand, JsonAgreesWithCsvAndThreadCounts) {
         EXPECT_TRUE(std::filesystem::exists(dir / ("residence_histogram_E5_" + c + ".csv")));
         EXPECT_FALSE(s["chaotic_fraction"].is_null());
     }
-    EXPECT_EQ(a["chaos"]["classification_reliable"], false);  // T = 25 is too short
+    EXPECT_EQ(a["chaos"]["classification_reliable"], false);            // T = 25 is too short
+    EXPECT_EQ(read_lines(dir / "samples_E5.csv").size(), 1u + 12 * 6);  // t = 0, 5, ..., 25
     EXPECT_TRUE(a.contains("quality"));
     EXPECT_TRUE(a["regimes"].is_array());
     // no temporary files are left behind
@@ -139,6 +141,9 @@ TEST(SimulateCommand, RefusesBadInput) {
     expect_refused("simulate --energy 5 --trajectories 3 --m2 -1" + ok, "--m2");
     expect_refused("simulate --energy 5 --trajectories 3 --csv-dir /proc/flipflux" + ok,
                    "--csv-dir");
+    expect_refused("simulate --energy 5 --trajectories 3 --sample-interval 1" + ok,
+                   "--sample-interval");
+    expect_refused("simulate --energy 5 --trajectories 3 --bins x" + ok, "--bins");
 }
 
 }  // namespace

@@ -235,6 +235,31 @@ TEST(Ensemble, LyapunovExponentAgreesWithTwoTrajectoryEstimate) {
     EXPECT_NEAR(chaos_threshold_rate(m, 0.05), 0.05, 1e-15);  // egalitarian: sqrt(alpha/A) = 1
 }
 
+TEST(Ensemble, TrajectoriesAreStoredOnlyWhenAsked) {
+    const double_pendulum<double> m;
+    ensemble_options o = small_run(1);
+    o.trajectories = 2;
+    o.time = 10;
+    const ensemble_result none = run_ensemble(m, o, {});
+    EXPECT_TRUE(none.trajectories[0].samples.empty());
+    o.sample_interval = 0.25;
+    const ensemble_result r = run_ensemble(m, o, {});
+    const pendulum_flow flow(m);
+    for (const trajectory_result& t : r.trajectories) {
+        ASSERT_EQ(t.samples.size(), 41u);
+        EXPECT_EQ(t.samples[0][1], t.initial_state[0]);
+        for (std::size_t k = 0; k < t.samples.size(); ++k) {
+            EXPECT_DOUBLE_EQ(t.samples[k][0], 0.25 * static_cast<double>(k));
+            const std::array<double, 4> x{t.samples[k][1], t.samples[k][2], t.samples[k][3],
+                                          t.samples[k][4]};
+            EXPECT_NEAR(flow.hamiltonian(x), o.energy, 1e-6);
+            EXPECT_LE(std::abs(x[0]), 4.0);
+        }
+    }
+    o.sample_interval = -1;
+    EXPECT_THROW(run_ensemble(m, o, {}), input_error);
+}
+
 TEST(Ensemble, ProgressIsReportedForEveryTrajectory) {
     const double_pendulum<double> m;
     ensemble_options o = small_run(2);

@@ -57,6 +57,9 @@ struct ensemble_options {
     double chaos_threshold = default_chaos_threshold;
     int threads = 0;              ///< OpenMP threads; 0: OpenMP's default
     bool keep_crossings = false;  ///< store every crossing (time, direction, s)
+    /// > 0: store the state every sample_interval (from the dense output; angles as integrated,
+    /// reduced to [-pi, pi] at each step's start). 0: trajectories are not stored.
+    double sample_interval = 0;
     /// Called (serialised) after each finished trajectory with (finished, total).
     std::function<void(std::uint64_t, std::uint64_t)> progress;
 };
@@ -78,6 +81,7 @@ struct trajectory_result {
     long steps = 0, rejected_steps = 0, evaluations = 0;
     std::vector<std::vector<double>> crossing_times;  ///< per criterion, in time order
     std::vector<std::vector<crossing>> crossings;     ///< per criterion, with keep_crossings
+    std::vector<std::array<double, 5>> samples;       ///< (t, th1, th2, l1, l2), sample_interval
     std::size_t flips(std::size_t criterion) const { return crossing_times[criterion].size(); }
 };
 

@@ -31,7 +31,8 @@ class pendulum_flow {
     explicit pendulum_flow(const double_pendulum<double>& model) : k_(model.coefficients()) {}
 
     /// Hamilton's equations (th1', th2', l1', l2'); t is ignored (autonomous).
-    std::array<double, 4> operator()(double, const std::array<double, 4>& x) const {
+    std::array<double, 4> operator()(double, const std::array<double, 4>& state) const {
+        const double* x = state.data();
         const trig g(x);
         const double det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
         const double w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
@@ -60,8 +61,9 @@ class pendulum_flow {
     }
 
     /// Hamilton's equations and their tangent equations: state (x, v), v' = J(x) v.
-    std::array<double, 8> tangent(const std::array<double, 8>& y) const {
-        const std::array<double, 4> x{y[0], y[1], y[2], y[3]};
+    std::array<double, 8> tangent(const std::array<double, 8>& state) const {
+        const double* y = state.data();
+        const double* x = y;
         const trig g(x);
         const double C = k_.C;
         const double det = k_.D0 + C * C * g.sd * g.sd;
@@ -85,7 +87,7 @@ class pendulum_flow {
   private:
     struct trig {
         double s1, c1, s2, c2, sd, cd;
-        explicit trig(const std::array<double, 4>& x)
+        explicit trig(const double* x)
             : s1(std::sin(x[0])), c1(std::cos(x[0])), s2(std::sin(x[1])), c2(std::cos(x[1])) {
             sd = s1 * c2 - c1 * s2;
             cd = c1 * c2 + s1 * s2;

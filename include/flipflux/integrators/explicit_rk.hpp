@@ -77,8 +77,8 @@ struct dormand_prince_5 {
     static constexpr int dense_stages = 0;
     static constexpr int dense_terms = 4;
     static constexpr double beta = 0.04, fac_min = 0.2, fac_max = 10.0, safety = 0.9;
-    static constexpr std::array<double, 7> c{0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
-    static constexpr std::array<std::array<double, 7>, 7> a{{
+    static constexpr double c[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+    static constexpr double a[7][7] = {
         {},
         {1.0 / 5},
         {3.0 / 40, 9.0 / 40},
@@ -86,16 +86,15 @@ struct dormand_prince_5 {
         {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
         {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
         {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84},
-    }};
+    };
     // b - b_hat (5th minus 4th order), over the 7 stages
-    static constexpr std::array<double, 7> e{
-        71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
+    static constexpr double e[7] = {71.0 / 57600,      0,          -71.0 / 16695, 71.0 / 1920,
+                                    -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
     // Shampine's dense-output coefficients
-    static constexpr std::array<double, 7> d{
-        -12715105075.0 / 11282082432.0,  0,
-        87487479700.0 / 32700410799.0,   -10690763975.0 / 1880347072.0,
-        701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
-        69997945.0 / 29380423.0};
+    static constexpr double d[7] = {-12715105075.0 / 11282082432.0,  0,
+                                    87487479700.0 / 32700410799.0,   -10690763975.0 / 1880347072.0,
+                                    701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
+                                    69997945.0 / 29380423.0};
 };
 
 /// Hairer's DOP853 (8th order, 5th/3rd-order error estimators, 7th-order dense output).
@@ -106,24 +105,24 @@ struct dormand_prince_853 {
     static constexpr int dense_stages = 3;
     static constexpr int dense_terms = 7;
     static constexpr double beta = 0.0, fac_min = 0.333, fac_max = 6.0, safety = 0.9;
-    static constexpr std::array<double, 16> c{0.0,
-                                              0.526001519587677318785587544488e-01,
-                                              0.789002279381515978178381316732e-01,
-                                              0.118350341907227396726757197510,
-                                              0.281649658092772603273242802490,
-                                              0.333333333333333333333333333333,
-                                              0.25,
-                                              0.307692307692307692307692307692,
-                                              0.651282051282051282051282051282,
-                                              0.6,
-                                              0.857142857142857142857142857142,
-                                              1.0,
-                                              1.0,
-                                              0.1,
-                                              0.2,
-                                              0.777777777777777777777777777778};
+    static constexpr double c[16] = {0.0,
+                                     0.526001519587677318785587544488e-01,
+                                     0.789002279381515978178381316732e-01,
+                                     0.118350341907227396726757197510,
+                                     0.281649658092772603273242802490,
+                                     0.333333333333333333333333333333,
+                                     0.25,
+                                     0.307692307692307692307692307692,
+                                     0.651282051282051282051282051282,
+                                     0.6,
+                                     0.857142857142857142857142857142,
+                                     1.0,
+                                     1.0,
+                                     0.1,
+                                     0.2,
+                                     0.777777777777777777777777777778};
     // Row i: coefficients of stages 0..i-1 for stage i; row 12 holds the weights b (FSAL stage).
-    static constexpr std::array<std::array<double, 16>, 16> a{{
+    static constexpr double a[16][16] = {
         {},
         {5.26001519587677318785587544488e-2},
         {1.97250569845378994544595329183e-2, 5.91751709536136983633785987549e-2},
@@ -169,26 +168,26 @@ struct dormand_prince_853 {
          7.68342119606259904184240953878, 4.06898981839711007970213554331,
          3.56727187455281109270669543021e-1, 0, 0, 0, -1.39902416515901462129418009734e-3,
          2.9475147891527723389556272149, -9.15095847217987001081870187138},
-    }};
+    };
     // Difference of b and the 3rd-order weights (nonzero at stages 0, 8, 11).
     static constexpr double bhh0 = 0.244094488188976377952755905512,
                             bhh8 = 0.733846688281611857341361741547,
                             bhh11 = 0.220588235294117647058823529412e-1;
     // 5th-order error coefficients over stages 0..11.
-    static constexpr std::array<double, 12> e5{0.1312004499419488073250102996e-1,
-                                               0,
-                                               0,
-                                               0,
-                                               0,
-                                               -0.1225156446376204440720569753e1,
-                                               -0.4957589496572501915214079952,
-                                               0.1664377182454986536961530415e1,
-                                               -0.3503288487499736816886487290,
-                                               0.3341791187130174790297318841,
-                                               0.8192320648511571246570742613e-1,
-                                               -0.2235530786388629525884427845e-1};
+    static constexpr double e5[12] = {0.1312004499419488073250102996e-1,
+                                      0,
+                                      0,
+                                      0,
+                                      0,
+                                      -0.1225156446376204440720569753e1,
+                                      -0.4957589496572501915214079952,
+                                      0.1664377182454986536961530415e1,
+                                      -0.3503288487499736816886487290,
+                                      0.3341791187130174790297318841,
+                                      0.8192320648511571246570742613e-1,
+                                      -0.2235530786388629525884427845e-1};
     // Dense-output coefficients of the 4 highest terms, over the 16 stages.
-    static constexpr std::array<std::array<double, 16>, 4> d{{
+    static constexpr double d[4][16] = {
         {-0.84289382761090128651353491142e1, 0, 0, 0, 0, 0.56671495351937776962531783590,
          -0.30689499459498916912797304727e1, 0.23846676565120698287728149680e1,
          0.21170345824450282767155149946e1, -0.87139158377797299206789907490,
@@ -213,7 +212,7 @@ struct dormand_prince_853 {
          0.10409964950896230045147246184e3, 0.29840293426660503123344363579e2,
          -0.43533456590011143754432175058e2, 0.96324553959188282948394950600e2,
          -0.39177261675615439165231486172e2, -0.14972683625798562581422125276e3},
-    }};
+    };
 };
 
 /// An adaptive embedded Runge-Kutta integrator of x' = f(t, x), x in R^N, with dense output.
@@ -300,12 +299,14 @@ class explicit_rk {
         const double th = h_last_ == 0 ? 0 : (t - t_prev_) / h_last_;
         const double th1 = 1 - th;
         state y;
+        double* yp = y.data();
+        const double* x0 = x_prev_.data();
         for (std::size_t i = 0; i < N; ++i) {
             // y0 + th (r0 + th1 (r1 + th (r2 + th1 (r3 + th (r4 + th1 (r5 + th r6))))))
             double acc = rc_[Method::dense_terms - 1][i];
             for (int j = Method::dense_terms - 2; j >= 0; --j)
                 acc = rc_[j][i] + ((j % 2 == 0) ? th1 : th) * acc;
-            y[i] = x_prev_[i] + th * acc;
+            yp[i] = x0[i] + th * acc;
         }
         return y;
     }
@@ -325,18 +326,18 @@ class explicit_rk {
     /// components below `first` (variational equations): then the integration continues exactly
     /// as if the tail had been scaled from the start.
     void rescale_tail(std::size_t first, double factor) {
-        auto scale_tail = [&](state& v) {
+        auto scale_tail = [&](double* v) {
             for (std::size_t i = first; i < N; ++i)
                 v[i] *= factor;
         };
-        scale_tail(x_);
-        scale_tail(x_prev_);
-        scale_tail(x_new_);
-        scale_tail(fx_);
-        scale_tail(f_prev_);
-        for (state& k : k_)
+        scale_tail(x_.data());
+        scale_tail(x_prev_.data());
+        scale_tail(x_new_.data());
+        scale_tail(fx_.data());
+        scale_tail(f_prev_.data());
+        for (auto& k : k_)
             scale_tail(k);
-        for (state& r : rc_)
+        for (auto& r : rc_)
             scale_tail(r);
     }
 
@@ -355,12 +356,29 @@ class explicit_rk {
     const rk_options& options() const { return opt_; }
 
   private:
+    // NOTE: the inner loops index raw arrays (C-array tableaux and stage storage, pointers from
+    // data()): the same code at -O2, and several times faster in the -O0 coverage build, where
+    // every std::array::operator[] is a function call.
+    static constexpr int S = Method::stages;
+    static constexpr int SD = Method::stages + Method::dense_stages;
+
+    static void copy(const double* from, double* to) {
+        for (std::size_t i = 0; i < N; ++i)
+            to[i] = from[i];
+    }
+    void eval_into(double t, const double* x, double* out) {
+        ++evaluations_;
+        state xs;
+        copy(x, xs.data());
+        const state f = f_(t, xs);
+        copy(f.data(), out);
+    }
     state eval(double t, const state& x) {
         ++evaluations_;
         return f_(t, x);
     }
 
-    double scale(std::size_t i, const state& x0, const state& x1) const {
+    double scale(std::size_t i, const double* x0, const double* x1) const {
         return opt_.atol + opt_.rtol * std::max(std::abs(x0[i]), std::abs(x1[i]));
     }
 
@@ -395,33 +413,42 @@ class explicit_rk {
         return std::isfinite(h) && h > 0 ? h : 1e-6;
     }
 
+    // y = base + h sum_{j < s} a[s][j] k_j
+    void stage_point(int s, double h, const double* base, double* y) const {
+        copy(base, y);
+        for (int j = 0; j < s; ++j) {
+            const double a = Method::a[s][j];
+            if (a == 0) continue;
+            const double* kj = k_[j];
+            for (std::size_t i = 0; i < N; ++i)
+                y[i] += h * a * kj[i];
+        }
+    }
+
     // One trial step of size h from (t_, x_): fills k_ and x_new_, returns the error norm.
     double attempt(double h) {
-        constexpr int S = Method::stages;
-        k_[0] = fx_;
+        copy(fx_.data(), k_[0]);
+        const double* x = x_.data();
+        double y[N];
         for (int s = 1; s < S; ++s) {
-            state y = x_;
-            for (int j = 0; j < s; ++j) {
-                const double a = Method::a[s][j];
-                if (a == 0) continue;
-                for (std::size_t i = 0; i < N; ++i)
-                    y[i] += h * a * k_[j][i];
-            }
-            if (s == S - 1) x_new_ = y;
-            k_[s] = eval(t_ + Method::c[s] * h, y);
+            stage_point(s, h, x, y);
+            if (s == S - 1) copy(y, x_new_.data());
+            eval_into(t_ + Method::c[s] * h, y, k_[s]);
         }
         return error_norm(h);
     }
 
     double error_norm(double h) const {
         const std::size_t m = opt_.controlled_components;
+        const double* x0 = x_.data();
+        const double* x1 = x_new_.data();
         if constexpr (Method::order == 5) {
             double sum = 0;
             for (std::size_t i = 0; i < m; ++i) {
                 double e = 0;
-                for (int j = 0; j < Method::stages; ++j)
+                for (int j = 0; j < S; ++j)
                     e += Method::e[j] * k_[j][i];
-                const double r = h * e / scale(i, x_, x_new_);
+                const double r = h * e / scale(i, x0, x1);
                 sum += r * r;
             }
             return std::sqrt(sum / m);
@@ -434,7 +461,7 @@ class explicit_rk {
                     e3 += Method::a[12][j] * k_[j][i];
                 }
                 e3 -= Method::bhh0 * k_[0][i] + Method::bhh8 * k_[8][i] + Method::bhh11 * k_[11][i];
-                const double sc = scale(i, x_, x_new_);
+                const double sc = scale(i, x0, x1);
                 err5 += (e5 / sc) * (e5 / sc);
                 err3 += (e3 / sc) * (e3 / sc);
             }
@@ -467,48 +494,45 @@ class explicit_rk {
         f_prev_ = fx_;
         t_ = t_new;
         x_ = x_new_;
-        fx_ = k_[Method::stages - 1];
+        copy(k_[S - 1], fx_.data());
         h_last_ = h;
         dense_ready_ = false;
     }
 
     void prepare_dense() {
         const double h = h_last_;
+        const double* x0 = x_prev_.data();
+        const double* x1 = x_.data();
         if constexpr (Method::order == 5) {
             // k_ holds the stages of the accepted step (k_[6] = f at its end).
+            // Shampine's form: y0 + th (r0 + th1 (r1 + th (r2 + th1 r3))).
             for (std::size_t i = 0; i < N; ++i) {
-                const double dx = x_[i] - x_prev_[i];
+                const double dx = x1[i] - x0[i];
                 const double bspl = h * k_[0][i] - dx;
                 rc_[0][i] = dx;
                 rc_[1][i] = bspl;
                 rc_[2][i] = dx - h * k_[6][i] - bspl;
-                double s = 0;
+                double sum = 0;
                 for (int j = 0; j < 7; ++j)
-                    s += Method::d[j] * k_[j][i];
-                rc_[3][i] = h * s;
+                    sum += Method::d[j] * k_[j][i];
+                rc_[3][i] = h * sum;
             }
-            // Shampine's form: y0 + th (r0 + th1 (r1 + th (r2 + th1 r3))).
         } else {
+            double y[N];
             for (int s = 13; s < 16; ++s) {
-                state y = x_prev_;
-                for (int j = 0; j < s; ++j) {
-                    const double a = Method::a[s][j];
-                    if (a == 0) continue;
-                    for (std::size_t i = 0; i < N; ++i)
-                        y[i] += h * a * k_[j][i];
-                }
-                k_[s] = eval(t_prev_ + Method::c[s] * h, y);
+                stage_point(s, h, x0, y);
+                eval_into(t_prev_ + Method::c[s] * h, y, k_[s]);
             }
             for (std::size_t i = 0; i < N; ++i) {
-                const double dx = x_[i] - x_prev_[i];
+                const double dx = x1[i] - x0[i];
                 rc_[0][i] = dx;
                 rc_[1][i] = h * k_[0][i] - dx;
                 rc_[2][i] = 2 * dx - h * (k_[12][i] + k_[0][i]);
                 for (int r = 0; r < 4; ++r) {
-                    double s = 0;
+                    double sum = 0;
                     for (int j = 0; j < 16; ++j)
-                        s += Method::d[r][j] * k_[j][i];
-                    rc_[3 + r][i] = h * s;
+                        sum += Method::d[r][j] * k_[j][i];
+                    rc_[3 + r][i] = h * sum;
                 }
             }
         }
@@ -520,8 +544,8 @@ class explicit_rk {
     double t_ = 0, t_prev_ = 0, h_ = 0, h_last_ = 0, facold_ = 1e-4;
     bool last_rejected_ = false, dense_ready_ = false;
     state x_{}, x_prev_{}, x_new_{}, fx_{}, f_prev_{};
-    std::array<state, Method::stages + Method::dense_stages> k_{};
-    std::array<state, Method::dense_terms> rc_{};
+    double k_[SD][N] = {};
+    double rc_[Method::dense_terms][N] = {};
     long accepted_ = 0, rejected_ = 0, evaluations_ = 0;
 
     static_assert(Method::stages + Method::dense_stages >= 7);
