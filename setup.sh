@@ -43,6 +43,19 @@ run_main() {
   ./build/release/flipflux model
 }
 
+run_ctest() {  # run_ctest PRESET [ctest args]: full log to the build tree, summary and failures here
+  local preset=$1; shift
+  local log=build/$preset/ctest.log
+  if ctest --preset "$preset" -j "$JOBS" "$@" >"$log" 2>&1; then
+    grep -E "tests passed|Total Test time" "$log"
+  else
+    grep -E "\*\*\*|Failed|tests passed" "$log" | head -50
+    echo "ctest ($preset) FAILED; full log: $log" >&2
+    ctest --preset "$preset" --rerun-failed --output-on-failure 2>&1 | tail -200
+    return 1
+  fi
+}
+
 format_check() {
   echo "== clang-format check"
   git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run --Werror
@@ -51,7 +64,7 @@ format_check() {
 sanitizer_tests() {
   echo "== ASan+UBSan build and unit tests"
   build asan-ubsan
-  ctest --preset asan-ubsan -j "$JOBS" --timeout 900
+  run_ctest asan-ubsan --timeout 900
 }
 
 coverage_tests() {
@@ -61,7 +74,7 @@ coverage_tests() {
   find "$dir" -name '*.gcda' -delete
   lcov --quiet --capture --initial --directory "$dir" --output-file "$dir/base.info" \
     --rc lcov_branch_coverage=0 2>/dev/null
-  ctest --preset coverage -j "$JOBS" --timeout 1800
+  run_ctest coverage --timeout 1800
   lcov --quiet --capture --directory "$dir" --output-file "$dir/run.info" \
     --rc lcov_branch_coverage=0 2>/dev/null
   lcov --quiet -a "$dir/base.info" -a "$dir/run.info" -o "$dir/total.info" 2>/dev/null
@@ -81,9 +94,20 @@ coverage_tests() {
   echo "coverage gate passed: lines $pct% >= $COVERAGE_GATE%"
 }
 
+# NOTE: each step is its own statement: `set -e` does not apply inside functions called as part
+# of an && list, so chaining them would let a failed build go unnoticed.
 case "${1:-}" in
-  deps) install_deps ;;
-  main) install_deps && run_main ;;
-  test) install_deps && format_check && sanitizer_tests && coverage_tests ;;
-  *) echo "usage: bash setup.sh main|test|deps" >&2; exit 2 ;;
+  deps)
+    install_deps ;;
+  main)
+    install_deps
+    run_main ;;
+  test)
+    install_deps
+    format_check
+    sanitizer_tests
+    coverage_tests ;;
+  *)
+    echo "usage: bash setup.sh main|test|deps" >&2
+    exit 2 ;;
 esac

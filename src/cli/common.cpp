@@ -39,6 +39,11 @@ register_command::register_command(std::function<void(CLI::App&)> setup) {
     commands().push_back({std::move(setup)});
 }
 
+int& exit_status() {
+    static int status = 0;
+    return status;
+}
+
 void print(const std::string& text) {
     std::fwrite(text.data(), 1, text.size(), stdout);
     std::fflush(stdout);

@@ -12,36 +12,20 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/model_text.hpp"
 
 namespace flipflux::cli {
 
 using json = nlohmann::ordered_json;
 
 /// Model parameters as given on the command line: decimal text, parsed in the working precision.
-struct model_options {
-    std::string m1 = "1", m2 = "1", L1 = "1", L2 = "1", a1, a2, I1 = "0", I2 = "0", g = "1";
-};
+using model_options = model_text;
 void add_model_options(CLI::App& app, model_options& options);
 
 struct precision_option {
     std::string text = "double";
 };
 void add_precision_option(CLI::App& app, precision_option& option);
-
-template <class Real>
-physical_parameters<Real> parse_parameters(const model_options& o) {
-    physical_parameters<Real> p;
-    p.m1 = parse_real<Real>(o.m1, "--m1");
-    p.m2 = parse_real<Real>(o.m2, "--m2");
-    p.L1 = parse_real<Real>(o.L1, "--L1");
-    p.L2 = parse_real<Real>(o.L2, "--L2");
-    p.a1 = o.a1.empty() ? p.L1 : parse_real<Real>(o.a1, "--a1");
-    p.a2 = o.a2.empty() ? p.L2 : parse_real<Real>(o.a2, "--a2");
-    p.I1 = parse_real<Real>(o.I1, "--I1");
-    p.I2 = parse_real<Real>(o.I2, "--I2");
-    p.g = parse_real<Real>(o.g, "--g");
-    return p;
-}
 
 template <class Real>
 json parameters_json(const double_pendulum<Real>& model) {
@@ -73,6 +57,10 @@ std::vector<command>& commands();
 struct register_command {
     explicit register_command(std::function<void(CLI::App&)> setup);
 };
+
+/// The process exit status once the subcommand has run (0 unless it sets a failure, e.g.
+/// `validate` sets 1 when a row fails); bad input is reported by throwing input_error (status 2).
+int& exit_status();
 
 /// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
 void print(const std::string& text);

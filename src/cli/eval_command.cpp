@@ -32,9 +32,7 @@ json eval_json(const eval_state& s) {
     out["value"] = to_decimal(v.value);
     out["error_estimate"] = to_decimal(v.error_estimate, 3);
     out["seconds"] = seconds;
-    if (s.model.m1 != "1" || s.model.m2 != "1" || s.model.L1 != "1" || s.model.L2 != "1" ||
-        !s.model.a1.empty() || !s.model.a2.empty() || s.model.I1 != "0" || s.model.I2 != "0" ||
-        s.model.g != "1") {
+    if (!s.model.is_default()) {
         out["model"] = parameters_json(model);
     }
     return out;

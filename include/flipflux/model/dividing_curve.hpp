@@ -83,8 +83,4 @@ std::array<Real, 2> curve_coordinates(arm a, const Real& th1, const Real& th2) {
     return a == arm::two ? std::array<Real, 2>{th1, th2} : std::array<Real, 2>{th2, th1};
 }
 
-inline std::string to_string(arm a) {
-    return a == arm::one ? "1" : "2";
-}
-
 }  // namespace flipflux

@@ -40,6 +40,9 @@ using phase_point = std::array<Real, 4>;
 /// The two arms. Arm 2 flips over the down-up saddle (0, pi); arm 1 over the up-down saddle (pi,
 /// 0).
 enum class arm { one = 1, two = 2 };
+inline std::string to_string(arm a) {
+    return a == arm::one ? "1" : "2";
+}
 
 /// Physical parameters of a double pendulum made of two rigid links (defaults: the paper's
 /// "egalitarian" pendulum, unit point masses on unit massless rods, g = 1).

@@ -1,0 +1,27 @@
+// A small CSV reader that keeps line numbers (RFC 4180 quoting; no multi-line fields).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace flipflux {
+
+struct csv_row {
+    int line = 0;                     ///< 1-based line number in the file
+    std::vector<std::string> fields;  ///< unquoted, surrounding spaces trimmed
+};
+
+struct csv_table {
+    std::vector<std::string> header;
+    std::vector<csv_row> rows;  ///< blank lines and lines starting with '#' are skipped
+};
+
+/// Splits one line; throws std::invalid_argument on an unterminated quote.
+std::vector<std::string> split_csv_line(const std::string& line);
+
+/// Reads a CSV file whose first non-comment line is the header. Throws input_error naming the
+/// file and line for unreadable files and malformed quoting.
+csv_table read_csv(const std::filesystem::path& file);
+
+}  // namespace flipflux

@@ -1,0 +1,39 @@
+// Predicted flip rates R = f / Omega (paper eqs. eq:flip_rate_formula,
+// eq:three_flip_rate_predictions) for the criteria that need no periodic orbit. The saddle-orbit
+// rate is rate_from(saddle flux, phase_volume(...)) with the flux from orbits/.
+//
+// Routes (each combines independent routes for f and Omega):
+//   closed_form  Omega: elliptic 1-D reduction; f1: elliptic closed forms; f2: kinetic 1-D
+//   quadrature   Omega: 2-D quadrature; f1: 1-D integral; f2: momentum 2-D quadrature
+// R = 0 for E <= E_s. Domain: E > 0 (std::domain_error otherwise: Omega = 0).
+#pragma once
+
+#include <string>
+
+#include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/prediction/result.hpp"
+
+namespace flipflux {
+
+enum class flip_criterion { upright, approximate_saddle };
+enum class rate_route { closed_form, quadrature };
+
+/// "upright", "approximate-saddle"; "closed-form", "quadrature".
+std::string to_string(flip_criterion c);
+std::string to_string(rate_route r);
+
+template <class Real>
+prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a,
+                                       flip_criterion criterion, const Real& energy,
+                                       rate_route route = rate_route::closed_form);
+
+#define FLIPFLUX_RATES_EXTERN(R)                                                           \
+    extern template prediction_result<R> predicted_rate<R>(const double_pendulum<R>&, arm, \
+                                                           flip_criterion, const R&, rate_route)
+FLIPFLUX_RATES_EXTERN(double);
+FLIPFLUX_RATES_EXTERN(quad);
+FLIPFLUX_RATES_EXTERN(mp50);
+FLIPFLUX_RATES_EXTERN(mp100);
+#undef FLIPFLUX_RATES_EXTERN
+
+}  // namespace flipflux

@@ -1,0 +1,143 @@
+// 1-D quadrature with error estimates, and the nested (2-D) route built on it.
+//
+//   tanh_sinh_integrate      double-exponential rule (Boost.Math tanh_sinh; Mori 1985, Bailey et
+//                            al. 2005): converges at its full rate for integrands analytic inside
+//                            the interval with algebraic endpoint behaviour (sqrt(x - a), ...).
+//                            The integrand receives the distances to both endpoints, x - a and
+//                            b - x, to full relative accuracy even where x itself has rounded
+//                            onto the endpoint: integrands like sqrt(K(x)) with K(a) = 0 evaluate
+//                            K from the distance without cancellation.
+//   gauss_kronrod_integrate  adaptive 61-point Gauss-Kronrod (Boost.Math), for smooth
+//                            integrands; an independent rule for cross-checks.
+//   nested_integrate         the outer integral (tanh-sinh) of inner integrals supplied as
+//                            quadrature_results; inner error estimates are propagated.
+//
+// Results carry {value, error_estimate, l1_norm, levels, evaluations}. error_estimate is absolute:
+// the difference between the last two refinement levels (tanh-sinh) or the Kronrod-Gauss
+// difference summed over panels (Gauss-Kronrod), floored at the rounding level eps * l1_norm.
+// Because tanh-sinh converges doubly exponentially the estimate is conservative: the returned
+// value is typically accurate to far below it (tests check actual errors, not estimates).
+//
+// Precision: the integrators are built in Real (abscissas and weights in the working precision;
+// no double constants). For the MPFR types the tanh-sinh rule is constructed with an explicit
+// minimum complement 2^-(4 digits + 64) (Boost 1.74's default, 4 * min_value, overflows itrunc).
+// Caches: Boost keeps abscissa rows per integrator object and Gauss-Kronrod nodes in function-
+// local statics per type; every flipflux real type has a fixed precision, so a cache is never
+// reused at another precision.
+// Threads: a tanh_sinh object is not thread-safe while it lazily adds levels (TOOLCHAIN.md), so
+// each thread owns its own (thread_local); all functions here may be called concurrently.
+#pragma once
+
+#include <cstddef>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "flipflux/core/real.hpp"
+
+namespace flipflux {
+
+/// A non-owning reference to a callable (like C++26 std::function_ref): cheap to pass by value,
+/// valid only while the referenced callable lives. Lets the integrators live in compiled
+/// translation units (one per real type) while taking any lambda.
+template <class Signature>
+class function_ref;
+
+template <class R, class... Args>
+class function_ref<R(Args...)> {
+  public:
+    template <class F>
+    requires(!std::is_same_v<std::remove_cvref_t<F>, function_ref> &&
+             std::is_invocable_r_v<R, F&, Args...>) function_ref(F&& f)
+    noexcept  // NOLINT: implicit by design
+        : object_(const_cast<void*>(static_cast<const void*>(&f))),
+          call_([](void* o, Args... a) -> R {
+              return (*static_cast<std::remove_reference_t<F>*>(o))(std::forward<Args>(a)...);
+          }) {}
+    R operator()(Args... a) const { return call_(object_, std::forward<Args>(a)...); }
+
+  private:
+    void* object_;
+    R (*call_)(void*, Args...);
+};
+
+template <class Real>
+struct quadrature_result {
+    Real value{0};                ///< the integral
+    Real error_estimate{0};       ///< estimated absolute error (conservative, see above)
+    Real l1_norm{0};              ///< integral of |f|; l1_norm / |value| is the condition number
+    std::size_t levels = 0;       ///< tanh-sinh refinement levels (0 for Gauss-Kronrod)
+    std::size_t evaluations = 0;  ///< integrand evaluations
+
+    /// Adds the result over an adjacent interval.
+    quadrature_result& operator+=(const quadrature_result& o) {
+        value += o.value;
+        error_estimate += o.error_estimate;
+        l1_norm += o.l1_norm;
+        levels = levels > o.levels ? levels : o.levels;
+        evaluations += o.evaluations;
+        return *this;
+    }
+};
+
+/// The default relative tolerance: eps^(3/4). Tanh-sinh stops when two successive levels agree to
+/// the tolerance; the last level is then accurate to ~tolerance^2, i.e. to rounding.
+template <class Real>
+Real default_quadrature_tolerance();
+
+template <class Real>
+struct quadrature_options {
+    Real relative_tolerance = default_quadrature_tolerance<Real>();
+    std::size_t max_depth = 15;  ///< Gauss-Kronrod bisection depth (tanh-sinh: 15 levels, fixed)
+};
+
+/// f(x, x - a, b - x).
+template <class Real>
+using endpoint_integrand = function_ref<Real(const Real& x, const Real& to_a, const Real& to_b)>;
+
+/// Integral of f over [a, b] (a < b, both finite) by tanh-sinh. a == b gives 0.
+/// Throws std::domain_error for a > b or non-finite bounds, boost's evaluation_error when f
+/// returns a non-finite value.
+template <class Real>
+quadrature_result<Real> tanh_sinh_integrate(endpoint_integrand<Real> f, const Real& a,
+                                            const Real& b, const quadrature_options<Real>& = {});
+
+/// Sum of tanh-sinh integrals over the consecutive intervals [p0, p1], [p1, p2], ... of the
+/// increasing break points p (f sees the distances to the ends of its own piece).
+template <class Real>
+quadrature_result<Real> tanh_sinh_integrate_pieces(endpoint_integrand<Real> f,
+                                                   const std::vector<Real>& breakpoints,
+                                                   const quadrature_options<Real>& = {});
+
+/// Integral of a smooth f over [a, b] by adaptive 61-point Gauss-Kronrod.
+template <class Real>
+quadrature_result<Real> gauss_kronrod_integrate(function_ref<Real(const Real&)> f, const Real& a,
+                                                const Real& b,
+                                                const quadrature_options<Real>& = {});
+
+/// The outer tanh-sinh integral over [a, b] of inner(x, x - a, b - x).value; the result's
+/// error estimate adds the outer estimate and the largest relative inner estimate times the
+/// outer l1 norm; evaluations count the inner integrands' evaluations.
+template <class Real>
+quadrature_result<Real> nested_integrate(
+    function_ref<quadrature_result<Real>(const Real& x, const Real& to_a, const Real& to_b)> inner,
+    const Real& a, const Real& b, const quadrature_options<Real>& outer = {});
+
+#define FLIPFLUX_QUADRATURE_EXTERN(R)                                                         \
+    extern template R default_quadrature_tolerance<R>();                                      \
+    extern template quadrature_result<R> tanh_sinh_integrate<R>(                              \
+        endpoint_integrand<R>, const R&, const R&, const quadrature_options<R>&);             \
+    extern template quadrature_result<R> tanh_sinh_integrate_pieces<R>(                       \
+        endpoint_integrand<R>, const std::vector<R>&, const quadrature_options<R>&);          \
+    extern template quadrature_result<R> gauss_kronrod_integrate<R>(                          \
+        function_ref<R(const R&)>, const R&, const R&, const quadrature_options<R>&);         \
+    extern template quadrature_result<R> nested_integrate<R>(                                 \
+        function_ref<quadrature_result<R>(const R&, const R&, const R&)>, const R&, const R&, \
+        const quadrature_options<R>&)
+FLIPFLUX_QUADRATURE_EXTERN(double);
+FLIPFLUX_QUADRATURE_EXTERN(quad);
+FLIPFLUX_QUADRATURE_EXTERN(mp50);
+FLIPFLUX_QUADRATURE_EXTERN(mp100);
+#undef FLIPFLUX_QUADRATURE_EXTERN
+
+}  // namespace flipflux

@@ -1,0 +1,63 @@
+// The plan of a scene: exactly the computations its requested outputs need, in dependency order.
+//
+//   orbit family (arm a)   only when a saddle quantity (period, action, flux-saddle, rate-saddle,
+//                          multiplier) is requested for arm a, when [orbits] asks for arm a, or
+//                          when an ensemble of arm a counts the saddle criterion; at the union of
+//                          the energies those need
+//   predictions            the requested quantities at the requested arms and energies
+//   ensemble               one step per [[ensemble]] and energy, counting only the listed criteria
+//   golden / accuracy / report
+//
+// `flipflux run --dry-run SCENE` prints the plan without computing anything.
+#pragma once
+
+#include <map>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "flipflux/scene/scene.hpp"
+
+namespace flipflux {
+
+struct plan_step {
+    enum class kind { orbit_family, predictions, ensemble, golden, accuracy, report };
+    kind what;
+    int arm = 0;                          ///< orbit families and ensembles
+    std::vector<std::string> energies;    ///< decimal text, in order
+    std::vector<std::string> quantities;  ///< predictions: "name@arm" per requested pair
+    std::vector<std::string> criteria;    ///< ensembles
+    std::size_t ensemble_index = 0;       ///< into scene::ensembles
+    std::string description;
+};
+
+struct plan {
+    std::vector<plan_step> steps;
+    /// Number of steps of a kind (for tests and the dry-run summary).
+    std::size_t count(plan_step::kind k) const;
+};
+
+/// True for quantities that need the saddle orbit.
+bool needs_saddle_orbit(const std::string& quantity);
+
+/// Builds the plan; throws scene_error for an unknown quantity or an energy a requested quantity
+/// does not admit.
+plan make_plan(const scene& s);
+
+/// Writes the plan, one line per step.
+void print_plan(const scene& s, const plan& p, std::ostream& out);
+
+/// What a run did, counted (tests use this to prove unrequested work was skipped).
+struct run_counters {
+    std::size_t orbit_solves = 0;          ///< saddle orbits solved (cache misses)
+    std::size_t orbit_cache_hits = 0;      ///< saddle orbits read from the cache
+    std::size_t quantity_evaluations = 0;  ///< registry evaluations
+    std::size_t trajectories = 0;          ///< trajectories integrated
+    std::size_t curve_criteria = 0;        ///< criteria evaluated that are curves (approx, saddle)
+    std::vector<std::string> files;        ///< files written
+};
+
+/// Executes the plan, writing outputs under s.output (atomically); progress to `log`.
+run_counters execute_plan(const scene& s, const plan& p, std::ostream& log);
+
+}  // namespace flipflux

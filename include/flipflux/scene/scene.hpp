@@ -1,0 +1,120 @@
+// Scenes: declarative TOML files naming what to compute (see docs/scenes.md for the schema).
+//
+// A scene declares the model, the precision, energy grids and the requested outputs: predictions
+// (phase volumes, fluxes, rates), saddle-orbit families, Monte Carlo ensembles, golden data, the
+// accuracy report and the reproduction report. `load_scene` validates everything up front: an
+// unknown key, a wrong type, an out-of-range value or malformed TOML is a scene_error naming the
+// file, the line and the key. Numbers are kept as decimal text and parsed later in the working
+// precision (a TOML float is read back as its shortest round-trip decimal, which is the text the
+// user wrote whenever it has at most 17 significant digits; quote a number to give more digits).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/real.hpp"
+#include "flipflux/model/model_text.hpp"
+
+namespace flipflux {
+
+/// A scene file error: "FILE:LINE: KEY: what is wrong".
+class scene_error : public input_error {
+  public:
+    using input_error::input_error;
+};
+
+/// Energies as decimal text: an explicit list, or a grid from..to (inclusive) by step.
+struct energy_grid {
+    std::vector<std::string> values;  ///< explicit values (when not a grid)
+    std::string from, to, step;       ///< grid (when `values` is empty)
+    bool is_grid() const { return values.empty(); }
+};
+
+using model_spec = model_text;
+
+struct predictions_spec {
+    std::vector<std::string> quantities;  ///< registry names, e.g. "rate-saddle"
+    std::vector<int> arms{2};
+    energy_grid energies;
+    int line = 0;
+};
+
+struct orbits_spec {
+    std::vector<int> arms{2};
+    energy_grid energies;
+    int curve_samples = 0;  ///< > 0: write each orbit's curve with this many samples
+    int line = 0;
+};
+
+struct ensemble_spec {
+    std::string name;
+    int arm = 2;
+    std::vector<std::string> criteria{"upright", "approx", "saddle"};
+    energy_grid energies;
+    long long trajectories = 1000;
+    std::string time = "10000";
+    unsigned long long seed = 1;
+    std::string rtol = "1e-10";
+    std::string integrator = "dop853";
+    std::string estimator = "long";  ///< "long" (the paper's) or "short"
+    bool chaos = false;              ///< classify trajectories (finite-time Lyapunov exponent)
+    bool residence_times = false;
+    bool histogram = false;
+    int line = 0;
+};
+
+struct golden_spec {
+    std::string dir = "data/golden";
+    std::vector<std::string> quantities;  ///< empty: every registered quantity
+    int line = 0;
+};
+
+struct accuracy_spec {
+    std::string out = "docs/accuracy.md";
+    std::vector<std::string> quantities;  ///< empty: every registered quantity
+    int line = 0;
+};
+
+struct report_spec {
+    std::string dir = "docs/reproduction";
+    int line = 0;
+};
+
+struct scene {
+    std::filesystem::path file;
+    std::string name, description;
+    std::filesystem::path output;  ///< output directory
+    std::string precision_text = "double";
+    precision prec = precision::double_;
+    model_spec model;
+    bool custom_model = false;
+    std::optional<predictions_spec> predictions;
+    std::optional<orbits_spec> orbits;
+    std::vector<ensemble_spec> ensembles;
+    std::optional<golden_spec> golden;
+    std::optional<accuracy_spec> accuracy;
+    std::optional<report_spec> report;
+};
+
+/// Reads and validates a scene file; throws scene_error ("FILE:LINE: KEY: ...").
+scene load_scene(const std::filesystem::path& file);
+
+/// Parses scene text (for tests); `file` is only used in error messages.
+scene parse_scene(const std::string& text, const std::filesystem::path& file);
+
+/// The energies of a grid in Real (from + i * step, every step computed in Real).
+template <class Real>
+std::vector<Real> energies_of(const energy_grid& grid, const std::string& where);
+
+#define FLIPFLUX_SCENE_EXTERN(R) \
+    extern template std::vector<R> energies_of<R>(const energy_grid&, const std::string&)
+FLIPFLUX_SCENE_EXTERN(double);
+FLIPFLUX_SCENE_EXTERN(quad);
+FLIPFLUX_SCENE_EXTERN(mp50);
+FLIPFLUX_SCENE_EXTERN(mp100);
+#undef FLIPFLUX_SCENE_EXTERN
+
+}  // namespace flipflux

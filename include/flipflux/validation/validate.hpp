@@ -1,0 +1,55 @@
+// Validating another implementation against flipflux's golden data (docs/validating.md).
+//
+// A candidate CSV has the columns quantity, arm, energy, value (any order; other columns are
+// ignored; arm is empty or "-" for quantities that are not per arm, such as omega). Each row is
+// matched to the golden row with the same quantity, arm and energy (energies compared as numbers,
+// to a relative 1e-12, so "2.05" and "2.050" match), and passes when its relative error is at most
+// max(rtol, 10^-digits), digits being the golden row's certified digits. Every candidate line is
+// accounted for: ok, FAIL, unmatched, duplicate, malformed; and for every (quantity, arm) the
+// candidate reports, golden energies it lacks are reported as missing (unless allow_missing).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace flipflux {
+
+struct golden_row {
+    std::string quantity, arm, energy, value, method;
+    int digits = 0;
+    std::string file;
+    int line = 0;
+};
+
+/// Reads every *.csv under `dir` with the golden header (quantity, arm, energy, value, digits,
+/// method). Throws input_error naming file and line for a malformed golden file.
+std::vector<golden_row> read_golden(const std::filesystem::path& dir);
+
+struct validation_entry {
+    enum class status { ok, fail, unmatched, duplicate, malformed, missing };
+    status what;
+    int line = 0;  ///< candidate line (0 for missing rows)
+    std::string quantity, arm, energy, candidate, golden;
+    double relative_error = 0;
+    double matched_digits = 0;
+    int certified_digits = 0;
+    std::string note;
+};
+
+struct validation_report {
+    std::vector<validation_entry> entries;
+    std::size_t count(validation_entry::status s) const;
+    bool passed() const;  ///< every entry ok, and at least one
+};
+
+validation_report validate_candidate(const std::filesystem::path& candidate,
+                                     const std::filesystem::path& golden_dir, double rtol,
+                                     bool allow_missing);
+
+/// The report as an aligned text table with a summary line.
+std::string format_report(const validation_report& r, double rtol);
+
+std::string to_string(validation_entry::status s);
+
+}  // namespace flipflux

@@ -1,0 +1,76 @@
+#include "flipflux/io/csv.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+#include "flipflux/core/error.hpp"
+
+namespace flipflux {
+namespace {
+
+std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r");
+    if (b == std::string::npos) return "";
+    const auto e = s.find_last_not_of(" \t\r");
+    return s.substr(b, e - b + 1);
+}
+
+}  // namespace
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+    std::vector<std::string> out;
+    std::string field;
+    bool quoted = false, was_quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+                field += '"';
+                ++i;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                field += c;
+            }
+        } else if (c == '"') {
+            quoted = was_quoted = true;
+        } else if (c == ',') {
+            out.push_back(was_quoted ? field : trim(field));
+            field.clear();
+            was_quoted = false;
+        } else {
+            field += c;
+        }
+    }
+    if (quoted) throw std::invalid_argument("unterminated quote");
+    out.push_back(was_quoted ? field : trim(field));
+    return out;
+}
+
+csv_table read_csv(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw input_error(file.string() + ": cannot read the file");
+    csv_table t;
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        const std::string trimmed = trim(line);
+        if (trimmed.empty() || trimmed.front() == '#') continue;
+        std::vector<std::string> fields;
+        try {
+            fields = split_csv_line(line);
+        } catch (const std::invalid_argument& e) {
+            throw input_error(file.string() + ":" + std::to_string(number) + ": " + e.what());
+        }
+        if (t.header.empty()) {
+            t.header = fields;
+        } else {
+            t.rows.push_back({number, fields});
+        }
+    }
+    if (t.header.empty()) throw input_error(file.string() + ": empty file (no header line)");
+    return t;
+}
+
+}  // namespace flipflux

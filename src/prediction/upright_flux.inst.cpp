@@ -1,0 +1,155 @@
+// f1: flux through the upright surface th_flip = pi (paper eqs. eq:upright_arm_flux_integral,
+// eq:upright_arm_flux_incomplete_elliptic, eq:upright_arm_flux_complete_elliptic, App. C),
+// generalised to either arm and any pendulum. See include/flipflux/prediction/upright_flux.hpp.
+#include <cmath>
+#include <stdexcept>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/core/instantiate.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/prediction/curve_flux.hpp"
+#include "flipflux/prediction/upright_flux.hpp"
+#include "flipflux/quadrature/quadrature.hpp"
+#include "flipflux/special/elliptic.hpp"
+
+namespace flipflux {
+namespace {
+
+/// The constants of f1 for arm a: J = n^T adj(M) n, w the weight of the other angle in V,
+/// delta = E - E_s, and E_max - E.
+template <class Real>
+struct upright_geometry {
+    Real J, w, delta, below_max;
+    upright_geometry(const double_pendulum<Real>& model, arm a, const Real& energy) {
+        using boost::multiprecision::isfinite;
+        using std::isfinite;
+        if (!isfinite(energy)) throw std::domain_error("upright_flux: energy not finite");
+        const auto& k = model.coefficients();
+        J = a == arm::two ? k.A : k.B;
+        w = a == arm::two ? k.alpha : k.beta;
+        delta = energy - model.saddle_energy(a);
+        below_max = model.maximum_energy() - energy;
+    }
+};
+
+/// 4 sqrt(2 J) * integral_{-pi}^{pi} sqrt(delta - 2 w sin^2(s/2))_+ ds by tanh-sinh.
+template <class Real>
+prediction_result<Real> upright_flux_integral(const upright_geometry<Real>& g) {
+    using std::asin;
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    prediction_result<Real> r;
+    if (!(g.delta > 0)) return r;
+    quadrature_result<Real> q;
+    if (g.below_max > 0) {
+        // K = 2 w (sin^2(s*/2) - sin^2(s/2)) = 2 w sin((s* - s)/2) sin((s* + s)/2) on [0, s*]
+        const Real s_star = 2 * asin(sqrt(g.delta / (2 * g.w)));
+        auto f = [&](const Real& s, const Real&, const Real& to_b) -> Real {
+            const Real K = 2 * g.w * sin(to_b / 2) * sin((s_star + s) / 2);
+            return K > 0 ? sqrt(K) : Real(0);
+        };
+        q = tanh_sinh_integrate<Real>(f, Real(0), s_star);
+    } else {
+        // K = (E - E_max) + 2 w cos^2(s/2) > 0 on [0, pi]: no zero, no cancellation
+        auto f = [&](const Real& s, const Real&, const Real&) -> Real {
+            const Real c = cos(s / 2);
+            return sqrt(-g.below_max + 2 * g.w * c * c);
+        };
+        q = tanh_sinh_integrate<Real>(f, Real(0), pi<Real>());
+    }
+    const Real factor = 8 * sqrt(2 * g.J);  // 4 sqrt(2J) and the mirror half [-pi, 0]
+    r.value = factor * q.value;
+    r.error_estimate = factor * q.error_estimate + 4 * epsilon<Real>() * r.value;
+    r.evaluations = q.evaluations;
+    return r;
+}
+
+}  // namespace
+
+template <class Real>
+Real upright_flux_incomplete_elliptic(const double_pendulum<Real>& model, arm a,
+                                      const Real& energy) {
+    using std::sqrt;
+    const upright_geometry<Real> g(model, a, energy);
+    if (!(g.delta > 0) || !(g.below_max >= 0)) {
+        throw std::domain_error("upright_flux_incomplete_elliptic: needs E_s < E <= E_max");
+    }
+    // phi_0 with sin^2 = delta/(2w), cos^2 = (E_max - E)/(2w), and 1 - m sin^2 = 0 exactly.
+    const Real two_w = 2 * g.w;
+    const Real value = elliptic_e_carlson(sqrt(g.delta / two_w), Real(g.below_max / two_w), Real(0),
+                                          Real(two_w / g.delta));
+    return 16 * sqrt(2 * g.J * g.delta) * value;
+}
+
+template <class Real>
+Real upright_flux_complete_elliptic(const double_pendulum<Real>& model, arm a, const Real& energy) {
+    using std::sqrt;
+    const upright_geometry<Real> g(model, a, energy);
+    if (!(g.below_max <= 0)) {
+        throw std::domain_error("upright_flux_complete_elliptic: needs E >= E_max");
+    }
+    // m = 2w/delta, 1 - m = (E - E_max)/delta
+    return 16 * sqrt(2 * g.J * g.delta) *
+           elliptic_e_complete(Real(2 * g.w / g.delta), Real(-g.below_max / g.delta));
+}
+
+template <class Real>
+Real upright_flux_reciprocal_modulus(const double_pendulum<Real>& model, arm a,
+                                     const Real& energy) {
+    using std::sqrt;
+    const upright_geometry<Real> g(model, a, energy);
+    if (!(g.delta > 0) || !(g.below_max > 0)) {
+        throw std::domain_error("upright_flux_reciprocal_modulus: needs E_s < E < E_max");
+    }
+    const Real two_w = 2 * g.w;
+    const Real p = g.delta / two_w, pc = g.below_max / two_w;
+    return 16 * sqrt(g.J / g.w) *
+           (two_w * elliptic_e_complete(p, pc) - g.below_max * elliptic_k_complete(p, pc));
+}
+
+template <class Real>
+Real upright_flux_near_saddle(const double_pendulum<Real>& model, arm a, const Real& energy) {
+    using std::sqrt;
+    const upright_geometry<Real> g(model, a, energy);
+    return 4 * pi<Real>() * sqrt(g.J / g.w) * g.delta * (1 + g.delta / (16 * g.w));
+}
+
+template <class Real>
+prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                     upright_flux_method method) {
+    const upright_geometry<Real> g(model, a, energy);
+    prediction_result<Real> r;
+    if (!(g.delta > 0)) return r;  // the surface is not reached
+    switch (method) {
+        case upright_flux_method::elliptic:
+            r.value = g.below_max >= 0 ? upright_flux_incomplete_elliptic(model, a, energy)
+                                       : upright_flux_complete_elliptic(model, a, energy);
+            r.error_estimate = 16 * epsilon<Real>() * r.value;
+            return r;
+        case upright_flux_method::integral:
+            return upright_flux_integral(g);
+        case upright_flux_method::curve:
+        case upright_flux_method::momentum:
+            break;
+    }
+    const curve_flux_result<Real> c =
+        curve_flux(model, energy, upright_curve<Real>{a},
+                   method == upright_flux_method::curve ? curve_flux_method::kinetic
+                                                        : curve_flux_method::momentum);
+    r.value = c.value;
+    r.error_estimate = c.error_estimate;
+    r.evaluations = c.evaluations;
+    return r;
+}
+
+#define FLIPFLUX_UPRIGHT_FLUX_INSTANTIATE(R)                                                  \
+    template prediction_result<R> upright_flux<R>(const double_pendulum<R>&, arm, const R&,   \
+                                                  upright_flux_method);                       \
+    template R upright_flux_incomplete_elliptic<R>(const double_pendulum<R>&, arm, const R&); \
+    template R upright_flux_complete_elliptic<R>(const double_pendulum<R>&, arm, const R&);   \
+    template R upright_flux_reciprocal_modulus<R>(const double_pendulum<R>&, arm, const R&);  \
+    template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm, const R&)
+FLIPFLUX_UPRIGHT_FLUX_INSTANTIATE(inst_real);
+
+}  // namespace flipflux

@@ -1,0 +1,114 @@
+// Tanh-sinh quadrature (Boost.Math) behind flipflux's quadrature API: one integrator per thread,
+// endpoint distances passed to the integrand, error estimates floored at the rounding level.
+// NOTE: Boost 1.74 declares tanh_sinh::integrate "-> decltype(...) const", which makes the return
+// type const, not the member function: the integrator must be non-const.
+#include <boost/math/quadrature/tanh_sinh.hpp>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "flipflux/core/instantiate.hpp"
+#include "flipflux/quadrature/quadrature.hpp"
+
+namespace flipflux {
+namespace {
+
+/// Levels the tanh-sinh rule may add (Boost's default).
+constexpr std::size_t tanh_sinh_levels = 15;
+
+template <class Real>
+boost::math::quadrature::tanh_sinh<Real>& thread_integrator() {
+    using std::ldexp;
+    if constexpr (std::is_same_v<Real, double> || std::is_same_v<Real, quad>) {
+        thread_local boost::math::quadrature::tanh_sinh<Real> integrator(tanh_sinh_levels);
+        return integrator;
+    } else {
+        // NOTE: Boost 1.74's default minimum complement (4 * min_value) is 2^-(2^30) for MPFR and
+        // overflows itrunc; 2^-(4 digits + 64) lies far below every weight that matters.
+        thread_local boost::math::quadrature::tanh_sinh<Real> integrator(
+            tanh_sinh_levels, ldexp(Real(1), -(4 * std::numeric_limits<Real>::digits + 64)));
+        return integrator;
+    }
+}
+
+}  // namespace
+
+template <class Real>
+Real default_quadrature_tolerance() {
+    using std::pow;
+    return pow(epsilon<Real>(), Real(3) / 4);
+}
+
+template <class Real>
+quadrature_result<Real> tanh_sinh_integrate(endpoint_integrand<Real> f, const Real& a,
+                                            const Real& b, const quadrature_options<Real>& opt) {
+    using boost::multiprecision::isfinite;
+    using std::isfinite;
+    if (!isfinite(a) || !isfinite(b) || a > b) {
+        throw std::domain_error("tanh_sinh_integrate: needs finite bounds with a <= b");
+    }
+    quadrature_result<Real> r;
+    if (a == b) return r;
+    const Real width = b - a;
+    std::size_t evaluations = 0;
+    // Boost passes the signed complement: a - x (< 0) in the left half, b - x in the right half.
+    auto g = [&](const Real& x, const Real& xc) -> Real {
+        ++evaluations;
+        if (xc < 0) return f(x, -xc, width + xc);
+        return f(x, width - xc, xc);
+    };
+    Real error = 0, l1 = 0;
+    std::size_t levels = 0;
+    r.value =
+        thread_integrator<Real>().integrate(g, a, b, opt.relative_tolerance, &error, &l1, &levels);
+    r.error_estimate = error + epsilon<Real>() * l1;
+    r.l1_norm = l1;
+    r.levels = levels;
+    r.evaluations = evaluations;
+    return r;
+}
+
+template <class Real>
+quadrature_result<Real> tanh_sinh_integrate_pieces(endpoint_integrand<Real> f,
+                                                   const std::vector<Real>& p,
+                                                   const quadrature_options<Real>& opt) {
+    quadrature_result<Real> total;
+    for (std::size_t i = 0; i + 1 < p.size(); ++i)
+        total += tanh_sinh_integrate<Real>(f, p[i], p[i + 1], opt);
+    return total;
+}
+
+template <class Real>
+quadrature_result<Real> nested_integrate(
+    function_ref<quadrature_result<Real>(const Real&, const Real&, const Real&)> inner,
+    const Real& a, const Real& b, const quadrature_options<Real>& opt) {
+    using std::abs;
+    std::size_t evaluations = 0;
+    Real worst_relative = 0;
+    auto outer = [&](const Real& x, const Real& to_a, const Real& to_b) -> Real {
+        const quadrature_result<Real> r = inner(x, to_a, to_b);
+        evaluations += r.evaluations;
+        if (r.l1_norm > 0) {
+            const Real rel = r.error_estimate / r.l1_norm;
+            if (rel > worst_relative) worst_relative = rel;
+        }
+        return r.value;
+    };
+    quadrature_result<Real> r = tanh_sinh_integrate<Real>(outer, a, b, opt);
+    r.error_estimate += worst_relative * r.l1_norm;
+    r.evaluations = evaluations;
+    return r;
+}
+
+#define FLIPFLUX_TANH_SINH_INSTANTIATE(R)                                                         \
+    template R default_quadrature_tolerance<R>();                                                 \
+    template quadrature_result<R> tanh_sinh_integrate<R>(endpoint_integrand<R>, const R&,         \
+                                                         const R&, const quadrature_options<R>&); \
+    template quadrature_result<R> tanh_sinh_integrate_pieces<R>(                                  \
+        endpoint_integrand<R>, const std::vector<R>&, const quadrature_options<R>&);              \
+    template quadrature_result<R> nested_integrate<R>(                                            \
+        function_ref<quadrature_result<R>(const R&, const R&, const R&)>, const R&, const R&,     \
+        const quadrature_options<R>&)
+FLIPFLUX_TANH_SINH_INSTANTIATE(inst_real);
+
+}  // namespace flipflux

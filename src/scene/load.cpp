@@ -1,0 +1,352 @@
+// Scene files: TOML -> validated `scene` (schema in docs/scenes.md).
+#include <toml++/toml.h>
+#include <charconv>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/scene/scene.hpp"
+
+namespace flipflux {
+namespace {
+
+/// Reads one TOML table, remembering which keys were consumed so that leftovers are errors.
+class table_reader {
+  public:
+    table_reader(const toml::table& table, std::string file, std::string path)
+        : table_(table), file_(std::move(file)), path_(std::move(path)) {}
+
+    [[noreturn]] void fail(const toml::node* node, const std::string& key,
+                           const std::string& what) const {
+        const int line = node != nullptr ? static_cast<int>(node->source().begin.line)
+                                         : static_cast<int>(table_.source().begin.line);
+        throw scene_error(file_ + ":" + std::to_string(line) + ": " + qualified(key) + ": " + what);
+    }
+    std::string qualified(const std::string& key) const {
+        return path_.empty() ? key : path_ + "." + key;
+    }
+    int line() const { return static_cast<int>(table_.source().begin.line); }
+
+    const toml::node* get(const std::string& key) {
+        used_.insert(key);
+        return table_.get(key);
+    }
+
+    std::optional<std::string> string(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        if (!n->is_string()) fail(n, key, "expected a string, got " + type_name(*n));
+        return n->value<std::string>();
+    }
+    std::optional<bool> boolean(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        if (!n->is_boolean()) fail(n, key, "expected true or false, got " + type_name(*n));
+        return n->value<bool>();
+    }
+    std::optional<long long> integer(const std::string& key, long long lo, long long hi) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        if (!n->is_integer()) fail(n, key, "expected an integer, got " + type_name(*n));
+        const long long v = *n->value<long long>();
+        if (v < lo || v > hi) {
+            fail(n, key,
+                 std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+        }
+        return v;
+    }
+    /// A number given as a TOML integer, float or string; returned as validated decimal text.
+    std::optional<std::string> number(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        return number_text(n, key);
+    }
+    std::string number_text(const toml::node* n, const std::string& key) const {
+        std::string text;
+        if (n->is_integer()) {
+            text = std::to_string(*n->value<long long>());
+        } else if (n->is_floating_point()) {
+            const double v = *n->value<double>();
+            char buf[64];
+            const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round trip
+            text.assign(buf, r.ptr);
+        } else if (n->is_string()) {
+            text = *n->value<std::string>();
+        } else {
+            fail(n, key, "expected a number, got " + type_name(*n));
+        }
+        if (!is_decimal_number(text)) fail(n, key, "'" + text + "' is not a finite decimal number");
+        return text;
+    }
+    std::optional<std::vector<std::string>> strings(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        const toml::array* a = n->as_array();
+        if (a == nullptr) fail(n, key, "expected an array of strings, got " + type_name(*n));
+        std::vector<std::string> out;
+        for (const toml::node& e : *a) {
+            if (!e.is_string())
+                fail(&e, key, "expected an array of strings, found " + type_name(e));
+            out.push_back(*e.value<std::string>());
+        }
+        return out;
+    }
+    std::optional<std::vector<int>> arms(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        std::vector<int> out;
+        auto one = [&](const toml::node& e) {
+            if (!e.is_integer() || (*e.value<long long>() != 1 && *e.value<long long>() != 2)) {
+                fail(&e, key, "an arm is 1 or 2");
+            }
+            out.push_back(static_cast<int>(*e.value<long long>()));
+        };
+        if (const toml::array* a = n->as_array()) {
+            for (const toml::node& e : *a)
+                one(e);
+            if (out.empty()) fail(n, key, "needs at least one arm");
+        } else {
+            one(*n);
+        }
+        return out;
+    }
+    energy_grid energies(const std::string& key, bool required) {
+        const toml::node* n = get(key);
+        energy_grid g;
+        if (n == nullptr) {
+            if (required) fail(nullptr, key, "is required");
+            return g;
+        }
+        if (const toml::array* a = n->as_array()) {
+            for (const toml::node& e : *a)
+                g.values.push_back(number_text(&e, key));
+            if (g.values.empty()) fail(n, key, "needs at least one energy");
+            return g;
+        }
+        if (const toml::table* t = n->as_table()) {
+            table_reader r(*t, file_, qualified(key));
+            g.from = r.required_number("from");
+            g.to = r.required_number("to");
+            g.step = r.required_number("step");
+            r.finish();
+            // validated further when the grid is expanded (energies_of)
+            return g;
+        }
+        if (n->is_integer() || n->is_floating_point() || n->is_string()) {
+            g.values.push_back(number_text(n, key));
+            return g;
+        }
+        fail(n, key, "expected an energy, an array of energies or {from, to, step}");
+    }
+    std::string required_number(const std::string& key) {
+        auto v = number(key);
+        if (!v) fail(nullptr, key, "is required");
+        return *v;
+    }
+    const toml::table* subtable(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return nullptr;
+        if (!n->is_table()) fail(n, key, "expected a table, got " + type_name(*n));
+        return n->as_table();
+    }
+    /// Every key not consumed is an error.
+    void finish() const {
+        for (auto&& [k, v] : table_) {
+            const std::string key(k.str());
+            if (!used_.count(key)) fail(&v, key, "unknown key");
+        }
+    }
+
+    static std::string type_name(const toml::node& n) {
+        switch (n.type()) {
+            case toml::node_type::string:
+                return "a string";
+            case toml::node_type::integer:
+                return "an integer";
+            case toml::node_type::floating_point:
+                return "a float";
+            case toml::node_type::boolean:
+                return "a boolean";
+            case toml::node_type::array:
+                return "an array";
+            case toml::node_type::table:
+                return "a table";
+            default:
+                return "a date/time";
+        }
+    }
+
+  private:
+    const toml::table& table_;
+    std::string file_, path_;
+    std::set<std::string> used_;
+};
+
+void read_model(table_reader& r, model_spec& m) {
+    auto set = [&](const char* key, std::string& field) {
+        if (auto v = r.number(key)) field = *v;
+    };
+    set("m1", m.m1), set("m2", m.m2), set("L1", m.L1), set("L2", m.L2), set("a1", m.a1);
+    set("a2", m.a2), set("I1", m.I1), set("I2", m.I2), set("g", m.g);
+    r.finish();
+}
+
+}  // namespace
+
+scene parse_scene(const std::string& text, const std::filesystem::path& file) {
+    const std::string fname = file.string();
+    toml::table root;
+    try {
+        root = toml::parse(text, fname);
+    } catch (const toml::parse_error& e) {
+        throw scene_error(fname + ":" + std::to_string(e.source().begin.line) +
+                          ": malformed TOML: " + std::string(e.description()));
+    }
+    scene s;
+    s.file = file;
+    table_reader top(root, fname, "");
+    const toml::table* head = top.subtable("scene");
+    if (head == nullptr) top.fail(nullptr, "scene", "the [scene] table is required");
+    {
+        table_reader r(*head, fname, "scene");
+        s.name = r.string("name").value_or(file.stem().string());
+        s.description = r.string("description").value_or("");
+        const auto out = r.string("output");
+        if (!out || out->empty()) r.fail(nullptr, "output", "is required (an output directory)");
+        s.output = *out;
+        if (auto p = r.string("precision")) {
+            s.precision_text = *p;
+            try {
+                s.prec = parse_precision(*p, "precision");
+            } catch (const input_error& e) {
+                r.fail(r.get("precision"), "precision", e.what());
+            }
+        }
+        r.finish();
+    }
+    if (const toml::table* t = top.subtable("model")) {
+        table_reader r(*t, fname, "model");
+        read_model(r, s.model);
+        s.custom_model = true;
+        try {
+            (void)make_model<double>(s.model);
+        } catch (const input_error& e) {
+            top.fail(t, "model", e.what());
+        }
+    }
+    if (const toml::table* t = top.subtable("predictions")) {
+        table_reader r(*t, fname, "predictions");
+        predictions_spec p;
+        p.line = r.line();
+        p.quantities = r.strings("quantities").value_or(std::vector<std::string>{});
+        if (p.quantities.empty()) r.fail(nullptr, "quantities", "needs at least one quantity");
+        p.arms = r.arms("arms").value_or(p.arms);
+        p.energies = r.energies("energies", true);
+        r.finish();
+        s.predictions = p;
+    }
+    if (const toml::table* t = top.subtable("orbits")) {
+        table_reader r(*t, fname, "orbits");
+        orbits_spec o;
+        o.line = r.line();
+        o.arms = r.arms("arms").value_or(o.arms);
+        o.energies = r.energies("energies", true);
+        o.curve_samples = static_cast<int>(r.integer("curve_samples", 0, 1000000).value_or(0));
+        r.finish();
+        s.orbits = o;
+    }
+    if (const toml::node* n = top.get("ensemble")) {
+        const toml::array* list = n->as_array();
+        if (list == nullptr || !list->is_array_of_tables()) {
+            top.fail(n, "ensemble", "expected [[ensemble]] tables");
+        }
+        int index = 0;
+        for (const toml::node& e : *list) {
+            table_reader r(*e.as_table(), fname, "ensemble[" + std::to_string(index++) + "]");
+            ensemble_spec x;
+            x.line = r.line();
+            x.name = r.string("name").value_or("ensemble" + std::to_string(index));
+            x.arm = r.arms("arm").value_or(std::vector<int>{2}).front();
+            if (auto c = r.strings("criteria")) {
+                if (c->empty())
+                    r.fail(r.get("criteria"), "criteria", "needs at least one criterion");
+                for (const auto& name : *c) {
+                    if (name != "upright" && name != "approx" && name != "saddle") {
+                        r.fail(r.get("criteria"), "criteria",
+                               "'" + name + "' is not a criterion (upright, approx, saddle)");
+                    }
+                }
+                x.criteria = *c;
+            }
+            x.energies = r.energies("energies", true);
+            x.trajectories = r.integer("trajectories", 1, 1000000000LL).value_or(x.trajectories);
+            x.time = r.number("time").value_or(x.time);
+            x.seed = static_cast<unsigned long long>(
+                r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(1));
+            x.rtol = r.number("rtol").value_or(x.rtol);
+            x.integrator = r.string("integrator").value_or(x.integrator);
+            if (x.integrator != "dop853" && x.integrator != "dopri5") {
+                r.fail(r.get("integrator"), "integrator",
+                       "'" + x.integrator + "' is not an integrator (dop853, dopri5)");
+            }
+            x.estimator = r.string("estimator").value_or(x.estimator);
+            if (x.estimator != "long" && x.estimator != "short") {
+                r.fail(r.get("estimator"), "estimator",
+                       "'" + x.estimator + "' is not an estimator (long, short)");
+            }
+            x.chaos = r.boolean("chaos").value_or(false);
+            x.residence_times = r.boolean("residence_times").value_or(false);
+            x.histogram = r.boolean("histogram").value_or(false);
+            const std::string time_text = x.time;
+            if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
+                r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
+            }
+            const double rtol = parse_real<double>(x.rtol, "rtol");
+            if (!(rtol > 0 && rtol < 1)) {
+                r.fail(r.get("rtol"), "rtol", "'" + x.rtol + "' must be in (0, 1)");
+            }
+            r.finish();
+            s.ensembles.push_back(x);
+        }
+    }
+    if (const toml::table* t = top.subtable("golden")) {
+        table_reader r(*t, fname, "golden");
+        golden_spec g;
+        g.line = r.line();
+        g.dir = r.string("dir").value_or(g.dir);
+        g.quantities = r.strings("quantities").value_or(g.quantities);
+        r.finish();
+        s.golden = g;
+    }
+    if (const toml::table* t = top.subtable("accuracy")) {
+        table_reader r(*t, fname, "accuracy");
+        accuracy_spec a;
+        a.line = r.line();
+        a.out = r.string("out").value_or(a.out);
+        a.quantities = r.strings("quantities").value_or(a.quantities);
+        r.finish();
+        s.accuracy = a;
+    }
+    if (const toml::table* t = top.subtable("report")) {
+        table_reader r(*t, fname, "report");
+        report_spec rep;
+        rep.line = r.line();
+        rep.dir = r.string("dir").value_or(rep.dir);
+        r.finish();
+        s.report = rep;
+    }
+    top.finish();
+    return s;
+}
+
+scene load_scene(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw scene_error(file.string() + ": cannot read the scene file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_scene(text.str(), file);
+}
+
+}  // namespace flipflux

@@ -1,0 +1,218 @@
+#include "flipflux/validation/validate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/io/csv.hpp"
+#include "flipflux/quantities/registry.hpp"
+
+namespace flipflux {
+namespace {
+
+std::string normal_arm(const std::string& quantity, const std::string& arm) {
+    bool per_arm = true;
+    for (const auto& q : quantities()) {
+        if (q.name == quantity) per_arm = q.per_arm;
+    }
+    if (!per_arm || arm == "-") return "";
+    return arm;
+}
+
+int column(const csv_table& t, const std::string& name) {
+    const auto it = std::find(t.header.begin(), t.header.end(), name);
+    return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
+}
+
+/// Energies match to a relative 1e-12 (see the header comment).
+bool same_energy(const mp100& a, const mp100& b) {
+    using boost::multiprecision::abs;
+    return abs(a - b) <= abs(b) * mp100("1e-12");
+}
+
+}  // namespace
+
+std::string to_string(validation_entry::status s) {
+    switch (s) {
+        case validation_entry::status::ok:
+            return "ok";
+        case validation_entry::status::fail:
+            return "FAIL";
+        case validation_entry::status::unmatched:
+            return "unmatched";
+        case validation_entry::status::duplicate:
+            return "duplicate";
+        case validation_entry::status::malformed:
+            return "malformed";
+        case validation_entry::status::missing:
+            break;
+    }
+    return "missing";
+}
+
+std::vector<golden_row> read_golden(const std::filesystem::path& dir) {
+    namespace fs = std::filesystem;
+    if (!fs::is_directory(dir)) {
+        throw input_error("--golden: '" + dir.string() + "' is not a directory");
+    }
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        if (e.path().extension() == ".csv") files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    std::vector<golden_row> rows;
+    for (const auto& f : files) {
+        const csv_table t = read_csv(f);
+        const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
+                  v = column(t, "value"), d = column(t, "digits"), m = column(t, "method");
+        if (q < 0 || a < 0 || e < 0 || v < 0 || d < 0) continue;  // not a golden table
+        for (const auto& r : t.rows) {
+            if (r.fields.size() != t.header.size()) {
+                throw input_error(f.string() + ":" + std::to_string(r.line) + ": expected " +
+                                  std::to_string(t.header.size()) + " fields");
+            }
+            golden_row g{r.fields[q],
+                         normal_arm(r.fields[q], r.fields[a]),
+                         r.fields[e],
+                         r.fields[v],
+                         m >= 0 ? r.fields[m] : "",
+                         std::atoi(r.fields[d].c_str()),
+                         f.string(),
+                         r.line};
+            rows.push_back(g);
+        }
+    }
+    if (rows.empty()) throw input_error("--golden: no golden rows under '" + dir.string() + "'");
+    return rows;
+}
+
+std::size_t validation_report::count(validation_entry::status s) const {
+    return static_cast<std::size_t>(std::count_if(
+        entries.begin(), entries.end(), [s](const validation_entry& e) { return e.what == s; }));
+}
+
+bool validation_report::passed() const {
+    return !entries.empty() && count(validation_entry::status::ok) == entries.size();
+}
+
+validation_report validate_candidate(const std::filesystem::path& candidate,
+                                     const std::filesystem::path& golden_dir, double rtol,
+                                     bool allow_missing) {
+    using status = validation_entry::status;
+    const std::vector<golden_row> golden = read_golden(golden_dir);
+    std::vector<mp100> golden_energy;
+    for (const auto& g : golden)
+        golden_energy.push_back(parse_real<mp100>(g.energy, g.file));
+
+    const csv_table t = read_csv(candidate);
+    const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
+              v = column(t, "value");
+    if (q < 0 || a < 0 || e < 0 || v < 0) {
+        throw input_error(candidate.string() +
+                          ":1: the header must name the columns quantity, arm, energy, value");
+    }
+    validation_report report;
+    std::set<std::size_t> used;                          // golden rows matched
+    std::map<std::size_t, int> first_line;               // golden row -> candidate line
+    std::set<std::pair<std::string, std::string>> seen;  // (quantity, arm) in the candidate
+    for (const auto& row : t.rows) {
+        validation_entry x{status::malformed, row.line, "", "", "", "", "", 0, 0, 0, ""};
+        if (row.fields.size() != t.header.size()) {
+            x.note = "expected " + std::to_string(t.header.size()) + " fields, found " +
+                     std::to_string(row.fields.size());
+            report.entries.push_back(x);
+            continue;
+        }
+        x.quantity = row.fields[q];
+        x.arm = normal_arm(row.fields[q], row.fields[a]);
+        x.energy = row.fields[e];
+        x.candidate = row.fields[v];
+        if (x.quantity.empty() || !is_decimal_number(x.energy) || !is_decimal_number(x.candidate)) {
+            x.note = x.quantity.empty()             ? "empty quantity"
+                     : !is_decimal_number(x.energy) ? "energy '" + x.energy + "' is not a number"
+                                                    : "value '" + x.candidate + "' is not a number";
+            report.entries.push_back(x);
+            continue;
+        }
+        seen.insert({x.quantity, x.arm});
+        const mp100 energy = parse_real<mp100>(x.energy, "energy");
+        std::size_t match = golden.size();
+        for (std::size_t i = 0; i < golden.size(); ++i) {
+            if (golden[i].quantity == x.quantity && golden[i].arm == x.arm &&
+                same_energy(energy, golden_energy[i])) {
+                match = i;
+                break;
+            }
+        }
+        if (match == golden.size()) {
+            x.what = status::unmatched;
+            x.note = "no golden value for this quantity, arm and energy";
+            report.entries.push_back(x);
+            continue;
+        }
+        const golden_row& g = golden[match];
+        x.golden = g.value;
+        x.certified_digits = g.digits;
+        if (used.count(match)) {
+            x.what = status::duplicate;
+            x.note = "duplicates line " + std::to_string(first_line[match]);
+            report.entries.push_back(x);
+            continue;
+        }
+        used.insert(match);
+        first_line[match] = row.line;
+        const mp100 c = parse_real<mp100>(x.candidate, "value");
+        const mp100 ref = parse_real<mp100>(g.value, g.file);
+        using boost::multiprecision::abs;
+        const mp100 err = ref == 0 ? abs(c - ref) : abs(c - ref) / abs(ref);
+        x.relative_error = static_cast<double>(err);
+        x.matched_digits =
+            err == 0 ? g.digits : std::min<double>(g.digits, -std::log10(x.relative_error));
+        const double tol = std::max(rtol, std::pow(10.0, -g.digits));
+        x.what = x.relative_error <= tol ? status::ok : status::fail;
+        report.entries.push_back(x);
+    }
+    if (!allow_missing) {
+        for (std::size_t i = 0; i < golden.size(); ++i) {
+            const auto& g = golden[i];
+            if (!used.count(i) && seen.count({g.quantity, g.arm})) {
+                report.entries.push_back({status::missing, 0, g.quantity, g.arm, g.energy, "",
+                                          g.value, 0, 0, g.digits,
+                                          "golden row " + g.file + ":" + std::to_string(g.line) +
+                                              " has no candidate row"});
+            }
+        }
+    }
+    return report;
+}
+
+std::string format_report(const validation_report& r, double rtol) {
+    std::string out;
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11s %-7s %s\n", "line", "status",
+                  "quantity", "arm", "energy", "rel.error", "digits", "note");
+    out += buf;
+    for (const auto& e : r.entries) {
+        std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11.3e %-7.1f %s\n",
+                      e.line ? std::to_string(e.line).c_str() : "-", to_string(e.what).c_str(),
+                      e.quantity.c_str(), e.arm.empty() ? "-" : e.arm.c_str(), e.energy.c_str(),
+                      e.relative_error, e.matched_digits, e.note.c_str());
+        out += buf;
+    }
+    using status = validation_entry::status;
+    std::snprintf(buf, sizeof buf,
+                  "summary: %zu rows: %zu ok, %zu FAIL, %zu unmatched, %zu duplicate, %zu "
+                  "malformed, %zu missing (rtol %.3g) -> %s\n",
+                  r.entries.size(), r.count(status::ok), r.count(status::fail),
+                  r.count(status::unmatched), r.count(status::duplicate),
+                  r.count(status::malformed), r.count(status::missing), rtol,
+                  r.passed() ? "PASSED" : "FAILED");
+    out += buf;
+    return out;
+}
+
+}  // namespace flipflux

@@ -1,0 +1,127 @@
+// Scene files: every error names file, line and key; grids expand exactly; plans contain exactly
+// the work the requested outputs need.
+#include "flipflux/scene/plan.hpp"
+#include "flipflux/scene/scene.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+const char* minimal = R"([scene]
+name = "t"
+output = "out/t"
+)";
+
+std::string error_of(const std::string& text) {
+    try {
+        (void)parse_scene(text, "s.toml");
+    } catch (const scene_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Scene, ParsesAMinimalScene) {
+    const scene s = parse_scene(minimal, "s.toml");
+    EXPECT_EQ(s.name, "t");
+    EXPECT_EQ(s.output, "out/t");
+    EXPECT_EQ(s.prec, precision::double_);
+    EXPECT_FALSE(s.predictions.has_value());
+    EXPECT_TRUE(s.ensembles.empty());
+}
+
+TEST(Scene, ErrorsNameFileLineAndKey) {
+    const std::pair<std::string, std::string> cases[] = {
+        {std::string(minimal) + "bogus = 1\n", "s.toml:4: scene.bogus: unknown key"},
+        {std::string(minimal) + "[extra]\nx = 1\n", "s.toml:4: extra: unknown key"},
+        {"[scene]\nname = \"t\"\noutput = \"o\"\nprecison = \"quad\"\n",
+         "s.toml:4: scene.precison: unknown key"},
+        {"[scene]\nname = 3\noutput = \"o\"\n", "s.toml:2: scene.name: expected a string"},
+        {"[scene]\noutput = \"o\"\nprecision = \"mp:500\"\n", "s.toml:3: scene.precision:"},
+        {"[scene]\nname = \"t\"\n", "s.toml:1: scene.output: is required"},
+        {"[scene]\noutput = \"o\"\n[model]\nm1 = \"abc\"\n", "s.toml:4: model.m1: 'abc' is not"},
+        {"[scene]\noutput = \"o\"\n[model]\nm1 = -1\n", "s.toml:3: model: --m1: '-1' is invalid"},
+        {"[scene]\noutput = \"o\"\n[predictions]\nquantities = [\"omega\"]\narms = [3]\n"
+         "energies = [3]\n",
+         "s.toml:5: predictions.arms: an arm is 1 or 2"},
+        {"[scene]\noutput = \"o\"\n[predictions]\nquantities = [\"omega\"]\n",
+         "predictions.energies: is required"},
+        {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = [3]\ntrajectories = 0\n",
+         "s.toml:5: ensemble[0].trajectories: 0 is out of range"},
+        {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = [3]\ncriteria = [\"up\"]\n",
+         "s.toml:5: ensemble[0].criteria: 'up' is not a criterion"},
+        {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = [3]\ntime = -2\n",
+         "s.toml:5: ensemble[0].time: '-2' must be > 0"},
+        {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = { from = 2, to = 3 }\n",
+         "ensemble[0].energies.step: is required"},
+        {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = { from = 2, to = 3, step = 1, x = 1 "
+         "}\n",
+         "s.toml:4: ensemble[0].energies.x: unknown key"},
+        {"[scene]\noutput = \"o\"\nname = \n", "s.toml:3: malformed TOML"},
+    };
+    for (const auto& [text, expected] : cases) {
+        const std::string e = error_of(text);
+        EXPECT_NE(e.find(expected), std::string::npos)
+            << "got: " << e << "\nexpected: " << expected;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+}
+
+TEST(Scene, GridsExpandInTheWorkingPrecision) {
+    energy_grid g;
+    g.from = "2.05", g.to = "5.95", g.step = "0.05";
+    const auto e = energies_of<quad>(g, "energies");
+    ASSERT_EQ(e.size(), 79u);
+    EXPECT_EQ(e.front(), quad(205) / 100);
+    EXPECT_EQ(e.back(), quad(595) / 100);
+    EXPECT_LE(relative_error(e[20], quad(305) / 100), 4 * static_cast<double>(eps<quad>()));
+    energy_grid bad;
+    bad.from = "2", bad.to = "3.01", bad.step = "0.1";
+    EXPECT_THROW(energies_of<double>(bad, "energies"), scene_error);
+    bad.to = "1";
+    EXPECT_THROW(energies_of<double>(bad, "energies"), scene_error);
+    bad.to = "3", bad.step = "0";
+    EXPECT_THROW(energies_of<double>(bad, "energies"), scene_error);
+}
+
+TEST(Plan, UprightOnlyNeedsNoSaddleOrbit) {
+    const scene s =
+        parse_scene(std::string(minimal) +
+                        "[predictions]\nquantities = [\"rate-upright\"]\narms = [1, 2]\n"
+                        "energies = { from = 2.5, to = 5.5, step = 0.5 }\n"
+                        "[[ensemble]]\ncriteria = [\"upright\"]\nenergies = [3, 5]\n",
+                    "s.toml");
+    const plan p = make_plan(s);
+    EXPECT_EQ(p.count(plan_step::kind::orbit_family), 0u);
+    EXPECT_EQ(p.count(plan_step::kind::predictions), 1u);
+    EXPECT_EQ(p.count(plan_step::kind::ensemble), 1u);
+}
+
+TEST(Plan, SaddleQuantitiesNeedTheFamilyAtTheirEnergiesOnly) {
+    const scene s =
+        parse_scene(std::string(minimal) +
+                        "[predictions]\nquantities = [\"rate-saddle\"]\narms = [1]\n"
+                        "energies = { from = 3, to = 7, step = 0.5 }\n"
+                        "[[ensemble]]\narm = 2\ncriteria = [\"saddle\"]\nenergies = [3]\n",
+                    "s.toml");
+    const plan p = make_plan(s);
+    ASSERT_EQ(p.count(plan_step::kind::orbit_family), 2u);
+    // arm 1: saddle at 4, maximum at 6: 4.5, 5, 5.5 only
+    const auto& arm1 = p.steps[0];
+    EXPECT_EQ(arm1.arm, 1);
+    EXPECT_EQ(arm1.energies, (std::vector<std::string>{"4.5", "5", "5.5"}));
+    EXPECT_EQ(p.steps[1].arm, 2);
+    EXPECT_EQ(p.steps[1].energies, std::vector<std::string>{"3"});
+}
+
+TEST(Plan, PredictionOnlySceneRunsNoSimulation) {
+    const scene s = parse_scene(
+        std::string(minimal) + "[predictions]\nquantities = [\"omega\"]\nenergies = [3]\n",
+        "s.toml");
+    const plan p = make_plan(s);
+    EXPECT_EQ(p.count(plan_step::kind::ensemble), 0u);
+    EXPECT_EQ(p.count(plan_step::kind::orbit_family), 0u);
+}
+
+}  // namespace
+}  // namespace flipflux::test

@@ -1,0 +1,100 @@
+// validate: accepts a correct candidate; catches a value off in its 9th digit, a missing row, a
+// duplicated row and a malformed line, each reported by line number.
+#include <filesystem>
+#include <fstream>
+
+#include "flipflux/validation/validate.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Validate : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = fs::path(::testing::TempDir()) / ("validate_" + std::to_string(getpid()));
+        fs::create_directories(dir_ / "golden");
+        std::ofstream(dir_ / "golden" / "values.csv")
+            << "quantity,arm,energy,value,digits,method\n"
+               "flux-upright,2,2.5,1.23456789012345678901234567890123456789,38,elliptic\n"
+               "flux-upright,2,3,2.71828182845904523536028747135266249775,38,elliptic\n"
+               "flux-upright,1,4.5,0.577215664901532860606512090082402431042,38,elliptic\n";
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    validation_report check(const std::string& candidate, bool allow_missing = false) {
+        std::ofstream(dir_ / "candidate.csv") << candidate;
+        return validate_candidate(dir_ / "candidate.csv", dir_ / "golden", 1e-12, allow_missing);
+    }
+    fs::path dir_;
+};
+
+const std::string header = "quantity,arm,energy,value\n";
+const std::string row1 = "flux-upright,2,2.5,1.2345678901234568\n";
+const std::string row2 = "flux-upright,2,3.0,2.718281828459045\n";  // "3.0" matches "3"
+const std::string row3 = "flux-upright,1,4.5,0.57721566490153286\n";
+
+TEST_F(Validate, AcceptsACorrectCandidate) {
+    const auto r = check(header + row1 + row2 + row3);
+    EXPECT_TRUE(r.passed()) << format_report(r, 1e-12);
+    ASSERT_EQ(r.entries.size(), 3u);
+    EXPECT_GE(r.entries[0].matched_digits, 16);
+}
+
+TEST_F(Validate, CatchesAValueOffInItsNinthDigit) {
+    const auto r = check(header + row1 + "flux-upright,2,3,2.718281838459045\n" + row3);
+    EXPECT_FALSE(r.passed());
+    ASSERT_EQ(r.count(validation_entry::status::fail), 1u);
+    EXPECT_EQ(r.entries[1].line, 3);
+    EXPECT_NEAR(r.entries[1].matched_digits, 8.4, 0.2);
+}
+
+TEST_F(Validate, CatchesAMissingRow) {
+    const auto r = check(header + row1 + row3);
+    EXPECT_FALSE(r.passed());
+    ASSERT_EQ(r.count(validation_entry::status::missing), 1u);
+    EXPECT_EQ(r.entries.back().energy, "3");
+    EXPECT_TRUE(check(header + row1 + row3, true).passed());
+}
+
+TEST_F(Validate, CatchesADuplicatedRow) {
+    const auto r = check(header + row1 + row2 + row2 + row3);
+    EXPECT_FALSE(r.passed());
+    ASSERT_EQ(r.count(validation_entry::status::duplicate), 1u);
+    EXPECT_EQ(r.entries[2].line, 4);
+    EXPECT_NE(r.entries[2].note.find("line 3"), std::string::npos);
+}
+
+TEST_F(Validate, CatchesMalformedAndUnmatchedLines) {
+    const auto r = check(header + row1 + "flux-upright,2,3\n" + "flux-upright,2,abc,1\n" +
+                         "flux-upright,2,3,1.0e\n" + "omega-typo,2,3,1\n" + "flux-upright,2,9,1\n" +
+                         row2 + row3);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.count(validation_entry::status::malformed), 3u);
+    EXPECT_EQ(r.count(validation_entry::status::unmatched), 2u);
+    EXPECT_EQ(r.entries[1].line, 3);
+    EXPECT_EQ(r.entries[2].line, 4);
+    const std::string text = format_report(r, 1e-12);
+    EXPECT_NE(text.find("FAILED"), std::string::npos);
+}
+
+TEST_F(Validate, CliExitStatus) {
+    std::ofstream(dir_ / "good.csv") << header + row1 + row2 + row3;
+    std::ofstream(dir_ / "bad.csv") << header + row1 + row2 + row2 + row3;
+    const std::string g = " --golden " + (dir_ / "golden").string();
+    const auto ok = run_flipflux("validate " + (dir_ / "good.csv").string() + g);
+    EXPECT_EQ(ok.status, 0) << ok.out << ok.err;
+    EXPECT_NE(ok.out.find("PASSED"), std::string::npos);
+    const auto bad = run_flipflux("validate " + (dir_ / "bad.csv").string() + g);
+    EXPECT_EQ(bad.status, 1);
+    const auto missing = run_flipflux("validate " + (dir_ / "nope.csv").string() + g);
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_NE(missing.err.find("nope.csv"), std::string::npos);
+    const auto rtol = run_flipflux("validate " + (dir_ / "good.csv").string() + g + " --rtol 2");
+    EXPECT_EQ(rtol.status, 2);
+}
+
+}  // namespace
+}  // namespace flipflux::test
