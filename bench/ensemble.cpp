@@ -11,8 +11,8 @@ namespace {
 
 using namespace flipflux;
 
-std::vector<flip_criterion> arm2_criteria(const double_pendulum<double>& m, double E) {
-    std::vector<flip_criterion> out;
+std::vector<ensemble_criterion> arm2_criteria(const double_pendulum<double>& m, double E) {
+    std::vector<ensemble_criterion> out;
     for (const std::string& name : criterion_names()) {
         try {
             out.push_back(make_criterion(m, arm::two, name, E));

@@ -65,10 +65,10 @@ std::optional<double> reference_rate(const double_pendulum<double>& m, arm a,
 void exact_check(const char* label, const double_pendulum<double>& m, double E,
                  const std::vector<named_criterion>& wanted, std::uint64_t trajectories, double T,
                  std::uint64_t seed) {
-    std::vector<flip_criterion> criteria;
+    std::vector<ensemble_criterion> criteria;
     std::vector<double> predicted;
     for (const named_criterion& c : wanted) {
-        flip_criterion fc;
+        ensemble_criterion fc;
         try {
             fc = make_criterion(m, c.a, c.name, E);
         } catch (const input_error& e) {
@@ -76,7 +76,7 @@ void exact_check(const char* label, const double_pendulum<double>& m, double E,
                         e.what());
             continue;
         }
-        const auto lib = predicted_rate(m, c.a, c.name, E);
+        const auto lib = criterion_prediction(m, c.a, c.name, E);
         const auto ref = reference_rate(m, c.a, c.name, E);
         ASSERT_TRUE(lib || ref) << "no prediction for " << c.name;
         if (lib && ref) {

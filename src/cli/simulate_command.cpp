@@ -224,7 +224,7 @@ json simulate(const simulate_state& s) {
             throw input_error("--csv-dir: '" + s.csv_dir + "' is not a writable directory");
     }
     // every input is checked, and every curve built, before anything is simulated
-    std::vector<std::vector<flip_criterion>> criteria;
+    std::vector<std::vector<ensemble_criterion>> criteria;
     std::vector<std::vector<std::optional<quantity_value<double>>>> predictions;
     for (const auto& [label, e] : energies) {
         o.energy = e;
@@ -233,7 +233,7 @@ json simulate(const simulate_state& s) {
         predictions.emplace_back();
         for (const std::string& n : names) {
             criteria.back().push_back(make_criterion(model, a, n, e));
-            predictions.back().push_back(predicted_rate(model, a, n, e));
+            predictions.back().push_back(criterion_prediction(model, a, n, e));
         }
     }
 

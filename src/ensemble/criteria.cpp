@@ -5,6 +5,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/prediction/rates.hpp"
 
 namespace flipflux {
 
@@ -24,8 +25,8 @@ double criterion_threshold(const double_pendulum<double>& model, arm a, const st
     return model.saddle_energy(a);
 }
 
-flip_criterion make_criterion(const double_pendulum<double>& model, arm a, const std::string& name,
-                              double energy) {
+ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
+                                  const std::string& name, double energy) {
     const double threshold = criterion_threshold(model, a, name);
     if (!(energy > threshold))
         throw input_error("--energy: '" + to_decimal(energy) + "' is at or below the threshold " +
@@ -42,9 +43,17 @@ flip_criterion make_criterion(const double_pendulum<double>& model, arm a, const
         "not contain yet");
 }
 
-std::optional<quantity_value<double>> predicted_rate(const double_pendulum<double>& model, arm a,
-                                                     const std::string& name, double energy) {
+std::optional<quantity_value<double>> criterion_prediction(const double_pendulum<double>& model,
+                                                           arm a, const std::string& name,
+                                                           double energy) {
     check_criterion_name(name);
+    if (name == "upright" || name == "approx") {
+        const prediction_result<double> r = predicted_rate<double>(
+            model, a,
+            name == "upright" ? flip_criterion::upright : flip_criterion::approximate_saddle,
+            energy, rate_route::closed_form);
+        return quantity_value<double>{r.value, r.error_estimate, "prediction/closed-form"};
+    }
     const std::string qname = "rate-" + name;
     for (const quantity& q : quantities())
         if (q.name == qname) return q.evaluate(model, a, energy, "");

@@ -244,9 +244,9 @@ trajectory_result run_trajectory(const double_pendulum<double>& model,
 }
 
 ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& o,
-                             const std::vector<flip_criterion>& criteria) {
+                             const std::vector<ensemble_criterion>& criteria) {
     validate(o);
-    for (const flip_criterion& c : criteria)
+    for (const ensemble_criterion& c : criteria)
         if (!c.detector) throw std::invalid_argument("run_ensemble: criterion without detector");
     const auto start = std::chrono::steady_clock::now();
     const microcanonical_sampler sampler(model, o.energy);
@@ -260,7 +260,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     result.first_index = o.first_index;
     result.method = o.method;
     result.chaos = o.chaos;
-    for (const flip_criterion& c : criteria)
+    for (const ensemble_criterion& c : criteria)
         result.criteria.push_back(c.name);
     result.trajectories.resize(o.trajectories);
 
@@ -275,7 +275,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
         used = omp_get_num_threads();
         std::vector<std::unique_ptr<flip_detector_base>> own;
         std::vector<flip_detector_base*> detectors;
-        for (const flip_criterion& c : criteria) {
+        for (const ensemble_criterion& c : criteria) {
             own.push_back(c.detector->clone());
             detectors.push_back(own.back().get());
         }

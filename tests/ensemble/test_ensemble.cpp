@@ -12,7 +12,7 @@
 namespace flipflux::test {
 namespace {
 
-std::vector<flip_criterion> arm2_criteria(const double_pendulum<double>& m) {
+std::vector<ensemble_criterion> arm2_criteria(const double_pendulum<double>& m) {
     const pendulum_flow flow(m);
     return {{"upright", make_flip_detector(upright_curve<double>{arm::two}, flow)},
             {"approx", make_flip_detector(approximate_saddle_curve(m, arm::two), flow)}};

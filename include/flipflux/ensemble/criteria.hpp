@@ -1,7 +1,7 @@
 // The flip criteria by name, for the ensemble and the CLI: "upright" (the flip angle equals pi),
 // "approx" (the approximate saddle curve, a sine with the centre mode's slope), "saddle" (the
 // saddle orbit's curve, from orbits/), each for arm 1 or arm 2, and their predicted rates
-// R = f / Omega from the quantity registry ("rate-upright", "rate-approx", "rate-saddle").
+// R = f / Omega from prediction/ and orbits/.
 #pragma once
 
 #include <optional>
@@ -26,11 +26,13 @@ double criterion_threshold(const double_pendulum<double>& model, arm a, const st
 /// The criterion `name` for arm `a` at energy E (the saddle orbit depends on E). Throws
 /// input_error for an unknown name, an energy at or below the threshold, or an energy where the
 /// curve does not exist.
-flip_criterion make_criterion(const double_pendulum<double>& model, arm a, const std::string& name,
-                              double energy);
+ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
+                                  const std::string& name, double energy);
 
-/// The predicted rate f / Omega at double, or nullopt when the registry has no such quantity.
-std::optional<quantity_value<double>> predicted_rate(const double_pendulum<double>& model, arm a,
-                                                     const std::string& name, double energy);
+/// The predicted rate f / Omega at double: upright and approx from prediction/ (closed-form
+/// route), saddle from the quantity registry ("rate-saddle"); nullopt when not available.
+std::optional<quantity_value<double>> criterion_prediction(const double_pendulum<double>& model,
+                                                           arm a, const std::string& name,
+                                                           double energy);
 
 }  // namespace flipflux

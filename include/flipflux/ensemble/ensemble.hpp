@@ -65,7 +65,7 @@ struct ensemble_options {
 };
 
 /// A flip criterion: its name and a detector prototype (cloned per thread).
-struct flip_criterion {
+struct ensemble_criterion {
     std::string name;
     std::shared_ptr<const flip_detector_base> detector;
 };
@@ -126,6 +126,6 @@ trajectory_result run_trajectory(const double_pendulum<double>& model,
 
 /// Simulates the ensemble (OpenMP across trajectories).
 ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& options,
-                             const std::vector<flip_criterion>& criteria);
+                             const std::vector<ensemble_criterion>& criteria);
 
 }  // namespace flipflux
