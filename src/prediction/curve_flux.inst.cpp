@@ -2,9 +2,13 @@
 // and the zeros of K along the curve. See include/flipflux/prediction/curve_flux.hpp and
 // docs/theory.md#phase-volume-and-fluxes.
 #include <algorithm>
+#include <boost/math/quadrature/gauss.hpp>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/tools/roots.hpp>
 #include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include "flipflux/core/constants.hpp"
@@ -138,10 +142,65 @@ std::vector<std::array<Real, 2>> intervals_of(const curve_frame<Real>& frame) {
     return pieces;
 }
 
-/// The momentum integral at s done numerically: det M sqrt(2K) int_0^2pi |n.e| (e^T M e)^(-3/2).
+/// Gauss-Kronrod (61 points, Boost's nodes in Real) on `panels` equal panels of
+/// [-pi/2, pi/2], with cos and sin of every node tabulated once per (type, panel count): the
+/// momentum integrand then needs no trigonometric function. Kronrod and Gauss sums give the
+/// error estimate.
+template <class Real>
+struct half_circle_rule {
+    std::vector<Real> cos_x, sin_x, w_kronrod, w_gauss;  // w_gauss = 0 at Kronrod-only nodes
+
+    explicit half_circle_rule(std::size_t panels) {
+        using boost::math::quadrature::gauss;
+        using boost::math::quadrature::gauss_kronrod;
+        using std::cos;
+        using std::sin;
+        const auto& x = gauss_kronrod<Real, 61>::abscissa();
+        const auto& wk = gauss_kronrod<Real, 61>::weights();
+        const auto& wg = gauss<Real, 30>::weights();
+        const Real half_width = pi<Real>() / (2 * panels);
+        for (std::size_t p = 0; p < panels; ++p) {
+            const Real centre = -half_pi<Real>() + (2 * p + 1) * half_width;
+            for (std::size_t i = 0; i < x.size(); ++i) {
+                // Boost stores the non-negative half; its 30-point Gauss rule (even order) uses
+                // the odd indices, not the centre (as in gauss_kronrod::integrate_non_adaptive).
+                const Real g = i % 2 == 1 ? wg[i / 2] : Real(0);
+                for (int sign : {1, -1}) {
+                    if (i == 0 && sign < 0) continue;
+                    const Real node = centre + sign * half_width * x[i];
+                    cos_x.push_back(cos(node));
+                    sin_x.push_back(sin(node));
+                    w_kronrod.push_back(half_width * wk[i]);
+                    w_gauss.push_back(half_width * g);
+                }
+            }
+        }
+    }
+
+    /// The rule with the smallest power of two >= panels (<= 64) panels; built on first use.
+    static const half_circle_rule& get(std::size_t panels) {
+        static std::mutex mutex;
+        static std::array<std::unique_ptr<half_circle_rule>, 7> rules;  // 1, 2, 4, ..., 64
+        std::size_t k = 0;
+        while ((std::size_t(1) << k) < panels && k + 1 < rules.size())
+            ++k;
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!rules[k]) rules[k] = std::make_unique<half_circle_rule>(std::size_t(1) << k);
+        return *rules[k];
+    }
+};
+
+/// The momentum integral at s done numerically: det M sqrt(2K) int_0^2pi |n.e| (e^T M e)^(-3/2)
+/// d psi, psi the direction of the velocity. With psi = psi_n + x (psi_n the direction of n),
+/// n.e = |n| cos x >= 0 on [-pi/2, pi/2], and the other half circle gives the same
+/// (x -> x + pi flips n.e and keeps e^T M e): 2 |n| int cos x q(x)^(-3/2), q = e'^T M' e' in the
+/// frame (n/|n|, t) rotated by psi_n. q = lambda_1 cos^2(x - x0) + lambda_2 sin^2(x - x0) (the
+/// eigenvalues of M) vanishes at Im x = +-atanh(sqrt(lambda_min/lambda_max)): the strip that
+/// sets the number of Gauss-Kronrod panels.
 template <class Real>
 quadrature_result<Real> momentum_integral(const curve_frame<Real>& frame, const Real& s) {
-    using std::atan2;
+    using std::abs;
+    using std::atanh;
     using std::cos;
     using std::sin;
     using std::sqrt;
@@ -150,20 +209,45 @@ quadrature_result<Real> momentum_integral(const curve_frame<Real>& frame, const 
     const std::array<Real, 2> th = frame.angles(s), n = frame.normal(s);
     const sym2<Real> M = frame.model.mass_matrix(th[0], th[1]);
     const Real det = frame.model.mass_determinant(th[0], th[1]);
-    // n.e(psi) = |n| cos(psi - psi_n) >= 0 on [psi_n - pi/2, psi_n + pi/2]; the other half circle
-    // gives the same (psi -> psi + pi flips n.e and keeps e^T M e).
-    const Real psi_n = atan2(n[1], n[0]);
-    auto f = [&](const Real& psi) -> Real {
-        const Real c = cos(psi), sn = sin(psi);
-        const Real q = M.xx * c * c + 2 * M.xy * c * sn + M.yy * sn * sn;
-        const Real along = n[0] * c + n[1] * sn;
-        return along > 0 ? along / (q * sqrt(q)) : Real(0);
+    const Real norm = sqrt(n[0] * n[0] + n[1] * n[1]);
+    const Real u0 = n[0] / norm, u1 = n[1] / norm;  // unit normal; tangent (-u1, u0)
+    const Real qxx = M.xx * u0 * u0 + 2 * M.xy * u0 * u1 + M.yy * u1 * u1;
+    const Real qxy = -M.xx * u0 * u1 + M.xy * (u0 * u0 - u1 * u1) + M.yy * u0 * u1;
+    const Real qyy = M.xx * u1 * u1 - 2 * M.xy * u0 * u1 + M.yy * u0 * u0;
+    auto f = [&](const Real& c, const Real& sn) -> Real {
+        const Real q = qxx * c * c + 2 * qxy * c * sn + qyy * sn * sn;
+        return c / (q * sqrt(q));
     };
-    quadrature_result<Real> r =
-        gauss_kronrod_integrate<Real>(f, psi_n - half_pi<Real>(), psi_n + half_pi<Real>());
-    const Real factor = 2 * det * sqrt(2 * K);
+    // eigenvalue ratio of M: lambda_min / lambda_max = det / lambda_max^2
+    const Real trace = M.xx + M.yy;
+    const Real spread = sqrt((M.xx - M.yy) * (M.xx - M.yy) + 4 * M.xy * M.xy);
+    const Real lambda_max = (trace + spread) / 2;
+    const Real strip = atanh(sqrt(det) / lambda_max);
+    const std::size_t panels = kronrod_panels(pi<Real>(), strip);
+    quadrature_result<Real> r;
+    if (panels > 0) {
+        const half_circle_rule<Real>& rule = half_circle_rule<Real>::get(panels);
+        Real gauss_sum = 0;
+        for (std::size_t i = 0; i < rule.cos_x.size(); ++i) {
+            const Real v = f(rule.cos_x[i], rule.sin_x[i]);
+            r.value += rule.w_kronrod[i] * v;
+            gauss_sum += rule.w_gauss[i] * v;
+        }
+        r.evaluations = rule.cos_x.size();
+        r.error_estimate = abs(r.value - gauss_sum);
+    }
+    using std::pow;
+    if (panels == 0 || r.error_estimate > pow(epsilon<Real>(), Real(2) / 3) * r.value) {
+        // a nearly singular mass matrix: adaptive quadrature in the angle itself
+        const std::size_t used = r.evaluations;
+        r = gauss_kronrod_integrate<Real>([&](const Real& x) -> Real { return f(cos(x), sin(x)); },
+                                          -half_pi<Real>(), half_pi<Real>());
+        r.evaluations += used;
+    }
+    r.l1_norm = r.value;
+    const Real factor = 2 * norm * det * sqrt(2 * K);
     r.value *= factor;
-    r.error_estimate *= factor;
+    r.error_estimate = factor * r.error_estimate + epsilon<Real>() * r.value;
     r.l1_norm *= factor;
     return r;
 }

@@ -1,9 +1,11 @@
 // Omega(E) by 2-D quadrature over configuration space (paper eq.
 // eq:phase_space_volume_egalitatian_double_pendu, generalised): the outer integral over th2
 // (tanh-sinh, split where the allowed th1-interval reaches its full and empty extents), the inner
-// over th1 between the boundary points -t1(th2), t1(th2) of V = E (adaptive Gauss-Kronrod). The
+// over th1 between the boundary points -t1(th2), t1(th2) of V = E (Gauss-Kronrod panels sized by
+// the integrand's strip of analyticity, tanh-sinh as fallback). The
 // discontinuous step Theta(E - V) is never integrated: the boundary is solved for.
-// Independent of the elliptic route: other integration order, other rule, no elliptic integrals.
+// Independent of the elliptic route: other integration order, other inner rule, no elliptic
+// integrals.
 #include <cmath>
 
 #include "flipflux/core/constants.hpp"
@@ -14,25 +16,47 @@
 
 namespace flipflux::detail {
 
+namespace {
+
+/// The integral of sqrt(det M) = sqrt(D0 + C^2 sin^2 u) over u in [a, b]: fixed-panel
+/// Gauss-Kronrod sized by the strip of analyticity |Im u| < asinh(sqrt(D0)/C) (the zeros of
+/// D0 + C^2 sin^2 u), tanh-sinh when that would need too many panels or misses the tolerance.
+template <class Real>
+quadrature_result<Real> sqrt_det_integral(const lagrangian_coefficients<Real>& k, const Real& a,
+                                          const Real& b, const Real& strip) {
+    using std::pow;
+    using std::sin;
+    using std::sqrt;
+    const Real C2 = k.C * k.C;
+    auto f = [&](const Real& u) -> Real {
+        const Real s = sin(u);
+        return sqrt(k.D0 + C2 * s * s);
+    };
+    const std::size_t panels = kronrod_panels(Real(b - a), strip);
+    if (panels > 0) {
+        quadrature_result<Real> r = gauss_kronrod_fixed<Real>(f, a, b, panels);
+        if (r.error_estimate <= pow(epsilon<Real>(), Real(2) / 3) * r.l1_norm) return r;
+    }
+    return tanh_sinh_integrate<Real>(
+        [&](const Real& u, const Real&, const Real&) -> Real { return f(u); }, a, b);
+}
+
+}  // namespace
+
 template <class Real>
 prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& model,
                                                    const Real& energy) {
-    using std::sin;
+    using std::asinh;
     using std::sqrt;
     prediction_result<Real> r;
     if (!(energy > 0)) return r;
     const auto& k = model.coefficients();
+    const Real strip = asinh(sqrt(k.D0) / k.C);
     const angle_support<Real> sup(model, energy, configuration_angle::theta2);
-    // sqrt(det M) as a function of th1 - th2
-    auto sqrt_det = [&k](const Real& u) -> Real {
-        const Real s = sin(u);
-        return sqrt(k.D0 + k.C * k.C * s * s);
-    };
     quadrature_result<Real> total;
     if (sup.theta_full > 0) {
         // every th1 allowed: the inner integral over a whole period, the same for every th2
-        quadrature_result<Real> ring = gauss_kronrod_integrate<Real>(
-            [&](const Real& u) -> Real { return sqrt_det(u); }, -pi<Real>(), pi<Real>());
+        const quadrature_result<Real> ring = sqrt_det_integral(k, -pi<Real>(), pi<Real>(), strip);
         total.value = sup.theta_full * ring.value;
         total.error_estimate = sup.theta_full * ring.error_estimate;
         total.l1_norm = total.value;
@@ -41,8 +65,8 @@ prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& 
     if (sup.theta_full < sup.theta_edge) {
         auto inner = [&](const Real& th2, const Real& to_a, const Real& to_b) {
             const Real t1 = sup.half_width(th2, to_b, to_a);
-            return gauss_kronrod_integrate<Real>(
-                [&](const Real& th1) -> Real { return sqrt_det(th1 - th2); }, -t1, t1);
+            // th1 in [-t1, t1] is u = th1 - th2 in [-t1 - th2, t1 - th2]
+            return sqrt_det_integral(k, Real(-t1 - th2), Real(t1 - th2), strip);
         };
         total += nested_integrate<Real>(inner, sup.theta_full, sup.theta_edge);
     }

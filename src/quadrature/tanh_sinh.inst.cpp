@@ -35,6 +35,12 @@ boost::math::quadrature::tanh_sinh<Real>& thread_integrator() {
 
 template <class Real>
 Real default_quadrature_tolerance() {
+    using std::sqrt;
+    return sqrt(epsilon<Real>());
+}
+
+template <class Real>
+Real default_kronrod_tolerance() {
     using std::pow;
     return pow(epsilon<Real>(), Real(3) / 4);
 }
@@ -59,8 +65,9 @@ quadrature_result<Real> tanh_sinh_integrate(endpoint_integrand<Real> f, const Re
     };
     Real error = 0, l1 = 0;
     std::size_t levels = 0;
-    r.value =
-        thread_integrator<Real>().integrate(g, a, b, opt.relative_tolerance, &error, &l1, &levels);
+    const Real tolerance =
+        opt.relative_tolerance > 0 ? opt.relative_tolerance : default_quadrature_tolerance<Real>();
+    r.value = thread_integrator<Real>().integrate(g, a, b, tolerance, &error, &l1, &levels);
     r.error_estimate = error + epsilon<Real>() * l1;
     r.l1_norm = l1;
     r.levels = levels;
@@ -102,6 +109,7 @@ quadrature_result<Real> nested_integrate(
 
 #define FLIPFLUX_TANH_SINH_INSTANTIATE(R)                                                         \
     template R default_quadrature_tolerance<R>();                                                 \
+    template R default_kronrod_tolerance<R>();                                                    \
     template quadrature_result<R> tanh_sinh_integrate<R>(endpoint_integrand<R>, const R&,         \
                                                          const R&, const quadrature_options<R>&); \
     template quadrature_result<R> tanh_sinh_integrate_pieces<R>(                                  \

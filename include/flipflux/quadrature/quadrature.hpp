@@ -80,14 +80,21 @@ struct quadrature_result {
     }
 };
 
-/// The default relative tolerance: eps^(3/4). Tanh-sinh stops when two successive levels agree to
-/// the tolerance; the last level is then accurate to ~tolerance^2, i.e. to rounding.
+/// The default relative tolerance of tanh-sinh: sqrt(eps). The rule stops when two successive
+/// levels agree to the tolerance; as each level doubles the number of correct digits, the last
+/// level is then accurate to ~tolerance^2, i.e. to rounding (verified at every precision in
+/// tests/quadrature). Gauss-Kronrod converges only geometrically and defaults to eps^(3/4).
 template <class Real>
 Real default_quadrature_tolerance();
 
+/// The default relative tolerance of adaptive Gauss-Kronrod: eps^(3/4) (the Kronrod sum is
+/// accurate to about the 3/2 power of the Kronrod-Gauss difference used as estimate).
+template <class Real>
+Real default_kronrod_tolerance();
+
 template <class Real>
 struct quadrature_options {
-    Real relative_tolerance = default_quadrature_tolerance<Real>();
+    Real relative_tolerance{0};  ///< 0: the rule's default (see above)
     std::size_t max_depth = 15;  ///< Gauss-Kronrod bisection depth (tanh-sinh: 15 levels, fixed)
 };
 
@@ -115,6 +122,22 @@ quadrature_result<Real> gauss_kronrod_integrate(function_ref<Real(const Real&)> 
                                                 const Real& b,
                                                 const quadrature_options<Real>& = {});
 
+/// Non-adaptive 61-point Gauss-Kronrod on `panels` equal panels of [a, b]: the fixed rule for
+/// integrands whose strip of analyticity is known (choose panels with kronrod_panels). The error
+/// estimate is the summed Kronrod-Gauss difference (the Kronrod sum is accurate to about its
+/// 3/2 power); callers fall back to an adaptive rule when it exceeds their tolerance.
+template <class Real>
+quadrature_result<Real> gauss_kronrod_fixed(function_ref<Real(const Real&)> f, const Real& a,
+                                            const Real& b, std::size_t panels);
+
+/// Panels for gauss_kronrod_fixed over an interval of length `length` for an integrand analytic
+/// in the strip |Im z| < strip_half_width: each panel's Bernstein ellipse reaches
+/// rho = eps^(-1/90), where the 30-point Gauss error rho^-60 is eps^(2/3) and the Kronrod error
+/// ~ eps. Returns 0 when more than max_panels would be needed (use an adaptive rule then).
+template <class Real>
+std::size_t kronrod_panels(const Real& length, const Real& strip_half_width,
+                           std::size_t max_panels = 64);
+
 /// The outer tanh-sinh integral over [a, b] of inner(x, x - a, b - x).value; the result's
 /// error estimate adds the outer estimate and the largest relative inner estimate times the
 /// outer l1 norm; evaluations count the inner integrands' evaluations.
@@ -123,16 +146,20 @@ quadrature_result<Real> nested_integrate(
     function_ref<quadrature_result<Real>(const Real& x, const Real& to_a, const Real& to_b)> inner,
     const Real& a, const Real& b, const quadrature_options<Real>& outer = {});
 
-#define FLIPFLUX_QUADRATURE_EXTERN(R)                                                         \
-    extern template R default_quadrature_tolerance<R>();                                      \
-    extern template quadrature_result<R> tanh_sinh_integrate<R>(                              \
-        endpoint_integrand<R>, const R&, const R&, const quadrature_options<R>&);             \
-    extern template quadrature_result<R> tanh_sinh_integrate_pieces<R>(                       \
-        endpoint_integrand<R>, const std::vector<R>&, const quadrature_options<R>&);          \
-    extern template quadrature_result<R> gauss_kronrod_integrate<R>(                          \
-        function_ref<R(const R&)>, const R&, const R&, const quadrature_options<R>&);         \
-    extern template quadrature_result<R> nested_integrate<R>(                                 \
-        function_ref<quadrature_result<R>(const R&, const R&, const R&)>, const R&, const R&, \
+#define FLIPFLUX_QUADRATURE_EXTERN(R)                                                             \
+    extern template R default_quadrature_tolerance<R>();                                          \
+    extern template R default_kronrod_tolerance<R>();                                             \
+    extern template quadrature_result<R> tanh_sinh_integrate<R>(                                  \
+        endpoint_integrand<R>, const R&, const R&, const quadrature_options<R>&);                 \
+    extern template quadrature_result<R> tanh_sinh_integrate_pieces<R>(                           \
+        endpoint_integrand<R>, const std::vector<R>&, const quadrature_options<R>&);              \
+    extern template quadrature_result<R> gauss_kronrod_integrate<R>(                              \
+        function_ref<R(const R&)>, const R&, const R&, const quadrature_options<R>&);             \
+    extern template quadrature_result<R> gauss_kronrod_fixed<R>(function_ref<R(const R&)>,        \
+                                                                const R&, const R&, std::size_t); \
+    extern template std::size_t kronrod_panels<R>(const R&, const R&, std::size_t);               \
+    extern template quadrature_result<R> nested_integrate<R>(                                     \
+        function_ref<quadrature_result<R>(const R&, const R&, const R&)>, const R&, const R&,     \
         const quadrature_options<R>&)
 FLIPFLUX_QUADRATURE_EXTERN(double);
 FLIPFLUX_QUADRATURE_EXTERN(quad);
