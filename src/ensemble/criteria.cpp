@@ -1,11 +1,11 @@
 // Flip criteria by name (include/flipflux/ensemble/criteria.hpp).
 #include "flipflux/ensemble/criteria.hpp"
 
+#include <cmath>
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/model/dividing_curve.hpp"
-#include "flipflux/prediction/rates.hpp"
 
 namespace flipflux {
 
@@ -47,16 +47,23 @@ std::optional<quantity_value<double>> criterion_prediction(const double_pendulum
                                                            arm a, const std::string& name,
                                                            double energy) {
     check_criterion_name(name);
-    if (name == "upright" || name == "approx") {
-        const prediction_result<double> r = predicted_rate<double>(
-            model, a,
-            name == "upright" ? flip_criterion::upright : flip_criterion::approximate_saddle,
-            energy, rate_route::closed_form);
-        return quantity_value<double>{r.value, r.error_estimate, "prediction/closed-form"};
+    auto find = [](const std::string& qname) -> const quantity* {
+        for (const quantity& q : quantities())
+            if (q.name == qname) return &q;
+        return nullptr;
+    };
+    if (const quantity* rate = find("rate-" + name)) return rate->evaluate(model, a, energy, "");
+    // a module that registers the flux but not the rate: R = f / Omega
+    const quantity* flux = find("flux-" + name);
+    const quantity* omega = find("omega");
+    if (flux && omega) {
+        const quantity_value<double> f = flux->evaluate(model, a, energy, "");
+        const quantity_value<double> w = omega->evaluate(model, a, energy, "");
+        const double r = f.value / w.value;
+        return quantity_value<double>{
+            r, f.error_estimate / w.value + std::abs(r) * w.error_estimate / w.value,
+            "flux-" + name + " (" + f.method + ") / omega (" + w.method + ")"};
     }
-    const std::string qname = "rate-" + name;
-    for (const quantity& q : quantities())
-        if (q.name == qname) return q.evaluate(model, a, energy, "");
     return std::nullopt;
 }
 

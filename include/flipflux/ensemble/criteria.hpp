@@ -1,7 +1,7 @@
 // The flip criteria by name, for the ensemble and the CLI: "upright" (the flip angle equals pi),
 // "approx" (the approximate saddle curve, a sine with the centre mode's slope), "saddle" (the
 // saddle orbit's curve, from orbits/), each for arm 1 or arm 2, and their predicted rates
-// R = f / Omega from prediction/ and orbits/.
+// R = f / Omega from the quantity registry (prediction/, orbits/).
 #pragma once
 
 #include <optional>
@@ -29,8 +29,8 @@ double criterion_threshold(const double_pendulum<double>& model, arm a, const st
 ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
                                   const std::string& name, double energy);
 
-/// The predicted rate f / Omega at double: upright and approx from prediction/ (closed-form
-/// route), saddle from the quantity registry ("rate-saddle"); nullopt when not available.
+/// The predicted rate f / Omega at double from the quantity registry: "rate-<name>" (default
+/// method), else "flux-<name>" / "omega"; nullopt when neither is registered.
 std::optional<quantity_value<double>> criterion_prediction(const double_pendulum<double>& model,
                                                            arm a, const std::string& name,
                                                            double energy);
