@@ -1,8 +1,126 @@
-// Quantities of the saddle-orbit module (period, action, saddle flux and rate, multiplier).
+// Quantities of the saddle-orbit module: period T, action F, saddle flux f3 = 2 F, the Floquet
+// multiplier and stability index (and, with the prediction module, the rate f3 / Omega).
+// Methods: "periodic" (the paper's shooting, Ceres then Gauss-Newton in Real) and "symmetric"
+// (time-reversal shooting to the brake point, Newton); both give the same orbit.
+#include <cmath>
+#include <stdexcept>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux {
+namespace {
 
-void add_orbit_quantities(std::vector<quantity>&) {}
+const std::vector<std::string> orbit_methods{"periodic", "symmetric"};
+
+template <class Real>
+saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a, const Real& energy,
+                             const std::string& method) {
+    orbit_options<Real> options;
+    options.method = parse_orbit_method(method.empty() ? "periodic" : method, "--method");
+    check_orbit_energy(model, a, energy);
+    saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+    if (orbit.status == orbit_status::not_converged) {
+        throw std::runtime_error("saddle orbit at E = " + to_decimal(energy) + " (arm " +
+                                 to_string(a) + "): no convergence (" + orbit.double_stage + ")");
+    }
+    return orbit;
+}
+
+template <class Real>
+std::string method_text(const saddle_orbit<Real>& orbit) {
+    return (orbit.method == orbit_method::periodic
+                ? std::string("periodic shooting (Ceres, then Gauss-Newton in the working "
+                              "precision)")
+                : std::string("symmetric shooting to the brake point (Newton)")) +
+           ", " + std::to_string(orbit.stages) + "-stage Gauss-Legendre, " +
+           std::to_string(orbit.steps) + " steps" +
+           (orbit.status == orbit_status::stalled ? ", stalled at the rounding floor" : "");
+}
+
+struct period_fn {
+    template <class Real>
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                    const std::string& method) const {
+        const auto o = orbit_for(model, a, energy, method);
+        return {o.period, o.error_estimate_period, method_text(o)};
+    }
+};
+
+struct action_fn {
+    template <class Real>
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                    const std::string& method) const {
+        const auto o = orbit_for(model, a, energy, method);
+        return {o.action, o.error_estimate_action, method_text(o)};
+    }
+};
+
+struct flux_fn {
+    template <class Real>
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                    const std::string& method) const {
+        const auto o = orbit_for(model, a, energy, method);
+        return {o.flux(), 2 * o.error_estimate_action, "f3 = 2 F, " + method_text(o)};
+    }
+};
+
+/// Error of the nontrivial multiplier: the trace route against Eigen's largest eigenvalue, and
+/// the orbit's relative error times log|mu| (mu ~ exp(lambda T)).
+template <class Real>
+Real multiplier_error(const saddle_orbit<Real>& o) {
+    using std::abs;
+    using std::log;
+    using std::max;
+    const Real eig = abs(o.floquet.eigenvalues[3]);
+    const Real mu = abs(o.floquet.multiplier);
+    const Real rel = o.error_estimate_period / o.period;
+    return max(abs(eig - mu), Real(mu * rel * (1 + log(mu))));
+}
+
+struct multiplier_fn {
+    template <class Real>
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                    const std::string& method) const {
+        const auto o = orbit_for(model, a, energy, method);
+        if (!o.floquet.hyperbolic) {
+            throw std::runtime_error(
+                "saddle orbit at E = " + to_decimal(energy) +
+                " is elliptic: its nontrivial multipliers are exp(+-i nu) with nu = " +
+                to_decimal(o.floquet.angle) + " (see stability-index)");
+        }
+        return {o.floquet.multiplier, multiplier_error(o),
+                "real multiplier |mu| > 1 from the monodromy's trace, " + method_text(o)};
+    }
+};
+
+struct stability_fn {
+    template <class Real>
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                    const std::string& method) const {
+        const auto o = orbit_for(model, a, energy, method);
+        return {o.floquet.stability_index, multiplier_error(o),
+                "mu + 1/mu = tr(monodromy) - 2, " + method_text(o)};
+    }
+};
+
+}  // namespace
+
+void add_orbit_quantities(std::vector<quantity>& list) {
+    list.push_back(
+        make_quantity("period", "period T of the saddle orbit", orbit_methods, true, period_fn{}));
+    list.push_back(make_quantity("action", "action F = oint l.dtheta of the saddle orbit (> 0)",
+                                 orbit_methods, true, action_fn{}));
+    list.push_back(make_quantity("flux-saddle", "saddle-orbit flux f3 = 2 F (both directions)",
+                                 orbit_methods, true, flux_fn{}));
+    list.push_back(make_quantity("multiplier",
+                                 "Floquet multiplier |mu| > 1 of the (hyperbolic) saddle orbit",
+                                 orbit_methods, true, multiplier_fn{}));
+    list.push_back(make_quantity("stability-index",
+                                 "mu + 1/mu = tr(monodromy) - 2 of the saddle orbit", orbit_methods,
+                                 true, stability_fn{}));
+}
 
 }  // namespace flipflux

@@ -1,0 +1,194 @@
+// Saddle orbits: the Lyapunov periodic orbit born at the flip saddle of either arm (paper Sec. 3.2,
+// 4, 5.4; docs/theory.md#saddle-orbits), its period T, action F = oint l.dtheta > 0 (the saddle
+// flux is f3 = 2 F), turning points and Floquet multipliers.
+//
+// Domain: any admissible pendulum; arm 2 (saddle (0, pi)) for 2 beta < E < 2 (alpha + beta), arm 1
+// (saddle (pi, 0)) for 2 alpha < E < 2 (alpha + beta) (model.saddle_energy(a) <
+// E < model.maximum_energy()). Energies outside throw input_error naming --energy.
+//
+// Method: the shooting problem is solved at double with Ceres (periodic formulation; analytic
+// Jacobian from the variational equations) or a Newton iteration (symmetric formulation), after
+// a continuation from the linearised centre mode when no guess is given; then polished in Real
+// by Gauss-Newton / Newton to the working precision, with Gauss-Legendre steps chosen for the
+// requested tolerance. Convergence is reported in `status`, never thrown.
+//
+// Accuracy (verified in verification/orbits*.cpp against a higher-precision solve): T and F to a
+// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp50); error_estimate_* state the
+// per-orbit estimate. Near E_max the multiplier grows like (E_max - E)^(-lambda/...) and the
+// attainable accuracy degrades accordingly (see docs/theory.md).
+#pragma once
+
+#include <array>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux {
+
+/// Which shooting formulation refines the orbit.
+enum class orbit_method {
+    periodic,   ///< the paper's: unknowns (beta, T), residual x(T) - x(0); Ceres then Gauss-Newton
+    symmetric,  ///< time reversal: unknowns (beta, T/4), residual l(T/4) = 0; Newton
+};
+std::string to_string(orbit_method m);
+/// Parses "periodic" or "symmetric"; throws input_error naming `option`.
+orbit_method parse_orbit_method(const std::string& text, const std::string& option = "--method");
+
+enum class orbit_status {
+    converged,      ///< Newton converged to the working precision
+    stalled,        ///< Newton stopped improving above the working precision (see residual)
+    not_converged,  ///< no solution found from the guess
+};
+std::string to_string(orbit_status s);
+
+template <class Real>
+struct orbit_options {
+    orbit_method method = orbit_method::periodic;
+    int stages = 0;     ///< Gauss-Legendre stages; 0 = the type's default (default_stages)
+    Real tolerance{0};  ///< integration tolerance (relative to the orbit's scale); 0 = 64 eps
+    int max_newton_iterations = 30;
+};
+
+/// Default number of Gauss-Legendre stages at Real (order 2 s): 6, 10, 14, 20.
+template <class Real>
+int default_stages();
+
+/// A starting point for the shooting: direction of the circularised momentum and period.
+template <class Real>
+struct orbit_guess {
+    Real beta{0};
+    Real period{0};
+};
+
+/// Floquet multipliers of a periodic orbit from its monodromy matrix (two unit multipliers and a
+/// reciprocal pair mu, 1/mu, real or on the unit circle).
+template <class Real>
+struct floquet_multipliers {
+    std::array<std::complex<Real>, 4> eigenvalues;  ///< Eigen's EigenSolver, by increasing |.|
+    Real trace{0};                                  ///< tr M = 2 + mu + 1/mu
+    Real stability_index{0};  ///< k = mu + 1/mu = tr M - 2 (|k| > 2: hyperbolic)
+    bool hyperbolic = false;
+    Real multiplier{0};             ///< hyperbolic: the real mu with |mu| > 1 (from k); else 1
+    Real angle{0};                  ///< elliptic: nu in [0, pi] with mu = exp(+-i nu); else 0
+    Real unit_deviation{0};         ///< max |lambda - 1| over the two eigenvalues nearest 1
+    Real determinant_deviation{0};  ///< |det M - 1|
+};
+
+/// Floquet analysis of a 4x4 monodromy matrix (EigenSolver in Real).
+template <class Real>
+floquet_multipliers<Real> floquet_analysis(const std::array<std::array<Real, 4>, 4>& monodromy);
+
+template <class Real>
+struct saddle_orbit {
+    arm flip_arm = arm::two;
+    Real energy{0};             ///< E
+    Real excess{0};             ///< E - E_s, the kinetic energy at the saddle
+    Real beta{0};               ///< direction of the circularised momentum at the saddle
+    Real period{0};             ///< T
+    Real action{0};             ///< F = oint (l1 dth1 + l2 dth2) > 0
+    Real period_derivative{0};  ///< dT/dE along the family (from the shooting Jacobian)
+    Real flux() const { return 2 * action; }  ///< f3 = 2 F (bidirectional saddle flux)
+    std::array<Real, 2> saddle{};             ///< q*
+    phase_point<Real> start{};                ///< (q*, l0): the state at t = 0
+    /// Turning points (theta1, theta2) at t = T/4 and 3T/4 (both momenta zero); the second is the
+    /// reflection of the first through q*.
+    std::array<std::array<Real, 2>, 2> turning_points{};
+    floquet_multipliers<Real> floquet;
+    std::array<std::array<Real, 4>, 4> monodromy{};  ///< absolute = frame coordinates' Jacobian
+
+    // ---- numerical record -------------------------------------------------------------------
+    orbit_status status = orbit_status::not_converged;
+    orbit_method method = orbit_method::periodic;
+    int stages = 0;
+    long steps = 0;  ///< Gauss-Legendre steps over the shooting interval
+    Real tolerance{0};
+    int newton_iterations = 0;
+    Real residual{0};      ///< scaled residual norm at the solution
+    Real last_update{0};   ///< relative size of the last Newton correction
+    Real energy_error{0};  ///< max |H - E| / (E - E_s) over the stored quarter orbit
+    Real error_estimate_period{0};
+    Real error_estimate_action{0};
+    std::string double_stage;  ///< report of the double-precision stage (Ceres' brief report)
+    /// The quarter orbit from the saddle to the first turning point in frame coordinates
+    /// (theta - q*, l), at t_k = k * quarter_step, k = 0..n.
+    std::vector<std::array<Real, 4>> quarter;
+    Real quarter_step{0};
+};
+
+/// One attempted step of the continuation in energy (the record keeps the rejected steps, i.e.
+/// the step halvings).
+struct continuation_step {
+    double from_excess = 0, to_excess = 0;  ///< E - E_s before and after the step
+    bool accepted = false;
+    int iterations = 0;  ///< corrector iterations
+    std::string note;    ///< why a step was rejected
+};
+
+/// A continued family: the orbits at the requested energies and the continuation's record.
+template <class Real>
+struct saddle_family {
+    arm flip_arm = arm::two;
+    std::vector<saddle_orbit<Real>> orbits;  ///< at the requested energies reached, in order
+    std::vector<continuation_step> steps;    ///< every attempted step (double stage)
+    int halvings = 0;                        ///< rejected steps (each halved the step)
+    double highest_excess = 0;               ///< largest E - E_s the double continuation reached
+    std::string stop_reason;                 ///< why it stopped short ("" if every energy reached)
+};
+
+/// The centre mode's guess: beta of the mode's momentum, T_lin = 2 pi / omega.
+template <class Real>
+orbit_guess<Real> linear_guess(const double_pendulum<Real>& model, arm a);
+
+/// The saddle orbit at energy E, continued from the centre mode (at double) and refined in Real.
+template <class Real>
+saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                      const orbit_options<Real>& options = {});
+
+/// The saddle orbit at energy E refined from a guess (no continuation).
+template <class Real>
+saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                       const Real& energy, const orbit_guess<Real>& guess,
+                                       const orbit_options<Real>& options = {});
+
+/// The family through the given energies (increasing, each inside the family's range): a
+/// continuation at double from the centre mode (symmetric Newton corrector; secant predictor in
+/// -log(E_max - E); step halving on failure, recorded), then each requested orbit refined in Real
+/// by options.method. Throws input_error for an energy outside the range or a decreasing list.
+template <class Real>
+saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
+                                           const std::vector<Real>& energies,
+                                           const orbit_options<Real>& options = {});
+
+/// The absolute state (theta1, theta2, l1, l2) on the orbit at time t (any real t; reduced modulo
+/// T and by the orbit's time-reversal and reflection symmetries to the stored quarter orbit).
+template <class Real>
+phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_orbit<Real>& orbit,
+                              const Real& t);
+
+/// Throws input_error unless E_s(a) < E < E_max.
+template <class Real>
+void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& energy);
+
+#define FLIPFLUX_ORBIT_EXTERN(R)                                                                   \
+    extern template int default_stages<R>();                                                       \
+    extern template floquet_multipliers<R> floquet_analysis<R>(                                    \
+        const std::array<std::array<R, 4>, 4>&);                                                   \
+    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);                \
+    extern template saddle_orbit<R> solve_saddle_orbit<R>(const double_pendulum<R>&, arm,          \
+                                                          const R&, const orbit_options<R>&);      \
+    extern template saddle_orbit<R> refine_saddle_orbit<R>(                                        \
+        const double_pendulum<R>&, arm, const R&, const orbit_guess<R>&, const orbit_options<R>&); \
+    extern template saddle_family<R> continue_saddle_family<R>(                                    \
+        const double_pendulum<R>&, arm, const std::vector<R>&, const orbit_options<R>&);           \
+    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,                       \
+                                                  const saddle_orbit<R>&, const R&);               \
+    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const R&)
+FLIPFLUX_ORBIT_EXTERN(double);
+FLIPFLUX_ORBIT_EXTERN(quad);
+FLIPFLUX_ORBIT_EXTERN(mp50);
+FLIPFLUX_ORBIT_EXTERN(mp100);
+#undef FLIPFLUX_ORBIT_EXTERN
+
+}  // namespace flipflux

@@ -1,0 +1,246 @@
+// The two shooting formulations of the saddle orbit (paper Sec. 5.4; docs/theory.md#saddle-orbits).
+//
+// Start at the saddle with the circularised momentum y = M*^{-1/2} l of fixed length:
+//     l0(beta) = sqrt(2 (E - E_s)) S u(beta),   S = M*^{1/2},   u = (cos beta, sin beta),
+// so that 1/2 l0^T M*^-1 l0 = E - E_s exactly (S is the symmetric square root,
+// S = (M* + sqrt(D0) I) / sqrt(tr M* + 2 sqrt(D0)) by Cayley-Hamilton).
+//
+// Periodic shooting (the paper's): unknowns (beta, T), residual r = x(T) - x(0) (4 components),
+// Jacobian [(Phi(T) - I) dx0/dbeta, f(x(T))] from the variational equations.
+// Symmetric shooting (time reversal): unknowns (beta, tau), residual l(tau) = 0 (the brake point
+// at a quarter period, T = 4 tau), Jacobian [Phi_ll(tau) dl0/dbeta, l'(tau)].
+// Residuals are divided by sqrt(2 (E - E_s)), which makes the problem O(1) at every energy.
+//
+// Both integrate with equal Gauss-Legendre steps h = duration / steps, so the residual is a
+// smooth function of the unknowns (an adaptive step sequence would not be).
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/orbits/saddle_frame.hpp"
+
+namespace flipflux::detail {
+
+template <class Real>
+struct shooting_setup {
+    saddle_frame<Real> frame;
+    Real excess;           ///< E - E_s > 0
+    Real momentum_scale;   ///< sqrt(2 (E - E_s))
+    sym2<Real> root_mass;  ///< S = M*^{1/2}
+    int stages;
+
+    shooting_setup(const double_pendulum<Real>& model, arm a, const Real& excess_energy, int s)
+        : frame(model, a), excess(excess_energy), stages(s) {
+        using std::sqrt;
+        momentum_scale = sqrt(2 * excess);
+        const auto& k = frame.coefficients();
+        const Real r = sqrt(k.D0);
+        const Real n = sqrt(k.A + k.B + 2 * r);
+        root_mass = {(k.A + r) / n, -k.C / n, (k.B + r) / n};
+    }
+
+    /// l0(beta).
+    std::array<Real, 2> momentum(const Real& beta) const {
+        using std::cos;
+        using std::sin;
+        const Real c = cos(beta), s = sin(beta);
+        return {momentum_scale * (root_mass.xx * c + root_mass.xy * s),
+                momentum_scale * (root_mass.xy * c + root_mass.yy * s)};
+    }
+    /// dl0 / dbeta.
+    std::array<Real, 2> momentum_derivative(const Real& beta) const {
+        using std::cos;
+        using std::sin;
+        const Real c = cos(beta), s = sin(beta);
+        return {momentum_scale * (-root_mass.xx * s + root_mass.xy * c),
+                momentum_scale * (-root_mass.xy * s + root_mass.yy * c)};
+    }
+    /// The direction beta of a momentum l at the saddle: y = S^-1 l.
+    Real direction_of(const std::array<Real, 2>& l) const {
+        using std::atan2;
+        // S^-1 = adj(S) / det S; det S > 0, so the direction is that of adj(S) l
+        const Real y1 = root_mass.yy * l[0] - root_mass.xy * l[1];
+        const Real y2 = -root_mass.xy * l[0] + root_mass.xx * l[1];
+        return atan2(y2, y1);
+    }
+    std::array<Real, 4> start(const Real& beta) const {
+        const auto l = momentum(beta);
+        return {Real(0), Real(0), l[0], l[1]};
+    }
+};
+
+/// The end of an integration with the variational equations.
+template <class Real>
+struct variational_end {
+    std::array<Real, 4> x;                   ///< frame state
+    Real action;                             ///< int l.w dt
+    std::array<std::array<Real, 4>, 4> phi;  ///< state transition matrix
+    integration_statistics statistics;
+    bool success = false;
+};
+
+template <class Real>
+variational_end<Real> integrate_variational(const shooting_setup<Real>& setup,
+                                            const std::array<Real, 4>& x0, const Real& duration,
+                                            long steps) {
+    std::array<Real, 21> y;
+    for (int k = 0; k < 4; ++k)
+        y[k] = x0[k];
+    y[4] = 0;
+    for (int i = 0; i < 16; ++i)
+        y[5 + i] = (i % 5 == 0) ? Real(1) : Real(0);
+    gauss_legendre<Real, 21> gl(setup.stages);
+    variational_end<Real> out;
+    const auto r =
+        gl.integrate(orbit_variational_flow<Real>{&setup.frame}, y, duration / steps, steps);
+    out.success = r.success;
+    out.statistics = r.statistics;
+    for (int k = 0; k < 4; ++k)
+        out.x[k] = y[k];
+    out.action = y[4];
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            out.phi[i][j] = y[5 + 4 * i + j];
+    return out;
+}
+
+/// The end of a plain integration (state and action, no variational equations).
+template <class Real>
+struct state_end {
+    std::array<Real, 4> x;
+    Real action;
+    integration_statistics statistics;
+    bool success = false;
+};
+
+template <class Real>
+state_end<Real> integrate_state(const shooting_setup<Real>& setup, const std::array<Real, 4>& x0,
+                                const Real& duration, long steps) {
+    std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
+    gauss_legendre<Real, 5> gl(setup.stages);
+    const auto r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, duration / steps, steps);
+    state_end<Real> out;
+    out.success = r.success;
+    out.statistics = r.statistics;
+    for (int k = 0; k < 4; ++k)
+        out.x[k] = y[k];
+    out.action = y[4];
+    return out;
+}
+
+/// Periodic-shooting residual r (scaled) and Jacobian d r / d(beta, T) at (beta, T).
+template <class Real>
+struct periodic_residual {
+    std::array<Real, 4> r;
+    std::array<std::array<Real, 2>, 4> jacobian;
+    variational_end<Real> end;
+};
+
+template <class Real>
+periodic_residual<Real> periodic_shooting(const shooting_setup<Real>& setup, const Real& beta,
+                                          const Real& period, long steps) {
+    periodic_residual<Real> out;
+    const auto x0 = setup.start(beta);
+    out.end = integrate_variational(setup, x0, period, steps);
+    const auto& e = out.end;
+    std::array<Real, 4> f;
+    setup.frame.rhs(e.x, f);
+    const auto dl = setup.momentum_derivative(beta);
+    const Real inv = 1 / setup.momentum_scale;
+    for (int i = 0; i < 4; ++i) {
+        out.r[i] = (e.x[i] - x0[i]) * inv;
+        // (Phi - I) dx0/dbeta with dx0/dbeta = (0, 0, dl)
+        Real v = e.phi[i][2] * dl[0] + e.phi[i][3] * dl[1];
+        if (i >= 2) v -= dl[i - 2];
+        out.jacobian[i][0] = v * inv;
+        out.jacobian[i][1] = f[i] * inv;
+    }
+    return out;
+}
+
+/// Symmetric-shooting residual l(tau) (scaled) and Jacobian d l(tau) / d(beta, tau).
+template <class Real>
+struct symmetric_residual {
+    std::array<Real, 2> r;
+    std::array<std::array<Real, 2>, 2> jacobian;
+    variational_end<Real> end;
+};
+
+template <class Real>
+symmetric_residual<Real> symmetric_shooting(const shooting_setup<Real>& setup, const Real& beta,
+                                            const Real& quarter, long steps) {
+    symmetric_residual<Real> out;
+    const auto x0 = setup.start(beta);
+    out.end = integrate_variational(setup, x0, quarter, steps);
+    const auto& e = out.end;
+    std::array<Real, 4> f;
+    setup.frame.rhs(e.x, f);
+    const auto dl = setup.momentum_derivative(beta);
+    const Real inv = 1 / setup.momentum_scale;
+    for (int i = 0; i < 2; ++i) {
+        out.r[i] = e.x[2 + i] * inv;
+        out.jacobian[i][0] = (e.phi[2 + i][2] * dl[0] + e.phi[2 + i][3] * dl[1]) * inv;
+        out.jacobian[i][1] = f[2 + i] * inv;
+    }
+    return out;
+}
+
+/// Least-squares solution of the 4x2 system J dx = r by Householder QR (J full column rank).
+template <class Real>
+std::array<Real, 2> least_squares_4x2(std::array<std::array<Real, 2>, 4> J, std::array<Real, 4> r) {
+    using std::abs;
+    using std::sqrt;
+    for (int col = 0; col < 2; ++col) {
+        Real norm = 0;
+        for (int i = col; i < 4; ++i)
+            norm += J[i][col] * J[i][col];
+        norm = sqrt(norm);
+        if (norm == 0) continue;
+        const Real alpha = J[col][col] > 0 ? -norm : norm;
+        std::array<Real, 4> v{};
+        for (int i = col; i < 4; ++i)
+            v[i] = J[i][col];
+        v[col] -= alpha;
+        Real vv = 0;
+        for (int i = col; i < 4; ++i)
+            vv += v[i] * v[i];
+        if (vv == 0) continue;
+        for (int c = col; c < 2; ++c) {
+            Real dot = 0;
+            for (int i = col; i < 4; ++i)
+                dot += v[i] * J[i][c];
+            const Real f = 2 * dot / vv;
+            for (int i = col; i < 4; ++i)
+                J[i][c] -= f * v[i];
+        }
+        Real dot = 0;
+        for (int i = col; i < 4; ++i)
+            dot += v[i] * r[i];
+        const Real f = 2 * dot / vv;
+        for (int i = col; i < 4; ++i)
+            r[i] -= f * v[i];
+    }
+    std::array<Real, 2> x;
+    x[1] = r[1] / J[1][1];
+    x[0] = (r[0] - J[0][1] * x[1]) / J[0][0];
+    return x;
+}
+
+/// Solution of the 2x2 system J dx = r (partial pivoting).
+template <class Real>
+std::array<Real, 2> solve_2x2(const std::array<std::array<Real, 2>, 2>& J,
+                              const std::array<Real, 2>& r) {
+    using std::abs;
+    const bool swap = abs(J[1][0]) > abs(J[0][0]);
+    const auto& a = swap ? J[1] : J[0];
+    const auto& b = swap ? J[0] : J[1];
+    const Real ra = swap ? r[1] : r[0], rb = swap ? r[0] : r[1];
+    const Real m = b[0] / a[0];
+    const Real x1 = (rb - m * ra) / (b[1] - m * a[1]);
+    const Real x0 = (ra - a[1] * x1) / a[0];
+    return {x0, x1};
+}
+
+}  // namespace flipflux::detail

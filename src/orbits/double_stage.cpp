@@ -1,0 +1,236 @@
+// The double-precision stage of the saddle-orbit solver (see orbits/double_stage.hpp): Ceres for
+// the paper's periodic shooting, a damped Newton iteration for the symmetric formulation.
+#include "flipflux/orbits/double_stage.hpp"
+
+#include <ceres/ceres.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "flipflux/orbits/shooting.hpp"
+
+namespace flipflux::detail {
+namespace {
+
+/// r(beta, T) = (x(T) - x(0)) / sqrt(2 (E - E_s)), Jacobian from the variational equations.
+class periodic_cost final : public ceres::SizedCostFunction<4, 2> {
+  public:
+    periodic_cost(const shooting_setup<double>& setup, long steps) : setup_(setup), steps_(steps) {}
+
+    bool Evaluate(double const* const* parameters, double* residuals,
+                  double** jacobians) const override {
+        const double beta = parameters[0][0], period = parameters[0][1];
+        if (!(period > 0) || !std::isfinite(beta)) return false;
+        if (jacobians == nullptr || jacobians[0] == nullptr) {
+            // residual only (trial points of the trust region): no variational equations
+            const auto x0 = setup_.start(beta);
+            const auto end = integrate_state(setup_, x0, period, steps_);
+            if (!end.success) return false;
+            for (int i = 0; i < 4; ++i)
+                residuals[i] = (end.x[i] - x0[i]) / setup_.momentum_scale;
+            return true;
+        }
+        const auto pr = periodic_shooting(setup_, beta, period, steps_);
+        if (!pr.end.success) return false;
+        for (int i = 0; i < 4; ++i) {
+            residuals[i] = pr.r[i];
+            jacobians[0][2 * i] = pr.jacobian[i][0];
+            jacobians[0][2 * i + 1] = pr.jacobian[i][1];
+        }
+        return true;
+    }
+
+  private:
+    const shooting_setup<double>& setup_;
+    long steps_;
+};
+
+}  // namespace
+
+double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model, arm a,
+                                            double excess, double beta0, double period0, long steps,
+                                            int stages) {
+    const shooting_setup<double> setup(model, a, excess, stages);
+    double x[2] = {beta0, period0};
+    ceres::Problem::Options problem_options;
+    problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    problem.AddResidualBlock(new periodic_cost(setup, steps), nullptr, x);
+    problem.SetParameterLowerBound(x, 1, period0 / 4);
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::DENSE_QR;
+    options.logging_type = ceres::SILENT;
+    options.minimizer_progress_to_stdout = false;
+    options.max_num_iterations = 40;
+    // NOTE: the residual is zero at the solution, so only the step-size test is meaningful; the
+    // cost and gradient tests are disabled (set far below what double can reach). The Real
+    // polish that follows takes the result to the working precision.
+    options.function_tolerance = 1e-30;
+    options.gradient_tolerance = 1e-30;
+    options.parameter_tolerance = 1e-14;
+    options.num_threads = 1;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    double_stage_result r;
+    r.beta = x[0];
+    r.period = x[1];
+    r.iterations = static_cast<int>(summary.iterations.size());
+    r.residual = std::sqrt(2 * summary.final_cost);
+    // converged = Ceres found a zero of the residual (the cost is a sum of squares that vanishes
+    // at the orbit; a local minimum with a non-zero cost is not an orbit)
+    r.converged = summary.IsSolutionUsable() && r.residual < 1e-6;
+    r.report = summary.BriefReport();
+    return r;
+}
+
+double_stage_result newton_symmetric_shooting(const double_pendulum<double>& model, arm a,
+                                              double excess, double beta0, double period0,
+                                              long quarter_steps, int stages) {
+    const shooting_setup<double> setup(model, a, excess, stages);
+    double beta = beta0, tau = period0 / 4;
+    double_stage_result out;
+    double last = HUGE_VAL;
+    int it = 0;
+    for (it = 1; it <= 60; ++it) {
+        const auto sr = symmetric_shooting(setup, beta, tau, quarter_steps);
+        if (!sr.end.success) break;
+        out.residual = std::hypot(sr.r[0], sr.r[1]);
+        auto d = solve_2x2(sr.jacobian, sr.r);
+        if (!std::isfinite(d[0]) || !std::isfinite(d[1])) break;
+        // damping: at most 0.3 rad in beta and 30 % of tau per step
+        const double damp = std::min({1.0, 0.3 / std::max(std::abs(d[0]), 1e-300),
+                                      0.3 * tau / std::max(std::abs(d[1]), 1e-300)});
+        beta -= damp * d[0];
+        tau -= damp * d[1];
+        const double size = std::max(std::abs(d[0]) / (1 + std::abs(beta)), std::abs(d[1]) / tau);
+        if (damp == 1.0 && (size <= 1e-14 || (size >= last / 2 && size <= 1e-10))) {
+            out.converged = true;
+            break;
+        }
+        last = damp == 1.0 ? size : HUGE_VAL;
+    }
+    out.beta = beta;
+    out.period = 4 * tau;
+    out.iterations = it;
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "Newton (symmetric): %d iterations, |l(tau)|/sqrt(2 dE) = %.3e, %s", it,
+                  out.residual, out.converged ? "converged" : "not converged");
+    out.report = buf;
+    return out;
+}
+
+namespace {
+
+/// beta reduced to (-pi, pi].
+double wrap_angle(double b) {
+    return std::remainder(b, 2 * M_PI);
+}
+
+/// Steps for one shooting integration (a period if `periodic`, else a quarter) at `tolerance`
+/// (relative to the orbit's scale), from a guess. NOTE: chosen on the quarter orbit in both
+/// cases; a full period's endpoint error is amplified by the multiplier.
+long shooting_steps(const shooting_setup<double>& setup, double beta, double period,
+                    double tolerance, bool periodic) {
+    const double duration = period / 4;
+    const auto x0 = setup.start(beta);
+    const std::array<double, 5> y0{x0[0], x0[1], x0[2], x0[3], 0.0};
+    // scales: angles ~ momenta / sqrt(A) (order of the orbit's displacement), momenta ~ |l0|,
+    // action ~ (E - E_s) T
+    const double lscale = std::max(std::abs(x0[2]), std::abs(x0[3]));
+    const double k = setup.frame.coefficients().A + setup.frame.coefficients().B;
+    const double dscale = lscale / std::sqrt(k) * std::max(1.0, duration);
+    const std::array<double, 5> scale{dscale, dscale, lscale, lscale,
+                                      setup.excess * std::max(1.0, duration)};
+    const auto est = steps_for_tolerance<double, 5>(orbit_flow<double>{&setup.frame}, y0, duration,
+                                                    tolerance, setup.stages, scale, 4);
+    return periodic ? 4 * est.steps : est.steps;
+}
+
+}  // namespace
+
+double_continuation continue_double(const double_pendulum<double>& model, arm a, bool periodic,
+                                    int stages, double tolerance, double beta_lin,
+                                    double period_lin, const std::vector<double>& targets) {
+    double_continuation out;
+    if (targets.empty()) {
+        out.success = true;
+        return out;
+    }
+    const double range = model.maximum_energy() - model.saddle_energy(a);
+    auto sigma = [&](double excess) { return -std::log(range - excess); };
+    auto solve = [&](double excess, double beta, double period) {
+        const shooting_setup<double> setup(model, a, excess, stages);
+        const long n = shooting_steps(setup, beta, period, tolerance, periodic);
+        return periodic ? ceres_periodic_shooting(model, a, excess, beta, period, n, stages)
+                        : newton_symmetric_shooting(model, a, excess, beta, period, n, stages);
+    };
+    std::size_t next_target = 0;
+    auto record = [&](double excess, double beta, double period) {
+        const bool requested = next_target < targets.size() && excess == targets[next_target];
+        if (requested) ++next_target;
+        out.orbits.push_back({excess, beta, period, requested});
+    };
+    // the centre mode itself (E - E_s = 0) is the secant's first point
+    std::vector<double_orbit> known{{0.0, beta_lin, period_lin, false}};
+    {
+        // the first orbit at a small excess, where the linear guess is O(excess) off
+        const double e0 = std::min(targets.front(), 1e-4 * range);
+        const auto r = solve(e0, beta_lin, period_lin);
+        out.steps.push_back({0, e0, r.converged, r.iterations, r.converged ? "" : r.report});
+        if (!r.converged || std::abs(r.period - period_lin) > 0.2 * period_lin) {
+            out.stop_reason = "no orbit near the centre mode at E - E_s = " + std::to_string(e0) +
+                              ": " + r.report;
+            return out;
+        }
+        known.push_back({e0, wrap_angle(r.beta), r.period, false});
+        record(e0, known.back().beta, known.back().period);
+        out.highest_excess = e0;
+    }
+    double dsigma = 0.25;
+    const double min_dsigma = 1e-7;
+    while (next_target < targets.size()) {
+        const double target = targets[next_target];
+        const double_orbit& last = known.back();
+        double next = range - (range - last.excess) * std::exp(-dsigma);
+        if (next > target || target - next < 1e-3 * (next - last.excess)) next = target;
+        // secant predictor in sigma
+        const double_orbit& prev = known[known.size() - 2];
+        const double f =
+            (sigma(next) - sigma(last.excess)) / (sigma(last.excess) - sigma(prev.excess));
+        const double beta = last.beta + f * wrap_angle(last.beta - prev.beta);
+        const double period = last.period + f * (last.period - prev.period);
+        const auto r = solve(next, beta, period);
+        const double dbeta = std::abs(wrap_angle(r.beta - beta));
+        const bool accepted =
+            r.converged && dbeta < 0.5 && std::abs(r.period - period) < 0.25 * period;
+        continuation_step st{last.excess, next, accepted, r.iterations, ""};
+        if (!accepted) {
+            st.note = !r.converged ? "corrector failed: " + r.report
+                                   : "corrector left the family (beta moved " +
+                                         std::to_string(dbeta) + ", T " + std::to_string(r.period) +
+                                         " for predicted " + std::to_string(period) + ")";
+            out.steps.push_back(st);
+            ++out.halvings;
+            dsigma /= 2;
+            if (dsigma < min_dsigma) {
+                out.stop_reason =
+                    "step size fell below " + std::to_string(min_dsigma) +
+                    " in -log(E_max - E) at E - E_s = " + std::to_string(last.excess) + ": " +
+                    st.note;
+                return out;
+            }
+            continue;
+        }
+        out.steps.push_back(st);
+        known.push_back({next, wrap_angle(r.beta), r.period, false});
+        if (known.size() > 2) known.erase(known.begin());
+        record(next, known.back().beta, known.back().period);
+        out.highest_excess = next;
+        if (r.iterations <= 6) dsigma = std::min(1.0, dsigma * 1.5);
+    }
+    out.success = true;
+    return out;
+}
+
+}  // namespace flipflux::detail

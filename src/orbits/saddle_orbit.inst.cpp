@@ -1,0 +1,457 @@
+// Saddle orbits in Real: the centre-mode guess, the double stage, the Newton / Gauss-Newton polish
+// in Real, the final quarter orbit, action, turning points, monodromy and Floquet multipliers
+// (see orbits/saddle_orbit.hpp and docs/theory.md#saddle-orbits).
+#include <cmath>
+#include <string>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/instantiate.hpp"
+#include "flipflux/model/critical_points.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/double_stage.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
+#include "flipflux/orbits/shooting.hpp"
+
+namespace flipflux {
+
+template <class Real>
+int default_stages() {
+    if constexpr (std::is_same_v<Real, double>)
+        return 6;
+    else if constexpr (std::is_same_v<Real, quad>)
+        return 10;
+    else if constexpr (std::is_same_v<Real, mp50>)
+        return 14;
+    else
+        return 20;
+}
+
+template <class Real>
+void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& energy) {
+    using boost::multiprecision::isfinite;
+    using std::isfinite;
+    const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
+    if (!isfinite(energy) || !(energy > lo) || !(energy < hi)) {
+        throw input_error("--energy: '" + to_decimal(energy) + "' is outside the arm-" +
+                          to_string(a) + " saddle-orbit family's range (" + to_decimal(lo) + ", " +
+                          to_decimal(hi) + "), open at both ends");
+    }
+}
+
+template <class Real>
+orbit_guess<Real> linear_guess(const double_pendulum<Real>& model, arm a) {
+    using std::sqrt;
+    const critical_point<Real> cp = flip_saddle(model, a);
+    const normal_mode<Real>& centre = cp.modes[0];  // oscillatory: largest omega^2 > 0
+    std::array<Real, 2> dir = centre.direction;
+    const int s = a == arm::two ? 0 : 1;
+    if (dir[s] < 0) dir = {-dir[0], -dir[1]};  // start towards positive s
+    // velocity along the mode, momentum l = M* a, circularised y = S^-1 l = S a
+    const detail::shooting_setup<Real> setup(model, a, Real(1), 1);
+    const sym2<Real> m = setup.frame.saddle_mass_matrix();
+    const std::array<Real, 2> l{m.xx * dir[0] + m.xy * dir[1], m.xy * dir[0] + m.yy * dir[1]};
+    return {setup.direction_of(l), two_pi<Real>() / centre.rate};
+}
+
+namespace {
+
+template <class Real>
+double_pendulum<double> to_double(const double_pendulum<Real>& model) {
+    const auto& p = model.parameters();
+    physical_parameters<double> q;
+    q.m1 = static_cast<double>(p.m1);
+    q.m2 = static_cast<double>(p.m2);
+    q.L1 = static_cast<double>(p.L1);
+    q.L2 = static_cast<double>(p.L2);
+    q.a1 = static_cast<double>(p.a1);
+    q.a2 = static_cast<double>(p.a2);
+    q.I1 = static_cast<double>(p.I1);
+    q.I2 = static_cast<double>(p.I2);
+    q.g = static_cast<double>(p.g);
+    return double_pendulum<double>(q);
+}
+
+template <class Real>
+Real default_tolerance() {
+    return 64 * std::numeric_limits<Real>::epsilon();
+}
+
+/// Integration scales of the frame state (+ action) from an approximate orbit.
+template <class Real>
+std::array<Real, 5> orbit_scales(const detail::shooting_setup<Real>& setup, const Real& beta,
+                                 const Real& period) {
+    using std::abs;
+    using std::max;
+    using std::sqrt;
+    const auto x0 = setup.start(beta);
+    const Real lscale = max(abs(x0[2]), abs(x0[3]));
+    const auto& k = setup.frame.coefficients();
+    // displacement ~ |w| T / (2 pi), |w| ~ |l| / (A + B)
+    const Real dscale = lscale / (k.A + k.B) * period / 4;
+    return {dscale, dscale, lscale, lscale, setup.excess * period};
+}
+
+}  // namespace
+
+template <class Real>
+saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                       const Real& energy, const orbit_guess<Real>& guess,
+                                       const orbit_options<Real>& options) {
+    using std::abs;
+    using std::max;
+    check_orbit_energy(model, a, energy);
+    const bool periodic = options.method == orbit_method::periodic;
+    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
+    const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
+    const Real excess = energy - model.saddle_energy(a);
+    const Real eps = std::numeric_limits<Real>::epsilon();
+
+    saddle_orbit<Real> orbit;
+    orbit.flip_arm = a;
+    orbit.energy = energy;
+    orbit.excess = excess;
+    orbit.method = options.method;
+    orbit.stages = stages;
+    orbit.tolerance = tol;
+
+    // ---- double stage ---------------------------------------------------------------------
+    Real beta = guess.beta, period = guess.period;
+    {
+        const double_pendulum<double> md = to_double(model);
+        const double ed = static_cast<double>(excess);
+        const int sd = default_stages<double>();
+        const detail::shooting_setup<double> sdset(md, a, ed, sd);
+        const double bd = static_cast<double>(beta), pd = static_cast<double>(period);
+        const auto sc = orbit_scales(sdset, bd, pd);
+        const auto x0 = sdset.start(bd);
+        const std::array<double, 5> y0{x0[0], x0[1], x0[2], x0[3], 0.0};
+        // NOTE: steps are chosen on the quarter orbit for both methods: the endpoint error of a
+        // full period is amplified by the multiplier, which says nothing about the local accuracy
+        const auto est = steps_for_tolerance<double, 5>(orbit_flow<double>{&sdset.frame}, y0,
+                                                        pd / 4, 1e-13, sd, sc, 4);
+        const long n = periodic ? 4 * est.steps : est.steps;
+        const auto r = periodic ? detail::ceres_periodic_shooting(md, a, ed, bd, pd, n, sd)
+                                : detail::newton_symmetric_shooting(md, a, ed, bd, pd, n, sd);
+        orbit.double_stage = r.report;
+        if (!r.converged) {
+            orbit.status = orbit_status::not_converged;
+            return orbit;
+        }
+        beta = Real(std::remainder(r.beta, 2 * M_PI));
+        period = Real(r.period);
+    }
+
+    // ---- polish in Real ----------------------------------------------------------------------
+    const detail::shooting_setup<Real> setup(model, a, excess, stages);
+    const auto scale = orbit_scales(setup, beta, period);
+    long steps;
+    Real integration_error;
+    {
+        const auto x0 = setup.start(beta);
+        const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
+        const auto est = steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
+                                                      period / 4, tol, stages, scale, 4);
+        steps = periodic ? 4 * est.steps : est.steps;
+        integration_error = est.error_estimate;
+    }
+    orbit.steps = steps;
+    Real last = std::numeric_limits<Real>::max();
+    std::array<std::array<Real, 4>, 4> phi{};
+    std::array<std::array<Real, 2>, 4> jac4{};  // last Jacobian (periodic)
+    std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
+    Real beta_at_jacobian = beta;
+    bool converged = false, stalled = false, failed = false;
+    int it = 0;
+    for (it = 1; it <= options.max_newton_iterations; ++it) {
+        std::array<Real, 2> d;
+        if (periodic) {
+            const auto pr = detail::periodic_shooting(setup, beta, period, steps);
+            if (!pr.end.success) {
+                failed = true;
+                break;
+            }
+            Real rn = 0;
+            for (const Real& v : pr.r)
+                rn += v * v;
+            using std::sqrt;
+            orbit.residual = sqrt(rn);
+            phi = pr.end.phi;
+            jac4 = pr.jacobian;
+            beta_at_jacobian = beta;
+            d = detail::least_squares_4x2(pr.jacobian, pr.r);
+        } else {
+            const auto sr = detail::symmetric_shooting(setup, beta, period / 4, steps);
+            if (!sr.end.success) {
+                failed = true;
+                break;
+            }
+            using std::sqrt;
+            orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
+            phi = sr.end.phi;
+            jac2 = sr.jacobian;
+            beta_at_jacobian = beta;
+            d = detail::solve_2x2(sr.jacobian, sr.r);
+            d[1] *= 4;  // tau -> T
+        }
+        using boost::multiprecision::isfinite;
+        using std::isfinite;
+        if (!isfinite(d[0]) || !isfinite(d[1])) {
+            failed = true;
+            break;
+        }
+        beta -= d[0];
+        period -= d[1];
+        const Real size = max(abs(d[0]), abs(d[1]) / period);
+        orbit.last_update = size;
+        // NOTE: Newton converges quadratically (up to the O(tol) inexactness of the T column), so
+        // an update at the tolerance means the next would be at rounding; a stall (no halving)
+        // means the rounding floor of the residual is reached.
+        // the next update predicted at the observed rate (conservative for quadratic
+        // convergence): stop when it would be below the tolerance
+        const Real predicted = it >= 2 ? size * size / last : std::numeric_limits<Real>::max();
+        if (size <= tol || predicted <= tol / 4) {
+            converged = true;
+            break;
+        }
+        if (it >= 3 && size > last / 2) {
+            stalled = size <= sqrt(tol);
+            if (stalled) break;
+        }
+        last = size;
+    }
+    orbit.newton_iterations = it;
+    if (failed || (!converged && !stalled)) {
+        orbit.status = orbit_status::not_converged;
+        return orbit;
+    }
+    orbit.status = converged ? orbit_status::converged : orbit_status::stalled;
+    using std::remainder;
+    orbit.beta = beta;
+    orbit.period = period;
+
+    // ---- the final orbit: quarter grid, action, turning points ------------------------------
+    const auto x0 = setup.start(beta);
+    const long quarter_steps = periodic ? steps / 4 : steps;
+    orbit.quarter_step = periodic ? period / steps : period / 4 / steps;
+    orbit.quarter.reserve(static_cast<std::size_t>(quarter_steps + 1));
+    orbit.quarter.push_back(x0);
+    {
+        std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
+        gauss_legendre<Real, 5> gl(stages);
+        const auto r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, orbit.quarter_step,
+                                    quarter_steps, [&](long, const std::array<Real, 5>& z) {
+                                        orbit.quarter.push_back({z[0], z[1], z[2], z[3]});
+                                    });
+        if (!r.success) {
+            orbit.status = orbit_status::not_converged;
+            return orbit;
+        }
+        // NOTE: F = 4 x the quarter's action (time reversal and reflection map the quarter onto
+        // the other three). Integrating the whole period instead would follow the unstable orbit
+        // for four times longer, with rounding errors amplified by |mu| instead of |mu|^(1/4).
+        orbit.action = 4 * y[4];
+    }
+    Real energy_error = 0;
+    for (const auto& z : orbit.quarter) {
+        const Real e = abs(setup.frame.excess_energy(z) - excess) / excess;
+        if (e > energy_error) energy_error = e;
+    }
+    orbit.energy_error = energy_error;
+    const auto q = setup.frame.saddle();
+    orbit.saddle = q;
+    orbit.start = setup.frame.absolute(x0);
+    const auto& tp = orbit.quarter.back();
+    orbit.turning_points = {std::array<Real, 2>{q[0] + tp[0], q[1] + tp[1]},
+                            std::array<Real, 2>{q[0] - tp[0], q[1] - tp[1]}};
+
+    // ---- monodromy -----------------------------------------------------------------------------
+    if (periodic) {
+        orbit.monodromy = phi;
+    } else {
+        // M = (R Phi_q^-1 R Phi_q)^2 with Phi_q^-1 = -J Phi_q^T J (symplectic), R = diag(1,1,-1,-1)
+        std::array<std::array<Real, 4>, 4> inv{}, half{};
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                // (-J Phi^T J)_ij: J = [[0, I], [-I, 0]]; (Phi^-1)_ij = s_ij Phi_{j', i'}
+                const int ii = (i + 2) % 4, jj = (j + 2) % 4;
+                const int sgn = ((i < 2) == (j < 2)) ? 1 : -1;
+                inv[i][j] = sgn * phi[jj][ii];
+            }
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                Real v = 0;
+                for (int k = 0; k < 4; ++k) {
+                    const int ri = i < 2 ? 1 : -1, rk = k < 2 ? 1 : -1;
+                    v += ri * inv[i][k] * rk * phi[k][j];
+                }
+                half[i][j] = v;
+            }
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                Real v = 0;
+                for (int k = 0; k < 4; ++k)
+                    v += half[i][k] * half[k][j];
+                orbit.monodromy[i][j] = v;
+            }
+    }
+    orbit.floquet = floquet_analysis(orbit.monodromy);
+
+    // ---- dT/dE from the last Jacobian: J (dbeta, dT)/dE = -dr/dE, where x0 depends on E through
+    // l0 = sqrt(2 (E - E_s)) S u(beta), dl0/dE = l0 / (2 (E - E_s)) ------------------------------
+    {
+        const auto l0 = setup.momentum(beta_at_jacobian);
+        const Real inv = 1 / (2 * excess * setup.momentum_scale);  // scaled residuals
+        const std::array<Real, 2> dl{l0[0] * inv, l0[1] * inv};
+        if (periodic) {
+            std::array<Real, 4> dr;
+            for (int i = 0; i < 4; ++i) {
+                Real v = phi[i][2] * dl[0] + phi[i][3] * dl[1];
+                if (i >= 2) v -= dl[i - 2];
+                dr[i] = -v;
+            }
+            orbit.period_derivative = detail::least_squares_4x2(jac4, dr)[1];
+        } else {
+            std::array<Real, 2> dr;
+            for (int i = 0; i < 2; ++i)
+                dr[i] = -(phi[2 + i][2] * dl[0] + phi[2 + i][3] * dl[1]);
+            orbit.period_derivative = 4 * detail::solve_2x2(jac2, dr)[1];
+        }
+    }
+
+    // ---- error estimates ---------------------------------------------------------------------
+    // NOTE: besides the integration and Newton errors, rounding perturbs the orbit's energy by
+    // about eps E (plus the measured drift), which moves T by |dT/dE| dE: near E_max, where
+    // T ~ log(1 / (E_max - E)), this dominates the period's error (the action is well conditioned,
+    // dF/dE = T).
+    const Real rel = max({integration_error, orbit.last_update, 16 * eps});
+    const Real denergy = 4 * eps * energy + energy_error * excess;
+    orbit.error_estimate_period = rel * period + abs(orbit.period_derivative) * denergy;
+    orbit.error_estimate_action = rel * orbit.action + period * denergy;
+    return orbit;
+}
+
+template <class Real>
+saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                      const orbit_options<Real>& options) {
+    check_orbit_energy(model, a, energy);
+    const orbit_guess<Real> lin = linear_guess(model, a);
+    const double_pendulum<double> md = to_double(model);
+    const double target = static_cast<double>(energy - model.saddle_energy(a));
+    // NOTE: the continuation's corrector is the symmetric Newton iteration whatever the method:
+    // its basin is that of a quarter period, about sqrt(|mu|) times wider than the periodic
+    // shooting's (Ceres' continuation stalls near E_max, see docs/theory.md); the orbit itself
+    // is then found by the requested formulation from this guess.
+    const auto c = detail::continue_double(md, a, false, default_stages<double>(), 1e-12,
+                                           static_cast<double>(lin.beta),
+                                           static_cast<double>(lin.period), {target});
+    if (!c.success) {
+        saddle_orbit<Real> failed;
+        failed.flip_arm = a;
+        failed.energy = energy;
+        failed.excess = energy - model.saddle_energy(a);
+        failed.status = orbit_status::not_converged;
+        failed.double_stage = "continuation from the centre mode failed: " + c.stop_reason;
+        return failed;
+    }
+    const detail::double_orbit& o = c.orbits.back();
+    return refine_saddle_orbit(model, a, energy, orbit_guess<Real>{Real(o.beta), Real(o.period)},
+                               options);
+}
+
+template <class Real>
+saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
+                                           const std::vector<Real>& energies,
+                                           const orbit_options<Real>& options) {
+    saddle_family<Real> family;
+    family.flip_arm = a;
+    std::vector<double> targets;
+    for (std::size_t i = 0; i < energies.size(); ++i) {
+        check_orbit_energy(model, a, energies[i]);
+        if (i > 0 && !(energies[i] > energies[i - 1]))
+            throw input_error("--energy: the energies must increase ('" + to_decimal(energies[i]) +
+                              "' follows '" + to_decimal(energies[i - 1]) + "')");
+        targets.push_back(static_cast<double>(energies[i] - model.saddle_energy(a)));
+        if (i > 0 && !(targets[i] > targets[i - 1]))
+            throw input_error("--energy: '" + to_decimal(energies[i]) +
+                              "' is not distinguishable from the previous energy at double");
+    }
+    const orbit_guess<Real> lin = linear_guess(model, a);
+    const auto c = detail::continue_double(to_double(model), a, false, default_stages<double>(),
+                                           1e-12, static_cast<double>(lin.beta),
+                                           static_cast<double>(lin.period), targets);
+    family.steps = c.steps;
+    family.halvings = c.halvings;
+    family.highest_excess = c.highest_excess;
+    family.stop_reason = c.stop_reason;
+    std::size_t i = 0;
+    for (const detail::double_orbit& o : c.orbits) {
+        if (!o.requested) continue;
+        family.orbits.push_back(refine_saddle_orbit(
+            model, a, energies[i], orbit_guess<Real>{Real(o.beta), Real(o.period)}, options));
+        ++i;
+    }
+    return family;
+}
+
+template <class Real>
+phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_orbit<Real>& orbit,
+                              const Real& t) {
+    using std::floor;
+    if (orbit.quarter.size() < 2 || !(orbit.period > 0))
+        throw std::invalid_argument("orbit_state: the orbit has no solution stored");
+    const Real T = orbit.period, tau = T / 4;
+    Real u = t - floor(t / T) * T;  // [0, T)
+    int sign = 1;                   // P = -1 in frame coordinates
+    if (u >= 2 * tau) {
+        u -= 2 * tau;
+        sign = -1;
+    }
+    bool reversed = false;  // R: l -> -l, t -> 2 tau - t
+    if (u > tau) {
+        u = 2 * tau - u;
+        reversed = true;
+    }
+    const long n = static_cast<long>(orbit.quarter.size()) - 1;
+    long j = static_cast<long>(floor(u / orbit.quarter_step));
+    if (j < 0) j = 0;
+    if (j > n) j = n;
+    std::array<Real, 4> x = orbit.quarter[static_cast<std::size_t>(j)];
+    const Real dt = u - j * orbit.quarter_step;
+    if (dt != 0) {
+        const saddle_frame<Real> frame(model, orbit.flip_arm);
+        std::array<Real, 5> y{x[0], x[1], x[2], x[3], Real(0)};
+        gauss_legendre<Real, 5> gl(orbit.stages > 0 ? orbit.stages : default_stages<Real>());
+        gl.integrate(orbit_flow<Real>{&frame}, y, dt, 1);
+        x = {y[0], y[1], y[2], y[3]};
+    }
+    if (reversed) {
+        x[2] = -x[2];
+        x[3] = -x[3];
+    }
+    for (Real& v : x)
+        v *= sign;
+    const saddle_frame<Real> frame(model, orbit.flip_arm);
+    return frame.absolute(x);
+}
+
+template int default_stages<inst_real>();
+template void check_orbit_energy<inst_real>(const double_pendulum<inst_real>&, arm,
+                                            const inst_real&);
+template orbit_guess<inst_real> linear_guess<inst_real>(const double_pendulum<inst_real>&, arm);
+template saddle_orbit<inst_real> refine_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
+                                                                arm, const inst_real&,
+                                                                const orbit_guess<inst_real>&,
+                                                                const orbit_options<inst_real>&);
+template saddle_orbit<inst_real> solve_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
+                                                               arm, const inst_real&,
+                                                               const orbit_options<inst_real>&);
+template saddle_family<inst_real> continue_saddle_family<inst_real>(
+    const double_pendulum<inst_real>&, arm, const std::vector<inst_real>&,
+    const orbit_options<inst_real>&);
+template phase_point<inst_real> orbit_state<inst_real>(const double_pendulum<inst_real>&,
+                                                       const saddle_orbit<inst_real>&,
+                                                       const inst_real&);
+
+}  // namespace flipflux

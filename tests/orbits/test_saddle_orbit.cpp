@@ -1,0 +1,315 @@
+// Saddle orbits: the centre-mode guess against the paper's closed forms, the shooting Jacobians
+// against finite differences, the two formulations against each other, the small-orbit scaling
+// F ~ (E - E_s) T_lin, the monodromy's structure, the stored orbit against direct integration,
+// dT/dE against finite differences, continuation and bad input.
+#include <cmath>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
+#include "flipflux/orbits/shooting.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+template <class Real>
+class SaddleOrbitTyped : public ::testing::Test {};
+TYPED_TEST_SUITE(SaddleOrbitTyped, real_types, real_name);
+
+TYPED_TEST(SaddleOrbitTyped, LinearGuessIsThePapersCentreMode) {
+    using Real = TypeParam;
+    using std::abs;
+    using std::sqrt;
+    // egalitarian: omega^2 = sqrt 2 at both saddles (paper App. B), centre modes (1, 2 - sqrt 2)
+    // at (0, pi) and (1, 2 + sqrt 2) at (pi, 0)
+    const double_pendulum<Real> model;
+    const Real t_lin = two_pi<Real>() / sqrt(sqrt(Real(2)));
+    const double tol = 64 * static_cast<double>(eps<Real>());
+    for (arm a : {arm::two, arm::one}) {
+        const auto g = linear_guess(model, a);
+        EXPECT_LE(relative_error(g.period, t_lin), tol);
+        const Real a2 = a == arm::two ? 2 - sqrt(Real(2)) : 2 + sqrt(Real(2));
+        // momentum of the mode's velocity (1, a2): l = M* (1, a2), M* = [[2, -1], [-1, 1]]
+        const std::array<Real, 2> l{2 - a2, -1 + a2};
+        const detail::shooting_setup<Real> setup(model, a, Real(1), 1);
+        const auto l0 = setup.momentum(g.beta);
+        EXPECT_LE(static_cast<double>(
+                      abs(l0[0] * l[1] - l0[1] * l[0]) /
+                      (sqrt(l0[0] * l0[0] + l0[1] * l0[1]) * sqrt(l[0] * l[0] + l[1] * l[1]))),
+                  tol);
+        EXPECT_GT(l0[0] * l[0] + l0[1] * l[1], 0);
+    }
+}
+
+TEST(SaddleOrbit, ShootingJacobiansMatchFiniteDifferences) {
+    // at a point near (not on) the orbit; the T column of the periodic residual is f(x(T)),
+    // exact for the flow and O(tolerance) off for the discrete map whose differences we take
+    const double_pendulum<double> model;
+    for (arm a : {arm::two, arm::one}) {
+        const double excess = 0.8;
+        const detail::shooting_setup<double> setup(model, a, excess, 6);
+        const double beta = a == arm::two ? 0.11 : 1.2, period = 6.0;
+        const long steps = 200;
+        const auto pr = detail::periodic_shooting(setup, beta, period, steps);
+        const auto sr = detail::symmetric_shooting(setup, beta, period / 4, steps);
+        const double h = 1e-6;
+        for (int col = 0; col < 2; ++col) {
+            const double db = col == 0 ? h : 0, dt = col == 1 ? h : 0;
+            const auto pp = detail::periodic_shooting(setup, beta + db, period + dt, steps);
+            const auto pm = detail::periodic_shooting(setup, beta - db, period - dt, steps);
+            for (int i = 0; i < 4; ++i) {
+                const double fd = (pp.r[i] - pm.r[i]) / (2 * h);
+                EXPECT_NEAR(pr.jacobian[i][col], fd, 1e-6 * (1 + std::abs(fd)))
+                    << "periodic row " << i << " col " << col;
+            }
+            const auto sp = detail::symmetric_shooting(setup, beta + db, (period + dt) / 4, steps);
+            const auto sm = detail::symmetric_shooting(setup, beta - db, (period - dt) / 4, steps);
+            for (int i = 0; i < 2; ++i) {
+                const double fd = (sp.r[i] - sm.r[i]) / (2 * h);
+                const double an = col == 0 ? sr.jacobian[i][0] : sr.jacobian[i][1] / 4;
+                EXPECT_NEAR(an, fd, 1e-6 * (1 + std::abs(fd)))
+                    << "symmetric row " << i << " col " << col;
+            }
+        }
+    }
+}
+
+/// Parameter sets beyond the egalitarian pendulum.
+std::vector<physical_parameters<double>> parameter_sets() {
+    physical_parameters<double> heavy_top;  // heavy, short second link
+    heavy_top.m2 = 3;
+    heavy_top.L2 = 0.5;
+    heavy_top.a2 = 0.5;
+    physical_parameters<double> rods;  // two uniform rods of lengths 1 and 0.7
+    rods.m1 = 1;
+    rods.m2 = 0.7;
+    rods.L1 = 1;
+    rods.L2 = 0.7;
+    rods.a1 = 0.5;
+    rods.a2 = 0.35;
+    rods.I1 = 1.0 / 12;
+    rods.I2 = 0.7 * 0.49 / 12;
+    rods.g = 9.81;
+    return {physical_parameters<double>{}, heavy_top, rods};
+}
+
+TEST(SaddleOrbit, PeriodicAndSymmetricFormulationsGiveTheSameOrbit) {
+    for (const auto& p : parameter_sets()) {
+        const double_pendulum<double> model(p);
+        for (arm a : {arm::two, arm::one}) {
+            const double lo = model.saddle_energy(a), hi = model.maximum_energy();
+            for (double f : {0.3, 0.8}) {
+                const double E = lo + f * (hi - lo);
+                const auto per = solve_saddle_orbit(model, a, E, {orbit_method::periodic});
+                const auto sym = solve_saddle_orbit(model, a, E, {orbit_method::symmetric});
+                ASSERT_EQ(per.status, orbit_status::converged) << E;
+                ASSERT_EQ(sym.status, orbit_status::converged) << E;
+                EXPECT_LE(relative_error(per.period, sym.period),
+                          (per.error_estimate_period + sym.error_estimate_period) / per.period)
+                    << "E = " << E << " arm " << int(a);
+                EXPECT_LE(relative_error(per.action, sym.action),
+                          (per.error_estimate_action + sym.error_estimate_action) / per.action)
+                    << "E = " << E;
+                EXPECT_NEAR(per.beta, sym.beta, 1e-12);
+                EXPECT_GT(per.action, 0);
+                EXPECT_NEAR(per.floquet.stability_index / sym.floquet.stability_index, 1.0, 1e-8);
+                // the estimates are honest but not absurd
+                EXPECT_LE(per.error_estimate_period / per.period, 1e-12);
+                EXPECT_LE(per.error_estimate_action / per.action, 1e-12);
+            }
+        }
+    }
+}
+
+template <class Real>
+void check_small_orbit(arm a) {
+    using std::abs;
+    // E = E_s + 1e-8: F = T_lin (dE + a dE^2 / 2 + b dE^3 / 3) and T = T_lin (1 + a dE + b dE^2)
+    // (from dF/dE = T), so F / (dE T_lin) - 1 = (T / T_lin - 1) / 2 - b dE^2 / 6: both sides are
+    // O(1e-9) numbers that agree to O(1e-17) + rounding
+    const double_pendulum<Real> model;
+    const Real dE = Real(1) / 100000000;
+    const Real E = model.saddle_energy(a) + dE;
+    orbit_options<Real> options;
+    options.method = orbit_method::symmetric;
+    const auto o = solve_saddle_orbit(model, a, E, options);
+    ASSERT_EQ(o.status, orbit_status::converged);
+    const Real t_lin = linear_guess(model, a).period;
+    // NOTE: the excess actually computed with (E_s + 1e-8 rounded to Real, minus E_s)
+    const Real lhs = o.action / (o.excess * t_lin) - 1;
+    const Real rhs = (o.period / t_lin - 1) / 2;
+    EXPECT_GT(abs(rhs), Real(1e-11));  // the nonlinear correction is resolved
+    EXPECT_LE(static_cast<double>(abs(lhs - rhs)), 256 * static_cast<double>(eps<Real>()) + 1e-15)
+        << "lhs " << to_decimal(lhs) << " rhs " << to_decimal(rhs);
+    // the orbit is tiny: turning point at distance ~ sqrt(dE)
+    EXPECT_LT(static_cast<double>(abs(o.turning_points[0][0] - o.saddle[0]) +
+                                  abs(o.turning_points[0][1] - o.saddle[1])),
+              1e-3);
+    EXPECT_LE(static_cast<double>(o.energy_error), 1e-12);
+}
+
+TEST(SaddleOrbit, SmallOrbitsScaleWithTheLinearPeriodAtDouble) {
+    check_small_orbit<double>(arm::two);
+    check_small_orbit<double>(arm::one);
+}
+
+TEST(SaddleOrbit, SmallOrbitsScaleWithTheLinearPeriodAtQuad) {
+    check_small_orbit<quad>(arm::two);
+    check_small_orbit<quad>(arm::one);
+}
+
+TEST(SaddleOrbit, MonodromyHasTwoUnitMultipliersAndAReciprocalPair) {
+    const double_pendulum<double> model;
+    for (arm a : {arm::two, arm::one}) {
+        const double E = a == arm::two ? 3.5 : 5.0;
+        for (auto m : {orbit_method::periodic, orbit_method::symmetric}) {
+            const auto o = solve_saddle_orbit(model, a, E, {m});
+            const auto& f = o.floquet;
+            double norm = 0;
+            for (const auto& row : o.monodromy)
+                for (double v : row)
+                    norm = std::max(norm, std::abs(v));
+            // a Jordan block: the unit pair is resolved to sqrt(eps |M|)
+            EXPECT_LE(f.unit_deviation, 100 * std::sqrt(eps<double>() * norm));
+            EXPECT_LE(f.determinant_deviation, 1e4 * eps<double>() * norm * norm);
+            EXPECT_TRUE(f.hyperbolic);
+            EXPECT_GT(f.multiplier, 1);
+            EXPECT_NEAR(std::abs(f.eigenvalues[3]) / f.multiplier, 1.0, 1e-9);
+            EXPECT_NEAR(std::abs(f.eigenvalues[0]) * f.multiplier, 1.0, 1e-6);
+            EXPECT_EQ(f.angle, 0);
+        }
+    }
+    // an elliptic monodromy (a rotation block) and the analysis of the trace
+    const double c = std::cos(0.3), s = std::sin(0.3);
+    const std::array<std::array<double, 4>, 4> rot{
+        {{1, 0.5, 0, 0}, {0, 1, 0, 0}, {0, 0, c, -s}, {0, 0, s, c}}};
+    const auto e = floquet_analysis(rot);
+    EXPECT_FALSE(e.hyperbolic);
+    EXPECT_NEAR(e.angle, 0.3, 1e-14);
+    EXPECT_EQ(e.multiplier, 1);
+}
+
+TEST(SaddleOrbit, StoredOrbitAgreesWithDirectIntegration) {
+    const double_pendulum<double> model;
+    const double E = 4.2;
+    const auto o = solve_saddle_orbit(model, arm::two, E, {orbit_method::periodic});
+    ASSERT_EQ(o.status, orbit_status::converged);
+    const double T = o.period;
+    // t = 0 and T: the start; T/4: the turning point, momenta zero
+    const auto x0 = orbit_state(model, o, 0.0), xT = orbit_state(model, o, T);
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_NEAR(x0[i], o.start[i], 1e-15);
+        EXPECT_NEAR(xT[i], o.start[i], 1e-12);
+    }
+    const auto tp = orbit_state(model, o, T / 4);
+    EXPECT_NEAR(tp[0], o.turning_points[0][0], 1e-13);
+    EXPECT_NEAR(tp[1], o.turning_points[0][1], 1e-13);
+    EXPECT_NEAR(tp[2], 0, 1e-12);
+    EXPECT_NEAR(tp[3], 0, 1e-12);
+    const auto tp2 = orbit_state(model, o, 3 * T / 4);
+    EXPECT_NEAR(tp2[0], o.turning_points[1][0], 1e-12);
+    EXPECT_NEAR(tp2[1], o.turning_points[1][1], 1e-12);
+    // any time: against a direct integration of the absolute equations (the model's rhs)
+    struct absolute_flow {
+        const double_pendulum<double>* m;
+        void operator()(const std::array<double, 4>& x, std::array<double, 4>& dx) const {
+            dx = m->rhs(x);
+        }
+    };
+    for (double frac : {0.13, 0.37, 0.5, 0.61, 0.88, 1.3, -0.2}) {
+        const double t = frac * T;
+        std::array<double, 4> x = o.start;
+        gauss_legendre<double, 4> gl(6);
+        const long n = 400;
+        gl.integrate(absolute_flow{&model}, x, t / n, n);
+        const auto y = orbit_state(model, o, t);
+        for (int i = 0; i < 4; ++i)
+            EXPECT_NEAR(y[i], x[i], 1e-9) << "t/T = " << frac << " component " << i;
+        EXPECT_NEAR(model.hamiltonian(y), E, 1e-13);
+    }
+    saddle_orbit<double> empty;
+    EXPECT_THROW(orbit_state(model, empty, 1.0), std::invalid_argument);
+}
+
+TEST(SaddleOrbit, PeriodDerivativeMatchesFiniteDifferences) {
+    const double_pendulum<double> model;
+    for (auto m : {orbit_method::periodic, orbit_method::symmetric}) {
+        for (double E : {2.5, 5.5}) {
+            const double h = 1e-5;
+            const auto o = solve_saddle_orbit(model, arm::two, E, {m});
+            const auto p = solve_saddle_orbit(model, arm::two, E + h, {m});
+            const auto q = solve_saddle_orbit(model, arm::two, E - h, {m});
+            const double fd = (p.period - q.period) / (2 * h);
+            EXPECT_NEAR(o.period_derivative / fd, 1.0, 1e-7) << E;
+            // and dF/dE = T, by the same differences
+            EXPECT_NEAR((p.action - q.action) / (2 * h) / o.period, 1.0, 1e-8) << E;
+        }
+    }
+}
+
+TEST(SaddleOrbit, ContinuationReachesBothFamiliesAndRecordsItsSteps) {
+    const double_pendulum<double> model;
+    const auto fam2 = continue_saddle_family(
+        model, arm::two, std::vector<double>{2.1, 3, 4, 5, 5.9}, {orbit_method::symmetric});
+    ASSERT_EQ(fam2.orbits.size(), 5u);
+    EXPECT_TRUE(fam2.stop_reason.empty());
+    EXPECT_GE(fam2.steps.size(), 5u);
+    for (std::size_t i = 1; i < fam2.orbits.size(); ++i) {
+        EXPECT_GT(fam2.orbits[i].action, fam2.orbits[i - 1].action);  // dF/dE = T > 0
+        EXPECT_GT(fam2.orbits[i].period, fam2.orbits[i - 1].period);
+    }
+    EXPECT_NEAR(fam2.highest_excess, 3.9, 1e-12);
+    const auto fam1 =
+        continue_saddle_family(model, arm::one, std::vector<double>{4.001, 5, 5.999999});
+    ASSERT_EQ(fam1.orbits.size(), 3u);
+    int rejected = 0;
+    for (const auto& st : fam1.steps)
+        if (!st.accepted) {
+            ++rejected;
+            EXPECT_FALSE(st.note.empty());
+        }
+    EXPECT_EQ(rejected, fam1.halvings);
+    // a single orbit from the family agrees with a direct solve
+    const auto direct = solve_saddle_orbit(model, arm::one, 5.0);
+    EXPECT_NEAR(direct.period, fam1.orbits[1].period, 1e-12 * direct.period);
+}
+
+TEST(SaddleOrbit, BadEnergiesAreInputErrors) {
+    const double_pendulum<double> model;
+    for (double E : {2.0, 1.5, 6.0, 7.0, -1.0, std::nan("")}) {
+        EXPECT_THROW(solve_saddle_orbit(model, arm::two, E), input_error) << E;
+        EXPECT_THROW(refine_saddle_orbit(model, arm::two, E, {0.1, 6.0}), input_error);
+    }
+    EXPECT_THROW(solve_saddle_orbit(model, arm::one, 4.0), input_error);
+    EXPECT_THROW(solve_saddle_orbit(model, arm::one, 3.0), input_error);
+    try {
+        solve_saddle_orbit(model, arm::one, 3.5);
+        FAIL();
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("--energy"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("arm-1"), std::string::npos);
+    }
+    EXPECT_THROW(continue_saddle_family(model, arm::two, std::vector<double>{3, 2.5}), input_error);
+    EXPECT_THROW(continue_saddle_family(model, arm::two, std::vector<double>{3, 6.5}), input_error);
+    EXPECT_THROW(parse_orbit_method("ceres"), input_error);
+    EXPECT_EQ(parse_orbit_method("symmetric"), orbit_method::symmetric);
+    EXPECT_EQ(to_string(orbit_method::periodic), "periodic");
+    EXPECT_EQ(to_string(orbit_status::stalled), "stalled");
+    EXPECT_EQ(to_string(orbit_status::not_converged), "not converged");
+    EXPECT_EQ(to_string(orbit_status::converged), "converged");
+}
+
+TEST(SaddleOrbit, HopelessGuessesAreReportedNotThrown) {
+    const double_pendulum<double> model;
+    // a direction far from the orbit's and a wrong period: Ceres does not find a zero
+    for (auto m : {orbit_method::periodic, orbit_method::symmetric}) {
+        const auto o = refine_saddle_orbit(model, arm::two, 5.5, {2.0, 1.0}, {m});
+        EXPECT_EQ(o.status, orbit_status::not_converged);
+        EXPECT_FALSE(o.double_stage.empty());
+    }
+}
+
+}  // namespace
+}  // namespace flipflux::test
