@@ -2,10 +2,14 @@
 #include "flipflux/ensemble/criteria.hpp"
 
 #include <cmath>
+#include <stdexcept>
+
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
 
@@ -36,11 +40,15 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
     if (name == "upright") return {name, make_flip_detector(upright_curve<double>{a}, flow)};
     if (name == "approx")
         return {name, make_flip_detector(approximate_saddle_curve(model, a), flow)};
-    // NOTE: the saddle-orbit curve comes from the orbits module (issue 4); until it is part of
-    // this build the criterion is refused as bad input.
-    throw input_error(
-        "--criteria: 'saddle' needs the saddle-orbit module, which this build does "
-        "not contain yet");
+    // the saddle orbit at this energy (orbits/: continuation from the centre mode, refined at
+    // double) and its configuration curve, a Chebyshev interpolant on the turning-point interval
+    // (a restricted domain: crossings beyond the turning points do not count)
+    check_orbit_energy(model, a, energy);
+    const saddle_orbit<double> orbit = solve_saddle_orbit<double>(model, a, energy);
+    if (orbit.status == orbit_status::not_converged)
+        throw std::runtime_error("saddle criterion: the saddle orbit of arm " + to_string(a) +
+                                 " at E = " + to_decimal(energy) + " did not converge");
+    return {name, make_flip_detector(make_saddle_curve<double>(model, orbit), flow)};
 }
 
 std::optional<quantity_value<double>> criterion_prediction(const double_pendulum<double>& model,
