@@ -87,6 +87,21 @@ TEST(SimulateCommand, JsonAgreesWithCsvAndThreadCounts) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(SimulateCommand, SaddleCriterionWithItsPrediction) {
+    const auto r = run_flipflux(
+        "simulate --energy 4.5 --arm 1 --criteria saddle,upright --trajectories 20 --time 10 "
+        "--rtol 1e-7 --no-chaos");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json j = json::parse(r.out);
+    const json& s = j["energies"][0]["criteria"]["saddle"];
+    const json& u = j["energies"][0]["criteria"]["upright"];
+    // the saddle orbit's flux is the minimal one: below the upright criterion's
+    EXPECT_LT(std::stod(s["predicted_rate"].get<std::string>()),
+              std::stod(u["predicted_rate"].get<std::string>()));
+    EXPECT_LE(s["flips"].get<long>(), u["flips"].get<long>());
+    EXPECT_FALSE(s["prediction_method"].is_null());
+}
+
 TEST(SimulateCommand, EnergyListsRangesArmOneAndNoChaos) {
     const auto r = run_flipflux(
         "simulate --energy 4.5:5:0.25,5.5 --arm 1 --criteria approx,upright --trajectories 3 "
@@ -144,6 +159,8 @@ TEST(SimulateCommand, RefusesBadInput) {
     expect_refused("simulate --energy 5 --trajectories 3 --sample-interval 1" + ok,
                    "--sample-interval");
     expect_refused("simulate --energy 5 --trajectories 3 --bins x" + ok, "--bins");
+    // the saddle orbits exist only below the maximum energy
+    expect_refused("simulate --energy 6.5 --trajectories 3 --criteria saddle --time 5", "--energy");
 }
 
 }  // namespace
