@@ -117,14 +117,14 @@ TEST(ExactCheck, EgalitarianLowEnergyArm2) {
 
 TEST(ExactCheck, EgalitarianBothArms) {
     const double_pendulum<double> m;
-    exact_check("egalitarian", m, 4.6, both, 3000, 10, 102);
-    exact_check("egalitarian", m, 5.6, both, 3000, 10, 103);
+    exact_check("egalitarian", m, 4.6, both, 2400, 10, 102);
+    exact_check("egalitarian", m, 5.6, both, 2400, 10, 103);
 }
 
 TEST(ExactCheck, LopsidedBothArms) {
     const double_pendulum<double> m(lopsided());
-    exact_check("lopsided", m, 3.5, arm2, 3000, 10, 104);
-    exact_check("lopsided", m, 5.8, both, 3000, 10, 105);
+    exact_check("lopsided", m, 3.5, arm2, 2400, 10, 104);
+    exact_check("lopsided", m, 5.8, both, 2400, 10, 105);
 }
 
 // Any T: the same energy with trajectories ten times shorter.

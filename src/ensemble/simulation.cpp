@@ -62,7 +62,7 @@ std::string histogram_csv(const histogram& h, std::uint64_t total) {
 
 void write_csvs(const std::filesystem::path& dir, const std::string& label,
                 const ensemble_result& r, const std::vector<criterion_statistics>& stats) {
-    std::string t = "index,lyapunov,chaotic,max_energy_drift,steps,status";
+    std::string t = "index,lyapunov,chaotic,max_energy_drift,steps,energy_check_rejections,status";
     for (const std::string& c : r.criteria)
         t += ",flips_" + c + ",rate_" + c;
     t += "\n";
@@ -70,7 +70,8 @@ void write_csvs(const std::filesystem::path& dir, const std::string& label,
         t += std::to_string(x.index) + "," +
              (std::isnan(x.lyapunov) ? "" : to_decimal(x.lyapunov)) + "," +
              (x.chaotic ? "1" : "0") + "," + to_decimal(x.max_energy_drift) + "," +
-             std::to_string(x.steps) + "," + to_string(x.status);
+             std::to_string(x.steps) + "," + std::to_string(x.energy_check_rejections) + "," +
+             to_string(x.status);
         for (std::size_t c = 0; c < r.criteria.size(); ++c)
             t += "," + std::to_string(x.flips(c)) + "," +
                  to_decimal(static_cast<double>(x.flips(c)) / r.time);
@@ -207,10 +208,12 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
         double drift = 0;
         long steps = 0;
         std::size_t failed = 0;
+        long energy_rejections = 0;
         for (const trajectory_result& t : r.trajectories) {
             drift = std::max(drift, t.max_energy_drift);
             steps += t.steps;
             failed += t.status != rk_status::ok;
+            energy_rejections += t.energy_check_rejections;
         }
         json e{{"energy", energies[k].first},
                {"seconds", r.seconds},
@@ -218,6 +221,7 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
                {"steps_per_trajectory",
                 static_cast<double>(steps) / static_cast<double>(r.trajectories.size())},
                {"failed_trajectories", failed},
+               {"energy_check_rejections", energy_rejections},
                {"max_energy_drift", to_decimal(drift)}};
         json per_criterion = json::object();
         std::vector<criterion_statistics> stats;

@@ -260,6 +260,33 @@ TEST(Ensemble, TrajectoriesAreStoredOnlyWhenAsked) {
     EXPECT_THROW(run_ensemble(m, o, {}), input_error);
 }
 
+// Regression: DOP853's error estimate passed a step of size 0.25 with |dH| = 1.6e-3 at
+// rtol = 1e-7 (lopsided pendulum, E = 5.8, seed 105, trajectory 179655, t = 9.56): found as an
+// outlier of the energy drift in 240,000 trajectories. The energy check refuses such steps.
+TEST(Ensemble, Dop853EstimatorFailureIsCaughtByTheEnergyCheck) {
+    const double_pendulum<double> m(lopsided_parameters());
+    ensemble_options o;
+    o.energy = 5.8;
+    o.time = 10;
+    o.seed = 105;
+    o.rtol = 1e-7;
+    o.chaos = false;
+    const microcanonical_sampler sampler(m, o.energy);
+    const trajectory_result r = run_trajectory(m, sampler, o, 179655, {});
+    EXPECT_GE(r.energy_check_rejections, 1);
+    EXPECT_LT(r.max_energy_drift, 2e-5);
+    // ordinary trajectories are not touched by the check, however far their energy drifts over
+    // a long time (the check is per step, not on the accumulated drift)
+    o.time = 1000;
+    double drift = 0;
+    for (std::uint64_t i = 0; i < 3; ++i) {
+        const trajectory_result q = run_trajectory(m, sampler, o, i, {});
+        EXPECT_EQ(q.energy_check_rejections, 0);
+        drift = std::max(drift, q.max_energy_drift);
+    }
+    EXPECT_GT(drift, energy_jump_factor * o.rtol * (1 + o.energy));
+}
+
 TEST(Ensemble, ProgressIsReportedForEveryTrajectory) {
     const double_pendulum<double> m;
     ensemble_options o = small_run(2);

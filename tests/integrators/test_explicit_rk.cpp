@@ -282,6 +282,35 @@ TEST(ExplicitRk, UncontrolledComponentsLeaveThePrimarySolutionBitIdentical) {
                     1e-12 * std::abs(ext.x()[4]) + 1e-12);
 }
 
+// A step check (an invariant the error estimate does not see) refuses steps: they are retried
+// with half the size, every accepted step satisfies the check, the end is still reached exactly.
+TEST(ExplicitRk, StepCheckRefusesStepsAndHalvesThem) {
+    const kepler k;
+    rk_options o;
+    o.rtol = o.atol = 1e-6;
+    explicit_rk<dormand_prince_853, 4, kepler> rk(k, o);
+    rk.set_step_check([](const vec4& a, const vec4& b) {
+        return std::hypot(b[0] - a[0], b[1] - a[1]) <= 0.05;  // at most 0.05 per step
+    });
+    rk.initialize(0, k.exact(0));
+    double moved = 0;
+    const rk_status s = rk.integrate(7, [&](auto& r) {
+        moved =
+            std::max(moved, std::hypot(r.x()[0] - r.x_previous()[0], r.x()[1] - r.x_previous()[1]));
+    });
+    EXPECT_EQ(s, rk_status::ok);
+    EXPECT_EQ(rk.t(), 7.0);
+    EXPECT_LE(moved, 0.05);
+    EXPECT_GT(rk.check_rejections(), 0);
+    EXPECT_GE(rk.rejected_steps(), rk.check_rejections());
+    EXPECT_LT(max_abs_diff(rk.x(), k.exact(7)), 1e-4);
+    // a check that never passes ends in step-size underflow
+    explicit_rk<dormand_prince_853, 4, kepler> never(k, o);
+    never.set_step_check([](const vec4&, const vec4&) { return false; });
+    never.initialize(1, k.exact(1));
+    EXPECT_EQ(never.step(2), rk_status::step_size_underflow);
+}
+
 TEST(ExplicitRk, TranslateKeepsDenseOutputConsistent) {
     const kepler k;
     explicit_rk<dormand_prince_853, 4, kepler> rk(k);

@@ -11,7 +11,9 @@
 //   - the state's angles are reduced to [-pi, pi] after every step (by exactly 2 pi_double, an
 //     exact subtraction by Sterbenz's lemma), so that the relative tolerance acts on O(1)
 //     numbers however many turns the arms make; detectors carry the shift (flip_detector.hpp);
-//   - the energy drift max |H(x(t)) - E| over the step ends;
+//   - the energy drift max |H(x(t)) - E| over the step ends, and the energy check: a step that
+//     changes H by more than energy_jump_factor (atol + rtol |E|) is refused and retried with half
+//     its size, whatever the embedded error estimate said;
 //   - with `chaos`: the finite-time maximal Lyapunov exponent
 //         lambda_T = (1/T) ln(|v(T)| / |v(0)|),  v' = J(x) v,
 //     from the variational equations (pendulum_flow::tangent), v(0) a random unit vector drawn
@@ -38,6 +40,10 @@ std::string to_string(integration_method m);
 /// "dop853" or "dopri5"; throws input_error naming `option` otherwise.
 integration_method parse_integration_method(const std::string& text,
                                             const std::string& option = "--method");
+
+/// An accepted step may change H by at most this times (atol + rtol |E|); otherwise it is retried
+/// with half the size (the error estimate passed a bad step). See docs/theory.md#ensembles.
+inline constexpr double energy_jump_factor = 64;
 
 /// Default chaos threshold on the finite-time Lyapunov exponent, in units of the inverse
 /// natural time sqrt(alpha / A) (docs/theory.md#ensembles explains the choice).
@@ -79,6 +85,7 @@ struct trajectory_result {
     double lyapunov = 0;          ///< finite-time exponent lambda_T (NaN without `chaos`)
     bool chaotic = false;         ///< lambda_T > threshold (false without `chaos`)
     long steps = 0, rejected_steps = 0, evaluations = 0;
+    long energy_check_rejections = 0;  ///< steps the energy check refused (see energy_jump_factor)
     std::vector<std::vector<double>> crossing_times;  ///< per criterion, in time order
     std::vector<std::vector<crossing>> crossings;     ///< per criterion, with keep_crossings
     std::vector<std::array<double, 5>> samples;       ///< (t, th1, th2, l1, l2), sample_interval
