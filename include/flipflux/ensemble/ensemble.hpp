@@ -1,0 +1,138 @@
+// Monte Carlo ensembles (paper Sec. 5): microcanonical initial conditions, trajectories integrated
+// by DOP853 or DOPRI5 at double precision, flips counted for every requested criterion, energy
+// drift and a chaos indicator per trajectory.
+//
+// Reproducibility: trajectory i's initial condition is a function of (seed, energy, i) only
+// (ensemble/random.hpp), its integration and flip detection depend on nothing else, and results
+// are stored by index: the result is bit-identical for any number of threads, any schedule, and
+// any split of the index range [first_index, first_index + trajectories) across processes.
+//
+// Per trajectory (run_trajectory):
+//   - the state's angles are reduced to [-pi, pi] after every step (by exactly 2 pi_double, an
+//     exact subtraction by Sterbenz's lemma), so that the relative tolerance acts on O(1)
+//     numbers however many turns the arms make; detectors carry the shift (flip_detector.hpp);
+//   - the energy drift max |H(x(t)) - E| over the step ends, and the energy check: a step that
+//     changes H by more than energy_jump_factor (atol + rtol |E|) is refused and retried with half
+//     its size, whatever the embedded error estimate said;
+//   - with `chaos`: the finite-time maximal Lyapunov exponent
+//         lambda_T = (1/T) ln(|v(T)| / |v(0)|),  v' = J(x) v,
+//     from the variational equations (pendulum_flow::tangent), v(0) a random unit vector drawn
+//     from the trajectory's own stream; v rides along uncontrolled (rk_options::
+//     controlled_components = 4), so the trajectory and its flips are bit-identical with or
+//     without the indicator. The trajectory counts as chaotic when lambda_T > chaos_threshold.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "flipflux/ensemble/flip_detector.hpp"
+#include "flipflux/ensemble/sampler.hpp"
+#include "flipflux/integrators/explicit_rk.hpp"
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux {
+
+enum class integration_method { dop853, dopri5 };
+std::string to_string(integration_method m);
+/// "dop853" or "dopri5"; throws input_error naming `option` otherwise.
+integration_method parse_integration_method(const std::string& text,
+                                            const std::string& option = "--method");
+
+/// An accepted step may change H by at most this times (atol + rtol |E|); otherwise it is retried
+/// with half the size (the error estimate passed a bad step). See docs/theory.md#ensembles.
+inline constexpr double energy_jump_factor = 64;
+
+/// Default chaos threshold on the finite-time Lyapunov exponent, in units of the inverse
+/// natural time sqrt(alpha / A) (docs/theory.md#ensembles explains the choice).
+inline constexpr double default_chaos_threshold = 0.05;
+
+struct ensemble_options {
+    double energy = 0;
+    std::uint64_t trajectories = 0;  ///< how many (> 0)
+    std::uint64_t first_index = 0;   ///< index of the first trajectory
+    double time = 0;                 ///< integration time T per trajectory (> 0)
+    std::uint64_t seed = 0;
+    double rtol = 1e-10;  ///< relative tolerance of the integrator, in (0, 0.1]
+    double atol = 0;      ///< absolute tolerance; 0: equal to rtol (states are O(1))
+    integration_method method = integration_method::dop853;
+    bool chaos = true;  ///< integrate the variational equations for the Lyapunov exponent
+    /// lambda_T above this (in units of sqrt(alpha / A)) classifies a trajectory as chaotic
+    double chaos_threshold = default_chaos_threshold;
+    int threads = 0;              ///< OpenMP threads; 0: OpenMP's default
+    bool keep_crossings = false;  ///< store every crossing (time, direction, s)
+    /// > 0: store the state every sample_interval (from the dense output; angles as integrated,
+    /// reduced to [-pi, pi] at each step's start). 0: trajectories are not stored.
+    double sample_interval = 0;
+    /// Called (serialised) after each finished trajectory with (finished, total).
+    std::function<void(std::uint64_t, std::uint64_t)> progress;
+};
+
+/// A flip criterion: its name and a detector prototype (cloned per thread).
+struct ensemble_criterion {
+    std::string name;
+    std::shared_ptr<const flip_detector_base> detector;
+};
+
+struct trajectory_result {
+    std::uint64_t index = 0;
+    phase_point<double> initial_state{};
+    rk_status status = rk_status::ok;
+    double end_time = 0;          ///< T, unless the integration failed
+    double max_energy_drift = 0;  ///< max |H - E| over the step ends
+    double lyapunov = 0;          ///< finite-time exponent lambda_T (NaN without `chaos`)
+    bool chaotic = false;         ///< lambda_T > threshold (false without `chaos`)
+    long steps = 0, rejected_steps = 0, evaluations = 0;
+    long energy_check_rejections = 0;  ///< steps the energy check refused (see energy_jump_factor)
+    std::vector<std::vector<double>> crossing_times;  ///< per criterion, in time order
+    std::vector<std::vector<crossing>> crossings;     ///< per criterion, with keep_crossings
+    std::vector<std::array<double, 5>> samples;       ///< (t, th1, th2, l1, l2), sample_interval
+    std::size_t flips(std::size_t criterion) const { return crossing_times[criterion].size(); }
+};
+
+struct ensemble_result {
+    double energy = 0, time = 0, rtol = 0, atol = 0, chaos_threshold = 0;
+    std::uint64_t seed = 0, first_index = 0;
+    integration_method method = integration_method::dop853;
+    bool chaos = false;
+    int threads = 0;  ///< threads actually used
+    std::vector<std::string> criteria;
+    std::vector<trajectory_result> trajectories;  ///< by index
+    double seconds = 0;                           ///< wall-clock time
+};
+
+/// Validates the options (throws input_error naming the option: --trajectories, --time, --rtol,
+/// --energy, --threads).
+void validate(const ensemble_options& options);
+
+/// The chaos threshold in the model's time units: threshold * sqrt(alpha / A).
+double chaos_threshold_rate(const double_pendulum<double>& model, double threshold);
+
+/// Whether T is long enough for the classification: a regular trajectory's lambda_T is about
+/// ln(1 + T nu) / T (tangent vectors grow linearly), nu = sqrt(alpha / A); the classification is
+/// called reliable when that is at most a quarter of the threshold rate (egalitarian, default
+/// threshold: T >= ~500).
+bool chaos_classification_reliable(const double_pendulum<double>& model, double threshold,
+                                   double time);
+
+/// Integrates from x0 to options.time with the given detectors (one per criterion; start() is
+/// called on each). `index` selects the tangent vector's random stream (with options.chaos).
+/// The energy drift is measured against H(x0).
+trajectory_result simulate_trajectory(const double_pendulum<double>& model,
+                                      const phase_point<double>& x0,
+                                      const ensemble_options& options, std::uint64_t index,
+                                      const std::vector<flip_detector_base*>& detectors);
+
+/// Trajectory `index` of the ensemble: the sampled initial condition, then simulate_trajectory.
+trajectory_result run_trajectory(const double_pendulum<double>& model,
+                                 const microcanonical_sampler& sampler,
+                                 const ensemble_options& options, std::uint64_t index,
+                                 const std::vector<flip_detector_base*>& detectors);
+
+/// Simulates the ensemble (OpenMP across trajectories).
+ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& options,
+                             const std::vector<ensemble_criterion>& criteria);
+
+}  // namespace flipflux

@@ -1,0 +1,308 @@
+// Flip detection: crossings of a trajectory with a dividing curve (paper Sec. 5.2), for any curve
+// satisfying the `dividing_curve` concept (model/dividing_curve.hpp): the upright arm, the
+// approximate saddle curve, the saddle orbit (orbits/).
+//
+// For arm 2 the curve is th2 = pi + h(th1), for arm 1 th1 = pi + h(th2), angles modulo 2 pi. With
+// (s, f) the (other, flip) angle the detector follows the crossing function
+//     phi(t) = f(t) - pi - h(red(s(t))),   red(s) = s - 2 pi round((s - c) / 2 pi),
+// c the centre of h's domain [s_lo, s_hi]; a crossing is a time where phi passes a level 2 pi k
+// (any integer k: angles are not reduced inside a step, and the reduction of the state's angles
+// between steps shifts phi by exact multiples of 2 pi, which the detector carries over, so no
+// crossing is lost or counted twice at a step boundary). A crossing counts in (t0, t1] when the
+// indicator [phi >= 2 pi k] changes. Outside a restricted domain (a saddle orbit between its
+// turning points) h is continued by its end values and a crossing counts only if red(s) lies in
+// [s_lo, s_hi]: beyond the turning points the curve is energetically inaccessible.
+//
+// Per step, in order of cost:
+//   1. the cheap test: phi and phi' = f' - h'(s) s' at the step's end (from the state and the
+//      right-hand side, which the integrator has already evaluated), the cubic Hermite
+//      interpolant of (phi, phi') at both ends and its interior extrema give the range of phi;
+//      widened by a margin (a quarter of the variation of the data plus an eighth of the cubic's
+//      largest second-derivative term), it must contain a level for the step to be examined;
+//   2. the examination: phi' on the dense output at 1/4, 1/2, 3/4 of the step and at the cubic's
+//      critical points; each sign change of phi' is refined by TOMS 748 root finding to a
+//      critical point of phi, splitting the step into monotone pieces; in each piece every level
+//      whose indicator changes is located by TOMS 748 on the dense output to a relative time
+//      tolerance of ~4 ulp. Direction: +1 when phi increases (the flip angle passes the curve in
+//      the positive sense).
+// Grazing crossings (an extremum of phi just beyond a level, both step ends on the same side) are
+// found at step 2: two crossings, as they physically are. Assumption (documented in
+// docs/theory.md#ensembles): phi' does not change sign twice between two of the sample points,
+// i.e. phi has no pair of extrema within a quarter step -- steps resolve the motion.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <boost/math/tools/toms748_solve.hpp>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+
+namespace flipflux {
+
+/// One crossing of a dividing curve.
+struct crossing {
+    double time;    ///< when
+    int direction;  ///< +1: the flip angle passes the curve increasing, -1: decreasing
+    double s;       ///< the other angle there (reduced around the curve's domain)
+};
+
+/// The dense output of one integration step, as the detectors see it.
+class step_interpolant {
+  public:
+    /// The pendulum state (th1, th2, l1, l2) at t in [t0, t1] (angles as at the step's start).
+    virtual std::array<double, 4> state(double t) const = 0;
+
+  protected:
+    ~step_interpolant() = default;
+};
+
+/// What a detector is told about one accepted step.
+struct step_view {
+    double t0, t1;
+    const std::array<double, 4>& x1;  ///< state at t1 (angles continuous with the step's start)
+    const std::array<double, 4>& f1;  ///< Hamilton's equations at x1
+    const step_interpolant& dense;
+};
+
+/// Type-erased detector interface: the ensemble runs any set of criteria chosen at run time.
+class flip_detector_base {
+  public:
+    virtual ~flip_detector_base() = default;
+    virtual std::unique_ptr<flip_detector_base> clone() const = 0;
+    virtual arm flip_arm() const = 0;
+    /// Starts a trajectory at state x0 with right-hand side f0.
+    virtual void start(const std::array<double, 4>& x0, const std::array<double, 4>& f0) = 0;
+    /// Appends the crossings in the step to `out` (in time order) and returns how many. A
+    /// crossing belongs to the step in which the indicator [phi >= level] changes.
+    virtual int step(const step_view& v, std::vector<crossing>& out) = 0;
+    /// The state's angles at the step end were shifted by (d1, d2), multiples of 2 pi.
+    virtual void shift(double d1, double d2) = 0;
+    /// Number of steps that needed the dense-output examination (a cost diagnostic).
+    virtual long examined_steps() const = 0;
+};
+
+template <class Curve>
+requires dividing_curve<Curve, double>
+class flip_detector final : public flip_detector_base {
+  public:
+    flip_detector(Curve curve, const pendulum_flow& flow)
+        : curve_(std::move(curve)), flow_(flow), arm_(curve_.flip_arm()) {
+        const std::array<double, 2> d = curve_.domain();
+        lo_ = d[0];
+        hi_ = d[1];
+        if (!(lo_ < hi_) || !std::isfinite(lo_) || !std::isfinite(hi_) ||
+            hi_ - lo_ > two_pi * (1 + 1e-12))
+            throw std::invalid_argument(
+                "flip_detector: the curve's domain must be an interval "
+                "of length at most 2 pi");
+        centre_ = (lo_ + hi_) / 2;
+        full_ = hi_ - lo_ >= two_pi * (1 - 1e-12);
+    }
+
+    std::unique_ptr<flip_detector_base> clone() const override {
+        return std::make_unique<flip_detector>(*this);
+    }
+    arm flip_arm() const override { return arm_; }
+    const Curve& curve() const { return curve_; }
+    long examined_steps() const override { return examined_; }
+
+    void start(const std::array<double, 4>& x0, const std::array<double, 4>& f0) override {
+        start_ = evaluate(x0, {f0[0], f0[1]});
+    }
+
+    void shift(double d1, double d2) override {
+        // phi shifts with the flip angle; h(red(s)) is unchanged (red removes the s shift)
+        start_.phi += arm_ == arm::two ? d2 : d1;
+    }
+
+    int step(const step_view& v, std::vector<crossing>& out) override {
+        const value end = evaluate(v.x1, {v.f1[0], v.f1[1]});
+        const double h = v.t1 - v.t0;
+        const double p0 = start_.phi, p1 = end.phi;
+        const double m0 = h * start_.dphi, m1 = h * end.dphi;
+        // range of the cubic Hermite interpolant on [0, 1]
+        double lo = std::min(p0, p1), hi = std::max(p0, p1);
+        std::array<double, 2> crit{};
+        const int ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
+        for (int i = 0; i < ncrit; ++i) {
+            const double c = hermite(p0, p1, m0, m1, crit[i]);
+            lo = std::min(lo, c);
+            hi = std::max(hi, c);
+        }
+        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
+        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
+        const double margin = 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) +
+                              0.125 * std::max(d2a, d2b) +
+                              64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
+        int found = 0;
+        if (std::ceil((lo - margin) / two_pi) <= std::floor((hi + margin) / two_pi)) {
+            ++examined_;
+            found = examine(v, end, crit, ncrit, out);
+        }
+        start_ = end;
+        return found;
+    }
+
+  private:
+    static constexpr double pi = std::numbers::pi;
+    static constexpr double two_pi = 2 * std::numbers::pi;
+
+    struct value {
+        double phi = 0, dphi = 0, s = 0;
+    };
+    struct point {
+        double t, phi, dphi;
+    };
+
+    double reduce(double s) const {
+        return full_ && std::abs(s - centre_) <= pi
+                   ? s
+                   : s - two_pi * std::round((s - centre_) / two_pi);
+    }
+
+    value evaluate(const std::array<double, 4>& x, const std::array<double, 2>& w) const {
+        const std::array<double, 2> q = curve_coordinates(arm_, x[0], x[1]);
+        const std::array<double, 2> qd = curve_coordinates(arm_, w[0], w[1]);
+        const double s = reduce(q[0]);
+        const bool inside = s >= lo_ && s <= hi_;
+        const double sc = inside ? s : std::clamp(s, lo_, hi_);
+        const double offset = curve_.offset(sc);
+        const double slope = inside ? double(curve_.slope(sc)) : 0.0;
+        return {q[1] - pi - offset, qd[1] - slope * qd[0], s};
+    }
+
+    value evaluate_at(const step_view& v, double t) const {
+        const std::array<double, 4> x = v.dense.state(t);
+        return evaluate(x, flow_.velocities(x));
+    }
+
+    static double hermite(double p0, double p1, double m0, double m1, double u) {
+        const double u2 = u * u, u3 = u2 * u;
+        return (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 +
+               (u3 - u2) * m1;
+    }
+
+    // Roots in (0, 1) of the derivative of the cubic Hermite interpolant,
+    // a u^2 + b u + c with a = 6 (p0 - p1) + 3 (m0 + m1), b = -6 (p0 - p1) - 4 m0 - 2 m1, c = m0.
+    static int cubic_critical_points(double p0, double p1, double m0, double m1,
+                                     std::array<double, 2>& out) {
+        const double a = 6 * (p0 - p1) + 3 * (m0 + m1);
+        const double b = -6 * (p0 - p1) - 4 * m0 - 2 * m1;
+        const double c = m0;
+        int n = 0;
+        auto keep = [&](double u) {
+            if (u > 0 && u < 1) out[n++] = u;
+        };
+        const double scale = std::abs(a) + std::abs(b) + std::abs(c);
+        if (scale == 0) return 0;
+        if (std::abs(a) <= 1e-12 * scale) {
+            if (b != 0) keep(-c / b);
+            return n;
+        }
+        const double disc = b * b - 4 * a * c;
+        if (disc < 0) return 0;
+        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+        keep(q / a);
+        if (q != 0) keep(c / q);
+        if (n == 2 && out[0] > out[1]) std::swap(out[0], out[1]);
+        return n;
+    }
+
+    template <class G>
+    double root(G&& g, double a, double b, double ga, double gb) const {
+        if (ga == 0) return a;
+        if (gb == 0) return b;
+        std::uintmax_t iterations = 100;
+        const auto r = boost::math::tools::toms748_solve(
+            g, a, b, ga, gb, boost::math::tools::eps_tolerance<double>(50), iterations);
+        return 0.5 * (r.first + r.second);
+    }
+
+    int examine(const step_view& v, const value& end, const std::array<double, 2>& crit, int ncrit,
+                std::vector<crossing>& out) {
+        const double h = v.t1 - v.t0;
+        // sample points: ends, quarters, cubic critical points
+        std::array<double, 8> us{};
+        int nu = 0;
+        for (double u : {0.25, 0.5, 0.75})
+            us[nu++] = u;
+        for (int i = 0; i < ncrit; ++i)
+            us[nu++] = crit[i];
+        std::sort(us.begin(), us.begin() + nu);
+        std::array<point, 24> pts{};
+        int np = 0;
+        pts[np++] = {v.t0, start_.phi, start_.dphi};
+        for (int i = 0; i < nu; ++i) {
+            const double t = v.t0 + us[i] * h;
+            if (t <= pts[np - 1].t || t >= v.t1) continue;
+            const value val = evaluate_at(v, t);
+            pts[np++] = {t, val.phi, val.dphi};
+        }
+        pts[np++] = {v.t1, end.phi, end.dphi};
+        // refine the critical points of phi between samples
+        std::array<point, 24> mono{};
+        int nm = 0;
+        mono[nm++] = pts[0];
+        for (int i = 1; i < np; ++i) {
+            const point& a = pts[i - 1];
+            const point& b = pts[i];
+            if ((a.dphi < 0 && b.dphi > 0) || (a.dphi > 0 && b.dphi < 0)) {
+                auto dphi = [&](double t) { return evaluate_at(v, t).dphi; };
+                const double tc = root(dphi, a.t, b.t, a.dphi, b.dphi);
+                if (tc > mono[nm - 1].t && tc < b.t) {
+                    const value val = evaluate_at(v, tc);
+                    mono[nm++] = {tc, val.phi, 0.0};
+                }
+            }
+            mono[nm++] = b;
+        }
+        // level crossings in each monotone piece
+        int found = 0;
+        for (int i = 1; i < nm; ++i) {
+            const point& a = mono[i - 1];
+            const point& b = mono[i];
+            if (a.phi == b.phi) continue;
+            const int dir = b.phi > a.phi ? 1 : -1;
+            const double k_lo = std::ceil(std::min(a.phi, b.phi) / two_pi);
+            const double k_hi = std::floor(std::max(a.phi, b.phi) / two_pi);
+            for (double kk = 0; kk <= k_hi - k_lo; ++kk) {
+                const double k = dir > 0 ? k_lo + kk : k_hi - kk;
+                const double level = k * two_pi;
+                if ((a.phi >= level) == (b.phi >= level)) continue;
+                auto g = [&](double t) { return evaluate_at(v, t).phi - level; };
+                // NOTE: tx == t0 is possible only when phi(t0) equals the level exactly and
+                // leaves it downwards; the previous step saw no indicator change then.
+                const double tx = root(g, a.t, b.t, a.phi - level, b.phi - level);
+                const value at = tx == v.t1 ? end : evaluate_at(v, tx);
+                if (at.s < lo_ || at.s > hi_) continue;  // outside the curve's domain
+                out.push_back({tx, dir, at.s});
+                ++found;
+            }
+        }
+        return found;
+    }
+
+    Curve curve_;
+    pendulum_flow flow_;
+    arm arm_;
+    double lo_ = 0, hi_ = 0, centre_ = 0;
+    bool full_ = true;
+    value start_{};
+    long examined_ = 0;
+};
+
+/// A detector for `curve` (deduces the curve type).
+template <class Curve>
+requires dividing_curve<Curve, double> std::unique_ptr<flip_detector_base> make_flip_detector(
+    Curve curve, const pendulum_flow& flow) {
+    return std::make_unique<flip_detector<Curve>>(std::move(curve), flow);
+}
+
+}  // namespace flipflux

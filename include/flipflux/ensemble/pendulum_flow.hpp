@@ -1,0 +1,107 @@
+// Hamilton's equations of the double pendulum in double precision, evaluated with one sin/cos pair
+// per angle, and their variational (tangent) equations: the right-hand sides the ensemble
+// integrates millions of times. The precision-templated model (model/double_pendulum.hpp) is the
+// reference; tests/ensemble/test_pendulum_flow.cpp checks these against it (rhs, rhs_jacobian,
+// hamiltonian) at random points and parameters.
+//
+// With (s_i, c_i) = (sin th_i, cos th_i):
+//     sin(th1 - th2) = s1 c2 - c1 s2,   cos(th1 - th2) = c1 c2 + s1 s2,
+//     det M = D0 + C^2 sin^2(th1 - th2),
+//     w1 = (B l1 - C c l2) / det M,      w2 = (A l2 - C c l1) / det M,      (w = M^-1 l)
+//     th1' = w1, th2' = w2, l1' = -P - alpha s1, l2' = P - beta s2,  P = C sin(th1 - th2) w1 w2.
+// NOTE: the difference formulas lose relative (not absolute) accuracy of sin(th1 - th2) when the
+// angles nearly coincide; it enters only through C^2 sin^2 and P, where the absolute error
+// (~1 ulp of 1) is what matters.
+// Tangent equations (directional derivative along v = (dth1, dth2, dl1, dl2)), with d = th1 - th2:
+//     d(sin d) = cos d (dth1 - dth2),  d(cos d) = -sin d (dth1 - dth2),
+//     d(det) = 2 C^2 sin d d(sin d),   d(w) = (d(n) - w d(det)) / det,  n = (B l1 - C c l2, ...),
+//     d(P) = C (d(sin d) w1 w2 + sin d (dw1 w2 + w1 dw2)),
+//     d(f) = (dw1, dw2, -dP - alpha c1 dth1, dP - beta c2 dth2).
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux {
+
+class pendulum_flow {
+  public:
+    explicit pendulum_flow(const double_pendulum<double>& model) : k_(model.coefficients()) {}
+
+    /// Hamilton's equations (th1', th2', l1', l2'); t is ignored (autonomous).
+    std::array<double, 4> operator()(double, const std::array<double, 4>& state) const {
+        const double* x = state.data();
+        const trig g(x);
+        const double det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
+        const double w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
+        const double w2 = (k_.A * x[3] - k_.C * g.cd * x[2]) / det;
+        const double P = k_.C * g.sd * w1 * w2;
+        return {w1, w2, -P - k_.alpha * g.s1, P - k_.beta * g.s2};
+    }
+
+    /// Angular velocities th' = M^-1 l.
+    std::array<double, 2> velocities(const std::array<double, 4>& x) const {
+        const double d = x[0] - x[1];
+        const double sd = std::sin(d), cd = std::cos(d);
+        const double det = k_.D0 + k_.C * k_.C * sd * sd;
+        return {(k_.B * x[2] - k_.C * cd * x[3]) / det, (k_.A * x[3] - k_.C * cd * x[2]) / det};
+    }
+
+    /// H = 1/2 l^T M^-1 l + 2 alpha sin^2(th1/2) + 2 beta sin^2(th2/2).
+    double hamiltonian(const std::array<double, 4>& x) const {
+        const double d = x[0] - x[1];
+        const double sd = std::sin(d), cd = std::cos(d);
+        const double det = k_.D0 + k_.C * k_.C * sd * sd;
+        const double kin =
+            (k_.B * x[2] * x[2] - 2 * k_.C * cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
+        const double h1 = std::sin(x[0] / 2), h2 = std::sin(x[1] / 2);
+        return kin + 2 * (k_.alpha * h1 * h1 + k_.beta * h2 * h2);
+    }
+
+    /// Hamilton's equations and their tangent equations: state (x, v), v' = J(x) v.
+    std::array<double, 8> tangent(const std::array<double, 8>& state) const {
+        const double* y = state.data();
+        const double* x = y;
+        const trig g(x);
+        const double C = k_.C;
+        const double det = k_.D0 + C * C * g.sd * g.sd;
+        const double n1 = k_.B * x[2] - C * g.cd * x[3];
+        const double n2 = k_.A * x[3] - C * g.cd * x[2];
+        const double w1 = n1 / det, w2 = n2 / det;
+        const double P = C * g.sd * w1 * w2;
+        const double dd = y[4] - y[5];
+        const double dsd = g.cd * dd, dcd = -g.sd * dd;
+        const double ddet = 2 * C * C * g.sd * dsd;
+        const double dn1 = k_.B * y[6] - C * (dcd * x[3] + g.cd * y[7]);
+        const double dn2 = k_.A * y[7] - C * (dcd * x[2] + g.cd * y[6]);
+        const double dw1 = (dn1 - w1 * ddet) / det, dw2 = (dn2 - w2 * ddet) / det;
+        const double dP = C * (dsd * w1 * w2 + g.sd * (dw1 * w2 + w1 * dw2));
+        return {w1,  w2,  -P - k_.alpha * g.s1,         P - k_.beta * g.s2,
+                dw1, dw2, -dP - k_.alpha * g.c1 * y[4], dP - k_.beta * g.c2 * y[5]};
+    }
+
+    const lagrangian_coefficients<double>& coefficients() const { return k_; }
+
+  private:
+    struct trig {
+        double s1, c1, s2, c2, sd, cd;
+        explicit trig(const double* x)
+            : s1(std::sin(x[0])), c1(std::cos(x[0])), s2(std::sin(x[1])), c2(std::cos(x[1])) {
+            sd = s1 * c2 - c1 * s2;
+            cd = c1 * c2 + s1 * s2;
+        }
+    };
+    lagrangian_coefficients<double> k_;
+};
+
+/// Adapter: the flow as an 8-dimensional right-hand side (state and tangent vector).
+struct pendulum_tangent_rhs {
+    pendulum_flow flow;
+    std::array<double, 8> operator()(double, const std::array<double, 8>& y) const {
+        return flow.tangent(y);
+    }
+};
+
+}  // namespace flipflux

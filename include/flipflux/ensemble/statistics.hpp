@@ -1,0 +1,101 @@
+// Statistics of a simulated ensemble (paper Sec. 5.3, 5.5 and 6):
+//   - per-trajectory rate r_i = N_i / T; ensemble mean, sample standard deviation (n - 1),
+//     standard error sd / sqrt(n); z = (mean - R_pred) / standard error;
+//   - the same over the chaotic sub-ensemble (lambda_T above the threshold) and its fraction;
+//   - residence times: differences of successive crossing times within each trajectory (the
+//     paper's "residence times between successive flips", Fig. waiting_times), their minimum
+//     (the gap of the saddle criterion) and quantiles;
+//   - histograms of the rates and of the residence times;
+//   - the quality indices over a set of energies (paper eqs. implementation_quality_index and
+//     prediction_quality_index), per energy regime:
+//         R(E) = |R_sim(E) / R_pred(E) - 1|,  S(E) = sigma(E) / R_pred(E),
+//         IQI = sqrt(mean_E R(E)^2),          PQI = sqrt(mean_E (R(E)^2 + S(E)^2)),
+//     sigma the trajectory-to-trajectory standard deviation of the rates.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "flipflux/ensemble/ensemble.hpp"
+
+namespace flipflux {
+
+struct summary_statistics {
+    std::size_t count = 0;
+    double mean = 0, standard_deviation = 0, standard_error = 0, minimum = 0, maximum = 0;
+};
+
+/// Two-pass mean and sample standard deviation (0 for a single value; NaN for none).
+summary_statistics summarize(std::span<const double> values);
+
+/// Equal-width bins on [lower, upper); values outside are counted in underflow/overflow.
+struct histogram {
+    double lower = 0, upper = 1;
+    std::vector<std::uint64_t> counts;
+    std::uint64_t underflow = 0, overflow = 0;
+    double bin_width() const { return (upper - lower) / static_cast<double>(counts.size()); }
+    std::uint64_t total() const;
+};
+histogram make_histogram(std::span<const double> values, std::size_t bins, double lower,
+                         double upper);
+/// Bins on [0, max(values)] (upper bound nudged up to include the maximum), `bins` of them or,
+/// with bins = 0, the square-root rule clamped to [10, 200].
+histogram auto_histogram(std::span<const double> values, std::size_t bins = 0);
+
+/// The q-quantile (0 <= q <= 1) by linear interpolation between order statistics.
+double quantile(std::vector<double> values, double q);
+
+struct residence_statistics {
+    summary_statistics summary;            ///< count, mean, sd, min (the gap), max
+    double q001 = 0, q01 = 0, median = 0;  ///< 0.1 %, 1 % and 50 % quantiles
+    histogram distribution;
+};
+
+struct criterion_statistics {
+    std::string criterion;
+    double predicted_rate = 0;  ///< NaN when no prediction is available
+    std::uint64_t flips = 0;    ///< total crossings in the ensemble
+    summary_statistics rates;   ///< per-trajectory N / T
+    double z_score = 0;         ///< (mean - predicted) / standard error (NaN without prediction)
+    std::size_t chaotic = 0;    ///< trajectories classified chaotic
+    double chaotic_fraction = 0;
+    summary_statistics chaotic_rates;
+    residence_statistics residence;
+    histogram rate_distribution;
+};
+
+/// Statistics of criterion `c` of an ensemble. predicted_rate may be NaN.
+criterion_statistics analyze(const ensemble_result& result, std::size_t c, double predicted_rate,
+                             std::size_t rate_bins = 0, std::size_t residence_bins = 0);
+
+// ---- quality indices over energies ---------------------------------------------------------
+
+struct quality_sample {
+    double energy, simulated, predicted, spread;  ///< spread: trajectory-to-trajectory sd
+};
+
+/// An energy interval [lower, upper).
+struct energy_regime {
+    std::string name;
+    double lower, upper;
+};
+
+/// The paper's regimes, scaled to the model: with E_s the saddle energy of `a` and E_m the
+/// maximum energy, arm 2: full [E_s, E_m), low [E_s, E_s + 0.2 D), central [E_s + 0.2 D,
+/// E_s + 0.75 D), high [E_s + 0.75 D, E_m), D = E_m - E_s (egalitarian: 2, 2.8, 5, 6); arm 1:
+/// full, low [E_s, E_s + 0.3 D), high [E_s + 0.3 D, E_m) (egalitarian: 4, 4.6, 6). Plus "all"
+/// (every energy given).
+std::vector<energy_regime> paper_regimes(const double_pendulum<double>& model, arm a);
+
+struct quality_indices {
+    std::string regime;
+    std::size_t energies = 0;  ///< samples in the regime (IQI, PQI are NaN when 0)
+    double iqi = 0, pqi = 0;
+};
+
+std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
+                                     const std::vector<energy_regime>& regimes);
+
+}  // namespace flipflux

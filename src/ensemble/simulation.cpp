@@ -1,0 +1,291 @@
+// A Monte Carlo study: ensembles, statistics, JSON report and CSVs (ensemble/simulation.hpp).
+#include "flipflux/ensemble/simulation.hpp"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/criteria.hpp"
+#include "flipflux/ensemble/statistics.hpp"
+#include "flipflux/io/atomic_file.hpp"
+
+namespace flipflux {
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+json number(double x) {
+    return std::isfinite(x) ? json(to_decimal(x)) : json(nullptr);
+}
+
+json summary_json(const summary_statistics& s, double predicted) {
+    return json{{"trajectories", s.count},
+                {"mean_rate", number(s.mean)},
+                {"std", number(s.standard_deviation)},
+                {"standard_error", number(s.standard_error)},
+                {"z_score", number((s.mean - predicted) / s.standard_error)}};
+}
+
+json histogram_json(const histogram& h) {
+    return json{{"lower", to_decimal(h.lower)},
+                {"upper", to_decimal(h.upper)},
+                {"bin_width", to_decimal(h.bin_width())},
+                {"counts", h.counts}};
+}
+
+// ---- CSV output ---------------------------------------------------------------------------
+
+void write_atomically(const std::filesystem::path& path, const std::string& content) {
+    try {
+        write_file_atomically(path, content);
+    } catch (const std::runtime_error&) {
+        throw input_error("--csv-dir: cannot write '" + path.string() + "'");
+    }
+}
+
+std::string histogram_csv(const histogram& h, std::uint64_t total) {
+    std::string s = "bin_lower,bin_upper,count,density\n";
+    for (std::size_t i = 0; i < h.counts.size(); ++i) {
+        const double lo = h.lower + h.bin_width() * static_cast<double>(i);
+        const double density =
+            total ? static_cast<double>(h.counts[i]) / (static_cast<double>(total) * h.bin_width())
+                  : 0.0;
+        s += to_decimal(lo) + "," + to_decimal(lo + h.bin_width()) + "," +
+             std::to_string(h.counts[i]) + "," + to_decimal(density) + "\n";
+    }
+    return s;
+}
+
+void write_csvs(const std::filesystem::path& dir, const std::string& label,
+                const ensemble_result& r, const std::vector<criterion_statistics>& stats) {
+    std::string t = "index,lyapunov,chaotic,max_energy_drift,steps,energy_check_rejections,status";
+    for (const std::string& c : r.criteria)
+        t += ",flips_" + c + ",rate_" + c;
+    t += "\n";
+    for (const trajectory_result& x : r.trajectories) {
+        t += std::to_string(x.index) + "," +
+             (std::isnan(x.lyapunov) ? "" : to_decimal(x.lyapunov)) + "," +
+             (x.chaotic ? "1" : "0") + "," + to_decimal(x.max_energy_drift) + "," +
+             std::to_string(x.steps) + "," + std::to_string(x.energy_check_rejections) + "," +
+             to_string(x.status);
+        for (std::size_t c = 0; c < r.criteria.size(); ++c)
+            t += "," + std::to_string(x.flips(c)) + "," +
+                 to_decimal(static_cast<double>(x.flips(c)) / r.time);
+        t += "\n";
+    }
+    write_atomically(dir / ("trajectories_E" + label + ".csv"), t);
+    if (!r.trajectories.empty() && !r.trajectories.front().samples.empty()) {
+        std::string smp = "trajectory,t,theta1,theta2,l1,l2\n";
+        for (const trajectory_result& x : r.trajectories)
+            for (const auto& v : x.samples) {
+                smp += std::to_string(x.index);
+                for (double c : v)
+                    smp += "," + to_decimal(c);
+                smp += "\n";
+            }
+        write_atomically(dir / ("samples_E" + label + ".csv"), smp);
+    }
+    for (std::size_t c = 0; c < r.criteria.size(); ++c) {
+        const std::string& name = r.criteria[c];
+        std::string res = "trajectory,crossing_time,residence_time\n";
+        for (const trajectory_result& x : r.trajectories) {
+            const auto& times = x.crossing_times[c];
+            for (std::size_t i = 1; i < times.size(); ++i)
+                res += std::to_string(x.index) + "," + to_decimal(times[i]) + "," +
+                       to_decimal(times[i] - times[i - 1]) + "\n";
+        }
+        write_atomically(dir / ("residence_E" + label + "_" + name + ".csv"), res);
+        write_atomically(dir / ("rate_histogram_E" + label + "_" + name + ".csv"),
+                         histogram_csv(stats[c].rate_distribution, stats[c].rates.count));
+        write_atomically(
+            dir / ("residence_histogram_E" + label + "_" + name + ".csv"),
+            histogram_csv(stats[c].residence.distribution, stats[c].residence.summary.count));
+    }
+}
+
+}  // namespace
+
+/// "5", "2.5,3,3.5" or "2.1:5.9:0.1" (inclusive range; values rounded to 15 digits).
+std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
+                                                              const std::string& option) {
+    std::vector<std::pair<std::string, double>> out;
+    std::size_t pos = 0;
+    while (pos <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', pos), text.size());
+        const std::string item = text.substr(pos, comma - pos);
+        const std::size_t c1 = item.find(':');
+        if (c1 == std::string::npos) {
+            out.emplace_back(item, parse_real<double>(item, option));
+        } else {
+            const std::size_t c2 = item.find(':', c1 + 1);
+            if (c2 == std::string::npos)
+                throw input_error(option + ": '" + item + "' is not a range (FROM:TO:STEP)");
+            const double a = parse_real<double>(item.substr(0, c1), option);
+            const double b = parse_real<double>(item.substr(c1 + 1, c2 - c1 - 1), option);
+            const double h = parse_real<double>(item.substr(c2 + 1), option);
+            if (!(h > 0) || !(b >= a) || (b - a) / h > 100000)
+                throw input_error(option + ": '" + item +
+                                  "' is not a range (FROM <= TO, STEP > 0, at most 1e5 values)");
+            const auto n = static_cast<long>(std::floor((b - a) / h * (1 + 1e-12) + 1e-9));
+            for (long i = 0; i <= n; ++i) {
+                const std::string e = to_decimal(a + static_cast<double>(i) * h, 15);
+                out.emplace_back(e, parse_real<double>(e, option));
+            }
+        }
+        pos = comma + 1;
+    }
+    return out;
+}
+
+std::vector<std::string> parse_criterion_list(const std::string& text, const std::string& option) {
+    std::vector<std::string> out;
+    std::size_t pos = 0;
+    while (pos <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', pos), text.size());
+        const std::string name = text.substr(pos, comma - pos);
+        check_criterion_name(name, option);
+        for (const std::string& seen : out)
+            if (seen == name) throw input_error(option + ": '" + name + "' is given twice");
+        out.push_back(name);
+        pos = comma + 1;
+    }
+    return out;
+}
+
+json simulate(const double_pendulum<double>& model, const simulation_request& request) {
+    const arm a = request.flip_arm;
+    const auto& energies = request.energies;
+    const std::vector<std::string>& names = request.criteria;
+    ensemble_options o = request.options;
+    const std::size_t bins = request.bins;
+    if (energies.empty()) throw input_error("--energy: no energy given");
+    if (names.empty()) throw input_error("--criteria: no criterion given");
+    if (o.sample_interval != 0 && request.csv_dir.empty())
+        throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
+                          "' needs --csv-dir (the sampled trajectories are written there)");
+    const std::filesystem::path& dir = request.csv_dir;
+    if (!dir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (!std::filesystem::is_directory(dir))
+            throw input_error("--csv-dir: '" + dir.string() + "' is not a writable directory");
+    }
+    // every input is checked, and every curve built, before anything is simulated
+    std::vector<std::vector<ensemble_criterion>> criteria;
+    std::vector<std::vector<std::optional<quantity_value<double>>>> predictions;
+    for (const auto& [label, e] : energies) {
+        o.energy = e;
+        validate(o);
+        criteria.emplace_back();
+        predictions.emplace_back();
+        for (const std::string& n : names) {
+            criteria.back().push_back(make_criterion(model, a, n, e));
+            predictions.back().push_back(criterion_prediction(model, a, n, e));
+        }
+    }
+
+    json out{{"command", "simulate"},          {"arm", to_string(a)},
+             {"trajectories", o.trajectories}, {"first_index", o.first_index},
+             {"time", to_decimal(o.time)},     {"seed", o.seed},
+             {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
+             {"atol", to_decimal(o.rtol)}};
+    out["chaos"] =
+        json{{"indicator",
+              o.chaos ? "finite-time maximal Lyapunov exponent (variational equations)" : "none"},
+             {"threshold", to_decimal(o.chaos_threshold)},
+             {"threshold_rate", to_decimal(chaos_threshold_rate(model, o.chaos_threshold))},
+             {"classification_reliable",
+              o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time)}};
+    json per_energy = json::array();
+    std::vector<std::vector<quality_sample>> all(names.size()), chaotic(names.size());
+    for (std::size_t k = 0; k < energies.size(); ++k) {
+        o.energy = energies[k].second;
+        const ensemble_result r = run_ensemble(model, o, criteria[k]);
+        double drift = 0;
+        long steps = 0;
+        std::size_t failed = 0;
+        long energy_rejections = 0;
+        for (const trajectory_result& t : r.trajectories) {
+            drift = std::max(drift, t.max_energy_drift);
+            steps += t.steps;
+            failed += t.status != rk_status::ok;
+            energy_rejections += t.energy_check_rejections;
+        }
+        json e{{"energy", energies[k].first},
+               {"seconds", r.seconds},
+               {"threads", r.threads},
+               {"steps_per_trajectory",
+                static_cast<double>(steps) / static_cast<double>(r.trajectories.size())},
+               {"failed_trajectories", failed},
+               {"energy_check_rejections", energy_rejections},
+               {"max_energy_drift", to_decimal(drift)}};
+        json per_criterion = json::object();
+        std::vector<criterion_statistics> stats;
+        for (std::size_t c = 0; c < names.size(); ++c) {
+            const auto& p = predictions[k][c];
+            const double predicted = p ? p->value : nan;
+            stats.push_back(analyze(r, c, predicted, bins, bins));
+            const criterion_statistics& st = stats.back();
+            json j{{"predicted_rate", number(predicted)},
+                   {"prediction_method", p ? json(p->method) : json(nullptr)},
+                   {"mean_rate", number(st.rates.mean)},
+                   {"std", number(st.rates.standard_deviation)},
+                   {"standard_error", number(st.rates.standard_error)},
+                   {"z_score", number(st.z_score)},
+                   {"flips", st.flips},
+                   {"chaotic_fraction", number(st.chaotic_fraction)},
+                   {"max_energy_drift", to_decimal(drift)}};
+            j["chaotic"] = summary_json(st.chaotic_rates, predicted);
+            j["residence_times"] = json{{"count", st.residence.summary.count},
+                                        {"min", number(st.residence.summary.minimum)},
+                                        {"q0.001", number(st.residence.q001)},
+                                        {"q0.01", number(st.residence.q01)},
+                                        {"median", number(st.residence.median)},
+                                        {"mean", number(st.residence.summary.mean)}};
+            j["rate_histogram"] = histogram_json(st.rate_distribution);
+            per_criterion[names[c]] = j;
+            if (p) {
+                all[c].push_back({o.energy, st.rates.mean, predicted, st.rates.standard_deviation});
+                if (st.chaotic > 0)
+                    chaotic[c].push_back({o.energy, st.chaotic_rates.mean, predicted,
+                                          st.chaotic_rates.standard_deviation});
+            }
+        }
+        e["criteria"] = per_criterion;
+        per_energy.push_back(e);
+        if (!dir.empty()) write_csvs(dir, energies[k].first, r, stats);
+    }
+    out["energies"] = per_energy;
+    // quality indices (paper Sec. 5.6): IQI over all trajectories, PQI also over the chaotic
+    // sub-ensemble (the paper's PQI tables use the chaotic trajectories)
+    const std::vector<energy_regime> regimes = paper_regimes(model, a);
+    auto quality_json = [&](const std::vector<quality_sample>& samples) {
+        json arr = json::array();
+        for (const quality_indices& q : quality(samples, regimes))
+            if (q.energies > 0)
+                arr.push_back(json{{"regime", q.regime},
+                                   {"energies", q.energies},
+                                   {"IQI", number(q.iqi)},
+                                   {"PQI", number(q.pqi)}});
+        return arr;
+    };
+    json qual = json::object();
+    for (std::size_t c = 0; c < names.size(); ++c)
+        qual[names[c]] = json{{"all_trajectories", quality_json(all[c])},
+                              {"chaotic_trajectories", quality_json(chaotic[c])}};
+    out["quality"] = qual;
+    json reg = json::array();
+    for (const energy_regime& g : regimes)
+        if (std::isfinite(g.lower))
+            reg.push_back(json{{"regime", g.name},
+                               {"lower", to_decimal(g.lower)},
+                               {"upper", to_decimal(g.upper)}});
+    out["regimes"] = reg;
+    return out;
+}
+
+}  // namespace flipflux

@@ -1,0 +1,160 @@
+// Ensemble statistics and quality indices; definitions in include/flipflux/ensemble/statistics.hpp.
+#include "flipflux/ensemble/statistics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace flipflux {
+
+namespace {
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+}
+
+summary_statistics summarize(std::span<const double> v) {
+    summary_statistics s;
+    s.count = v.size();
+    if (v.empty()) {
+        s.mean = s.standard_deviation = s.standard_error = s.minimum = s.maximum = nan;
+        return s;
+    }
+    double sum = 0;
+    s.minimum = s.maximum = v[0];
+    for (double x : v) {
+        sum += x;
+        s.minimum = std::min(s.minimum, x);
+        s.maximum = std::max(s.maximum, x);
+    }
+    const double n = static_cast<double>(v.size());
+    s.mean = sum / n;
+    double ss = 0;
+    for (double x : v)
+        ss += (x - s.mean) * (x - s.mean);
+    s.standard_deviation = v.size() > 1 ? std::sqrt(ss / (n - 1)) : 0.0;
+    s.standard_error = s.standard_deviation / std::sqrt(n);
+    return s;
+}
+
+std::uint64_t histogram::total() const {
+    std::uint64_t t = underflow + overflow;
+    for (std::uint64_t c : counts)
+        t += c;
+    return t;
+}
+
+histogram make_histogram(std::span<const double> v, std::size_t bins, double lower, double upper) {
+    if (bins == 0 || !(upper > lower))
+        throw std::invalid_argument("make_histogram: needs bins > 0 and upper > lower");
+    histogram h;
+    h.lower = lower;
+    h.upper = upper;
+    h.counts.assign(bins, 0);
+    const double w = (upper - lower) / static_cast<double>(bins);
+    for (double x : v) {
+        if (x < lower) {
+            ++h.underflow;
+        } else if (!(x < upper)) {
+            ++h.overflow;
+        } else {
+            const auto i = std::min(bins - 1, static_cast<std::size_t>((x - lower) / w));
+            ++h.counts[i];
+        }
+    }
+    return h;
+}
+
+histogram auto_histogram(std::span<const double> v, std::size_t bins) {
+    if (bins == 0)
+        bins = std::clamp<std::size_t>(
+            static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(v.size())))), 10, 200);
+    double hi = 0;
+    for (double x : v)
+        hi = std::max(hi, x);
+    if (!(hi > 0)) hi = 1;
+    return make_histogram(v, bins, 0.0, std::nextafter(hi, 2 * hi));
+}
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return nan;
+    std::sort(v.begin(), v.end());
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const auto i = static_cast<std::size_t>(std::floor(pos));
+    if (i + 1 >= v.size()) return v.back();
+    const double f = pos - static_cast<double>(i);
+    return v[i] + f * (v[i + 1] - v[i]);
+}
+
+criterion_statistics analyze(const ensemble_result& r, std::size_t c, double predicted,
+                             std::size_t rate_bins, std::size_t residence_bins) {
+    if (c >= r.criteria.size()) throw std::out_of_range("analyze: no such criterion");
+    criterion_statistics s;
+    s.criterion = r.criteria[c];
+    s.predicted_rate = predicted;
+    std::vector<double> rates, chaotic_rates, residence;
+    rates.reserve(r.trajectories.size());
+    for (const trajectory_result& t : r.trajectories) {
+        const auto& times = t.crossing_times[c];
+        s.flips += times.size();
+        const double rate = static_cast<double>(times.size()) / r.time;
+        rates.push_back(rate);
+        if (t.chaotic) chaotic_rates.push_back(rate);
+        for (std::size_t i = 1; i < times.size(); ++i)
+            residence.push_back(times[i] - times[i - 1]);
+    }
+    s.rates = summarize(rates);
+    s.z_score = (s.rates.mean - predicted) / s.rates.standard_error;
+    s.chaotic = chaotic_rates.size();
+    s.chaotic_fraction =
+        r.chaos ? static_cast<double>(s.chaotic) / static_cast<double>(rates.size()) : nan;
+    s.chaotic_rates = summarize(chaotic_rates);
+    s.residence.summary = summarize(residence);
+    s.residence.q001 = quantile(residence, 0.001);
+    s.residence.q01 = quantile(residence, 0.01);
+    s.residence.median = quantile(residence, 0.5);
+    s.residence.distribution = auto_histogram(residence, residence_bins);
+    s.rate_distribution = auto_histogram(rates, rate_bins);
+    return s;
+}
+
+std::vector<energy_regime> paper_regimes(const double_pendulum<double>& model, arm a) {
+    const double es = model.saddle_energy(a), em = model.maximum_energy();
+    const double d = em - es;
+    std::vector<energy_regime> r{{"full", es, em}};
+    if (a == arm::two) {
+        r.push_back({"low", es, es + 0.2 * d});
+        r.push_back({"central", es + 0.2 * d, es + 0.75 * d});
+        r.push_back({"high", es + 0.75 * d, em});
+    } else {
+        r.push_back({"low", es, es + 0.3 * d});
+        r.push_back({"high", es + 0.3 * d, em});
+    }
+    r.push_back(
+        {"all", -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
+    return r;
+}
+
+std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
+                                     const std::vector<energy_regime>& regimes) {
+    std::vector<quality_indices> out;
+    for (const energy_regime& g : regimes) {
+        quality_indices q;
+        q.regime = g.name;
+        double r2 = 0, s2 = 0;
+        for (const quality_sample& x : samples) {
+            if (!(x.energy >= g.lower && x.energy < g.upper)) continue;
+            const double R = std::abs(x.simulated / x.predicted - 1);
+            const double S = x.spread / x.predicted;
+            r2 += R * R;
+            s2 += S * S;
+            ++q.energies;
+        }
+        const double n = static_cast<double>(q.energies);
+        q.iqi = q.energies ? std::sqrt(r2 / n) : nan;
+        q.pqi = q.energies ? std::sqrt((r2 + s2) / n) : nan;
+        out.push_back(q);
+    }
+    return out;
+}
+
+}  // namespace flipflux

@@ -1,0 +1,357 @@
+// Flip detection (ensemble/flip_detector.hpp):
+//   - on prescribed analytic paths (exact dense output): a grazing double crossing inside one
+//     step with both ends on the same side, its near miss, several 2 pi levels in one step, a
+//     restricted-domain curve (crossings outside the domain do not count), arm 1, a crossing at
+//     a step boundary counted once;
+//   - on real dynamics: a brake orbit whose apex lies 1e-8 beyond the curve (two crossings
+//     ~1e-4 apart inside one step) or before it (none); a crossing in the first step and one
+//     at the very end; counts at high energy (many turns, angles reduced every step) against a
+//     brute-force count on an unreduced integration; crossing times against an independent
+//     integration landing on them, and DOP853 against DOPRI5.
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+#include "ensemble_support.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/ensemble/flip_detector.hpp"
+
+namespace flipflux::test {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+/// A linear curve h(s) = slope * s on a restricted domain (satisfies dividing_curve).
+struct linear_curve {
+    arm a = arm::two;
+    double k = 0.2;
+    std::array<double, 2> dom{-0.5, 0.5};
+    arm flip_arm() const { return a; }
+    double offset(double s) const { return k * s; }
+    double slope(double) const { return k; }
+    std::array<double, 2> domain() const { return dom; }
+};
+static_assert(dividing_curve<linear_curve, double>);
+
+// A prescribed configuration path th(t) with velocities w(t); momenta l = M(th) w.
+struct path {
+    std::function<std::array<double, 4>(double)> q;  // (th1, th2, w1, w2)
+};
+
+class path_interpolant final : public step_interpolant {
+  public:
+    path_interpolant(const double_pendulum<double>& m, path p) : m_(m), p_(std::move(p)) {}
+    std::array<double, 4> state(double t) const override {
+        const auto q = p_.q(t);
+        const auto l = m_.momenta(q[0], q[1], q[2], q[3]);
+        return {q[0], q[1], l[0], l[1]};
+    }
+
+  private:
+    const double_pendulum<double>& m_;
+    path p_;
+};
+
+// Runs a detector over [t0, t1] split into `steps` equal steps of the path.
+std::vector<crossing> detect(const double_pendulum<double>& m, flip_detector_base& d, path p,
+                             double t0, double t1, int steps) {
+    const pendulum_flow flow(m);
+    const path_interpolant interp(m, p);
+    std::vector<crossing> out;
+    const auto x0 = interp.state(t0);
+    d.start(x0, flow(0, x0));
+    for (int i = 0; i < steps; ++i) {
+        const double a = t0 + (t1 - t0) * i / steps, b = t0 + (t1 - t0) * (i + 1) / steps;
+        const auto x1 = interp.state(b), f1 = flow(0, x1);
+        d.step({a, b, x1, f1, interp}, out);
+    }
+    return out;
+}
+
+TEST(FlipDetector, GrazingDoubleCrossingInsideOneStep) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    for (double delta : {1e-6, 1e-10, -1e-6, -1e-10}) {
+        // th2 = pi + delta - (t - 0.5)^2: an apex delta beyond the upright line at t = 0.5
+        path p{[delta](double t) {
+            return std::array<double, 4>{0.3 + 0.1 * t, pi + delta - (t - 0.5) * (t - 0.5), 0.1,
+                                         -2 * (t - 0.5)};
+        }};
+        auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
+        const auto c = detect(m, *d, p, 0, 1, 1);
+        if (delta < 0) {
+            EXPECT_TRUE(c.empty()) << delta;
+        } else {
+            ASSERT_EQ(c.size(), 2u) << delta;
+            // rounding of phi (~ulp(pi)) divided by the slope phi' = 2 sqrt(delta) there
+            const double tol = 8 * eps<double>() * pi / (2 * std::sqrt(delta)) + 1e-15;
+            EXPECT_NEAR(c[0].time, 0.5 - std::sqrt(delta), tol) << delta;
+            EXPECT_NEAR(c[1].time, 0.5 + std::sqrt(delta), tol) << delta;
+            EXPECT_EQ(c[0].direction, 1);
+            EXPECT_EQ(c[1].direction, -1);
+            EXPECT_NEAR(c[0].s, 0.3 + 0.1 * c[0].time, 1e-15);
+        }
+        EXPECT_EQ(d->examined_steps(), 1);
+    }
+}
+
+TEST(FlipDetector, SeveralLevelsInOneStepAndStepBoundaries) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    // th2 = pi - 0.1 + 20 t on [0, 1]: levels 0, 2 pi, 4 pi, 6 pi at t = (0.1 + 2 pi k) / 20
+    path p{[](double t) { return std::array<double, 4>{0.2, pi - 0.1 + 20 * t, 0.0, 20.0}; }};
+    for (int steps : {1, 3, 7}) {
+        auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
+        const auto c = detect(m, *d, p, 0, 1, steps);
+        ASSERT_EQ(c.size(), 4u) << steps;
+        for (int k = 0; k < 4; ++k) {
+            EXPECT_NEAR(c[k].time, (0.1 + 2 * pi * k) / 20, 1e-14);
+            EXPECT_EQ(c[k].direction, 1);
+        }
+    }
+    // a path that reaches the level exactly at a step end and continues: counted once
+    path q{[](double t) { return std::array<double, 4>{0.0, pi - 0.5 + t, 0.0, 1.0}; }};
+    auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
+    const auto c = detect(m, *d, q, 0, 1, 2);  // step end at t = 0.5 where th2 = pi exactly
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_NEAR(c[0].time, 0.5, 1e-15);
+}
+
+TEST(FlipDetector, RestrictedDomainCountsOnlyInside) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    for (double s0 : {0.3, 0.7, -0.45, -0.55}) {
+        // crossing the line th2 = pi + 0.2 th1 at th1 = s0, moving in th2 only
+        path p{[s0](double t) {
+            return std::array<double, 4>{s0, pi + 0.2 * s0 - 0.5 + t, 0.0, 1.0};
+        }};
+        auto d = make_flip_detector(linear_curve{}, flow);
+        const auto c = detect(m, *d, p, 0, 1, 3);
+        EXPECT_EQ(c.size(), std::abs(s0) <= 0.5 ? 1u : 0u) << s0;
+    }
+    // crossing while moving along s out of the domain: the crossing is at s = 0.45, counted
+    path p{[](double t) {
+        return std::array<double, 4>{0.4 + 0.1 * t, pi + 0.2 * (0.4 + 0.1 * t) - 0.5 + t, 0.1,
+                                     1.02};
+    }};
+    auto d = make_flip_detector(linear_curve{}, flow);
+    const auto c = detect(m, *d, p, 0, 1, 2);
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_NEAR(c[0].s, 0.45, 1e-12);
+    // a domain longer than 2 pi is refused
+    EXPECT_THROW(make_flip_detector(linear_curve{arm::two, 0.1, {-4, 4}}, flow),
+                 std::invalid_argument);
+    EXPECT_THROW(make_flip_detector(linear_curve{arm::two, 0.1, {1, 1}}, flow),
+                 std::invalid_argument);
+}
+
+TEST(FlipDetector, ArmOneCurvesUseTheFirstAngle) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    const sine_curve<double> curve = approximate_saddle_curve(m, arm::one);
+    // centre mode (1, 2 + sqrt 2) in (th1, th2): th1 - pi = sin(th2) / (2 + sqrt 2)
+    ASSERT_NEAR(curve.amplitude, 1 - std::sqrt(0.5), 1e-15);
+    // th1 decreasing through pi + A sin(th2) at th2 = 0.1, then continuing 2 pi further down
+    path p{[](double t) { return std::array<double, 4>{4 - 8 * t, 0.1, -8.0, 0.0}; }};
+    auto d = make_flip_detector(curve, flow);
+    const auto c = detect(m, *d, p, 0, 1, 4);
+    const double level = pi + curve.offset(0.1);
+    ASSERT_EQ(c.size(), 2u);
+    EXPECT_NEAR(c[0].time, (4 - level) / 8, 1e-14);
+    EXPECT_NEAR(c[1].time, (4 - level + 2 * pi) / 8, 1e-14);
+    EXPECT_EQ(c[0].direction, -1);
+    EXPECT_EQ(d->flip_arm(), arm::one);
+}
+
+// ---- real dynamics ---------------------------------------------------------------------------
+
+ensemble_options tight(double T) {
+    ensemble_options o;
+    o.time = T;
+    o.rtol = 1e-12;
+    o.chaos = false;
+    o.keep_crossings = true;
+    return o;
+}
+
+trajectory_result simulate(const double_pendulum<double>& m, const phase_point<double>& x0,
+                           const ensemble_options& o,
+                           const std::vector<std::shared_ptr<flip_detector_base>>& ds) {
+    std::vector<flip_detector_base*> raw;
+    for (const auto& d : ds)
+        raw.push_back(d.get());
+    return simulate_trajectory(m, x0, o, 0, raw);
+}
+
+// The state that reaches `apex` (at rest) after time tau: integrate from the apex and reverse
+// the momenta (time-reversal symmetry).
+phase_point<double> towards_apex(const double_pendulum<double>& m, const phase_point<double>& apex,
+                                 double tau) {
+    const pendulum_flow flow(m);
+    rk_options ro;
+    ro.rtol = ro.atol = 1e-13;
+    explicit_rk<dormand_prince_853, 4, pendulum_flow> rk(flow, ro);
+    rk.initialize(0, apex);
+    rk.integrate(tau, [](auto&) {});
+    const auto x = rk.x();
+    return {x[0], x[1], -x[2], -x[3]};
+}
+
+TEST(FlipDetector, GrazingBrakeOrbitOfRealDynamics) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    const double tau = 1.0, th1 = 0.3;
+    const sine_curve<double> approx = approximate_saddle_curve(m, arm::two);
+    for (double delta : {1e-8, -1e-8}) {
+        for (int which = 0; which < 2; ++which) {
+            const double offset = which == 0 ? 0.0 : approx.offset(th1);
+            const phase_point<double> apex{th1, pi + offset + delta, 0, 0};
+            // phi'' at the apex (at rest: th'' = M^-1 l', and phi'' = th2'' - h'(th1) th1'')
+            const auto f = flow(0, apex);
+            const auto acc = flow.velocities({apex[0], apex[1], f[2], f[3]});
+            const double slope = which == 0 ? 0.0 : approx.slope(th1);
+            const double phi2 = acc[1] - slope * acc[0];
+            ASSERT_LT(phi2, 0);  // a maximum: the trajectory comes up to the apex and falls back
+            const phase_point<double> x0 = towards_apex(m, apex, tau);
+            std::vector<std::shared_ptr<flip_detector_base>> ds;
+            if (which == 0)
+                ds.push_back(make_flip_detector(upright_curve<double>{arm::two}, flow));
+            else
+                ds.push_back(make_flip_detector(approx, flow));
+            const trajectory_result r = simulate(m, x0, tight(2 * tau), ds);
+            const auto& c = r.crossings[0];
+            if (delta < 0) {
+                EXPECT_TRUE(c.empty()) << which;
+                continue;
+            }
+            ASSERT_EQ(c.size(), 2u) << which;
+            // symmetric about tau, separated by 2 sqrt(2 delta / |phi''|)
+            EXPECT_NEAR(0.5 * (c[0].time + c[1].time), tau, 1e-7);
+            const double expected = 2 * std::sqrt(2 * delta / -phi2);
+            EXPECT_NEAR(c[1].time - c[0].time, expected, 0.01 * expected);
+            EXPECT_EQ(c[0].direction, 1);
+            EXPECT_EQ(c[1].direction, -1);
+            EXPECT_GE(r.steps, 10);
+        }
+    }
+}
+
+TEST(FlipDetector, CrossingsInTheFirstAndLastStep) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    // first step: th2 = pi - 1e-9 moving up at th2' = 1
+    const auto l = m.momenta(0.0, pi - 1e-9, 0.0, 1.0);
+    const phase_point<double> x0{0.0, pi - 1e-9, l[0], l[1]};
+    std::vector<std::shared_ptr<flip_detector_base>> ds{
+        make_flip_detector(upright_curve<double>{arm::two}, flow)};
+    const trajectory_result r = simulate(m, x0, tight(3), ds);
+    ASSERT_GE(r.crossings[0].size(), 1u);
+    EXPECT_NEAR(r.crossings[0][0].time, 1e-9, 1e-15);
+    EXPECT_EQ(r.crossings[0][0].direction, 1);
+    // last step: end just after / just before a later crossing
+    const microcanonical_sampler sampler(m, 5.0);
+    const phase_point<double> y0 = sampler.sample(3, 0);
+    const trajectory_result full = simulate(m, y0, tight(60), ds);
+    ASSERT_GE(full.crossings[0].size(), 2u);
+    const double tc = full.crossings[0][1].time;
+    const trajectory_result after = simulate(m, y0, tight(tc + 1e-7), ds);
+    const trajectory_result before = simulate(m, y0, tight(tc - 1e-7), ds);
+    ASSERT_EQ(after.crossings[0].size(), 2u);
+    EXPECT_NEAR(after.crossings[0][1].time, tc, 1e-10);
+    EXPECT_EQ(before.crossings[0].size(), 1u);
+    EXPECT_EQ(after.end_time, tc + 1e-7);
+}
+
+// Many turns: counts with angle reduction against a brute-force count of level changes of the
+// unreduced crossing function sampled finely on an independent (unreduced) integration.
+TEST(FlipDetector, ManyTurnsAreCountedModuloTwoPi) {
+    const double_pendulum<double> m(lopsided_parameters());
+    const pendulum_flow flow(m);
+    const double E = 6 * m.maximum_energy();
+    const microcanonical_sampler sampler(m, E);
+    const double T = 15;
+    for (std::uint64_t i = 0; i < 3; ++i) {
+        const phase_point<double> x0 = sampler.sample(8, i);
+        const std::array<sine_curve<double>, 2> curves{approximate_saddle_curve(m, arm::two),
+                                                       approximate_saddle_curve(m, arm::one)};
+        std::vector<std::shared_ptr<flip_detector_base>> ds;
+        for (const auto& c : curves)
+            ds.push_back(make_flip_detector(c, flow));
+        ensemble_options o = tight(T);
+        const trajectory_result r = simulate(m, x0, o, ds);
+        rk_options ro;
+        ro.rtol = ro.atol = 1e-12;
+        explicit_rk<dormand_prince_853, 4, pendulum_flow> rk(flow, ro);
+        rk.initialize(0, x0);
+        auto phi = [&](const std::array<double, 4>& x, int c) {
+            const arm a = curves[c].flip_arm();
+            const auto q = curve_coordinates(a, x[0], x[1]);
+            return q[1] - pi - curves[c].offset(q[0]);
+        };
+        std::array<long, 2> count{}, level{};
+        for (int c = 0; c < 2; ++c)
+            level[c] = static_cast<long>(std::floor(phi(x0, c) / (2 * pi)));
+        long turns = 0;
+        rk.integrate(T, [&](auto& s) {
+            for (int j = 1; j <= 64; ++j) {
+                const auto x = s.dense(s.t_previous() + (s.t() - s.t_previous()) * j / 64);
+                for (int c = 0; c < 2; ++c) {
+                    const long lv = static_cast<long>(std::floor(phi(x, c) / (2 * pi)));
+                    count[c] += std::abs(lv - level[c]);
+                    level[c] = lv;
+                }
+            }
+        });
+        turns = static_cast<long>(std::abs(rk.x()[1] - x0[1]) / (2 * pi));
+        EXPECT_GT(turns, 5) << "the test needs fast rotation";
+        for (int c = 0; c < 2; ++c) {
+            EXPECT_EQ(static_cast<long>(r.crossing_times[c].size()), count[c]) << c;
+            // alternating directions within each turn are consistent with the net winding
+            long net = 0;
+            for (const crossing& x : r.crossings[c])
+                net += x.direction;
+            EXPECT_LE(std::abs(net), count[c]);
+        }
+    }
+}
+
+TEST(FlipDetector, CrossingTimesAreAccurate) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    const microcanonical_sampler sampler(m, 4.5);
+    const phase_point<double> x0 = sampler.sample(12, 5);
+    const sine_curve<double> approx = approximate_saddle_curve(m, arm::two);
+    auto make = [&] {
+        return std::vector<std::shared_ptr<flip_detector_base>>{
+            make_flip_detector(upright_curve<double>{arm::two}, flow),
+            make_flip_detector(approx, flow)};
+    };
+    ensemble_options o = tight(20);
+    const trajectory_result a = simulate(m, x0, o, make());
+    o.method = integration_method::dopri5;
+    const trajectory_result b = simulate(m, x0, o, make());
+    for (int c = 0; c < 2; ++c) {
+        ASSERT_GE(a.crossing_times[c].size(), 2u);
+        ASSERT_EQ(a.crossing_times[c].size(), b.crossing_times[c].size());
+        for (std::size_t i = 0; i < a.crossing_times[c].size(); ++i)
+            EXPECT_NEAR(a.crossing_times[c][i], b.crossing_times[c][i], 1e-7);
+    }
+    // landing exactly on each crossing time, the crossing function vanishes there
+    for (int c = 0; c < 2; ++c) {
+        for (const crossing& x : a.crossings[c]) {
+            rk_options ro;
+            ro.rtol = ro.atol = 1e-13;
+            explicit_rk<dormand_prince_853, 4, pendulum_flow> rk(flow, ro);
+            rk.initialize(0, x0);
+            rk.integrate(x.time, [](auto&) {});
+            const auto y = rk.x();
+            const double h = c == 0 ? 0.0 : approx.offset(y[0]);
+            const double phi = std::remainder(y[1] - pi - h, 2 * pi);
+            EXPECT_LT(std::abs(phi), 1e-8) << "criterion " << c << " t = " << x.time;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace flipflux::test

@@ -1,0 +1,76 @@
+// The study driver behind `flipflux simulate` and scenes (ensemble/simulation.hpp), called
+// directly: energy and criterion lists, refusal of incomplete requests, and a report whose
+// statistics are consistent with the per-trajectory results it was built from.
+#include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/simulation.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+TEST(Simulation, ParsesEnergyAndCriterionLists) {
+    const auto e = parse_energy_list("2.5,3:3.2:0.1,4");
+    ASSERT_EQ(e.size(), 5u);
+    EXPECT_EQ(e[0].first, "2.5");
+    EXPECT_EQ(e[1].first, "3");
+    EXPECT_EQ(e[2].first, "3.1");
+    EXPECT_EQ(e[3].first, "3.2");
+    EXPECT_DOUBLE_EQ(e[3].second, 3.2);
+    EXPECT_EQ(e[4].first, "4");
+    EXPECT_THROW(parse_energy_list("3:2:0.1"), input_error);
+    EXPECT_THROW(parse_energy_list("3:4"), input_error);
+    EXPECT_THROW(parse_energy_list("1,,2"), input_error);
+    EXPECT_THROW(parse_energy_list("0:1e6:1"), input_error);  // more than 1e5 values
+    EXPECT_EQ(parse_criterion_list("saddle,upright"),
+              (std::vector<std::string>{"saddle", "upright"}));
+    EXPECT_THROW(parse_criterion_list("upright,"), input_error);
+    EXPECT_THROW(parse_criterion_list("approx,approx", "criteria"), input_error);
+}
+
+TEST(Simulation, RefusesIncompleteRequests) {
+    const double_pendulum<double> m;
+    simulation_request q;
+    q.options.trajectories = 2;
+    q.options.time = 1;
+    q.criteria = {"upright"};
+    EXPECT_THROW(simulate(m, q), input_error);  // no energy
+    q.energies = {{"5", 5.0}};
+    q.criteria.clear();
+    EXPECT_THROW(simulate(m, q), input_error);  // no criterion
+    q.criteria = {"upright"};
+    q.options.sample_interval = 0.5;
+    EXPECT_THROW(simulate(m, q), input_error);  // samples need a directory
+}
+
+TEST(Simulation, ReportMatchesTheEnsemble) {
+    const double_pendulum<double> m;
+    simulation_request q;
+    q.criteria = {"upright", "approx"};
+    q.energies = {{"4.5", 4.5}};
+    q.options.trajectories = 16;
+    q.options.time = 20;
+    q.options.seed = 4;
+    q.options.rtol = 1e-8;
+    q.options.threads = 2;
+    const auto j = simulate(m, q);
+    ensemble_options o = q.options;
+    o.energy = 4.5;
+    const pendulum_flow flow(m);
+    const ensemble_result r =
+        run_ensemble(m, o,
+                     {{"upright", make_flip_detector(upright_curve<double>{arm::two}, flow)},
+                      {"approx", make_flip_detector(approximate_saddle_curve(m, arm::two), flow)}});
+    for (std::size_t c = 0; c < 2; ++c) {
+        std::uint64_t flips = 0;
+        for (const auto& t : r.trajectories)
+            flips += t.flips(c);
+        const auto& s = j["energies"][0]["criteria"][q.criteria[c]];
+        EXPECT_EQ(s["flips"].get<std::uint64_t>(), flips);
+        EXPECT_NEAR(std::stod(s["mean_rate"].get<std::string>()), flips / (16.0 * 20), 1e-15);
+        EXPECT_FALSE(s["predicted_rate"].is_null());
+    }
+    EXPECT_EQ(j["quality"]["upright"]["all_trajectories"][0]["regime"], "full");
+}
+
+}  // namespace
+}  // namespace flipflux::test

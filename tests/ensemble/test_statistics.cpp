@@ -1,0 +1,125 @@
+// Ensemble statistics (ensemble/statistics.hpp) on hand-made data with values worked out by
+// hand: summaries, histograms, quantiles, residence times, chaotic sub-ensemble, IQI and PQI,
+// and the paper's energy regimes.
+#include <cmath>
+#include <limits>
+
+#include "flipflux/ensemble/statistics.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+TEST(Statistics, Summary) {
+    const std::vector<double> v{1, 2, 3, 4};
+    const summary_statistics s = summarize(v);
+    EXPECT_EQ(s.count, 4u);
+    EXPECT_DOUBLE_EQ(s.mean, 2.5);
+    EXPECT_DOUBLE_EQ(s.standard_deviation, std::sqrt(5.0 / 3));
+    EXPECT_DOUBLE_EQ(s.standard_error, std::sqrt(5.0 / 3) / 2);
+    EXPECT_EQ(s.minimum, 1);
+    EXPECT_EQ(s.maximum, 4);
+    const std::vector<double> one{7};
+    EXPECT_EQ(summarize(one).standard_deviation, 0);
+    EXPECT_TRUE(std::isnan(summarize(std::vector<double>{}).mean));
+}
+
+TEST(Statistics, HistogramsAndQuantiles) {
+    const std::vector<double> v{-1, 0, 0.5, 0.99, 1, 2.5, 10};
+    const histogram h = make_histogram(v, 3, 0, 3);
+    EXPECT_EQ(h.counts, (std::vector<std::uint64_t>{3, 1, 1}));
+    EXPECT_EQ(h.underflow, 1u);
+    EXPECT_EQ(h.overflow, 1u);
+    EXPECT_EQ(h.total(), v.size());
+    EXPECT_DOUBLE_EQ(h.bin_width(), 1);
+    EXPECT_THROW(make_histogram(v, 0, 0, 1), std::invalid_argument);
+    EXPECT_THROW(make_histogram(v, 2, 1, 1), std::invalid_argument);
+    const std::vector<double> w{0.0, 1.0, 4.0};
+    const histogram a = auto_histogram(w);
+    EXPECT_EQ(a.counts.size(), 10u);
+    EXPECT_EQ(a.overflow, 0u);  // the maximum is inside
+    EXPECT_EQ(a.counts.back(), 1u);
+    EXPECT_EQ(auto_histogram(std::vector<double>(10000, 1.0)).counts.size(), 100u);
+    EXPECT_DOUBLE_EQ(auto_histogram(std::vector<double>{}).upper, 1.0);
+    EXPECT_DOUBLE_EQ(quantile({3, 1, 2, 4}, 0.5), 2.5);
+    EXPECT_DOUBLE_EQ(quantile({3, 1, 2, 4}, 0), 1);
+    EXPECT_DOUBLE_EQ(quantile({3, 1, 2, 4}, 1), 4);
+    EXPECT_TRUE(std::isnan(quantile({}, 0.5)));
+}
+
+TEST(Statistics, AnalyzeAnEnsemble) {
+    ensemble_result r;
+    r.time = 10;
+    r.chaos = true;
+    r.criteria = {"a", "b"};
+    auto traj = [](std::vector<double> a, std::vector<double> b, bool chaotic) {
+        trajectory_result t;
+        t.crossing_times = {std::move(a), std::move(b)};
+        t.chaotic = chaotic;
+        return t;
+    };
+    r.trajectories.push_back(traj({1, 2, 4}, {}, true));    // rate 0.3, residences 1, 2
+    r.trajectories.push_back(traj({5}, {3, 3.5}, false));   // rate 0.1
+    r.trajectories.push_back(traj({0.5, 1.0}, {1}, true));  // rate 0.2, residence 0.5
+    const criterion_statistics s = analyze(r, 0, 0.25);
+    EXPECT_EQ(s.criterion, "a");
+    EXPECT_EQ(s.flips, 6u);
+    EXPECT_DOUBLE_EQ(s.rates.mean, 0.2);
+    EXPECT_DOUBLE_EQ(s.rates.standard_deviation, 0.1);
+    EXPECT_DOUBLE_EQ(s.z_score, (0.2 - 0.25) / (0.1 / std::sqrt(3.0)));
+    EXPECT_EQ(s.chaotic, 2u);
+    EXPECT_DOUBLE_EQ(s.chaotic_fraction, 2.0 / 3);
+    EXPECT_DOUBLE_EQ(s.chaotic_rates.mean, 0.25);
+    EXPECT_EQ(s.residence.summary.count, 3u);
+    EXPECT_DOUBLE_EQ(s.residence.summary.minimum, 0.5);
+    EXPECT_DOUBLE_EQ(s.residence.summary.maximum, 2);
+    EXPECT_DOUBLE_EQ(s.residence.median, 1);
+    EXPECT_EQ(s.residence.distribution.total(), 3u);
+    EXPECT_EQ(s.rate_distribution.total(), 3u);
+    const criterion_statistics b = analyze(r, 1, std::numeric_limits<double>::quiet_NaN(), 4, 5);
+    EXPECT_TRUE(std::isnan(b.z_score));
+    EXPECT_EQ(b.rate_distribution.counts.size(), 4u);
+    EXPECT_EQ(b.residence.summary.count, 1u);
+    EXPECT_THROW(analyze(r, 2, 0.1), std::out_of_range);
+    r.chaos = false;
+    EXPECT_TRUE(std::isnan(analyze(r, 0, 0.25).chaotic_fraction));
+}
+
+TEST(Statistics, QualityIndicesPerRegime) {
+    const double_pendulum<double> m;
+    const auto g2 = paper_regimes(m, arm::two);
+    ASSERT_EQ(g2.size(), 5u);
+    EXPECT_EQ(g2[0].name, "full");
+    EXPECT_DOUBLE_EQ(g2[0].lower, 2);
+    EXPECT_DOUBLE_EQ(g2[0].upper, 6);
+    EXPECT_DOUBLE_EQ(g2[1].upper, 2.8);
+    EXPECT_DOUBLE_EQ(g2[2].lower, 2.8);
+    EXPECT_DOUBLE_EQ(g2[2].upper, 5);
+    EXPECT_DOUBLE_EQ(g2[3].lower, 5);
+    EXPECT_EQ(g2[4].name, "all");
+    const auto g1 = paper_regimes(m, arm::one);
+    ASSERT_EQ(g1.size(), 4u);
+    EXPECT_DOUBLE_EQ(g1[0].lower, 4);
+    EXPECT_DOUBLE_EQ(g1[1].upper, 4.6);
+    // R = |sim/pred - 1|, S = spread/pred; IQI = rms R, PQI = rms sqrt(R^2 + S^2)
+    const std::vector<quality_sample> samples{
+        {2.5, 1.1, 1.0, 0.2},   // R = 0.1, S = 0.2 (low)
+        {4.0, 0.97, 1.0, 0.1},  // R = 0.03, S = 0.1 (central)
+        {5.5, 2.0, 2.0, 0.0},   // R = 0, S = 0 (high)
+        {7.0, 1.0, 2.0, 0.0},   // outside the chaotic range: only in "all"
+    };
+    const auto q = quality(samples, g2);
+    EXPECT_EQ(q[0].energies, 3u);
+    EXPECT_NEAR(q[0].iqi, std::sqrt((0.01 + 0.0009) / 3), 1e-15);
+    EXPECT_NEAR(q[0].pqi, std::sqrt((0.01 + 0.04 + 0.0009 + 0.01) / 3), 1e-15);
+    EXPECT_NEAR(q[1].iqi, 0.1, 1e-15);
+    EXPECT_NEAR(q[2].pqi, std::sqrt(0.0009 + 0.01), 1e-15);
+    EXPECT_EQ(q[3].iqi, 0);
+    EXPECT_EQ(q[4].energies, 4u);
+    EXPECT_NEAR(q[4].iqi, std::sqrt((0.01 + 0.0009 + 0.25) / 4), 1e-15);
+    const auto none = quality({}, g1);
+    EXPECT_TRUE(std::isnan(none[0].iqi));
+}
+
+}  // namespace
+}  // namespace flipflux::test
