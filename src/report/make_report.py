@@ -394,7 +394,7 @@ def in_regime(energy, lo, hi):
     return (energy >= lo - tol) & (energy < hi - tol)
 
 
-def quality_indices(series, mask, rng):
+def quality_indices(series, mask, rng, t_scale=1.0):
     """IQI and PQI (in %) over the masked energies, with their bootstrap standard deviations
     (simulated mean ~ N(mean, se), std ~ N(std, std / sqrt(2 (n - 1))) per energy) and the
     pure-noise IQI floor sqrt(mean (se / R_pred)^2)."""
@@ -412,7 +412,10 @@ def quality_indices(series, mask, rng):
     rb = sim_mean / pred - 1
     iqi_b = 100 * np.sqrt(np.mean(rb ** 2, axis=1))
     pqi_b = 100 * np.sqrt(np.mean(rb ** 2 + (sim_std / pred) ** 2, axis=1))
+    pqi_t = 100 * math.sqrt(np.mean(r ** 2 + t_scale * s ** 2))
+    pqi_tb = 100 * np.sqrt(np.mean(rb ** 2 + t_scale * (sim_std / pred) ** 2, axis=1))
     return {"energies": int(len(pred)), "iqi": iqi, "pqi": pqi, "iqi_sd": float(np.std(iqi_b)),
+            "pqi_t": pqi_t, "pqi_t_sd": float(np.std(pqi_tb)),
             "pqi_sd": float(np.std(pqi_b)), "floor": 100 * math.sqrt(np.mean((se / pred) ** 2)),
             "r_rms": 100 * math.sqrt(np.mean(r ** 2)), "s_rms": 100 * math.sqrt(np.mean(s ** 2))}
 
@@ -477,7 +480,8 @@ def fig_allowed_region(data, out):
     fig, axes = plt.subplots(1, 4, figsize=(13, 3.4), sharey=True)
     for ax, e in zip(axes, energies):
         ax.contourf(t1, t2, (v > e).astype(float), levels=[0.5, 1.5], colors=["tab:red"], alpha=0.5)
-        ax.contour(t1, t2, v, levels=[e], colors="k", linewidths=0.8)
+        if e < em:
+            ax.contour(t1, t2, v, levels=[e], colors="k", linewidths=0.8)
         ax.set(title="E = %.4g" % e, xlabel="θ₁", aspect="equal")
         ax.grid(False)
     axes[0].set_ylabel("θ₂")
@@ -502,7 +506,8 @@ def fig_criteria(data, out):
     chosen = {}
     for ax, a in zip(axes, (2, 1)):
         es, em = model["saddle"][a], model["maximum"]
-        e = nearest(data["curves"][a]["energy"], es + 0.5 * (em - es))
+        e1 = model["saddle"][1]
+        e = nearest(data["curves"][a]["energy"], e1 + 0.5 * (em - e1))
         chosen[a] = e
         s = np.linspace(-math.pi, math.pi, 401)
         t1, t2 = np.meshgrid(s, s + math.pi, indexing="xy")
@@ -665,11 +670,16 @@ def fig_residence(data, out):
                     "mean": float(np.mean(r)) if len(r) else float("nan")}
         if len(r) == 0:
             continue
-        bins = np.linspace(0, np.quantile(r, 0.99), 80)
-        for ax in axes:
+    short = max(stats["saddle"]["min"] * 2, 1.0) if np.isfinite(stats["saddle"]["min"]) else 1.0
+    for c in ("upright", "saddle"):
+        r = data["residence"][c][0]["residence_time"]
+        r = r[np.isfinite(r)]
+        if len(r) == 0:
+            continue
+        for ax, bins in ((axes[0], np.linspace(0, np.quantile(r, 0.99), 80)),
+                         (axes[1], np.linspace(0, short, 50))):
             ax.hist(r, bins=bins, density=True, histtype="step", color=COLORS[c], lw=1.3,
                     label="%s (%d residence times, min %.3g)" % (c, len(r), np.min(r)))
-    short = max(stats["saddle"]["min"] * 2, 1.0) if np.isfinite(stats["saddle"]["min"]) else 1.0
     axes[0].set(xlabel="residence time", ylabel="density", yscale="log",
                 title="Residence times of arm 2 at E = %g" % data["e_res"])
     axes[1].set(xlabel="residence time", ylabel="density", xlim=(0, short),
@@ -757,7 +767,7 @@ def table_critical_points(data, out):
     egalitarian = is_egalitarian(data["model"])
     for ((x, y), e, kind), (label, pv, _) in zip(critical_points(data["model"]),
                                                 PAPER["critical_points"]):
-        rows.append([label, repr(e), pv if egalitarian else "n/a (other model)", kind])
+        rows.append([label, "%.17g" % e, pv if egalitarian else "n/a (other model)", kind])
     return write_table(out, "critical-points", header, rows), header, rows
 
 
@@ -774,17 +784,22 @@ def quality_table(data, out, name, a, criterion, kind, paper_values, rng):
     s = rate_series(ens, criterion, chaotic=chaotic)
     if chaotic and len(s["energy"]) == 0:
         s = rate_series(ens, criterion)
+    t_scale = ens["time"] / PAPER["T"]
+    rescale = kind == "PQI" and abs(t_scale - 1) > 1e-12
     header = ["regime", "energies", "%s ours [%%]" % kind, "± (bootstrap)", "flipflux JSON [%]",
               "paper [%]", "comparison", "noise floor [%]", "RMS R(E) [%]", "RMS S(E) [%]"]
+    if rescale:
+        header.append("PQI with S rescaled to T = %d [%%]" % PAPER["T"])
     rows, notes = [], []
     for reg, lo, hi in regimes(data["model"], a):
         if reg not in paper_values:
             continue
-        q = quality_indices(s, in_regime(s["energy"], lo, hi), rng)
+        q = quality_indices(s, in_regime(s["energy"], lo, hi), rng, t_scale)
         label = REGIME_LABELS[a][reg] if is_egalitarian(data["model"]) else \
             "%s (%.4g ≤ E < %.4g)" % (reg, lo, hi)
         if q is None:
-            rows.append([label, 0, "—", "—", "—", paper_values[reg], "no energies", "", "", ""])
+            rows.append([label, 0, "—", "—", "—", paper_values[reg], "no energies", "", "", ""] +
+                        (["—"] if rescale else []))
             continue
         ours, sd = (q["iqi"], q["iqi_sd"]) if kind == "IQI" else (q["pqi"], q["pqi_sd"])
         jq = json_quality(ens, criterion, "chaotic_trajectories" if chaotic else "all_trajectories",
@@ -793,10 +808,17 @@ def quality_table(data, out, name, a, criterion, kind, paper_values, rng):
         if jq and abs(jv - ours) > 1e-6 * max(1, ours):
             notes.append("%s %s: the report's %.6g %% and flipflux's %.6g %% differ (energy grid "
                          "or regime boundaries)" % (kind, reg, ours, jv))
-        z, verdict = compare(ours, sd, paper_values[reg], ens, kind)
+        if rescale:
+            # S = sd / R_pred of time averages falls as 1/sqrt(T) for mixing trajectories: compare
+            # the paper's value with ours at its T (an estimate, marked as such)
+            z, verdict = compare(q["pqi_t"], q["pqi_t_sd"], paper_values[reg], ens, kind)
+            verdict = "T-rescaled: " + verdict
+        else:
+            z, verdict = compare(ours, sd, paper_values[reg], ens, kind)
         rows.append([label, q["energies"], "%.2f" % ours, "%.2f" % sd,
                      "%.2f" % jv if jq else "—", "%.2f" % paper_values[reg], verdict,
-                     "%.2f" % q["floor"], "%.2f" % q["r_rms"], "%.2f" % q["s_rms"]])
+                     "%.2f" % q["floor"], "%.2f" % q["r_rms"], "%.2f" % q["s_rms"]] +
+                    (["%.2f ± %.2f" % (q["pqi_t"], q["pqi_t_sd"])] if rescale else []))
     return write_table(out, name, header, rows), header, rows, notes
 
 
@@ -851,7 +873,8 @@ def table_rates(data, out, a):
 
 def figure_md(paths, caption):
     png, svg = paths
-    return "![%s](%s)\n\n*%s* ([SVG](%s))\n" % (caption.split(".")[0], png, caption, svg)
+    name = os.path.splitext(os.path.basename(png))[0]
+    return "![%s](%s)\n\n*%s* ([SVG](%s))\n" % (name, png, caption, svg)
 
 
 def explain_quality(rows, kind, ens, which):
@@ -880,7 +903,8 @@ def explain_quality(rows, kind, ens, which):
     else:
         lines.append("the PQI is dominated by S(E) = sd/R_pred (column 'RMS S(E)'), the spread of "
                      "per-trajectory rates, which for chaotic trajectories falls as 1/sqrt(T) "
-                     "(our T = %g, the paper's 10000%s) and depends on which trajectories the "
+                     "(our T = %g, the paper's 10000%s; the last column rescales S to T = 10000 "
+                     "and the comparison uses it, an estimate that assumes mixing) and depends on which trajectories the "
                      "chaos indicator keeps: ours is the finite-time Lyapunov exponent with "
                      "threshold %s (chaos block of the ensemble JSON); the paper does not state "
                      "its indicator or threshold. The energy grid (ours: %d energies) also enters "
