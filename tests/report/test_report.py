@@ -1,0 +1,286 @@
+#!/usr/bin/env python3
+"""Checks of the reproduction report (src/report/make_report.py).
+
+    test_report.py                                   self-contained: a synthetic run directory
+    test_report.py --flipflux BIN --scene SCENE      runs `BIN run SCENE` in a temporary working
+                                                     directory, then checks the scene's report
+    test_report.py --report-dir DIR                  checks an existing report
+
+The self-contained mode writes a schema-conformant run directory (run.json, predictions.csv,
+orbits, orbit curves, ensemble JSONs and CSVs) with known values, runs the generator, and asserts
+that every figure (PNG and SVG) and table is written, that the tables carry the values the
+synthetic data implies (IQI from known deviations, RMS differences from known rates), and that a
+missing or malformed input is a named error with exit status 2 and no report. Exit status 0 when
+every check passes; prints 'N passed, N failed'.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+GENERATOR = os.path.join(REPO, "src", "report", "make_report.py")
+
+# Every figure and table of the paper the report must contain (egalitarian pendulum: the residence
+# times at E = 5 and the rate histogram at E = 5.3).
+FIGURES = ["potential", "allowed-region", "criteria", "orbit-family", "period-action-arm2",
+           "period-action-arm1", "fluxes", "rates-arm2-all", "rates-arm2-chaotic",
+           "rates-arm1-chaotic", "rates-arm1-all", "rates-criteria", "residence-E5",
+           "rate-histogram-E5.3", "approx-vs-saddle"]
+TABLES = ["critical-points", "iqi-arm2", "pqi-arm2-saddle", "iqi-arm1", "pqi-arm1-saddle",
+          "pqi-arm2-approx", "pqi-arm2-upright", "rms-differences", "rates-arm2", "rates-arm1"]
+
+RESULTS = {"passed": 0, "failed": 0}
+
+
+def check(condition, what):
+    if condition:
+        RESULTS["passed"] += 1
+    else:
+        RESULTS["failed"] += 1
+        print("FAILED: " + what)
+
+
+# ---- the synthetic run directory ----------------------------------------------------------------
+
+def grid(lo, hi, step):
+    return [round(lo + i * step, 10) for i in range(int(round((hi - lo) / step)) + 1)]
+
+
+def rates(e):
+    """Synthetic predicted rates: saddle, approx = saddle (1 + 0.002 (E - 2)), upright = 1.1 saddle."""
+    s = 0.05 * (e - 2)
+    return {"saddle": s, "approx": s * (1 + 0.002 * (e - 2)), "upright": 1.1 * s}
+
+
+def write_csv(path, header, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def ensemble_json(arm, energies, criteria, deviation, n, t):
+    """Simulated mean = predicted (1 + deviation); sd = 0.1 predicted (chaotic: 0.05)."""
+    out = {"command": "simulate", "arm": str(arm), "trajectories": n, "first_index": 0,
+           "time": str(t), "seed": 1, "method": "dop853", "rtol": "1e-10", "atol": "1e-10",
+           "chaos": {"indicator": "finite-time maximal Lyapunov exponent", "threshold": "0.05"},
+           "energies": [], "quality": {}, "regimes": []}
+    for e in energies:
+        crit = {}
+        for c in criteria:
+            p = rates(e)[c] if arm == 2 else 0.04 * (e - 4)
+            m, sd = p * (1 + deviation), 0.1 * p
+            crit[c] = {"predicted_rate": repr(p), "prediction_method": "synthetic",
+                       "mean_rate": repr(m), "std": repr(sd),
+                       "standard_error": repr(sd / math.sqrt(n)), "z_score": "0",
+                       "flips": int(m * n * t), "chaotic_fraction": "0.9",
+                       "chaotic": {"trajectories": int(0.9 * n), "mean_rate": repr(p),
+                                   "std": repr(0.05 * p),
+                                   "standard_error": repr(0.05 * p / math.sqrt(0.9 * n)),
+                                   "z_score": "0"}}
+        out["energies"].append({"energy": "%.10g" % e, "seconds": 0.1, "criteria": crit})
+    return out
+
+
+def write_ensemble(run_dir, name, data, csv_files):
+    with open(os.path.join(run_dir, "ensemble-%s.json" % name), "w") as f:
+        json.dump(data, f, indent=1)
+    d = os.path.join(run_dir, "ensemble-" + name)
+    os.makedirs(d, exist_ok=True)
+    for fname, (header, rows) in csv_files.items():
+        write_csv(os.path.join(d, fname), header, rows)
+
+
+def make_synthetic_run(run_dir):
+    os.makedirs(run_dir, exist_ok=True)
+    run = {"scene": "synthetic", "scene_file": "tests/report/test_report.py",
+           "precision": "double", "git_commit": "0" * 40, "seconds": 1.5,
+           "model": {"parameters": {k: "1" for k in ("m1", "m2", "L1", "L2", "a1", "a2", "g")},
+                     "coefficients": {"A": "2", "B": "1", "C": "1", "alpha": "2", "beta": "1",
+                                      "D0": "1"},
+                     "saddle_energy": {"1": "4", "2": "2"}, "maximum_energy": "6",
+                     "approximate_curve": {"1": {"offset": "3.14159", "slope": "0.29289321881345"},
+                                           "2": {"offset": "3.14159", "slope": "0.58578643762690"}}}}
+    run["model"]["parameters"].update({"I1": "0", "I2": "0"})
+    with open(os.path.join(run_dir, "run.json"), "w") as f:
+        json.dump(run, f, indent=1)
+    rows = []
+    for e in grid(2.05, 5.95, 0.1):
+        rows.append(["omega", "", e, repr(10 * e * e), "1e-15", "synthetic"])
+        for a in (1, 2):
+            if a == 1 and e <= 4:
+                continue
+            r = rates(e) if a == 2 else {c: 0.04 * (e - 4) for c in ("saddle", "approx", "upright")}
+            for c in ("upright", "approx", "saddle"):
+                rows.append(["rate-" + c, a, e, repr(r[c]), "1e-15", "synthetic"])
+                rows.append(["flux-" + c, a, e, repr(r[c] * 10 * e * e), "1e-15", "synthetic"])
+    write_csv(os.path.join(run_dir, "predictions.csv"),
+              ["quantity", "arm", "energy", "value", "error_estimate", "method"], rows)
+    for a, lo in ((2, 2.1), (1, 4.1)):
+        es = 2.0 if a == 2 else 4.0
+        orbits, curves = [], []
+        for e in grid(lo, 5.9, 0.2):
+            period = 5 + 0.2 * e  # F = 5 (E - Es) + 0.1 (E^2 - Es^2): dF/dE = T exactly
+            action = 5 * (e - es) + 0.1 * (e * e - es * es)
+            orbits.append([e, repr(period), repr(action), repr(2 * action), "100", "102"])
+            for k in range(33):
+                s = -1 + 2 * k / 32
+                curves.append([e, repr(s), repr(math.pi + 0.5858 * math.sin(s))] if a == 2 else
+                              [e, repr(math.pi + 0.2929 * math.sin(s)), repr(s)])
+        write_csv(os.path.join(run_dir, "orbits-arm%d.csv" % a),
+                  ["energy", "period", "action", "flux", "multiplier", "stability_index"], orbits)
+        write_csv(os.path.join(run_dir, "orbit-curves-arm%d.csv" % a),
+                  ["energy", "theta1", "theta2"], curves)
+    e2 = [2.5, 3.5, 5.3]
+    traj = (["index", "lyapunov", "chaotic", "rate_upright", "rate_approx", "rate_saddle"],
+            [[i, "0.3", int(i % 10 != 0), repr(0.18 + 0.001 * i), repr(0.165 + 0.001 * i),
+              repr(0.165 + 0.001 * (i % 37))] for i in range(50)])
+    write_ensemble(run_dir, "arm2", ensemble_json(2, e2, ("upright", "approx", "saddle"), 0.01,
+                                                  50, 200),
+                   {"trajectories_E%g.csv" % e: traj for e in e2})
+    write_ensemble(run_dir, "arm1", ensemble_json(1, [4.3, 5.3], ("saddle",), 0.02, 50, 200), {})
+    res = {}
+    for c, gap in (("upright", 0.0), ("saddle", 1.9)):
+        res["residence_E5_%s.csv" % c] = (["trajectory", "crossing_time", "residence_time"],
+                                          [[i % 20, i, repr(gap + 0.01 * (i % 500))]
+                                           for i in range(2000)])
+    write_ensemble(run_dir, "residence-E5", ensemble_json(2, [5], ("upright", "saddle"), 0.0,
+                                                          20, 200), res)
+
+
+# ---- checks -------------------------------------------------------------------------------------
+
+def run_generator(run_dir, out):
+    return subprocess.run([sys.executable, GENERATOR, "--run-dir", run_dir, "--out", out],
+                          capture_output=True, text=True)
+
+
+def read_table(report, name):
+    with open(os.path.join(report, "tables", name + ".csv"), newline="") as f:
+        return list(csv.reader(f))
+
+
+def check_report(report):
+    readme = os.path.join(report, "README.md")
+    check(os.path.isfile(readme), "report README.md exists in " + report)
+    text = open(readme, encoding="utf-8").read() if os.path.isfile(readme) else ""
+    for name in FIGURES:
+        png = os.path.join(report, "figures", name + ".png")
+        svg = os.path.join(report, "figures", name + ".svg")
+        ok_png = os.path.isfile(png) and open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+        check(ok_png and os.path.getsize(png) > 5000, "figure %s.png is a PNG" % name)
+        ok_svg = os.path.isfile(svg) and "<svg" in open(svg, encoding="utf-8").read(2000)
+        check(ok_svg, "figure %s.svg is an SVG" % name)
+        check("figures/%s.png" % name in text and "figures/%s.svg" % name in text,
+              "README.md shows figure %s" % name)
+    for name in TABLES:
+        path = os.path.join(report, "tables", name + ".csv")
+        check(os.path.isfile(path) and len(read_table(report, name)) >= 2,
+              "table %s.csv has rows" % name)
+        check("tables/%s.csv" % name in text, "README.md links table %s" % name)
+    for word in ("commit", "wall time", "paper"):
+        check(word in text, "README.md states the %s" % word)
+    leftovers = [f for _, _, files in os.walk(report) for f in files if ".tmp" in f]
+    check(not leftovers, "no temporary files left: %s" % leftovers)
+    return text
+
+
+def check_synthetic_values(report):
+    """The tables carry the values the synthetic data implies."""
+    iqi = {r[0]: r for r in read_table(report, "iqi-arm2")[1:]}
+    full = [r for k, r in iqi.items() if k.startswith("full")][0]
+    check(abs(float(full[2]) - 1.0) < 1e-9, "IQI arm 2 = 1 %% (simulated means 1 %% high): %s"
+          % full[2])
+    check(full[5] == "1.05", "IQI arm 2 beside the paper's 1.05: %s" % full[5])
+    iqi1 = read_table(report, "iqi-arm1")[1]
+    check(abs(float(iqi1[2]) - 2.0) < 1e-9, "IQI arm 1 = 2 %%: %s" % iqi1[2])
+    pqi = read_table(report, "pqi-arm2-saddle")[1]  # chaotic: mean = predicted, sd = 5 %
+    check(abs(float(pqi[2]) - 5.0) < 1e-9, "PQI arm 2 saddle = 5 %%: %s" % pqi[2])
+    rms = {r[0]: r for r in read_table(report, "rms-differences")[1:]}
+    up = rms["upright vs saddle (theory)"]
+    check(abs(float(up[1]) - 10.0) < 1e-9 and abs(float(up[2]) - 10.0) < 1e-9,
+          "RMS upright vs saddle = 10 %%: %s" % up[1:3])
+    cp = read_table(report, "critical-points")
+    check([r[1] for r in cp[1:]] == ["0", "2", "4", "6"], "critical energies 0, 2, 4, 6: %s" % cp)
+
+
+def check_errors(base):
+    """A missing or malformed input is a named error, exit status 2, and nothing is written."""
+    for victim, mangle, expect in (("orbits-arm1.csv", None, "orbits-arm1.csv"),
+                                   ("ensemble-residence-E5.json", None, "residence_E5_saddle"),
+                                   ("run.json", "{not json", "malformed JSON"),
+                                   ("predictions.csv", "quantity,arm,energy,value\nomega,,x,1\n",
+                                    "predictions.csv:2")):
+        run_dir = os.path.join(base, "broken-" + victim)
+        make_synthetic_run(run_dir)
+        if mangle is None:
+            os.remove(os.path.join(run_dir, victim))
+            if victim.endswith(".json"):
+                shutil.rmtree(os.path.join(run_dir, victim[:-5]))
+        else:
+            with open(os.path.join(run_dir, victim), "w") as f:
+                f.write(mangle)
+        out = os.path.join(base, "report-" + victim)
+        r = run_generator(run_dir, out)
+        check(r.returncode == 2, "%s: exit status 2 (got %d)" % (victim, r.returncode))
+        check(expect in r.stderr and "error" in r.stderr,
+              "%s: the error names '%s': %r" % (victim, expect, r.stderr))
+        check(not os.path.exists(os.path.join(out, "README.md")), "%s: no report written" % victim)
+    r = run_generator(os.path.join(base, "does-not-exist"), os.path.join(base, "r"))
+    check(r.returncode == 2 and "--run-dir" in r.stderr, "missing run dir is named: %r" % r.stderr)
+
+
+def scene_report_dir(scene, cwd):
+    import tomllib
+    with open(scene, "rb") as f:
+        s = tomllib.load(f)
+    return os.path.join(cwd, s["report"]["dir"])
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--flipflux", help="the flipflux executable (with --scene)")
+    p.add_argument("--scene", help="a scene with a [report] section, run in a temporary directory")
+    p.add_argument("--report-dir", help="check this existing report")
+    p.add_argument("--keep", action="store_true", help="keep the temporary directory")
+    a = p.parse_args()
+    base = tempfile.mkdtemp(prefix="flipflux-report-")
+    try:
+        if a.report_dir:
+            check_report(a.report_dir)
+        elif a.scene:
+            scene = os.path.abspath(a.scene)
+            r = subprocess.run([os.path.abspath(a.flipflux), "run", scene], cwd=base,
+                               capture_output=True, text=True)
+            sys.stdout.write(r.stdout[-3000:])
+            sys.stderr.write(r.stderr[-3000:])
+            check(r.returncode == 0, "flipflux run %s: exit status %d" % (a.scene, r.returncode))
+            check_report(scene_report_dir(scene, base))
+        else:
+            run_dir, report = os.path.join(base, "run"), os.path.join(base, "report")
+            make_synthetic_run(run_dir)
+            r = run_generator(run_dir, report)
+            check(r.returncode == 0, "generator exit status 0: %s" % r.stderr)
+            check_report(report)
+            check_synthetic_values(report)
+            r = run_generator(run_dir, report)  # re-running over an existing report
+            check(r.returncode == 0, "generator re-run over an existing report: %s" % r.stderr)
+            check_errors(base)
+    finally:
+        if a.keep:
+            print("kept " + base)
+        else:
+            shutil.rmtree(base, ignore_errors=True)
+    print("%d passed, %d failed" % (RESULTS["passed"], RESULTS["failed"]))
+    return 0 if RESULTS["failed"] == 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
