@@ -4,8 +4,7 @@ directory and compared with the paper's values.
 
     make_report.py --run-dir OUT --out REPORT_DIR
 
-Inputs (written by `flipflux run SCENE` into the scene's output directory OUT; see
-docs/reproduction/README.md, section "Inputs"):
+Inputs (written by `flipflux run SCENE` into the scene's output directory OUT):
     run.json                       scene, scene_file, precision, git_commit, seconds, model
     predictions.csv                quantity,arm,energy,value,error_estimate,method
     orbits-arm<a>.csv              energy,period,action,flux,multiplier,stability_index (a = 1, 2)
@@ -1064,6 +1063,14 @@ def build_report(data, out):
               "quantity registry.\n")
     if all_notes:
         md.append("### Consistency notes\n\n" + "\n".join("- " + n for n in all_notes) + "\n")
+    md.append("## Inputs\n\nRead from the run directory `%s`: run.json, predictions.csv, "
+              "orbits-arm1.csv, orbits-arm2.csv, orbit-curves-arm1.csv, orbit-curves-arm2.csv, %s; "
+              "residence times from %s; per-trajectory rates from %s. The report's own checks: "
+              "the approximate curve's slope from the saddle's centre mode, dF/dE = T by "
+              "quadrature, flux = 2 F, IQI/PQI recomputed and compared with flipflux's.\n" %
+              (data["run_dir"], ", ".join("ensemble-%s.json" % e["name"] for e in data["ensembles"]),
+               ", ".join(os.path.relpath(v[2], data["run_dir"]) for v in data["residence"].values()),
+               os.path.relpath(data["histogram"][3], data["run_dir"])))
     md.append("\n---\nReport generated in %.1f s.\n" % (time.time() - t0))
     write_text(os.path.join(out, "README.md"), "\n".join(md))
 
