@@ -60,7 +60,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 matplotlib.rcParams.update({"svg.hashsalt": "flipflux", "figure.dpi": 100, "font.size": 9,
-                            "axes.grid": True, "grid.alpha": 0.3})
+                            "axes.grid": True, "grid.alpha": 0.3,
+                            "figure.constrained_layout.use": True})
 
 # ---- the paper's values (flip-rate-double-pendulum.tex, Sec. Results) --------------------------
 
