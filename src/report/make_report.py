@@ -24,11 +24,11 @@ Only the standard library, numpy and matplotlib (Debian's python3-matplotlib) ar
 import argparse
 import csv
 import glob
+import importlib.util
 import io
 import json
 import math
 import os
-import re
 import sys
 import time
 
@@ -36,12 +36,9 @@ REQUIRED_PYTHON = "/usr/bin/python3"
 
 
 def _ensure_matplotlib():
-    """Imports numpy and matplotlib; re-executes under Debian's python3 when the interpreter found
+    """Checks for numpy and matplotlib; re-executes under Debian's python3 when the interpreter found
     first on PATH (e.g. a pyenv shim) lacks them."""
-    try:
-        import matplotlib  # noqa: F401
-        import numpy  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("matplotlib") is None or importlib.util.find_spec("numpy") is None:
         if os.path.realpath(sys.executable) != os.path.realpath(REQUIRED_PYTHON) and \
                 os.path.exists(REQUIRED_PYTHON) and not os.environ.get("FLIPFLUX_REPORT_REEXEC"):
             os.environ["FLIPFLUX_REPORT_REEXEC"] = "1"
@@ -339,6 +336,9 @@ def load_inputs(run_dir):
                             (run_dir, a, ", ".join(needed)))
         else:
             main[a] = max(cands, key=lambda e: (len(e["energies"]), e["trajectories"]))
+            if (main[a].get("chaos") or {}).get("indicator", "none") == "none":
+                problems.append("%s: no chaos classification (the chaotic-only figures and the "
+                                "PQI tables need chaos = true)" % main[a]["path"])
     data["main"] = main
     if data["model"] is not None:
         e_res, e_hist = special_energies(data["model"])
@@ -505,8 +505,7 @@ def fig_criteria(data, out):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.6))
     chosen = {}
     for ax, a in zip(axes, (2, 1)):
-        es, em = model["saddle"][a], model["maximum"]
-        e1 = model["saddle"][1]
+        em, e1 = model["maximum"], model["saddle"][1]
         e = nearest(data["curves"][a]["energy"], e1 + 0.5 * (em - e1))
         chosen[a] = e
         s = np.linspace(-math.pi, math.pi, 401)
@@ -930,11 +929,13 @@ def build_report(data, out):
     ens_lines = []
     for e in data["ensembles"]:
         ens_lines.append("- `ensemble-%s`: arm %d, %d energies (%.4g…%.4g), N = %d trajectories, "
-                         "T = %g, %s, rtol %s, chaos indicator threshold %s"
+                         "T = %g, %s, rtol %s, chaos indicator threshold %s (classification "
+                         "reliable: %s)"
                          % (e["name"], e["arm"], len(e["energies"]),
                             min(x["energy"] for x in e["energies"]),
                             max(x["energy"] for x in e["energies"]), e["trajectories"], e["time"],
-                            e["method"], e["rtol"], (e.get("chaos") or {}).get("threshold", "—")))
+                            e["method"], e["rtol"], (e.get("chaos") or {}).get("threshold", "—"),
+                            (e.get("chaos") or {}).get("classification_reliable", "?")))
     md.append("Ensembles (the paper: N = 1000, T = 10000):\n\n" + "\n".join(ens_lines) + "\n")
     md.append("Statistical errors: ± values are bootstrap standard deviations over our ensemble; "
               "a value 'agrees' with the paper's when within 2σ of the combined error (the paper's "
