@@ -40,7 +40,9 @@ build() {  # build PRESET
 
 run_main() {
   build release
-  ./build/release/flipflux model
+  # the default scene: predictions for every criterion and both arms, saddle-orbit families and an
+  # exact-check ensemble; outputs in out/default/ (docs/scenes.md)
+  ./build/release/flipflux run data/scenes/default.toml
 }
 
 run_ctest() {  # run_ctest PRESET [ctest args]: full log to the build tree, summary and failures here

@@ -11,6 +11,9 @@ namespace {
 struct run_state {
     std::string file;
     bool dry_run = false;
+    std::string cache_dir;
+    bool no_cache = false;
+    int threads = 0;
 };
 
 const register_command registration([](CLI::App& app) {
@@ -19,12 +22,25 @@ const register_command registration([](CLI::App& app) {
         "run", "Run a scene file (TOML, see docs/scenes.md): compute exactly what it requests");
     sub->add_option("scene", s->file, "the scene file")->required();
     sub->add_flag("--dry-run", s->dry_run, "print the plan without computing anything");
+    sub->add_option("--cache-dir", s->cache_dir,
+                    "saddle-orbit cache (default: $FLIPFLUX_CACHE_DIR, $XDG_CACHE_HOME/flipflux "
+                    "or ~/.cache/flipflux)");
+    sub->add_flag("--no-cache", s->no_cache, "neither read nor write the saddle-orbit cache");
+    sub->add_option("--threads", s->threads, "OpenMP threads (0: all available)")
+        ->check(CLI::NonNegativeNumber);
     sub->callback([s] {
         const scene sc = load_scene(s->file);
         const plan p = make_plan(sc);
         print_plan(sc, p, std::cout);
         if (s->dry_run) return;
-        (void)execute_plan(sc, p, std::cout);
+        run_options options;
+        options.threads = s->threads;
+        if (!s->no_cache)
+            options.cache_dir = s->cache_dir.empty() ? default_cache_dir() : s->cache_dir;
+        const run_counters c = execute_plan(sc, p, std::cout, options);
+        std::cout << "saddle orbits solved " << c.orbit_solves << ", from cache "
+                  << c.orbit_cache_hits << "; trajectories " << c.trajectories
+                  << "; curve criteria " << c.curve_criteria << "\n";
     });
 });
 

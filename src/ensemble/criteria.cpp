@@ -9,6 +9,7 @@
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
@@ -44,7 +45,7 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
     // double) and its configuration curve, a Chebyshev interpolant on the turning-point interval
     // (a restricted domain: crossings beyond the turning points do not count)
     check_orbit_energy(model, a, energy);
-    const saddle_orbit<double> orbit = solve_saddle_orbit<double>(model, a, energy);
+    const saddle_orbit<double> orbit = find_or_solve_saddle_orbit<double>(model, a, energy);
     if (orbit.status == orbit_status::not_converged)
         throw std::runtime_error("saddle criterion: the saddle orbit of arm " + to_string(a) +
                                  " at E = " + to_decimal(energy) + " did not converge");

@@ -1,5 +1,8 @@
 // Names of the saddle-orbit module's enumerations.
+#include <atomic>
+
 #include "flipflux/core/error.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
@@ -26,5 +29,20 @@ std::string to_string(orbit_status s) {
     }
     return "not converged";
 }
+
+namespace {
+std::atomic<unsigned> memo_generation{0};
+std::atomic<std::size_t> memo_misses{0};
+}  // namespace
+
+// Orbits solved by find_or_solve_saddle_orbit because the memo did not have them.
+std::size_t saddle_orbit_memo_misses() { return memo_misses.load(); }
+void count_saddle_orbit_memo_miss() { ++memo_misses; }
+
+// The saddle-orbit memo of every precision (orbit_store.inst.cpp) is cleared lazily when this
+// generation changes.
+unsigned saddle_orbit_memo_generation() { return memo_generation.load(); }
+
+void forget_saddle_orbits() { ++memo_generation; }
 
 }  // namespace flipflux

@@ -240,16 +240,4 @@ std::string golden_provenance(const std::string& command, std::size_t rows) {
     return j.dump(2) + "\n";
 }
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw input_error("--out: cannot write '" + path + "'");
-        out << text;
-        out.flush();
-        if (!out) throw input_error("--out: cannot write '" + path + "'");
-    }
-    std::filesystem::rename(tmp, path);
-}
-
 }  // namespace flipflux

@@ -7,6 +7,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/prediction/result.hpp"
@@ -23,7 +24,7 @@ saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a, const Re
     orbit_options<Real> options;
     options.method = parse_orbit_method(method.empty() ? "periodic" : method, "--method");
     check_orbit_energy(model, a, energy);
-    saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+    saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy, options);
     if (orbit.status == orbit_status::not_converged) {
         throw std::runtime_error("saddle orbit at E = " + to_decimal(energy) + " (arm " +
                                  to_string(a) + "): no convergence (" + orbit.double_stage + ")");

@@ -1,23 +1,50 @@
 // Scene execution: runs each plan step and writes its outputs atomically under the scene's output
-// directory.
+// directory (file formats: docs/scenes.md).
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/version.hpp"
+#include "flipflux/ensemble/simulation.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/quantities/accuracy.hpp"
+#include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/scene/plan.hpp"
 
+#ifndef FLIPFLUX_SOURCE_DIR
+#define FLIPFLUX_SOURCE_DIR "."
+#endif
+
 namespace flipflux {
+
+std::size_t saddle_orbit_memo_misses();  // src/orbits/orbit_names.cpp
+
+std::filesystem::path default_cache_dir() {
+    if (const char* d = std::getenv("FLIPFLUX_CACHE_DIR"); d && *d) return d;
+    if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d)
+        return std::filesystem::path(d) / "flipflux";
+    if (const char* d = std::getenv("HOME"); d && *d)
+        return std::filesystem::path(d) / ".cache" / "flipflux";
+    return ".flipflux-cache";
+}
+
 namespace {
 
 using json = nlohmann::ordered_json;
 
+arm arm_of(int a) { return a == 1 ? arm::one : arm::two; }
+
 struct context {
     const scene& s;
     std::ostream& log;
+    const run_options& options;
     run_counters counters;
     json summary = json::object();
 
@@ -28,6 +55,153 @@ struct context {
         log << "  wrote " << path.string() << "\n";
     }
 };
+
+template <class Real>
+json model_json(const double_pendulum<Real>& model) {
+    const auto& p = model.parameters();
+    const auto& k = model.coefficients();
+    json curves = json::object();
+    for (arm a : {arm::one, arm::two}) {
+        const sine_curve<Real> c = approximate_saddle_curve(model, a);
+        curves[to_string(a)] = {{"offset", "pi + slope sin(s)"}, {"slope", to_decimal(c.slope(Real(0)))}};
+    }
+    return {{"parameters",
+             {{"m1", to_decimal(p.m1)},
+              {"m2", to_decimal(p.m2)},
+              {"L1", to_decimal(p.L1)},
+              {"L2", to_decimal(p.L2)},
+              {"a1", to_decimal(p.a1)},
+              {"a2", to_decimal(p.a2)},
+              {"I1", to_decimal(p.I1)},
+              {"I2", to_decimal(p.I2)},
+              {"g", to_decimal(p.g)}}},
+            {"coefficients",
+             {{"A", to_decimal(k.A)},
+              {"B", to_decimal(k.B)},
+              {"C", to_decimal(k.C)},
+              {"alpha", to_decimal(k.alpha)},
+              {"beta", to_decimal(k.beta)},
+              {"D0", to_decimal(k.D0)}}},
+            {"potential", "V = alpha (1 - cos theta1) + beta (1 - cos theta2)"},
+            {"saddle_energy",
+             {{"1", to_decimal(model.saddle_energy(arm::one))},
+              {"2", to_decimal(model.saddle_energy(arm::two))}}},
+            {"maximum_energy", to_decimal(model.maximum_energy())},
+            {"approximate_curve", curves}};
+}
+
+// ---- saddle-orbit families ------------------------------------------------------------------
+
+template <class Real>
+void run_orbit_family(context& ctx, const plan_step& step) {
+    const double_pendulum<Real> model = make_model<Real>(ctx.s.model);
+    const arm a = arm_of(step.arm);
+    const orbit_options<Real> options;
+    std::filesystem::path dir;
+    if (!ctx.options.cache_dir.empty()) {
+        dir = ctx.options.cache_dir / "saddle-orbits" / orbit_cache_key(model, options) /
+              ("arm" + std::to_string(step.arm));
+    }
+    // cached orbits first
+    std::vector<Real> missing;
+    std::vector<std::string> missing_text;
+    for (const std::string& text : step.energies) {
+        const Real energy = parse_real<Real>(text, "energy");
+        if (recall_saddle_orbit(model, a, energy, options.method)) continue;
+        const auto file = dir / ("E" + text + ".json");
+        if (!dir.empty() && std::filesystem::exists(file)) {
+            std::ifstream in(file);
+            std::stringstream buffer;
+            buffer << in.rdbuf();
+            try {
+                saddle_orbit<Real> o = orbit_from_json<Real>(buffer.str(), file.string());
+                if (o.energy == energy && o.flip_arm == a) {
+                    remember_saddle_orbit(model, o);
+                    ++ctx.counters.orbit_cache_hits;
+                    continue;
+                }
+                ctx.log << "  cache entry " << file.string() << " is for another orbit; recomputing\n";
+            } catch (const input_error& e) {
+                ctx.log << "  ignoring unreadable cache entry: " << e.what() << "\n";
+            }
+        }
+        missing.push_back(energy);
+        missing_text.push_back(text);
+    }
+    json record = {{"arm", step.arm},
+                   {"precision", precision_name<Real>()},
+                   {"energies", step.energies.size()},
+                   {"from_cache", step.energies.size() - missing.size()},
+                   {"cache", dir.string()}};
+    if (!missing.empty()) {
+        ctx.log << "  continuing the family through " << missing.size() << " energies\n";
+        const saddle_family<Real> family = continue_saddle_family(model, a, missing, options);
+        ctx.counters.orbit_solves += family.orbits.size();
+        for (const saddle_orbit<Real>& o : family.orbits) {
+            remember_saddle_orbit(model, o);
+            if (!dir.empty() && o.status != orbit_status::not_converged) {
+                std::size_t i = 0;
+                while (i < missing.size() && missing[i] != o.energy)
+                    ++i;
+                if (i < missing.size()) {
+                    std::filesystem::create_directories(dir);
+                    write_file_atomically(dir / ("E" + missing_text[i] + ".json"),
+                                          orbit_to_json(o));
+                }
+            }
+        }
+        record["solved"] = family.orbits.size();
+        record["continuation_steps"] = family.steps.size();
+        record["halvings"] = family.halvings;
+        if (!family.stop_reason.empty()) {
+            record["stop_reason"] = family.stop_reason;
+            ctx.log << "  the continuation stopped short: " << family.stop_reason << "\n";
+        }
+    }
+    ctx.summary["orbit_families"].push_back(record);
+}
+
+/// orbits-arm<a>.csv (and orbit-curves-arm<a>.csv) for [orbits], from the remembered family.
+template <class Real>
+void write_orbit_tables(context& ctx, int arm_number) {
+    const double_pendulum<Real> model = make_model<Real>(ctx.s.model);
+    const arm a = arm_of(arm_number);
+    const auto& spec = *ctx.s.orbits;
+    std::ostringstream csv, curves;
+    csv << "energy,period,action,flux,stability_index,multiplier,period_derivative,"
+           "error_estimate_period,error_estimate_action,status\n";
+    curves << "energy,theta1,theta2\n";
+    const Real es = model.saddle_energy(a), emax = model.maximum_energy();
+    const Real pi_r = boost::math::constants::pi<Real>();
+    for (const Real& energy : energies_of<Real>(spec.energies, "orbits.energies")) {
+        if (!(energy > es && energy < emax)) continue;
+        const auto o = recall_saddle_orbit(model, a, energy, orbit_method::periodic);
+        if (!o) continue;  // the continuation stopped short (run.json says why)
+        const std::string e = to_decimal(energy);
+        csv << e << "," << to_decimal(o->period) << "," << to_decimal(o->action) << ","
+            << to_decimal(o->flux()) << "," << to_decimal(o->floquet.stability_index) << ","
+            << (o->floquet.hyperbolic ? to_decimal(o->floquet.multiplier) : std::string()) << ","
+            << to_decimal(o->period_derivative) << "," << to_decimal(o->error_estimate_period, 3)
+            << "," << to_decimal(o->error_estimate_action, 3) << "," << to_string(o->status)
+            << "\n";
+        if (spec.curve_samples > 0) {
+            const saddle_curve<Real> curve = make_saddle_curve(model, *o);
+            const Real smax = curve.domain()[1];
+            const int n = spec.curve_samples;
+            for (int k = 0; k < n; ++k) {
+                const Real s = -smax + 2 * smax * Real(k) / Real(n - 1 > 0 ? n - 1 : 1);
+                const Real flip = pi_r + curve.offset(s);
+                const Real th1 = a == arm::two ? s : flip, th2 = a == arm::two ? flip : s;
+                curves << e << "," << to_decimal(th1) << "," << to_decimal(th2) << "\n";
+            }
+        }
+    }
+    ctx.write("orbits-arm" + std::to_string(arm_number) + ".csv", csv.str());
+    if (spec.curve_samples > 0)
+        ctx.write("orbit-curves-arm" + std::to_string(arm_number) + ".csv", curves.str());
+}
+
+// ---- predictions ----------------------------------------------------------------------------
 
 template <class Real>
 void run_predictions(context& ctx, const plan_step& step) {
@@ -50,6 +224,8 @@ void run_predictions(context& ctx, const plan_step& step) {
                     << csv_field(v.method) << "\n";
             } catch (const input_error& e) {
                 skipped.push_back({{"quantity", entry}, {"energy", text}, {"reason", e.what()}});
+            } catch (const std::runtime_error& e) {  // e.g. no multiplier of an elliptic orbit
+                skipped.push_back({{"quantity", entry}, {"energy", text}, {"reason", e.what()}});
             }
         }
     }
@@ -57,29 +233,180 @@ void run_predictions(context& ctx, const plan_step& step) {
     ctx.summary["predictions"] = {{"file", "predictions.csv"}, {"skipped", skipped}};
 }
 
-}  // namespace
+// ---- ensembles ------------------------------------------------------------------------------
 
-run_counters execute_plan(const scene& s, const plan& p, std::ostream& log) {
-    context ctx{s, log, {}};
-    const auto start = std::chrono::steady_clock::now();
-    for (const plan_step& step : p.steps) {
-        log << "- " << step.description << "\n";
-        switch (step.what) {
-            case plan_step::kind::predictions:
-                dispatch(s.prec, [&]<class Real>() { run_predictions<Real>(ctx, step); });
-                break;
-            default:
-                throw scene_error(s.file.string() + ": " + step.description +
-                                  ": not available in this build yet");
+void run_ensemble(context& ctx, const plan_step& step) {
+    const ensemble_spec& x = ctx.s.ensembles[step.ensemble_index];
+    const std::string where = ctx.s.file.string() + ":" + std::to_string(x.line) + ": ensemble '" +
+                              x.name + "'";
+    if (x.estimator != "long") {
+        throw scene_error(where + ": estimator '" + x.estimator +
+                          "' is not available in this build (only 'long')");
+    }
+    const double_pendulum<double> model = make_model<double>(ctx.s.model);
+    simulation_request request;
+    request.flip_arm = arm_of(x.arm);
+    request.criteria = x.criteria;
+    for (const std::string& text : step.energies)
+        request.energies.emplace_back(text, parse_real<double>(text, where + ": energies"));
+    ensemble_options& o = request.options;
+    o.trajectories = static_cast<std::uint64_t>(x.trajectories);
+    o.time = parse_real<double>(x.time, where + ": time");
+    o.seed = x.seed;
+    o.rtol = parse_real<double>(x.rtol, where + ": rtol");
+    o.method = parse_integration_method(x.integrator, where + ": integrator");
+    o.chaos = x.chaos;
+    o.threads = ctx.options.threads;
+    const std::string base = "ensemble-" + x.name;
+    request.csv_dir = ctx.s.output / base;  // per-trajectory CSVs always (the report reads them)
+    const json result = simulate(model, request);
+    // what was integrated and detected, read back from the result
+    for (const json& e : result.at("energies")) {
+        ctx.counters.trajectories += o.trajectories;
+        for (const auto& [name, value] : e.at("criteria").items()) {
+            (void)value;
+            if (name != "upright") ++ctx.counters.curve_criteria;
         }
     }
+    ctx.write(base + ".json", result.dump(2) + "\n");
+    ctx.summary["ensembles"].push_back(
+        {{"name", x.name}, {"file", base + ".json"}, {"csv_dir", request.csv_dir.string()}});
+}
+
+// ---- golden data, accuracy, report ----------------------------------------------------------
+
+void run_golden(context& ctx) {
+    const golden_spec& g = *ctx.s.golden;
+    if (ctx.s.custom_model) {
+        throw scene_error(ctx.s.file.string() + ":" + std::to_string(g.line) +
+                          ": golden: golden data is defined for the default (egalitarian) "
+                          "pendulum; remove [model] or [golden]");
+    }
+    golden_options options;
+    options.quantities = g.quantities;
+    options.jobs = ctx.options.threads > 0 ? ctx.options.threads : 2;
+    std::size_t last = 0;
+    options.progress = [&](const golden_row&, std::size_t done, std::size_t total) {
+        if (done == total || done >= last + 50) {
+            ctx.log << "  golden rows " << done << "/" << total << "\n";
+            last = done;
+        }
+    };
+    const auto rows = generate_golden(options);
+    const std::filesystem::path dir = g.dir;
+    std::filesystem::create_directories(dir);
+    write_file_atomically(dir / "golden.csv", golden_csv(rows));
+    write_file_atomically(dir / "provenance.json",
+                          golden_provenance("flipflux run " + ctx.s.file.string(), rows.size()));
+    ctx.counters.files.push_back((dir / "golden.csv").string());
+    ctx.counters.files.push_back((dir / "provenance.json").string());
+    ctx.log << "  wrote " << (dir / "golden.csv").string() << " (" << rows.size() << " rows)\n";
+    ctx.summary["golden"] = {{"dir", g.dir}, {"rows", rows.size()}};
+}
+
+void run_accuracy(context& ctx) {
+    const accuracy_spec& a = *ctx.s.accuracy;
+    accuracy_options options;
+    options.quantities = a.quantities;
+    options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
+    const auto entries = measure_accuracy(options);
+    const std::string md = accuracy_markdown(entries, "flipflux run " + ctx.s.file.string());
+    const std::filesystem::path out = a.out;
+    if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+    write_file_atomically(out, md);
+    ctx.counters.files.push_back(out.string());
+    ctx.log << "  wrote " << out.string() << "\n";
+    ctx.summary["accuracy"] = {{"file", a.out}};
+}
+
+void run_report(context& ctx, double seconds_so_far) {
+    const report_spec& r = *ctx.s.report;
+    // run.json first: the report reads it
+    ctx.summary["seconds"] = seconds_so_far;
+    ctx.write("run.json", ctx.summary.dump(2) + "\n");
+    const std::filesystem::path script =
+        std::filesystem::path(FLIPFLUX_SOURCE_DIR) / "src" / "report" / "make_report.py";
+    if (!std::filesystem::exists(script))
+        throw std::runtime_error("report: the report generator " + script.string() +
+                                 " is missing");
+    const std::string command = "python3 '" + script.string() + "' --run-dir '" +
+                                ctx.s.output.string() + "' --out '" + r.dir + "'";
+    ctx.log << "  " << command << "\n";
+    ctx.log.flush();
+    const int status = std::system(command.c_str());
+    if (status != 0)
+        throw std::runtime_error("report: '" + command + "' failed (status " +
+                                 std::to_string(status) + ")");
+    ctx.summary["report"] = {{"dir", r.dir}};
+}
+
+}  // namespace
+
+run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
+                          const run_options& options) {
+    context ctx{s, log, options, {}};
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t misses_before = saddle_orbit_memo_misses();
     ctx.summary["scene"] = s.name;
     ctx.summary["scene_file"] = s.file.string();
     ctx.summary["precision"] = precision_name(s.prec);
     ctx.summary["git_commit"] = git_commit();
-    ctx.summary["seconds"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ctx.summary["model"] = dispatch(s.prec, [&]<class Real>() {
+        return model_json(make_model<Real>(s.model));
+    });
+    ctx.summary["orbit_families"] = json::array();
+    ctx.summary["ensembles"] = json::array();
+    std::filesystem::create_directories(s.output);
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    bool orbit_tables_written = false;
+    for (const plan_step& step : p.steps) {
+        log << "- " << step.description << "\n";
+        if (step.what != plan_step::kind::orbit_family && s.orbits && !orbit_tables_written) {
+            dispatch(s.prec, [&]<class Real>() {
+                for (int a : s.orbits->arms)
+                    write_orbit_tables<Real>(ctx, a);
+            });
+            orbit_tables_written = true;
+        }
+        switch (step.what) {
+            case plan_step::kind::orbit_family:
+                dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
+                break;
+            case plan_step::kind::predictions:
+                dispatch(s.prec, [&]<class Real>() { run_predictions<Real>(ctx, step); });
+                break;
+            case plan_step::kind::ensemble:
+                run_ensemble(ctx, step);
+                break;
+            case plan_step::kind::golden:
+                run_golden(ctx);
+                break;
+            case plan_step::kind::accuracy:
+                run_accuracy(ctx);
+                break;
+            case plan_step::kind::report:
+                run_report(ctx, elapsed());
+                break;
+        }
+    }
+    if (s.orbits && !orbit_tables_written) {
+        dispatch(s.prec, [&]<class Real>() {
+            for (int a : s.orbits->arms)
+                write_orbit_tables<Real>(ctx, a);
+        });
+    }
+    // orbits solved one by one outside a family (e.g. beyond where a continuation stopped)
+    ctx.counters.orbit_solves += saddle_orbit_memo_misses() - misses_before;
+    ctx.summary["counters"] = {{"orbit_solves", ctx.counters.orbit_solves},
+                               {"orbit_cache_hits", ctx.counters.orbit_cache_hits},
+                               {"quantity_evaluations", ctx.counters.quantity_evaluations},
+                               {"trajectories", ctx.counters.trajectories},
+                               {"curve_criteria", ctx.counters.curve_criteria}};
+    ctx.summary["seconds"] = elapsed();
     ctx.write("run.json", ctx.summary.dump(2) + "\n");
+    log << "done in " << ctx.summary["seconds"].get<double>() << " s\n";
     return ctx.counters;
 }
 

@@ -17,7 +17,7 @@ std::size_t plan::count(plan_step::kind k) const {
 
 bool needs_saddle_orbit(const std::string& quantity) {
     static const std::set<std::string> saddle{"period", "action", "flux-saddle", "rate-saddle",
-                                              "multiplier"};
+                                              "multiplier", "stability-index"};
     return saddle.count(quantity) > 0;
 }
 
@@ -60,12 +60,13 @@ plan make_plan(const scene& s) {
     plan p;
     const double_pendulum<double> model = make_model<double>(s.model);
     // energies at which each arm's saddle-orbit family is needed
-    std::map<int, std::map<double, std::string>> family;
-    auto want_orbits = [&](int arm_number, const std::vector<energy_entry>& energies) {
+    std::map<std::pair<int, precision>, std::map<double, std::string>> family;
+    auto want_orbits = [&](int arm_number, const std::vector<energy_entry>& energies,
+                           precision prec) {
         const arm a = arm_number == 1 ? arm::one : arm::two;
         for (const auto& e : energies) {
             if (e.value > model.saddle_energy(a) && e.value < model.maximum_energy()) {
-                family[arm_number].emplace(e.value, e.text);
+                family[{arm_number, prec}].emplace(e.value, e.text);
             }
         }
     };
@@ -83,14 +84,14 @@ plan make_plan(const scene& s) {
         prediction_energies = expand(s.predictions->energies, "predictions.energies", s.prec);
         for (int a : s.predictions->arms) {
             for (const auto& q : s.predictions->quantities) {
-                if (needs_saddle_orbit(q)) want_orbits(a, prediction_energies);
+                if (needs_saddle_orbit(q)) want_orbits(a, prediction_energies, s.prec);
             }
         }
     }
     if (s.orbits) {
         const auto energies = expand(s.orbits->energies, "orbits.energies", s.prec);
         for (int a : s.orbits->arms)
-            want_orbits(a, energies);
+            want_orbits(a, energies, s.prec);
     }
     std::vector<std::vector<energy_entry>> ensemble_energies;
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
@@ -98,20 +99,22 @@ plan make_plan(const scene& s) {
         ensemble_energies.push_back(
             expand(x.energies, "ensemble[" + std::to_string(i) + "].energies", s.prec));
         if (std::find(x.criteria.begin(), x.criteria.end(), "saddle") != x.criteria.end()) {
-            want_orbits(x.arm, ensemble_energies.back());
+            want_orbits(x.arm, ensemble_energies.back(), precision::double_);
         }
     }
 
-    for (const auto& [a, energies] : family) {
-        plan_step step{plan_step::kind::orbit_family, a, {}, {}, {}, 0, {}};
+    for (const auto& [key, energies] : family) {
+        const auto [a, prec] = key;
+        plan_step step{plan_step::kind::orbit_family, a, {}, {}, {}, 0, {}, prec};
         for (const auto& [v, text] : energies)
             step.energies.push_back(text);
-        step.description = "saddle-orbit family of arm " + std::to_string(a) + " at " +
-                           range_text(step.energies) + " (continuation from the saddle)";
+        step.description = "saddle-orbit family of arm " + std::to_string(a) + " in " +
+                           precision_name(prec) + " at " + range_text(step.energies) +
+                           " (continuation from the saddle; cached on disk)";
         p.steps.push_back(step);
     }
     if (s.predictions) {
-        plan_step step{plan_step::kind::predictions, 0, {}, {}, {}, 0, {}};
+        plan_step step{plan_step::kind::predictions, 0, {}, {}, {}, 0, {}, s.prec};
         for (const auto& e : prediction_energies)
             step.energies.push_back(e.text);
         for (const auto& q : s.predictions->quantities) {
@@ -129,7 +132,7 @@ plan make_plan(const scene& s) {
     }
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
-        plan_step step{plan_step::kind::ensemble, x.arm, {}, {}, x.criteria, i, {}};
+        plan_step step{plan_step::kind::ensemble, x.arm, {}, {}, x.criteria, i, {}, precision::double_};
         for (const auto& e : ensemble_energies[i])
             step.energies.push_back(e.text);
         step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) + ", " +
@@ -146,7 +149,8 @@ plan make_plan(const scene& s) {
                            s.golden->quantities,
                            {},
                            0,
-                           "golden data -> " + s.golden->dir});
+                           "golden data -> " + s.golden->dir,
+                           precision::mp100});
     }
     if (s.accuracy) {
         p.steps.push_back({plan_step::kind::accuracy,
@@ -155,11 +159,13 @@ plan make_plan(const scene& s) {
                            s.accuracy->quantities,
                            {},
                            0,
-                           "accuracy report -> " + s.accuracy->out});
+                           "accuracy report -> " + s.accuracy->out,
+                           s.prec});
     }
     if (s.report) {
         p.steps.push_back(
-            {plan_step::kind::report, 0, {}, {}, {}, 0, "reproduction report -> " + s.report->dir});
+            {plan_step::kind::report, 0, {}, {}, {}, 0, "reproduction report -> " + s.report->dir,
+             s.prec});
     }
     return p;
 }

@@ -54,7 +54,7 @@ std::string to_string(validation_entry::status s) {
     return "missing";
 }
 
-std::vector<golden_row> read_golden(const std::filesystem::path& dir) {
+std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
     namespace fs = std::filesystem;
     if (!fs::is_directory(dir)) {
         throw input_error("--golden: '" + dir.string() + "' is not a directory");
@@ -64,7 +64,7 @@ std::vector<golden_row> read_golden(const std::filesystem::path& dir) {
         if (e.path().extension() == ".csv") files.push_back(e.path());
     }
     std::sort(files.begin(), files.end());
-    std::vector<golden_row> rows;
+    std::vector<golden_reference> rows;
     for (const auto& f : files) {
         const csv_table t = read_csv(f);
         const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
@@ -75,7 +75,7 @@ std::vector<golden_row> read_golden(const std::filesystem::path& dir) {
                 throw input_error(f.string() + ":" + std::to_string(r.line) + ": expected " +
                                   std::to_string(t.header.size()) + " fields");
             }
-            golden_row g{r.fields[q],
+            golden_reference g{r.fields[q],
                          normal_arm(r.fields[q], r.fields[a]),
                          r.fields[e],
                          r.fields[v],
@@ -103,7 +103,7 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
                                      const std::filesystem::path& golden_dir, double rtol,
                                      bool allow_missing) {
     using status = validation_entry::status;
-    const std::vector<golden_row> golden = read_golden(golden_dir);
+    const std::vector<golden_reference> golden = read_golden(golden_dir);
     std::vector<mp100> golden_energy;
     for (const auto& g : golden)
         golden_energy.push_back(parse_real<mp100>(g.energy, g.file));
@@ -154,7 +154,7 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
             report.entries.push_back(x);
             continue;
         }
-        const golden_row& g = golden[match];
+        const golden_reference& g = golden[match];
         x.golden = g.value;
         x.certified_digits = g.digits;
         if (used.count(match)) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 
 namespace flipflux {
@@ -58,7 +59,5 @@ std::vector<golden_row> parse_golden_csv(const std::string& text);
 /// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count.
 std::string golden_provenance(const std::string& command, std::size_t rows);
 
-/// Writes `text` to `path` atomically (a temporary in the same directory, then rename).
-void write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace flipflux

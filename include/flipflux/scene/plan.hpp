@@ -1,9 +1,10 @@
 // The plan of a scene: exactly the computations its requested outputs need, in dependency order.
 //
 //   orbit family (arm a)   only when a saddle quantity (period, action, flux-saddle, rate-saddle,
-//                          multiplier) is requested for arm a, when [orbits] asks for arm a, or
-//                          when an ensemble of arm a counts the saddle criterion; at the union of
-//                          the energies those need
+//                          multiplier, stability-index) is requested for arm a or [orbits] asks
+//                          for arm a (in the scene's precision), or when an ensemble of arm a
+//                          counts the saddle criterion (in double); at the union of the energies
+//                          those need inside (E_s, E_max). Read from the on-disk cache when there.
 //   predictions            the requested quantities at the requested arms and energies
 //   ensemble               one step per [[ensemble]] and energy, counting only the listed criteria
 //   golden / accuracy / report
@@ -12,6 +13,7 @@
 #pragma once
 
 #include <map>
+#include <filesystem>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -29,6 +31,9 @@ struct plan_step {
     std::vector<std::string> criteria;    ///< ensembles
     std::size_t ensemble_index = 0;       ///< into scene::ensembles
     std::string description;
+    /// orbit families: the precision they are computed in (the scene's for predictions and
+    /// [orbits]; double for the saddle criterion of ensembles)
+    precision prec = precision::double_;
 };
 
 struct plan {
@@ -57,7 +62,18 @@ struct run_counters {
     std::vector<std::string> files;        ///< files written
 };
 
+struct run_options {
+    /// saddle-orbit cache directory; empty: no disk cache (the in-process memo still applies)
+    std::filesystem::path cache_dir;
+    int threads = 0;  ///< OpenMP threads for ensembles and golden data (0: all)
+};
+
+/// The default cache directory: $FLIPFLUX_CACHE_DIR, else $XDG_CACHE_HOME/flipflux, else
+/// $HOME/.cache/flipflux, else .flipflux-cache.
+std::filesystem::path default_cache_dir();
+
 /// Executes the plan, writing outputs under s.output (atomically); progress to `log`.
-run_counters execute_plan(const scene& s, const plan& p, std::ostream& log);
+run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
+                          const run_options& options = {});
 
 }  // namespace flipflux

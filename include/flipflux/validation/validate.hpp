@@ -15,7 +15,7 @@
 
 namespace flipflux {
 
-struct golden_row {
+struct golden_reference {
     std::string quantity, arm, energy, value, method;
     int digits = 0;
     std::string file;
@@ -24,7 +24,7 @@ struct golden_row {
 
 /// Reads every *.csv under `dir` with the golden header (quantity, arm, energy, value, digits,
 /// method). Throws input_error naming file and line for a malformed golden file.
-std::vector<golden_row> read_golden(const std::filesystem::path& dir);
+std::vector<golden_reference> read_golden(const std::filesystem::path& dir);
 
 struct validation_entry {
     enum class status { ok, fail, unmatched, duplicate, malformed, missing };

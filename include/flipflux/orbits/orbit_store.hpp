@@ -1,0 +1,72 @@
+// Saddle orbits solved once: a process-wide memo and an on-disk cache.
+//
+// Memo: `find_or_solve_saddle_orbit` returns a remembered orbit of the same pendulum (its
+// Lagrangian coefficients, compared exactly), arm, energy (exactly) and shooting method, or
+// solves it (solve_saddle_orbit) and remembers it. The registry's saddle quantities
+// (src/quantities/orbits.cpp) and the Monte Carlo saddle criterion (src/ensemble/criteria.cpp)
+// both go through it, so a scene that continues a family once never solves its orbits again.
+// Thread-safe (one mutex per Real).
+//
+// Disk: `orbit_to_json` / `orbit_from_json` serialise every field of a saddle_orbit, the reals as
+// decimal strings with all digits of Real, so that an orbit read back is bit-identical to the one
+// written. `orbit_cache_key` names the cache directory: a hash of the coefficients (decimal text),
+// the precision, the method, the stage count and tolerance, and the format version, so a change
+// of any of them misses the cache.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "flipflux/orbits/saddle_orbit.hpp"
+
+namespace flipflux {
+
+/// The remembered orbit, or nullopt.
+template <class Real>
+std::optional<saddle_orbit<Real>> recall_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                                      const Real& energy, orbit_method method);
+
+/// Remembers an orbit (of its arm and energy) for `model`.
+template <class Real>
+void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbit<Real>& orbit);
+
+/// Forgets every remembered orbit of every precision (tests).
+void forget_saddle_orbits();
+
+/// Recall, else solve (solve_saddle_orbit with `options`) and remember a converged or stalled
+/// orbit.
+template <class Real>
+saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                              const Real& energy,
+                                              const orbit_options<Real>& options = {});
+
+/// Every field, reals as decimal strings (JSON text).
+template <class Real>
+std::string orbit_to_json(const saddle_orbit<Real>& orbit);
+
+/// Inverse of orbit_to_json; throws input_error naming `where` on malformed text.
+template <class Real>
+saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& where);
+
+/// Cache directory name for (model, arm-independent) orbits at Real with `options`.
+template <class Real>
+std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_options<Real>& options);
+
+#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                             \
+    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                         \
+        const double_pendulum<R>&, arm, const R&, orbit_method);                                   \
+    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                       \
+                                                  const saddle_orbit<R>&);                         \
+    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                                 \
+        const double_pendulum<R>&, arm, const R&, const orbit_options<R>&);                        \
+    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                          \
+    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);    \
+    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                      \
+                                                   const orbit_options<R>&)
+FLIPFLUX_ORBIT_STORE_EXTERN(double);
+FLIPFLUX_ORBIT_STORE_EXTERN(quad);
+FLIPFLUX_ORBIT_STORE_EXTERN(mp50);
+FLIPFLUX_ORBIT_STORE_EXTERN(mp100);
+#undef FLIPFLUX_ORBIT_STORE_EXTERN
+
+}  // namespace flipflux

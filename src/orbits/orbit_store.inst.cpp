@@ -1,0 +1,275 @@
+// Saddle orbits solved once: memo and serialisation (include/flipflux/orbits/orbit_store.hpp).
+#include "flipflux/orbits/orbit_store.hpp"
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/instantiate.hpp"
+#include "flipflux/core/real.hpp"
+
+namespace flipflux {
+
+unsigned saddle_orbit_memo_generation();  // src/orbits/orbit_names.cpp
+void count_saddle_orbit_memo_miss();      // src/orbits/orbit_names.cpp
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+template <class Real>
+std::string model_text_key(const double_pendulum<Real>& model) {
+    const auto& k = model.coefficients();
+    std::string s;
+    for (const Real* v : {&k.A, &k.B, &k.C, &k.alpha, &k.beta, &k.D0})
+        s += to_decimal(*v) + ";";
+    return s;
+}
+
+template <class Real>
+struct memo {
+    std::mutex mutex;
+    unsigned generation = 0;
+    std::map<std::string, saddle_orbit<Real>> orbits;
+
+    static memo& instance() {
+        static memo m;
+        return m;
+    }
+    static std::string key(const double_pendulum<Real>& model, arm a, const Real& energy,
+                           orbit_method method) {
+        return model_text_key(model) + to_string(a) + ";" + to_decimal(energy) + ";" +
+               to_string(method);
+    }
+    void refresh() {  // under the lock
+        const unsigned g = saddle_orbit_memo_generation();
+        if (g != generation) {
+            orbits.clear();
+            generation = g;
+        }
+    }
+};
+
+template <class Real>
+json real_array(const Real* v, std::size_t n) {
+    json a = json::array();
+    for (std::size_t i = 0; i < n; ++i)
+        a.push_back(to_decimal(v[i]));
+    return a;
+}
+
+template <class Real>
+Real real_of(const json& j, const std::string& where) {
+    if (!j.is_string()) throw input_error(where + ": expected a decimal string");
+    return parse_real<Real>(j.get<std::string>(), where);
+}
+
+template <class Real>
+void read_array(const json& j, Real* out, std::size_t n, const std::string& where) {
+    if (!j.is_array() || j.size() != n)
+        throw input_error(where + ": expected an array of " + std::to_string(n) + " reals");
+    for (std::size_t i = 0; i < n; ++i)
+        out[i] = real_of<Real>(j[i], where);
+}
+
+constexpr int format_version = 1;
+
+}  // namespace
+
+template <class Real>
+std::optional<saddle_orbit<Real>> recall_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                                      const Real& energy, orbit_method method) {
+    auto& m = memo<Real>::instance();
+    const std::lock_guard<std::mutex> lock(m.mutex);
+    m.refresh();
+    const auto it = m.orbits.find(memo<Real>::key(model, a, energy, method));
+    if (it == m.orbits.end()) return std::nullopt;
+    return it->second;
+}
+
+template <class Real>
+void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbit<Real>& orbit) {
+    auto& m = memo<Real>::instance();
+    const std::lock_guard<std::mutex> lock(m.mutex);
+    m.refresh();
+    m.orbits.insert_or_assign(
+        memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.method), orbit);
+}
+
+template <class Real>
+saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                              const Real& energy,
+                                              const orbit_options<Real>& options) {
+    if (auto o = recall_saddle_orbit(model, a, energy, options.method)) return *o;
+    count_saddle_orbit_memo_miss();
+    saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+    if (orbit.status != orbit_status::not_converged) remember_saddle_orbit(model, orbit);
+    return orbit;
+}
+
+template <class Real>
+std::string orbit_to_json(const saddle_orbit<Real>& o) {
+    json j;
+    j["format"] = format_version;
+    j["precision"] = precision_name<Real>();
+    j["arm"] = to_string(o.flip_arm);
+    j["energy"] = to_decimal(o.energy);
+    j["excess"] = to_decimal(o.excess);
+    j["beta"] = to_decimal(o.beta);
+    j["period"] = to_decimal(o.period);
+    j["action"] = to_decimal(o.action);
+    j["period_derivative"] = to_decimal(o.period_derivative);
+    j["saddle"] = real_array(o.saddle.data(), 2);
+    j["start"] = real_array(o.start.data(), 4);
+    j["turning_points"] = {real_array(o.turning_points[0].data(), 2),
+                           real_array(o.turning_points[1].data(), 2)};
+    json eig = json::array();
+    for (const auto& z : o.floquet.eigenvalues)
+        eig.push_back({to_decimal(z.real()), to_decimal(z.imag())});
+    j["floquet"] = {{"eigenvalues", eig},
+                    {"trace", to_decimal(o.floquet.trace)},
+                    {"stability_index", to_decimal(o.floquet.stability_index)},
+                    {"hyperbolic", o.floquet.hyperbolic},
+                    {"multiplier", to_decimal(o.floquet.multiplier)},
+                    {"angle", to_decimal(o.floquet.angle)},
+                    {"unit_deviation", to_decimal(o.floquet.unit_deviation)},
+                    {"determinant_deviation", to_decimal(o.floquet.determinant_deviation)}};
+    json mono = json::array();
+    for (const auto& row : o.monodromy)
+        mono.push_back(real_array(row.data(), 4));
+    j["monodromy"] = mono;
+    j["status"] = to_string(o.status);
+    j["method"] = to_string(o.method);
+    j["stages"] = o.stages;
+    j["steps"] = o.steps;
+    j["tolerance"] = to_decimal(o.tolerance);
+    j["newton_iterations"] = o.newton_iterations;
+    j["residual"] = to_decimal(o.residual);
+    j["last_update"] = to_decimal(o.last_update);
+    j["energy_error"] = to_decimal(o.energy_error);
+    j["error_estimate_period"] = to_decimal(o.error_estimate_period);
+    j["error_estimate_action"] = to_decimal(o.error_estimate_action);
+    j["double_stage"] = o.double_stage;
+    j["quarter_step"] = to_decimal(o.quarter_step);
+    json q = json::array();
+    for (const auto& x : o.quarter)
+        q.push_back(real_array(x.data(), 4));
+    j["quarter"] = q;
+    return j.dump() + "\n";
+}
+
+template <class Real>
+saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& where) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw input_error(where + ": not JSON (" + e.what() + ")");
+    }
+    try {
+        if (j.at("format").get<int>() != format_version)
+            throw input_error(where + ": cache format " + j.at("format").dump() + ", expected " +
+                              std::to_string(format_version));
+        if (j.at("precision").get<std::string>() != precision_name<Real>())
+            throw input_error(where + ": precision " + j.at("precision").dump() + ", expected " +
+                              precision_name<Real>());
+        saddle_orbit<Real> o;
+        auto r = [&](const char* key) { return real_of<Real>(j.at(key), where + ": " + key); };
+        const std::string a = j.at("arm").get<std::string>();
+        if (a != "1" && a != "2") throw input_error(where + ": arm '" + a + "' is not 1 or 2");
+        o.flip_arm = a == "1" ? arm::one : arm::two;
+        o.energy = r("energy");
+        o.excess = r("excess");
+        o.beta = r("beta");
+        o.period = r("period");
+        o.action = r("action");
+        o.period_derivative = r("period_derivative");
+        read_array(j.at("saddle"), o.saddle.data(), 2, where + ": saddle");
+        read_array(j.at("start"), o.start.data(), 4, where + ": start");
+        for (std::size_t i = 0; i < 2; ++i)
+            read_array(j.at("turning_points").at(i), o.turning_points[i].data(), 2,
+                       where + ": turning_points");
+        const json& f = j.at("floquet");
+        for (std::size_t i = 0; i < 4; ++i) {
+            const json& z = f.at("eigenvalues").at(i);
+            o.floquet.eigenvalues[i] = {real_of<Real>(z.at(0), where + ": eigenvalues"),
+                                        real_of<Real>(z.at(1), where + ": eigenvalues")};
+        }
+        auto fr = [&](const char* key) { return real_of<Real>(f.at(key), where + ": " + key); };
+        o.floquet.trace = fr("trace");
+        o.floquet.stability_index = fr("stability_index");
+        o.floquet.hyperbolic = f.at("hyperbolic").get<bool>();
+        o.floquet.multiplier = fr("multiplier");
+        o.floquet.angle = fr("angle");
+        o.floquet.unit_deviation = fr("unit_deviation");
+        o.floquet.determinant_deviation = fr("determinant_deviation");
+        for (std::size_t i = 0; i < 4; ++i)
+            read_array(j.at("monodromy").at(i), o.monodromy[i].data(), 4, where + ": monodromy");
+        const std::string status = j.at("status").get<std::string>();
+        bool known = false;
+        for (orbit_status s :
+             {orbit_status::converged, orbit_status::stalled, orbit_status::not_converged}) {
+            if (to_string(s) == status) {
+                o.status = s;
+                known = true;
+            }
+        }
+        if (!known) throw input_error(where + ": status '" + status + "' is unknown");
+        o.method = parse_orbit_method(j.at("method").get<std::string>(), where + ": method");
+        o.stages = j.at("stages").get<int>();
+        o.steps = j.at("steps").get<long>();
+        o.tolerance = r("tolerance");
+        o.newton_iterations = j.at("newton_iterations").get<int>();
+        o.residual = r("residual");
+        o.last_update = r("last_update");
+        o.energy_error = r("energy_error");
+        o.error_estimate_period = r("error_estimate_period");
+        o.error_estimate_action = r("error_estimate_action");
+        o.double_stage = j.at("double_stage").get<std::string>();
+        o.quarter_step = r("quarter_step");
+        for (const json& x : j.at("quarter")) {
+            std::array<Real, 4> v;
+            read_array(x, v.data(), 4, where + ": quarter");
+            o.quarter.push_back(v);
+        }
+        if (o.quarter.empty()) throw input_error(where + ": quarter: empty");
+        return o;
+    } catch (const json::exception& e) {
+        throw input_error(where + ": malformed orbit record (" + e.what() + ")");
+    }
+}
+
+template <class Real>
+std::string orbit_cache_key(const double_pendulum<Real>& model,
+                            const orbit_options<Real>& options) {
+    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
+    const std::string text = model_text_key(model) + precision_name<Real>() + ";" +
+                             to_string(options.method) + ";" + std::to_string(stages) + ";" +
+                             to_decimal(options.tolerance) + ";" + std::to_string(format_version);
+    std::uint64_t h = 14695981039346656037ull;  // FNV-1a, stable across builds
+    for (unsigned char c : text) {
+        h ^= c;
+        h *= 1099511628211ull;
+    }
+    static const char* digits = "0123456789abcdef";
+    std::string hex(16, '0');
+    for (int i = 15; i >= 0; --i, h >>= 4)
+        hex[static_cast<std::size_t>(i)] = digits[h & 15];
+    std::string name = precision_name<Real>();  // "mp:50" -> "mp50"
+    std::erase(name, ':');
+    return name + "-" + hex;
+}
+
+using R = inst_real;
+template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(const double_pendulum<R>&, arm,
+                                                               const R&, orbit_method);
+template void remember_saddle_orbit<R>(const double_pendulum<R>&, const saddle_orbit<R>&);
+template saddle_orbit<R> find_or_solve_saddle_orbit<R>(const double_pendulum<R>&, arm, const R&,
+                                                       const orbit_options<R>&);
+template std::string orbit_to_json<R>(const saddle_orbit<R>&);
+template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);
+template std::string orbit_cache_key<R>(const double_pendulum<R>&, const orbit_options<R>&);
+
+}  // namespace flipflux

@@ -1,0 +1,179 @@
+// Scene execution: outputs are written, unrequested work is skipped (counted), saddle orbits are
+// continued once and then read back bit-identically from the disk cache.
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/io/csv.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/quantities/registry.hpp"
+#include "flipflux/scene/plan.hpp"
+#include "flipflux/scene/scene.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream b;
+    b << in.rdbuf();
+    return b.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path d = fs::path(::testing::TempDir()) /
+                       ("flipflux_scene_" + name + "_" + std::to_string(getpid()));
+    fs::remove_all(d);
+    return d;
+}
+
+scene scene_in(const fs::path& out, const std::string& body) {
+    return parse_scene("[scene]\nname = \"t\"\noutput = \"" + out.string() + "\"\n" + body,
+                       "t.toml");
+}
+
+run_counters run(const scene& s, const fs::path& cache = {}) {
+    std::ostringstream log;
+    run_options o;
+    o.cache_dir = cache;
+    o.threads = 1;
+    return execute_plan(s, make_plan(s), log, o);
+}
+
+TEST(Execute, UprightPredictionsSolveNoOrbitAndIntegrateNothing) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("upright");
+    const scene s = scene_in(out,
+                             "[predictions]\nquantities = [\"omega\", \"rate-upright\"]\n"
+                             "arms = [1, 2]\nenergies = [3, 5, 7]\n");
+    const run_counters c = run(s);
+    EXPECT_EQ(c.orbit_solves, 0u);
+    EXPECT_EQ(c.orbit_cache_hits, 0u);
+    EXPECT_EQ(c.trajectories, 0u);
+    // omega at 3 energies, rate-upright for arm 2 at 3 and arm 1 at 5, 7 (arm 1's saddle is 4)
+    EXPECT_EQ(c.quantity_evaluations, 3u + 3u + 2u);
+    const auto rows = read_csv(out / "predictions.csv");
+    ASSERT_EQ(rows.rows.size(), 8u);
+    // the executor's values are the registry's, digit for digit
+    const double_pendulum<double> model;
+    for (const auto& r : rows.rows) {
+        const auto& q = find_quantity(r.fields.at(0));
+        const arm a = r.fields.at(1) == "1" ? arm::one : arm::two;
+        const double e = parse_real<double>(r.fields.at(2), "energy");
+        EXPECT_EQ(r.fields.at(3), to_decimal(q.evaluate(model, a, e, "").value)) << r.fields.at(0) << " " << e;
+    }
+    const auto run_json = nlohmann::json::parse(slurp(out / "run.json"));
+    EXPECT_EQ(run_json["predictions"]["skipped"].size(), 1u);  // rate-upright arm 1 at E = 3
+    EXPECT_EQ(run_json["model"]["coefficients"]["alpha"], "2");
+    fs::remove_all(out);
+}
+
+TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("saddle"), cache = fresh_dir("cache");
+    const scene s = scene_in(out,
+                             "[predictions]\nquantities = [\"flux-saddle\", \"period\"]\n"
+                             "energies = [3, 3.5]\n"
+                             "[orbits]\narms = [2]\nenergies = [3, 3.5]\ncurve_samples = 5\n");
+    const run_counters first = run(s, cache);
+    EXPECT_EQ(first.orbit_solves, 2u);  // one family, two orbits, shared by both outputs
+    EXPECT_EQ(first.orbit_cache_hits, 0u);
+    const std::string predictions = slurp(out / "predictions.csv");
+    const std::string orbits = slurp(out / "orbits-arm2.csv");
+
+    forget_saddle_orbits();  // a new process: only the disk cache remains
+    fs::remove_all(out);
+    const run_counters second = run(s, cache);
+    EXPECT_EQ(second.orbit_solves, 0u);
+    EXPECT_EQ(second.orbit_cache_hits, 2u);
+    EXPECT_EQ(slurp(out / "predictions.csv"), predictions);  // bit-identical through the cache
+    EXPECT_EQ(slurp(out / "orbits-arm2.csv"), orbits);
+
+    // independent reference: scipy DOP853 at rtol 1e-13 with a shooting on (beta, T) gives, for
+    // the egalitarian pendulum at E = 3, F = 5.61072094322671 and T = 5.97481755607803
+    const auto rows = read_csv(out / "predictions.csv");
+    ASSERT_EQ(rows.rows.size(), 4u);
+    EXPECT_EQ(rows.rows[0].fields.at(0), "flux-saddle");
+    EXPECT_NEAR(parse_real<double>(rows.rows[0].fields.at(3), "f"), 2 * 5.61072094322671, 1e-11);
+    EXPECT_NEAR(parse_real<double>(rows.rows[2].fields.at(3), "T"), 5.97481755607803, 1e-11);
+    // the curve samples lie on the energy surface's boundary at their ends (turning points)
+    const auto curve = read_csv(out / "orbit-curves-arm2.csv");
+    ASSERT_EQ(curve.rows.size(), 10u);
+    const double_pendulum<double> model;
+    const double v_end = model.potential(parse_real<double>(curve.rows[0].fields.at(1), "t1"),
+                                         parse_real<double>(curve.rows[0].fields.at(2), "t2"));
+    EXPECT_NEAR(v_end, 3.0, 1e-9);
+
+    // a corrupted cache entry is recomputed, not trusted
+    for (const auto& f : fs::recursive_directory_iterator(cache))
+        if (f.is_regular_file()) std::ofstream(f.path()) << "{not json";
+    forget_saddle_orbits();
+    const run_counters third = run(s, cache);
+    EXPECT_EQ(third.orbit_solves, 2u);
+    EXPECT_EQ(slurp(out / "predictions.csv"), predictions);
+    fs::remove_all(out);
+    fs::remove_all(cache);
+}
+
+TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("ensemble");
+    const scene s = scene_in(out,
+                             "[[ensemble]]\nname = \"u\"\ncriteria = [\"upright\"]\n"
+                             "energies = [4, 5]\ntrajectories = 8\ntime = 5\n"
+                             "[[ensemble]]\nname = \"ua\"\ncriteria = [\"upright\", \"approx\"]\n"
+                             "energies = [5]\ntrajectories = 8\ntime = 5\n");
+    const run_counters c = run(s);
+    EXPECT_EQ(c.orbit_solves, 0u);
+    EXPECT_EQ(c.trajectories, 8u * 2 + 8u);
+    EXPECT_EQ(c.curve_criteria, 1u);  // approx at E = 5 only
+    const auto u = nlohmann::json::parse(slurp(out / "ensemble-u.json"));
+    ASSERT_EQ(u["energies"].size(), 2u);
+    EXPECT_EQ(u["energies"][0]["criteria"].size(), 1u);
+    EXPECT_TRUE(u["energies"][0]["criteria"].contains("upright"));
+    fs::remove_all(out);
+}
+
+TEST(Execute, SaddleCriterionEnsembleUsesTheFamily) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("saddle_ensemble");
+    const scene s = scene_in(out,
+                             "[predictions]\nquantities = [\"rate-saddle\"]\nenergies = [5]\n"
+                             "[[ensemble]]\nname = \"s\"\ncriteria = [\"saddle\"]\n"
+                             "energies = [5]\ntrajectories = 4\ntime = 2\n");
+    const run_counters c = run(s);
+    EXPECT_EQ(c.orbit_solves, 1u);  // the family's one orbit; the predictions and the criterion reuse it
+    EXPECT_EQ(c.curve_criteria, 1u);
+    fs::remove_all(out);
+}
+
+TEST(Execute, DryRunComputesNothingAndErrorsNameTheKey) {
+    const fs::path dir = fresh_dir("cli");
+    fs::create_directories(dir);
+    const fs::path out = dir / "out";
+    {
+        std::ofstream f(dir / "s.toml");
+        f << "[scene]\noutput = \"" << out.string()
+          << "\"\n[predictions]\nquantities = [\"rate-saddle\"]\nenergies = [3]\n";
+    }
+    const auto dry = run_flipflux("run --dry-run " + (dir / "s.toml").string());
+    EXPECT_EQ(dry.status, 0);
+    EXPECT_NE(dry.out.find("saddle-orbit family of arm 2"), std::string::npos);
+    EXPECT_FALSE(fs::exists(out));
+    {
+        std::ofstream f(dir / "bad.toml");
+        f << "[scene]\noutput = \"o\"\n[[ensemble]]\ntrajectories = 0\n";
+    }
+    const auto bad = run_flipflux("run " + (dir / "bad.toml").string());
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("bad.toml:4: ensemble[0].trajectories"), std::string::npos) << bad.err;
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace flipflux::test
