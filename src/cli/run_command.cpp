@@ -36,7 +36,8 @@ const register_command registration([](CLI::App& app) {
         run_options options;
         options.threads = s->threads;
         if (!s->no_cache)
-            options.cache_dir = s->cache_dir.empty() ? default_cache_dir() : s->cache_dir;
+            options.cache_dir =
+                s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
         const run_counters c = execute_plan(sc, p, std::cout, options);
         std::cout << "saddle orbits solved " << c.orbit_solves << ", from cache "
                   << c.orbit_cache_hits << "; trajectories " << c.trajectories

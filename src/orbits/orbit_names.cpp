@@ -36,13 +36,21 @@ std::atomic<std::size_t> memo_misses{0};
 }  // namespace
 
 // Orbits solved by find_or_solve_saddle_orbit because the memo did not have them.
-std::size_t saddle_orbit_memo_misses() { return memo_misses.load(); }
-void count_saddle_orbit_memo_miss() { ++memo_misses; }
+std::size_t saddle_orbit_memo_misses() {
+    return memo_misses.load();
+}
+void count_saddle_orbit_memo_miss() {
+    ++memo_misses;
+}
 
 // The saddle-orbit memo of every precision (orbit_store.inst.cpp) is cleared lazily when this
 // generation changes.
-unsigned saddle_orbit_memo_generation() { return memo_generation.load(); }
+unsigned saddle_orbit_memo_generation() {
+    return memo_generation.load();
+}
 
-void forget_saddle_orbits() { ++memo_generation; }
+void forget_saddle_orbits() {
+    ++memo_generation;
+}
 
 }  // namespace flipflux

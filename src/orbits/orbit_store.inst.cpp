@@ -94,8 +94,8 @@ void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbi
     auto& m = memo<Real>::instance();
     const std::lock_guard<std::mutex> lock(m.mutex);
     m.refresh();
-    m.orbits.insert_or_assign(
-        memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.method), orbit);
+    m.orbits.insert_or_assign(memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.method),
+                              orbit);
 }
 
 template <class Real>
@@ -194,8 +194,9 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
         const json& f = j.at("floquet");
         for (std::size_t i = 0; i < 4; ++i) {
             const json& z = f.at("eigenvalues").at(i);
-            o.floquet.eigenvalues[i] = {real_of<Real>(z.at(0), where + ": eigenvalues"),
-                                        real_of<Real>(z.at(1), where + ": eigenvalues")};
+            o.floquet.eigenvalues[i] =
+                std::complex<Real>(real_of<Real>(z.at(0), where + ": eigenvalues"),
+                                   real_of<Real>(z.at(1), where + ": eigenvalues"));
         }
         auto fr = [&](const char* key) { return real_of<Real>(f.at(key), where + ": " + key); };
         o.floquet.trace = fr("trace");

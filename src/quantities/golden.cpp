@@ -60,6 +60,8 @@ std::optional<golden_row> compute_row(const golden_task& t) {
         low = t.q->evaluate(model50, t.a, e50, "");
     } catch (const input_error&) {
         return std::nullopt;  // outside the quantity's domain
+    } catch (const std::runtime_error&) {
+        return std::nullopt;  // undefined here (e.g. the real multiplier of an elliptic orbit)
     }
     if (high.value == 0) return std::nullopt;
     const std::string reference = to_decimal(high.value);
@@ -72,6 +74,8 @@ std::optional<golden_row> compute_row(const golden_task& t) {
             checked = other.method;
         } catch (const input_error&) {
             // this method does not apply at this energy (e.g. a closed form): try the next
+        } catch (const std::runtime_error&) {
+            // no solution by this method here: try the next
         }
     }
     golden_row row;
@@ -98,6 +102,17 @@ std::vector<std::string> golden_energies(double start, double maximum) {
             grid.push_back(out.str());
         }
     }
+    return grid;
+}
+
+std::vector<std::string> golden_orbit_energies(double start, double maximum) {
+    // just above the saddle, every unit from there, just below the maximum (k/20 as text)
+    const long first = static_cast<long>(std::floor(start * 20 + 1e-9)) + 1;
+    const long last = static_cast<long>(std::ceil(maximum * 20 - 1e-9)) - 1;
+    std::vector<std::string> grid{twentieths(first)};
+    for (long k = first - 1 + 20; k < last; k += 20)
+        grid.push_back(twentieths(k));
+    if (last > first) grid.push_back(twentieths(last));
     return grid;
 }
 
@@ -130,8 +145,9 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
             continue;
         }
         for (arm a : {arm::two, arm::one}) {
+            const double es = model.saddle_energy(a), emax = model.maximum_energy();
             for (const std::string& e :
-                 golden_energies(model.saddle_energy(a), model.maximum_energy()))
+                 q.needs_saddle_orbit ? golden_orbit_energies(es, emax) : golden_energies(es, emax))
                 tasks.push_back({&q, a, e});
         }
     }

@@ -125,6 +125,7 @@ struct rate_fn {
 }  // namespace
 
 void add_orbit_quantities(std::vector<quantity>& list) {
+    const std::size_t first = list.size();
     list.push_back(
         make_quantity("period", "period T of the saddle orbit", orbit_methods, true, period_fn{}));
     list.push_back(make_quantity("action", "action F = oint l.dtheta of the saddle orbit (> 0)",
@@ -140,6 +141,8 @@ void add_orbit_quantities(std::vector<quantity>& list) {
     list.push_back(make_quantity("stability-index",
                                  "mu + 1/mu = tr(monodromy) - 2 of the saddle orbit", orbit_methods,
                                  true, stability_fn{}));
+    for (std::size_t i = first; i < list.size(); ++i)
+        list[i].needs_saddle_orbit = true;
 }
 
 }  // namespace flipflux

@@ -39,7 +39,9 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-arm arm_of(int a) { return a == 1 ? arm::one : arm::two; }
+arm arm_of(int a) {
+    return a == 1 ? arm::one : arm::two;
+}
 
 struct context {
     const scene& s;
@@ -63,7 +65,8 @@ json model_json(const double_pendulum<Real>& model) {
     json curves = json::object();
     for (arm a : {arm::one, arm::two}) {
         const sine_curve<Real> c = approximate_saddle_curve(model, a);
-        curves[to_string(a)] = {{"offset", "pi + slope sin(s)"}, {"slope", to_decimal(c.slope(Real(0)))}};
+        curves[to_string(a)] = {{"offset", "pi + slope sin(s)"},
+                                {"slope", to_decimal(c.slope(Real(0)))}};
     }
     return {{"parameters",
              {{"m1", to_decimal(p.m1)},
@@ -120,7 +123,8 @@ void run_orbit_family(context& ctx, const plan_step& step) {
                     ++ctx.counters.orbit_cache_hits;
                     continue;
                 }
-                ctx.log << "  cache entry " << file.string() << " is for another orbit; recomputing\n";
+                ctx.log << "  cache entry " << file.string()
+                        << " is for another orbit; recomputing\n";
             } catch (const input_error& e) {
                 ctx.log << "  ignoring unreadable cache entry: " << e.what() << "\n";
             }
@@ -237,8 +241,8 @@ void run_predictions(context& ctx, const plan_step& step) {
 
 void run_ensemble(context& ctx, const plan_step& step) {
     const ensemble_spec& x = ctx.s.ensembles[step.ensemble_index];
-    const std::string where = ctx.s.file.string() + ":" + std::to_string(x.line) + ": ensemble '" +
-                              x.name + "'";
+    const std::string where =
+        ctx.s.file.string() + ":" + std::to_string(x.line) + ": ensemble '" + x.name + "'";
     if (x.estimator != "long") {
         throw scene_error(where + ": estimator '" + x.estimator +
                           "' is not available in this build (only 'long')");
@@ -327,8 +331,7 @@ void run_report(context& ctx, double seconds_so_far) {
     const std::filesystem::path script =
         std::filesystem::path(FLIPFLUX_SOURCE_DIR) / "src" / "report" / "make_report.py";
     if (!std::filesystem::exists(script))
-        throw std::runtime_error("report: the report generator " + script.string() +
-                                 " is missing");
+        throw std::runtime_error("report: the report generator " + script.string() + " is missing");
     const std::string command = "python3 '" + script.string() + "' --run-dir '" +
                                 ctx.s.output.string() + "' --out '" + r.dir + "'";
     ctx.log << "  " << command << "\n";
@@ -351,9 +354,8 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     ctx.summary["scene_file"] = s.file.string();
     ctx.summary["precision"] = precision_name(s.prec);
     ctx.summary["git_commit"] = git_commit();
-    ctx.summary["model"] = dispatch(s.prec, [&]<class Real>() {
-        return model_json(make_model<Real>(s.model));
-    });
+    ctx.summary["model"] =
+        dispatch(s.prec, [&]<class Real>() { return model_json(make_model<Real>(s.model)); });
     ctx.summary["orbit_families"] = json::array();
     ctx.summary["ensembles"] = json::array();
     std::filesystem::create_directories(s.output);

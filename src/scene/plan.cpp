@@ -16,9 +16,7 @@ std::size_t plan::count(plan_step::kind k) const {
 }
 
 bool needs_saddle_orbit(const std::string& quantity) {
-    static const std::set<std::string> saddle{"period", "action", "flux-saddle", "rate-saddle",
-                                              "multiplier", "stability-index"};
-    return saddle.count(quantity) > 0;
+    return find_quantity(quantity).needs_saddle_orbit;
 }
 
 namespace {
@@ -132,7 +130,8 @@ plan make_plan(const scene& s) {
     }
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
-        plan_step step{plan_step::kind::ensemble, x.arm, {}, {}, x.criteria, i, {}, precision::double_};
+        plan_step step{plan_step::kind::ensemble, x.arm, {}, {}, x.criteria, i, {},
+                       precision::double_};
         for (const auto& e : ensemble_energies[i])
             step.energies.push_back(e.text);
         step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) + ", " +
@@ -163,9 +162,14 @@ plan make_plan(const scene& s) {
                            s.prec});
     }
     if (s.report) {
-        p.steps.push_back(
-            {plan_step::kind::report, 0, {}, {}, {}, 0, "reproduction report -> " + s.report->dir,
-             s.prec});
+        p.steps.push_back({plan_step::kind::report,
+                           0,
+                           {},
+                           {},
+                           {},
+                           0,
+                           "reproduction report -> " + s.report->dir,
+                           s.prec});
     }
     return p;
 }

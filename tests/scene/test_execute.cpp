@@ -65,7 +65,8 @@ TEST(Execute, UprightPredictionsSolveNoOrbitAndIntegrateNothing) {
         const auto& q = find_quantity(r.fields.at(0));
         const arm a = r.fields.at(1) == "1" ? arm::one : arm::two;
         const double e = parse_real<double>(r.fields.at(2), "energy");
-        EXPECT_EQ(r.fields.at(3), to_decimal(q.evaluate(model, a, e, "").value)) << r.fields.at(0) << " " << e;
+        EXPECT_EQ(r.fields.at(3), to_decimal(q.evaluate(model, a, e, "").value))
+            << r.fields.at(0) << " " << e;
     }
     const auto run_json = nlohmann::json::parse(slurp(out / "run.json"));
     EXPECT_EQ(run_json["predictions"]["skipped"].size(), 1u);  // rate-upright arm 1 at E = 3
@@ -147,7 +148,8 @@ TEST(Execute, SaddleCriterionEnsembleUsesTheFamily) {
                              "[[ensemble]]\nname = \"s\"\ncriteria = [\"saddle\"]\n"
                              "energies = [5]\ntrajectories = 4\ntime = 2\n");
     const run_counters c = run(s);
-    EXPECT_EQ(c.orbit_solves, 1u);  // the family's one orbit; the predictions and the criterion reuse it
+    EXPECT_EQ(c.orbit_solves,
+              1u);  // the family's one orbit; the predictions and the criterion reuse it
     EXPECT_EQ(c.curve_criteria, 1u);
     fs::remove_all(out);
 }

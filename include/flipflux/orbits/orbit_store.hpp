@@ -52,16 +52,16 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
 template <class Real>
 std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_options<Real>& options);
 
-#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                             \
-    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                         \
-        const double_pendulum<R>&, arm, const R&, orbit_method);                                   \
-    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                       \
-                                                  const saddle_orbit<R>&);                         \
-    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                                 \
-        const double_pendulum<R>&, arm, const R&, const orbit_options<R>&);                        \
-    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                          \
-    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);    \
-    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                      \
+#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                          \
+    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                      \
+        const double_pendulum<R>&, arm, const R&, orbit_method);                                \
+    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                    \
+                                                  const saddle_orbit<R>&);                      \
+    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                              \
+        const double_pendulum<R>&, arm, const R&, const orbit_options<R>&);                     \
+    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                       \
+    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&); \
+    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                   \
                                                    const orbit_options<R>&)
 FLIPFLUX_ORBIT_STORE_EXTERN(double);
 FLIPFLUX_ORBIT_STORE_EXTERN(quad);

@@ -34,6 +34,11 @@ struct golden_row {
 /// not per arm, else the arm's saddle energy.
 std::vector<std::string> golden_energies(double start, double maximum);
 
+/// The coarser grid of quantities that need the saddle orbit (a periodic-shooting orbit costs
+/// minutes in mp:100): start + 0.05, then every whole unit above start, and maximum - 0.05
+/// (egalitarian arm 2: 2.05, 3, 4, 5, 5.95; arm 1: 4.05, 5, 5.95).
+std::vector<std::string> golden_orbit_energies(double start, double maximum);
+
 struct golden_options {
     std::vector<std::string> quantities;  ///< empty: every registered quantity
     int jobs = 1;                         ///< OpenMP threads
@@ -58,6 +63,5 @@ std::vector<golden_row> parse_golden_csv(const std::string& text);
 /// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
 /// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count.
 std::string golden_provenance(const std::string& command, std::size_t rows);
-
 
 }  // namespace flipflux

@@ -36,6 +36,9 @@ struct quantity {
     std::string description;
     std::vector<std::string> methods;  ///< the first is the default
     bool per_arm = true;
+    /// true when every evaluation needs the saddle orbit at E (scenes plan an orbit family for
+    /// it; golden data use a coarser grid, the orbit costing minutes in mp:100)
+    bool needs_saddle_orbit = false;
     quantity_function<double> f_double;
     quantity_function<quad> f_quad;
     quantity_function<mp50> f_mp50;
@@ -59,8 +62,15 @@ struct quantity {
 template <class F>
 quantity make_quantity(std::string name, std::string description, std::vector<std::string> methods,
                        bool per_arm, F f) {
-    quantity q{
-        std::move(name), std::move(description), std::move(methods), per_arm, {}, {}, {}, {}};
+    quantity q{std::move(name),
+               std::move(description),
+               std::move(methods),
+               per_arm,
+               false,
+               {},
+               {},
+               {},
+               {}};
     q.f_double = [f](auto&&... a) { return f.template operator()<double>(a...); };
     q.f_quad = [f](auto&&... a) { return f.template operator()<quad>(a...); };
     q.f_mp50 = [f](auto&&... a) { return f.template operator()<mp50>(a...); };

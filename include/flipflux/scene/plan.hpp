@@ -12,8 +12,8 @@
 // `flipflux run --dry-run SCENE` prints the plan without computing anything.
 #pragma once
 
-#include <map>
 #include <filesystem>
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -42,7 +42,8 @@ struct plan {
     std::size_t count(plan_step::kind k) const;
 };
 
-/// True for quantities that need the saddle orbit.
+/// True for quantities that need the saddle orbit (the registry's needs_saddle_orbit; throws
+/// input_error for an unknown name).
 bool needs_saddle_orbit(const std::string& quantity);
 
 /// Builds the plan; throws scene_error for an unknown quantity or an energy a requested quantity
