@@ -123,8 +123,8 @@ std::string orbit_to_json(const saddle_orbit<Real>& o) {
     j["period_derivative"] = to_decimal(o.period_derivative);
     j["saddle"] = real_array(o.saddle.data(), 2);
     j["start"] = real_array(o.start.data(), 4);
-    j["turning_points"] = {real_array(o.turning_points[0].data(), 2),
-                           real_array(o.turning_points[1].data(), 2)};
+    j["turning_points"] = json::array(
+        {real_array(o.turning_points[0].data(), 2), real_array(o.turning_points[1].data(), 2)});
     json eig = json::array();
     for (const auto& z : o.floquet.eigenvalues)
         eig.push_back({to_decimal(z.real()), to_decimal(z.imag())});

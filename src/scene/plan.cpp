@@ -34,15 +34,11 @@ struct energy_entry {
     std::string text;
 };
 
-std::vector<energy_entry> expand(const energy_grid& g, const std::string& where, precision prec) {
-    // expanded in the scene's precision so that the text carries all its digits
-    return dispatch(prec, [&]<class Real>() {
-        std::vector<energy_entry> out;
-        for (const Real& e : energies_of<Real>(g, where)) {
-            out.push_back({static_cast<double>(e), to_decimal(e)});
-        }
-        return out;
-    });
+std::vector<energy_entry> expand(const energy_grid& g, const std::string& where) {
+    std::vector<energy_entry> out;
+    for (const std::string& text : energy_texts(g, where))
+        out.push_back({parse_real<double>(text, where), text});
+    return out;
 }
 
 std::string range_text(const std::vector<std::string>& energies) {
@@ -79,7 +75,7 @@ plan make_plan(const scene& s) {
                                   ": predictions.quantities: " + e.what());
             }
         }
-        prediction_energies = expand(s.predictions->energies, "predictions.energies", s.prec);
+        prediction_energies = expand(s.predictions->energies, "predictions.energies");
         for (int a : s.predictions->arms) {
             for (const auto& q : s.predictions->quantities) {
                 if (needs_saddle_orbit(q)) want_orbits(a, prediction_energies, s.prec);
@@ -87,7 +83,7 @@ plan make_plan(const scene& s) {
         }
     }
     if (s.orbits) {
-        const auto energies = expand(s.orbits->energies, "orbits.energies", s.prec);
+        const auto energies = expand(s.orbits->energies, "orbits.energies");
         for (int a : s.orbits->arms)
             want_orbits(a, energies, s.prec);
     }
@@ -95,7 +91,7 @@ plan make_plan(const scene& s) {
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
         ensemble_energies.push_back(
-            expand(x.energies, "ensemble[" + std::to_string(i) + "].energies", s.prec));
+            expand(x.energies, "ensemble[" + std::to_string(i) + "].energies"));
         if (std::find(x.criteria.begin(), x.criteria.end(), "saddle") != x.criteria.end()) {
             want_orbits(x.arm, ensemble_energies.back(), precision::double_);
         }

@@ -55,10 +55,10 @@ TEST(Execute, UprightPredictionsSolveNoOrbitAndIntegrateNothing) {
     EXPECT_EQ(c.orbit_solves, 0u);
     EXPECT_EQ(c.orbit_cache_hits, 0u);
     EXPECT_EQ(c.trajectories, 0u);
-    // omega at 3 energies, rate-upright for arm 2 at 3 and arm 1 at 5, 7 (arm 1's saddle is 4)
-    EXPECT_EQ(c.quantity_evaluations, 3u + 3u + 2u);
+    // omega at 3 energies, rate-upright for both arms at 3 energies (0 below arm 1's saddle, 4)
+    EXPECT_EQ(c.quantity_evaluations, 3u + 3u + 3u);
     const auto rows = read_csv(out / "predictions.csv");
-    ASSERT_EQ(rows.rows.size(), 8u);
+    ASSERT_EQ(rows.rows.size(), 9u);
     // the executor's values are the registry's, digit for digit
     const double_pendulum<double> model;
     for (const auto& r : rows.rows) {
@@ -69,7 +69,7 @@ TEST(Execute, UprightPredictionsSolveNoOrbitAndIntegrateNothing) {
             << r.fields.at(0) << " " << e;
     }
     const auto run_json = nlohmann::json::parse(slurp(out / "run.json"));
-    EXPECT_EQ(run_json["predictions"]["skipped"].size(), 1u);  // rate-upright arm 1 at E = 3
+    EXPECT_EQ(run_json["predictions"]["skipped"].size(), 0u);
     EXPECT_EQ(run_json["model"]["coefficients"]["alpha"], "2");
     fs::remove_all(out);
 }
@@ -169,11 +169,11 @@ TEST(Execute, DryRunComputesNothingAndErrorsNameTheKey) {
     EXPECT_FALSE(fs::exists(out));
     {
         std::ofstream f(dir / "bad.toml");
-        f << "[scene]\noutput = \"o\"\n[[ensemble]]\ntrajectories = 0\n";
+        f << "[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = [3]\ntrajectories = 0\n";
     }
     const auto bad = run_flipflux("run " + (dir / "bad.toml").string());
     EXPECT_EQ(bad.status, 2);
-    EXPECT_NE(bad.err.find("bad.toml:4: ensemble[0].trajectories"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("bad.toml:5: ensemble[0].trajectories"), std::string::npos) << bad.err;
     fs::remove_all(dir);
 }
 

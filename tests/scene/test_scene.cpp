@@ -74,7 +74,13 @@ TEST(Scene, GridsExpandInTheWorkingPrecision) {
     ASSERT_EQ(e.size(), 79u);
     EXPECT_EQ(e.front(), quad(205) / 100);
     EXPECT_EQ(e.back(), quad(595) / 100);
-    EXPECT_LE(relative_error(e[20], quad(305) / 100), 4 * static_cast<double>(eps<quad>()));
+    // every point is the decimal meant, correctly rounded: no accumulated rounding
+    EXPECT_EQ(e[20], quad(305) / 100);
+    const auto texts = energy_texts(g, "energies");
+    EXPECT_EQ(texts[1], "2.1");
+    EXPECT_EQ(texts[20], "3.05");
+    EXPECT_EQ(energies_of<double>(g, "energies")[1], 2.1);
+    EXPECT_EQ(energies_of<mp50>(g, "energies")[77], parse_real<mp50>("5.9", "x"));
     energy_grid bad;
     bad.from = "2", bad.to = "3.01", bad.step = "0.1";
     EXPECT_THROW(energies_of<double>(bad, "energies"), scene_error);

@@ -105,7 +105,13 @@ scene load_scene(const std::filesystem::path& file);
 /// Parses scene text (for tests); `file` is only used in error messages.
 scene parse_scene(const std::string& text, const std::filesystem::path& file);
 
-/// The energies of a grid in Real (from + i * step, every step computed in Real).
+/// The energies as decimal text: explicit values as written; a grid's points from + i step
+/// computed in mp:100 and written with 40 significant digits, so that 2.05 .. 5.95 by 0.05 gives
+/// "2.05", "2.1", ..., "5.95" — the decimals meant, each parsed later in the working precision
+/// (never a sum rounded in double). Throws scene_error naming `where`.
+std::vector<std::string> energy_texts(const energy_grid& grid, const std::string& where);
+
+/// The energies of a grid in Real: energy_texts, each parsed in Real (correctly rounded).
 template <class Real>
 std::vector<Real> energies_of(const energy_grid& grid, const std::string& where);
 
