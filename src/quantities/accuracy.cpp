@@ -11,6 +11,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux {
@@ -35,10 +36,14 @@ struct timed_value {
     double seconds;
 };
 
+/// `fresh`: time a saddle-orbit quantity from scratch (the orbit memo, which shares one orbit
+/// between period, action, flux, ..., would otherwise make repeated evaluations free).
 template <class Real>
-std::optional<timed_value> evaluate(const quantity& q, const std::string& method, const probe& p) {
+std::optional<timed_value> evaluate(const quantity& q, const std::string& method, const probe& p,
+                                    bool fresh = false) {
     const double_pendulum<Real> model;
     const Real energy = parse_real<Real>(p.energy, "--energy");
+    if (fresh && q.needs_saddle_orbit) forget_saddle_orbits();
     try {
         const auto start = std::chrono::steady_clock::now();
         const quantity_value<Real> v = q.evaluate(model, p.a, energy, method);
@@ -54,13 +59,13 @@ std::optional<timed_value> evaluate_at(int precision_index, const quantity& q,
                                        const std::string& method, const probe& p) {
     switch (precision_index) {
         case 0:
-            return evaluate<double>(q, method, p);
+            return evaluate<double>(q, method, p, true);
         case 1:
-            return evaluate<quad>(q, method, p);
+            return evaluate<quad>(q, method, p, true);
         case 2:
-            return evaluate<mp50>(q, method, p);
+            return evaluate<mp50>(q, method, p, true);
         default:
-            return evaluate<mp100>(q, method, p);
+            return evaluate<mp100>(q, method, p, true);
     }
 }
 
