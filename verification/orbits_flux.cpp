@@ -58,6 +58,7 @@ TEST(OrbitsFlux, CurveFluxThroughTheSaddleCurveIsTwiceTheActionAtDouble) {
     physical_parameters<double> p;
     p.m2 = 3;
     p.L2 = 0.5;
+    p.a2 = 0.5;  // a point mass at the end of link 2 (a2 does not follow L2 by itself)
     const double_pendulum<double> heavy(p);
     EXPECT_LE(flux_equivalence(heavy, arm::two, 3.0 + 0.4 * 3, curve_flux_method::kinetic), 1e-12);
     EXPECT_LE(flux_equivalence(heavy, arm::one, 8.0 + 0.4 * 3, curve_flux_method::kinetic), 1e-12);
