@@ -310,11 +310,22 @@ void run_golden(context& ctx) {
 
 void run_accuracy(context& ctx) {
     const accuracy_spec& a = *ctx.s.accuracy;
+    std::string appendix;  // read first: a missing file is an error before minutes of measuring
+    for (const std::string& file : a.appendices) {
+        std::ifstream in(file);
+        if (!in)
+            throw scene_error(ctx.s.file.string() + ":" + std::to_string(a.line) +
+                              ": accuracy.appendices: cannot read '" + file + "'");
+        std::stringstream text;
+        text << in.rdbuf();
+        appendix += "\n" + text.str();
+    }
     accuracy_options options;
     options.quantities = a.quantities;
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
-    const std::string md = accuracy_markdown(entries, "flipflux run " + ctx.s.file.string());
+    const std::string md =
+        accuracy_markdown(entries, "flipflux run " + ctx.s.file.string()) + appendix;
     const std::filesystem::path out = a.out;
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     write_file_atomically(out, md);

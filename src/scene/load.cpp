@@ -326,6 +326,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         a.line = r.line();
         a.out = r.string("out").value_or(a.out);
         a.quantities = r.strings("quantities").value_or(a.quantities);
+        a.appendices = r.strings("appendices").value_or(a.appendices);
         r.finish();
         s.accuracy = a;
     }

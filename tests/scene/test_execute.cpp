@@ -177,5 +177,31 @@ TEST(Execute, DryRunComputesNothingAndErrorsNameTheKey) {
     fs::remove_all(dir);
 }
 
+TEST(Execute, AccuracyAppendixMustExistBeforeAnythingIsMeasured) {
+    const fs::path out = fresh_dir("accuracy");
+    const scene s = scene_in(out, "[accuracy]\nout = \"" + (out / "a.md").string() +
+                                      "\"\nappendices = [\"/nonexistent/bench.md\"]\n");
+    try {
+        (void)run(s);
+        ADD_FAILURE() << "no error";
+    } catch (const scene_error& e) {
+        EXPECT_NE(std::string(e.what()).find("t.toml:4: accuracy.appendices: cannot read "
+                                             "'/nonexistent/bench.md'"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out / "a.md"));
+    fs::remove_all(out);
+}
+
+TEST(Execute, GoldenNeedsTheDefaultPendulum) {
+    const fs::path out = fresh_dir("golden");
+    const scene s =
+        scene_in(out, "[model]\nm1 = 2\n[golden]\ndir = \"" + (out / "g").string() + "\"\n");
+    EXPECT_THROW((void)run(s), scene_error);
+    EXPECT_FALSE(fs::exists(out / "g" / "golden.csv"));
+    fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace flipflux::test

@@ -75,6 +75,8 @@ struct golden_spec {
 struct accuracy_spec {
     std::string out = "docs/accuracy.md";
     std::vector<std::string> quantities;  ///< empty: every registered quantity
+    /// Markdown files appended verbatim after the measured tables (e.g. benchmark figures)
+    std::vector<std::string> appendices;
     int line = 0;
 };
 
