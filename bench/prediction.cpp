@@ -8,6 +8,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace {
@@ -19,6 +20,8 @@ void run(benchmark::State& state, const quantity* q, std::string method, arm a, 
     const double_pendulum<Real> model;
     const Real energy = parse_real<Real>(e, "--energy");
     for (auto _ : state) {
+        // every saddle orbit solved from scratch (the memo would make repeats free)
+        if (q->needs_saddle_orbit) forget_saddle_orbits();
         try {
             benchmark::DoNotOptimize(q->evaluate(model, a, energy, method));
         } catch (const input_error& err) {
