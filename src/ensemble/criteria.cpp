@@ -8,8 +8,8 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/model/dividing_curve.hpp"
-#include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {

@@ -76,13 +76,13 @@ std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
                                   std::to_string(t.header.size()) + " fields");
             }
             golden_reference g{r.fields[q],
-                         normal_arm(r.fields[q], r.fields[a]),
-                         r.fields[e],
-                         r.fields[v],
-                         m >= 0 ? r.fields[m] : "",
-                         std::atoi(r.fields[d].c_str()),
-                         f.string(),
-                         r.line};
+                               normal_arm(r.fields[q], r.fields[a]),
+                               r.fields[e],
+                               r.fields[v],
+                               m >= 0 ? r.fields[m] : "",
+                               std::atoi(r.fields[d].c_str()),
+                               f.string(),
+                               r.line};
             rows.push_back(g);
         }
     }
