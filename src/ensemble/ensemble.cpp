@@ -169,6 +169,10 @@ void integrate(const double_pendulum<double>& model, const ensemble_options& o,
     });
     r.status = rk_status::ok;
     while (rk.t() < o.time) {
+        if (o.stop != nullptr && o.stop->load(std::memory_order_relaxed) != 0) {
+            r.abandoned = true;
+            break;
+        }
         const rk_status s = rk.step(o.time);
         if (s != rk_status::ok) {
             r.status = s;
@@ -259,13 +263,62 @@ trajectory_result run_trajectory(const double_pendulum<double>& model,
     return simulate_trajectory(model, sampler.sample(o.seed, index), o, index, detectors);
 }
 
+batch_outcome run_trajectories(const double_pendulum<double>& model, const ensemble_options& o,
+                               const std::vector<ensemble_criterion>& criteria,
+                               std::span<const std::uint64_t> indices,
+                               const std::function<void(trajectory_result&&)>& finished) {
+    validate(o);
+    for (const ensemble_criterion& c : criteria)
+        if (!c.detector)
+            throw std::invalid_argument("run_trajectories: criterion without detector");
+    const microcanonical_sampler sampler(model, o.energy);
+    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    std::exception_ptr failure;
+    const auto n = static_cast<std::int64_t>(indices.size());
+    int used = 1;
+    bool interrupted = false;
+    auto stopped = [&o] { return o.stop != nullptr && o.stop->load(std::memory_order_relaxed); };
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp single
+        used = omp_get_num_threads();
+        std::vector<std::unique_ptr<flip_detector_base>> own;
+        std::vector<flip_detector_base*> detectors;
+        for (const ensemble_criterion& c : criteria) {
+            own.push_back(c.detector->clone());
+            detectors.push_back(own.back().get());
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (std::int64_t i = 0; i < n; ++i) {
+            if (stopped()) {
+#pragma omp atomic write
+                interrupted = true;
+                continue;
+            }
+            try {
+                trajectory_result r = run_trajectory(
+                    model, sampler, o, indices[static_cast<std::size_t>(i)], detectors);
+                if (r.abandoned) {
+#pragma omp atomic write
+                    interrupted = true;
+                } else {
+#pragma omp critical(flipflux_ensemble_finished)
+                    finished(std::move(r));
+                }
+            } catch (...) {
+#pragma omp critical(flipflux_ensemble_failure)
+                if (!failure) failure = std::current_exception();
+            }
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
+    return {used, interrupted};
+}
+
 ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& o,
                              const std::vector<ensemble_criterion>& criteria) {
     validate(o);
-    for (const ensemble_criterion& c : criteria)
-        if (!c.detector) throw std::invalid_argument("run_ensemble: criterion without detector");
     const auto start = std::chrono::steady_clock::now();
-    const microcanonical_sampler sampler(model, o.energy);
     ensemble_result result;
     result.energy = o.energy;
     result.time = o.time;
@@ -279,39 +332,18 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     for (const ensemble_criterion& c : criteria)
         result.criteria.push_back(c.name);
     result.trajectories.resize(o.trajectories);
-
-    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-    std::exception_ptr failure;
+    std::vector<std::uint64_t> indices(o.trajectories);
+    for (std::uint64_t i = 0; i < o.trajectories; ++i)
+        indices[i] = o.first_index + i;
     std::uint64_t finished = 0;
-    const auto n = static_cast<std::int64_t>(o.trajectories);
-    int used = 1;
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp single
-        used = omp_get_num_threads();
-        std::vector<std::unique_ptr<flip_detector_base>> own;
-        std::vector<flip_detector_base*> detectors;
-        for (const ensemble_criterion& c : criteria) {
-            own.push_back(c.detector->clone());
-            detectors.push_back(own.back().get());
-        }
-#pragma omp for schedule(dynamic, 1)
-        for (std::int64_t i = 0; i < n; ++i) {
-            try {
-                result.trajectories[static_cast<std::size_t>(i)] = run_trajectory(
-                    model, sampler, o, o.first_index + static_cast<std::uint64_t>(i), detectors);
-            } catch (...) {
-#pragma omp critical(flipflux_ensemble_failure)
-                if (!failure) failure = std::current_exception();
-            }
-            if (o.progress) {
-#pragma omp critical(flipflux_ensemble_progress)
-                o.progress(++finished, o.trajectories);
-            }
-        }
-    }
-    if (failure) std::rethrow_exception(failure);
-    result.threads = used;
+    const batch_outcome b =
+        run_trajectories(model, o, criteria, indices, [&](trajectory_result&& r) {
+            const std::uint64_t k = r.index - o.first_index;
+            result.trajectories[k] = std::move(r);
+            if (o.progress) o.progress(++finished, o.trajectories);
+        });
+    if (b.interrupted) throw std::runtime_error("run_ensemble: interrupted");
+    result.threads = b.threads;
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
