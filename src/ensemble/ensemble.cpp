@@ -153,7 +153,7 @@ void integrate(const double_pendulum<double>& model, const ensemble_options& o,
         next_sample = 1;
     }
     const std::size_t nc = detectors.size();
-    const double energy = flow.hamiltonian(x0);
+    const double energy = flow.hamiltonian_absolute(x0);
     // NOTE: the energy check. An accepted step may not change H by more than
     // energy_jump_factor * (atol + rtol |E|): embedded error estimates occasionally pass a step
     // whose error is orders of magnitude above the tolerance (seen: DOP853 at rtol 1e-7 once in
@@ -162,7 +162,7 @@ void integrate(const double_pendulum<double>& model, const ensemble_options& o,
     const double jump = energy_jump_factor * (ro.atol + ro.rtol * std::abs(energy));
     double h_start = energy, h_end = energy;
     rk.set_step_check([&](const state&, const state& x_new) {
-        const double e = flow.hamiltonian(first4(x_new));
+        const double e = flow.hamiltonian_absolute(first4(x_new));
         if (!(std::abs(e - h_start) <= jump)) return false;
         h_end = e;
         return true;
@@ -267,7 +267,12 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
                                const std::vector<ensemble_criterion>& criteria,
                                std::span<const std::uint64_t> indices,
                                const std::function<void(trajectory_result&&)>& finished) {
-    validate(o);
+    {
+        ensemble_options checked = o;  // the count and first index are not used here
+        checked.trajectories = 1;
+        checked.first_index = 0;
+        validate(checked);
+    }
     for (const ensemble_criterion& c : criteria)
         if (!c.detector)
             throw std::invalid_argument("run_trajectories: criterion without detector");

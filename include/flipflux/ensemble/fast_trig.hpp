@@ -1,0 +1,66 @@
+// sin and cos of one double together, inline: the ensemble's right-hand side spends most of its
+// time in them (bench/ensemble_odeint.cpp: libm's sincos was 36 % of a run).
+//
+// Method (fdlibm's, as in glibc's and musl's sin/cos for moderate arguments): x = q pi/2 + r with
+// q = round(x 2/pi) and r by Cody-Waite reduction with pi/2 split into three parts of 33, 33 and
+// 53 bits (each q * part exact for |q| < 2^20), |r| <= pi/4 (plus rounding); then fdlibm's
+// minimax kernels __kernel_sin / __kernel_cos (errors below 1 ulp of the result on [-pi/4,
+// pi/4]) and the quadrant's signs and swap. Arguments with |x| > 2^19 fall back to std::sin and
+// std::cos. Accuracy: tests/ensemble/test_pendulum_flow.cpp checks |error| <= 2 ulp of 1 against
+// std::sin/std::cos on random arguments in [-1e5, 1e5] (the ensemble's angles are reduced to
+// [-pi, pi] after every step). Deterministic: the same bits on every run, thread and process.
+#pragma once
+
+#include <cmath>
+
+namespace flipflux {
+
+inline void fast_sincos(double x, double& s, double& c) {
+    if (!(std::abs(x) <= 524288.0)) {  // also NaN
+        s = std::sin(x);
+        c = std::cos(x);
+        return;
+    }
+    constexpr double two_over_pi = 6.36619772367581382433e-01;
+    constexpr double pio2_1 = 1.57079632673412561417e+00;   // first 33 bits of pi/2
+    constexpr double pio2_2 = 6.07710050630396597660e-11;   // next 33 bits
+    constexpr double pio2_2t = 2.02226624879595063154e-21;  // pi/2 - pio2_1 - pio2_2
+    const double q = std::nearbyint(x * two_over_pi);
+    const double r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
+    const double z = r * r;
+    // fdlibm __kernel_sin (y = 0): r + r^3 (S1 + z (S2 + ... ))
+    constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
+                     S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
+                     S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+    const double ps = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    const double sr = r + r * z * (S1 + z * ps);
+    // fdlibm __kernel_cos (y = 0): 1 - z/2 + z^2 C(z), with the hz/w splitting for accuracy
+    constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
+                     C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
+                     C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+    const double pc = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    const double hz = 0.5 * z;
+    const double w = 1.0 - hz;
+    const double cr = w + (((1.0 - w) - hz) + z * pc);
+    const long quadrant = static_cast<long>(q) & 3;
+    switch (quadrant) {
+        case 0:
+            s = sr;
+            c = cr;
+            break;
+        case 1:
+            s = cr;
+            c = -sr;
+            break;
+        case 2:
+            s = -sr;
+            c = -cr;
+            break;
+        default:
+            s = -cr;
+            c = sr;
+            break;
+    }
+}
+
+}  // namespace flipflux
