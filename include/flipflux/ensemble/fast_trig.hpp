@@ -2,9 +2,9 @@
 // time in them (bench/ensemble_odeint.cpp: libm's sincos was 36 % of a run).
 //
 // Method (fdlibm's, as in glibc's and musl's sin/cos for moderate arguments): x = q pi/2 + r with
-// q = round(x 2/pi) and r by Cody-Waite reduction with pi/2 split into three parts of 33, 33 and
-// 53 bits (each q * part exact for |q| < 2^20), |r| <= pi/4 (plus rounding); then fdlibm's
-// minimax kernels __kernel_sin / __kernel_cos (errors below 1 ulp of the result on [-pi/4,
+// q = round(x 2/pi) (to nearest) and r by Cody-Waite reduction with pi/2 split into three parts of
+// 33, 33 and 53 bits (each q * part exact for |q| < 2^20), |r| <= pi/4 (plus rounding); then
+// fdlibm's minimax kernels __kernel_sin / __kernel_cos (errors below 1 ulp of the result on [-pi/4,
 // pi/4]) and the quadrant's signs and swap. Arguments with |x| > 2^19 fall back to std::sin and
 // std::cos. Accuracy: tests/ensemble/test_pendulum_flow.cpp checks |error| <= 2 ulp of 1 against
 // std::sin/std::cos on random arguments in [-1e5, 1e5] (the ensemble's angles are reduced to
@@ -25,7 +25,10 @@ inline void fast_sincos(double x, double& s, double& c) {
     constexpr double pio2_1 = 1.57079632673412561417e+00;   // first 33 bits of pi/2
     constexpr double pio2_2 = 6.07710050630396597660e-11;   // next 33 bits
     constexpr double pio2_2t = 2.02226624879595063154e-21;  // pi/2 - pio2_1 - pio2_2
-    const double q = std::nearbyint(x * two_over_pi);
+    // round to nearest by the 1.5 * 2^52 trick (|x 2/pi| < 2^51; no libm call, no -ffast-math
+    // needed: the compiler may not reassociate the two additions)
+    constexpr double shifter = 0x1.8p52;
+    const double q = (x * two_over_pi + shifter) - shifter;
     const double r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
     const double z = r * r;
     // fdlibm __kernel_sin (y = 0): r + r^3 (S1 + z (S2 + ... ))
@@ -42,25 +45,12 @@ inline void fast_sincos(double x, double& s, double& c) {
     const double hz = 0.5 * z;
     const double w = 1.0 - hz;
     const double cr = w + (((1.0 - w) - hz) + z * pc);
+    // the quadrant's swap and signs without branches (quadrants change often along a trajectory)
     const long quadrant = static_cast<long>(q) & 3;
-    switch (quadrant) {
-        case 0:
-            s = sr;
-            c = cr;
-            break;
-        case 1:
-            s = cr;
-            c = -sr;
-            break;
-        case 2:
-            s = -sr;
-            c = -cr;
-            break;
-        default:
-            s = -cr;
-            c = sr;
-            break;
-    }
+    const bool swap = (quadrant & 1) != 0;
+    const double a = swap ? cr : sr, b = swap ? sr : cr;
+    s = (quadrant & 2) ? -a : a;
+    c = ((quadrant + 1) & 2) ? -b : b;
 }
 
 }  // namespace flipflux

@@ -108,8 +108,9 @@ class flip_detector final : public flip_detector_base {
         // 0.05 rad (h is smooth on its domain and constant beyond; see step())
         double hmax = 0;
         for (int i = 0; i <= 512; ++i)
-            hmax = std::max(hmax, std::abs(static_cast<double>(
-                                      curve_.offset(lo_ + (hi_ - lo_) * (i / 512.0)))));
+            hmax = std::max(
+                hmax,
+                std::abs(static_cast<double>(curve_.offset(lo_ + (hi_ - lo_) * (i / 512.0)))));
         offset_bound_ = hmax == 0 ? 0.0 : 1.1 * hmax + 0.05;
     }
 
