@@ -119,7 +119,6 @@ class lane_base {
     virtual ~lane_base() = default;
     /// Starts a trial step; false when the trajectory is finished (or failed or abandoned).
     virtual bool begin() = 0;
-    virtual void stage(int s) = 0;
     virtual void end() = 0;
     virtual bool finished() const = 0;
     virtual trajectory_result& result() = 0;
@@ -209,7 +208,10 @@ class lane final : public lane_base {
         }
         return true;
     }
-    void stage(int s) override { rk_.stage(s); }
+    template <int s>
+    void stage() {
+        rk_.template stage<s>();
+    }
     void end() override {
         rk_status st = rk_status::ok;
         const int outcome = rk_.end_step(st);
@@ -315,40 +317,82 @@ class lane final : public lane_base {
     bool done_ = false;
 };
 
-std::unique_ptr<lane_base> make_lane(const double_pendulum<double>& model,
-                                     const ensemble_options& o, const phase_point<double>& x0,
-                                     std::uint64_t index,
-                                     const std::vector<flip_detector_base*>& detectors) {
+// One trial step of every unfinished lane, stage by stage (lanes of one type).
+template <class Lane>
+void lockstep_round(std::span<Lane* const> lanes) {
+    std::array<Lane*, 16> active{};
+    std::size_t m = 0;
+    for (Lane* l : lanes)
+        if (l != nullptr && l->begin()) active[m++] = l;
+    Lane::integrator::for_each_stage([&]<int s>() {
+        for (std::size_t i = 0; i < m; ++i)
+            active[i]->template stage<s>();
+    });
+    for (std::size_t i = 0; i < m; ++i)
+        active[i]->end();
+}
+
+// Runs one thread's share: ensemble_lanes trajectories advanced in lockstep, the next index
+// taken whenever one finishes. `deliver` gets each finished (or abandoned) lane's result.
+template <class Method, bool Tangent, class Next, class Deliver>
+void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
+               const microcanonical_sampler& sampler,
+               std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
+               Next&& next_index, Deliver&& deliver) {
+    using lane_type = lane<Method, Tangent>;
+    std::array<std::unique_ptr<lane_type>, ensemble_lanes> lanes;
+    std::array<lane_type*, ensemble_lanes> view{};
+    for (;;) {
+        bool any = false;
+        for (std::size_t l = 0; l < ensemble_lanes; ++l) {
+            if (lanes[l] && lanes[l]->finished()) {
+                deliver(lanes[l]->result());
+                lanes[l].reset();
+            }
+            if (!lanes[l]) {
+                std::uint64_t index = 0;
+                if (next_index(index))
+                    lanes[l] = std::make_unique<lane_type>(model, o, sampler.sample(o.seed, index),
+                                                           index, detectors[l]);
+            }
+            view[l] = lanes[l].get();
+            any = any || lanes[l] != nullptr;
+        }
+        if (!any) return;
+        lockstep_round<lane_type>(view);
+    }
+}
+
+template <class Next, class Deliver>
+void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
+               const microcanonical_sampler& sampler,
+               std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
+               Next&& next_index, Deliver&& deliver) {
     if (o.method == integration_method::dop853) {
         if (o.chaos)
-            return std::make_unique<lane<dormand_prince_853, true>>(model, o, x0, index,
-                                                                    detectors);
-        return std::make_unique<lane<dormand_prince_853, false>>(model, o, x0, index, detectors);
+            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, next_index, deliver);
+        else
+            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, next_index,
+                                                 deliver);
+    } else {
+        if (o.chaos)
+            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, next_index, deliver);
+        else
+            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, next_index, deliver);
     }
-    if (o.chaos)
-        return std::make_unique<lane<dormand_prince_5, true>>(model, o, x0, index, detectors);
-    return std::make_unique<lane<dormand_prince_5, false>>(model, o, x0, index, detectors);
 }
 
-int method_stages(integration_method m) {
-    return m == integration_method::dop853 ? dormand_prince_853::stages
-                                           : dormand_prince_5::stages;
-}
-
-// Advances the lanes in lockstep, stage by stage, until every one has finished.
-void run_lockstep(std::span<lane_base* const> lanes, int stages) {
-    std::array<lane_base*, 16> active{};
-    for (;;) {
-        std::size_t n = 0;
-        for (lane_base* l : lanes)
-            if (l != nullptr && l->begin()) active[n++] = l;
-        if (n == 0) return;
-        for (int s = 1; s < stages; ++s)
-            for (std::size_t i = 0; i < n; ++i)
-                active[i]->stage(s);
-        for (std::size_t i = 0; i < n; ++i)
-            active[i]->end();
-    }
+template <class Method, bool Tangent>
+trajectory_result single_trajectory(const double_pendulum<double>& model,
+                                    const ensemble_options& o, const phase_point<double>& x0,
+                                    std::uint64_t index,
+                                    const std::vector<flip_detector_base*>& detectors) {
+    using lane_type = lane<Method, Tangent>;
+    lane_type l(model, o, x0, index, detectors);
+    lane_type* const one[1] = {&l};
+    while (!l.finished())
+        lockstep_round<lane_type>(one);
+    return std::move(l.result());
 }
 
 }  // namespace
@@ -357,10 +401,12 @@ trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,
                                       std::uint64_t index,
                                       const std::vector<flip_detector_base*>& detectors) {
-    const std::unique_ptr<lane_base> l = make_lane(model, o, x0, index, detectors);
-    lane_base* const one[1] = {l.get()};
-    run_lockstep(one, method_stages(o.method));
-    return std::move(l->result());
+    if (o.method == integration_method::dop853)
+        return o.chaos ? single_trajectory<dormand_prince_853, true>(model, o, x0, index, detectors)
+                       : single_trajectory<dormand_prince_853, false>(model, o, x0, index,
+                                                                      detectors);
+    return o.chaos ? single_trajectory<dormand_prince_5, true>(model, o, x0, index, detectors)
+                   : single_trajectory<dormand_prince_5, false>(model, o, x0, index, detectors);
 }
 
 trajectory_result run_trajectory(const double_pendulum<double>& model,
@@ -392,7 +438,6 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
     int used = 1;
     bool interrupted = false;
     auto stopped = [&o] { return o.stop != nullptr && o.stop->load(std::memory_order_relaxed); };
-    const int stages = method_stages(o.method);
 #pragma omp parallel num_threads(threads)
     {
 #pragma omp single
@@ -406,51 +451,32 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
                 own[l].push_back(c.detector->clone());
                 detectors[l].push_back(own[l].back().get());
             }
-        std::array<std::unique_ptr<lane_base>, ensemble_lanes> lanes;
-        std::array<lane_base*, ensemble_lanes> view{};
         try {
-            for (;;) {
-                bool any = false;
-                for (std::size_t l = 0; l < ensemble_lanes; ++l) {
-                    if (lanes[l] && lanes[l]->finished()) {
-                        trajectory_result& r = lanes[l]->result();
-                        if (r.abandoned) {
+            run_lanes(
+                model, o, sampler, detectors,
+                [&](std::uint64_t& index) {
+                    if (failed.load(std::memory_order_relaxed)) return false;
+                    if (stopped()) {
+                        if (next.load() < n) {
 #pragma omp atomic write
                             interrupted = true;
-                        } else {
-#pragma omp critical(flipflux_ensemble_finished)
-                            finished(std::move(r));
                         }
-                        lanes[l].reset();
+                        return false;
                     }
-                    if (!lanes[l] && !failed.load(std::memory_order_relaxed)) {
-                        if (stopped()) {
-                            if (next.load() < n) {
+                    const std::size_t i = next.fetch_add(1);
+                    if (i >= n) return false;
+                    index = indices[i];
+                    return true;
+                },
+                [&](trajectory_result& r) {
+                    if (r.abandoned) {
 #pragma omp atomic write
-                                interrupted = true;
-                            }
-                        } else {
-                            const std::size_t i = next.fetch_add(1);
-                            if (i < n)
-                                lanes[l] = make_lane(model, o, sampler.sample(o.seed, indices[i]),
-                                                     indices[i], detectors[l]);
-                        }
+                        interrupted = true;
+                    } else {
+#pragma omp critical(flipflux_ensemble_finished)
+                        finished(std::move(r));
                     }
-                    view[l] = lanes[l].get();
-                    any = any || lanes[l] != nullptr;
-                }
-                if (!any) break;
-                // one trial step of every unfinished lane, stage by stage
-                std::size_t m = 0;
-                std::array<lane_base*, ensemble_lanes> active{};
-                for (lane_base* l : view)
-                    if (l != nullptr && l->begin()) active[m++] = l;
-                for (int st = 1; st < stages; ++st)
-                    for (std::size_t i = 0; i < m; ++i)
-                        active[i]->stage(st);
-                for (std::size_t i = 0; i < m; ++i)
-                    active[i]->end();
-            }
+                });
         } catch (...) {
             failed.store(true);
 #pragma omp critical(flipflux_ensemble_failure)

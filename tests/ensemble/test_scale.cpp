@@ -167,6 +167,12 @@ TEST(FastTrig, AgreesWithLibmToTwoUlp) {
     auto check = [&](double x) {
         double s = 0, c = 0;
         fast_sincos(x, s, c);
+        double s2 = 0, c2 = 0, s3 = 0, c3 = 0;  // the two-lane version, bit for bit
+        fast_sincos2(x, -0.5 * x, s2, c2, s3, c3);
+        EXPECT_TRUE(same_bits(s2, s) && same_bits(c2, c)) << x;
+        double s4 = 0, c4 = 0;
+        fast_sincos(-0.5 * x, s4, c4);
+        EXPECT_TRUE(same_bits(s3, s4) && same_bits(c3, c4)) << x;
         const double es = std::abs(s - std::sin(x)), ec = std::abs(c - std::cos(x));
         worst = std::max({worst, es / ulp1, ec / ulp1});
         if (std::abs(x) < 0.5) {
@@ -189,6 +195,14 @@ TEST(FastTrig, AgreesWithLibmToTwoUlp) {
     EXPECT_EQ(c, std::cos(1e7));
     fast_sincos(std::numeric_limits<double>::quiet_NaN(), s, c);
     EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+    double s1 = 0, c1 = 0;
+    fast_sincos2(1e7, 0.5, s, c, s1, c1);  // fallback of the two-lane version
+    EXPECT_EQ(s, std::sin(1e7));
+    EXPECT_TRUE(same_bits(s1, [] {
+        double a = 0, b = 0;
+        fast_sincos(0.5, a, b);
+        return a;
+    }()));
 }
 
 // ---- the command line ------------------------------------------------------------------------

@@ -11,7 +11,9 @@
 // [-pi, pi] after every step). Deterministic: the same bits on every run, thread and process.
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace flipflux {
 
@@ -28,7 +30,8 @@ inline void fast_sincos(double x, double& s, double& c) {
     // round to nearest by the 1.5 * 2^52 trick (|x 2/pi| < 2^51; no libm call, no -ffast-math
     // needed: the compiler may not reassociate the two additions)
     constexpr double shifter = 0x1.8p52;
-    const double q = (x * two_over_pi + shifter) - shifter;
+    const double shifted = x * two_over_pi + shifter;  // 2^52 + 2^51 + q exactly
+    const double q = shifted - shifter;
     const double r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
     const double z = r * r;
     // fdlibm __kernel_sin (y = 0): r + r^3 (S1 + z (S2 + ... ))
@@ -46,11 +49,56 @@ inline void fast_sincos(double x, double& s, double& c) {
     const double w = 1.0 - hz;
     const double cr = w + (((1.0 - w) - hz) + z * pc);
     // the quadrant's swap and signs without branches (quadrants change often along a trajectory)
-    const long quadrant = static_cast<long>(q) & 3;
+    // q mod 4 from the low mantissa bits of `shifted` (2^51 is 0 mod 4)
+    const std::uint64_t quadrant = std::bit_cast<std::uint64_t>(shifted) & 3;
     const bool swap = (quadrant & 1) != 0;
     const double a = swap ? cr : sr, b = swap ? sr : cr;
     s = (quadrant & 2) ? -a : a;
     c = ((quadrant + 1) & 2) ? -b : b;
+}
+
+/// fast_sincos of two arguments at once, in the two lanes of a vector (GCC/Clang vector
+/// extensions; SSE2 on x86-64): the same operations in the same order per lane, hence bit for bit
+/// fast_sincos(x0) and fast_sincos(x1) (tested), in about half the instructions.
+inline void fast_sincos2(double x0, double x1, double& s0, double& c0, double& s1, double& c1) {
+    if (!(std::abs(x0) <= 524288.0) || !(std::abs(x1) <= 524288.0)) {
+        fast_sincos(x0, s0, c0);
+        fast_sincos(x1, s1, c1);
+        return;
+    }
+    using v2d = double __attribute__((vector_size(16)));
+    using v2l = long long __attribute__((vector_size(16)));
+    constexpr double two_over_pi = 6.36619772367581382433e-01;
+    constexpr double pio2_1 = 1.57079632673412561417e+00;
+    constexpr double pio2_2 = 6.07710050630396597660e-11;
+    constexpr double pio2_2t = 2.02226624879595063154e-21;
+    constexpr double shifter = 0x1.8p52;
+    const v2d x = {x0, x1};
+    const v2d shifted = x * two_over_pi + shifter;
+    const v2d q = shifted - shifter;
+    const v2d r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
+    const v2d z = r * r;
+    constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
+                     S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
+                     S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+    const v2d ps = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    const v2d sr = r + r * z * (S1 + z * ps);
+    constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
+                     C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
+                     C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+    const v2d pc = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    const v2d hz = 0.5 * z;
+    const v2d w = 1.0 - hz;
+    const v2d cr = w + (((1.0 - w) - hz) + z * pc);
+    const v2l quadrant = reinterpret_cast<v2l>(shifted) & 3;
+    const v2l swap = (quadrant & 1) != 0;
+    const v2d a = swap ? cr : sr, b = swap ? sr : cr;
+    const v2d s = (quadrant & 2) != 0 ? -a : a;
+    const v2d c = ((quadrant + 1) & 2) != 0 ? -b : b;
+    s0 = s[0];
+    s1 = s[1];
+    c0 = c[0];
+    c1 = c[1];
 }
 
 }  // namespace flipflux

@@ -100,8 +100,7 @@ class pendulum_flow {
     struct trig {
         double s1, c1, s2, c2, sd, cd;
         explicit trig(const double* x) {
-            fast_sincos(x[0], s1, c1);
-            fast_sincos(x[1], s2, c2);
+            fast_sincos2(x[0], x[1], s1, c1, s2, c2);
             sd = s1 * c2 - c1 * s2;
             cd = c1 * c2 + s1 * s2;
         }

@@ -38,6 +38,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace flipflux {
 
@@ -254,8 +255,7 @@ class explicit_rk {
         for (;;) {
             rk_status status = rk_status::ok;
             if (!begin_step(t_end, status)) return status;
-            for (int s = 1; s < S; ++s)
-                stage(s);
+            for_each_stage([this]<int s>() { stage<s>(); });
             const int r = end_step(status);
             if (r > 0) return rk_status::ok;
             if (r < 0) return status;
@@ -289,12 +289,23 @@ class explicit_rk {
         return true;
     }
 
-    /// Stage s (1 <= s < stages) of the trial step.
-    void stage(int s) {
+    /// Stage s (1 <= s < stages) of the trial step. The stage index is a template argument: the
+    /// tableau row is then unrolled with its zero coefficients dropped.
+    template <int s>
+    void stage() {
+        static_assert(s >= 1 && s < S);
         double y[N];
-        stage_point(s, trial_h_, x_.data(), y);
-        if (s == S - 1) copy(y, x_new_.data());
+        stage_point_ct<s>(trial_h_, x_.data(), y);
+        if constexpr (s == S - 1) copy(y, x_new_.data());
         eval_into(t_ + Method::c[s] * trial_h_, y, k_[s]);
+    }
+
+    /// Calls fn.template operator()<s>() for s = 1, ..., stages - 1 in order.
+    template <class Fn>
+    static void for_each_stage(Fn&& fn) {
+        [&]<int... s>(std::integer_sequence<int, s...>) {
+            (fn.template operator()<s + 1>(), ...);
+        }(std::make_integer_sequence<int, S - 1>{});
     }
 
     /// Ends the trial step: 1 accepted, 0 rejected (retry with the new step size), -1 failed
@@ -480,6 +491,24 @@ class explicit_rk {
             dm <= 1e-15 ? std::max(1e-6, h0 * 1e-3) : std::pow(0.01 / dm, 1.0 / Method::order);
         const double h = std::min(100 * h0, h1);
         return std::isfinite(h) && h > 0 ? h : 1e-6;
+    }
+
+    // stage_point with the row known at compile time (same arithmetic, zero terms dropped)
+    template <int s>
+    void stage_point_ct(double h, const double* base, double* y) const {
+        copy(base, y);
+        [&]<int... j>(std::integer_sequence<int, j...>) {
+            (add_stage_term<s, j>(h, y), ...);
+        }(std::make_integer_sequence<int, s>{});
+    }
+    template <int s, int j>
+    void add_stage_term(double h, double* y) const {
+        constexpr double a = Method::a[s][j];
+        if constexpr (a != 0) {
+            const double* kj = k_[j];
+            for (std::size_t i = 0; i < N; ++i)
+                y[i] += h * a * kj[i];
+        }
     }
 
     // y = base + h sum_{j < s} a[s][j] k_j
