@@ -21,6 +21,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/checkpoint.hpp"
 #include "flipflux/ensemble/fast_trig.hpp"
+#include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/ensemble/simulation.hpp"
 #include "support.hpp"
 
@@ -203,6 +204,28 @@ TEST(FastTrig, AgreesWithLibmToTwoUlp) {
         fast_sincos(0.5, a, b);
         return a;
     }()));
+}
+
+// The two-state right-hand side (the ensemble's lockstep lanes) is bit for bit the one-state one,
+// including the libm fallback for huge angles.
+TEST(FastTrig, PairedRightHandSideEqualsTheSingleOne) {
+    random_reals rnd(9);
+    const pendulum_flow flow(double_pendulum<double>(
+        physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
+    for (int k = 0; k < 2000; ++k) {
+        std::array<double, 4> a{rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3)};
+        std::array<double, 4> b{rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3)};
+        if (k == 0) b[1] = 1e7;
+        v2d x[4], f[4];
+        for (int i = 0; i < 4; ++i)
+            x[i] = v2d{a[i], b[i]};
+        flow.pair(x, f);
+        const auto fa = flow(0.0, a), fb = flow(0.0, b);
+        for (int i = 0; i < 4; ++i) {
+            EXPECT_TRUE(same_bits(f[i][0], fa[i])) << k << " " << i;
+            EXPECT_TRUE(same_bits(f[i][1], fb[i])) << k << " " << i;
+        }
+    }
 }
 
 // ---- the command line ------------------------------------------------------------------------

@@ -57,23 +57,17 @@ inline void fast_sincos(double x, double& s, double& c) {
     c = ((quadrant + 1) & 2) ? -b : b;
 }
 
-/// fast_sincos of two arguments at once, in the two lanes of a vector (GCC/Clang vector
-/// extensions; SSE2 on x86-64): the same operations in the same order per lane, hence bit for bit
-/// fast_sincos(x0) and fast_sincos(x1) (tested), in about half the instructions.
-inline void fast_sincos2(double x0, double x1, double& s0, double& c0, double& s1, double& c1) {
-    if (!(std::abs(x0) <= 524288.0) || !(std::abs(x1) <= 524288.0)) {
-        fast_sincos(x0, s0, c0);
-        fast_sincos(x1, s1, c1);
-        return;
-    }
-    using v2d = double __attribute__((vector_size(16)));
-    using v2l = long long __attribute__((vector_size(16)));
+using v2d = double __attribute__((vector_size(16)));  ///< two doubles (SSE2 on x86-64)
+using v2l = long long __attribute__((vector_size(16)));
+
+/// fast_sincos in both lanes of a vector, |x| <= 2^19 in each (the caller checks): the same
+/// operations in the same order per lane as fast_sincos, hence the same bits (tested).
+inline void fast_sincos_v2(v2d x, v2d& s, v2d& c) {
     constexpr double two_over_pi = 6.36619772367581382433e-01;
     constexpr double pio2_1 = 1.57079632673412561417e+00;
     constexpr double pio2_2 = 6.07710050630396597660e-11;
     constexpr double pio2_2t = 2.02226624879595063154e-21;
     constexpr double shifter = 0x1.8p52;
-    const v2d x = {x0, x1};
     const v2d shifted = x * two_over_pi + shifter;
     const v2d q = shifted - shifter;
     const v2d r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
@@ -93,8 +87,25 @@ inline void fast_sincos2(double x0, double x1, double& s0, double& c0, double& s
     const v2l quadrant = reinterpret_cast<v2l>(shifted) & 3;
     const v2l swap = (quadrant & 1) != 0;
     const v2d a = swap ? cr : sr, b = swap ? sr : cr;
-    const v2d s = (quadrant & 2) != 0 ? -a : a;
-    const v2d c = ((quadrant + 1) & 2) != 0 ? -b : b;
+    s = (quadrant & 2) != 0 ? -a : a;
+    c = ((quadrant + 1) & 2) != 0 ? -b : b;
+}
+
+/// Whether both lanes are in fast_sincos_v2's range.
+inline bool fast_sincos_v2_range(v2d x) {
+    return std::abs(x[0]) <= 524288.0 && std::abs(x[1]) <= 524288.0;
+}
+
+/// fast_sincos of two arguments at once, bit for bit fast_sincos(x0) and fast_sincos(x1).
+inline void fast_sincos2(double x0, double x1, double& s0, double& c0, double& s1, double& c1) {
+    const v2d x = {x0, x1};
+    if (!fast_sincos_v2_range(x)) {
+        fast_sincos(x0, s0, c0);
+        fast_sincos(x1, s1, c1);
+        return;
+    }
+    v2d s, c;
+    fast_sincos_v2(x, s, c);
     s0 = s[0];
     s1 = s[1];
     c0 = c[0];

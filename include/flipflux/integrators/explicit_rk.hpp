@@ -300,12 +300,28 @@ class explicit_rk {
         eval_into(t_ + Method::c[s] * trial_h_, y, k_[s]);
     }
 
+    /// stage<s>() in two halves, for right-hand sides evaluated by the caller (several
+    /// integrators' stages at once): stage_input<s>(y) writes the stage's point, the caller
+    /// stores f(t, y) to stage_output<s>().
+    template <int s>
+    void stage_input(double* y) {
+        static_assert(s >= 1 && s < S);
+        stage_point_ct<s>(trial_h_, x_.data(), y);
+        if constexpr (s == S - 1) copy(y, x_new_.data());
+    }
+    template <int s>
+    double* stage_output() {
+        ++evaluations_;
+        return k_[s];
+    }
+
     /// Calls fn.template operator()<s>() for s = 1, ..., stages - 1 in order.
     template <class Fn>
     static void for_each_stage(Fn&& fn) {
         [&]<int... s>(std::integer_sequence<int, s...>) {
             (fn.template operator()<s + 1>(), ...);
-        }(std::make_integer_sequence<int, S - 1>{});
+        }
+        (std::make_integer_sequence<int, S - 1>{});
     }
 
     /// Ends the trial step: 1 accepted, 0 rejected (retry with the new step size), -1 failed
@@ -340,9 +356,8 @@ class explicit_rk {
             }
             return 0;
         }
-        h_ = h * std::max(Method::fac_min,
-                          Method::safety *
-                              std::pow(err, -1.0 / Method::order + 0.75 * Method::beta));
+        h_ = h * std::max(Method::fac_min, Method::safety * std::pow(err, -1.0 / Method::order +
+                                                                              0.75 * Method::beta));
         if (!(h_ > tiny)) {
             status = rk_status::step_size_underflow;
             return -1;
@@ -499,7 +514,8 @@ class explicit_rk {
         copy(base, y);
         [&]<int... j>(std::integer_sequence<int, j...>) {
             (add_stage_term<s, j>(h, y), ...);
-        }(std::make_integer_sequence<int, s>{});
+        }
+        (std::make_integer_sequence<int, s>{});
     }
     template <int s, int j>
     void add_stage_term(double h, double* y) const {
