@@ -3,6 +3,7 @@
 
 #include <omp.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -67,6 +68,9 @@ namespace {
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2 * std::numbers::pi;
 
+// Trajectories each thread advances in lockstep (see run_lockstep).
+constexpr std::size_t ensemble_lanes = 4;
+
 // Reduces an angle that left [-pi, pi] during one step; returns the shift applied.
 // NOTE: a step moves an angle by far less than 2 pi, so |th| < 4 pi and th -/+ 2 pi is exact
 // (Sterbenz); the loop handles anything else.
@@ -92,138 +96,335 @@ class dense_adapter final : public step_interpolant {
     Integrator& rk_;
 };
 
+// The right-hand sides as named types (the integrator stores them by value).
+struct flow_rhs {
+    pendulum_flow flow;
+    std::array<double, 4> operator()(double, const std::array<double, 4>& y) const {
+        return flow(0.0, y);
+    }
+};
+struct tangent_rhs {
+    pendulum_flow flow;
+    std::array<double, 8> operator()(double, const std::array<double, 8>& y) const {
+        return flow.tangent(y);
+    }
+};
+
+// One trajectory in progress: the integrator and everything done after each accepted step
+// (samples, detectors, energy drift, angle reduction, tangent renormalisation). Stepped through
+// explicit_rk's phases (begin, stages, end) so that several trajectories can advance in lockstep
+// (run_lanes); a trajectory's arithmetic is the same whichever lane or partner it has.
+class lane_base {
+  public:
+    virtual ~lane_base() = default;
+    /// Starts a trial step; false when the trajectory is finished (or failed or abandoned).
+    virtual bool begin() = 0;
+    virtual void end() = 0;
+    virtual bool finished() const = 0;
+    virtual trajectory_result& result() = 0;
+};
+
 template <class Method, bool Tangent>
-void integrate(const double_pendulum<double>& model, const ensemble_options& o,
-               const phase_point<double>& x0, std::uint64_t index,
-               const std::vector<flip_detector_base*>& detectors, trajectory_result& r) {
-    const pendulum_flow flow(model);
-    rk_options ro;
-    ro.rtol = o.rtol;
-    ro.atol = o.atol > 0 ? o.atol : o.rtol;
-    ro.controlled_components = 4;
-    constexpr std::size_t N = Tangent ? 8 : 4;
+class lane final : public lane_base {
+  public:
+    static constexpr std::size_t N = Tangent ? 8 : 4;
     using state = std::array<double, N>;
-    auto rhs = [flow](double, const state& y) -> state {
-        if constexpr (Tangent)
-            return flow.tangent(y);
-        else
-            return flow(0.0, y);
-    };
-    using integrator = explicit_rk<Method, N, decltype(rhs)>;
-    integrator rk(rhs, ro);
-    state y{};
-    for (int i = 0; i < 4; ++i)
-        y[i] = x0[i];
-    double log_growth = 0;
-    if constexpr (Tangent) {
-        // a random unit tangent vector from the trajectory's own stream
-        philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
-        double norm2 = 0;
-        for (int i = 4; i < 8; ++i) {
-            y[i] = 2 * rng.uniform() - 1;
-            norm2 += y[i] * y[i];
+    using rhs = std::conditional_t<Tangent, tangent_rhs, flow_rhs>;
+    using integrator = explicit_rk<Method, N, rhs>;
+    static constexpr int stages = Method::stages;
+
+    lane(const double_pendulum<double>& model, const ensemble_options& o,
+         const phase_point<double>& x0, std::uint64_t index,
+         const std::vector<flip_detector_base*>& detectors)
+        : o_(o),
+          flow_(model),
+          rk_(rhs{flow_}, rk_opts(o)),
+          detectors_(detectors),
+          dense_(rk_),
+          model_(model) {
+        r_.index = index;
+        r_.initial_state = x0;
+        r_.crossing_times.resize(detectors.size());
+        if (o.keep_crossings) r_.crossings.resize(detectors.size());
+        state y{};
+        for (int i = 0; i < 4; ++i)
+            y[i] = x0[i];
+        if constexpr (Tangent) {
+            // a random unit tangent vector from the trajectory's own stream
+            philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
+            double norm2 = 0;
+            for (int i = 4; i < 8; ++i) {
+                y[i] = 2 * rng.uniform() - 1;
+                norm2 += y[i] * y[i];
+            }
+            const double norm = std::sqrt(norm2);
+            for (int i = 4; i < 8; ++i)
+                y[i] /= norm;
         }
-        const double norm = std::sqrt(norm2);
-        for (int i = 4; i < 8; ++i)
-            y[i] /= norm;
-    }
-    rk.initialize(0, y);
-    const auto first4 = [](const state& s) {
-        return std::array<double, 4>{s[0], s[1], s[2], s[3]};
-    };
-    {
-        const std::array<double, 4> xs = first4(rk.x()), fs = first4(rk.derivative());
-        for (flip_detector_base* d : detectors)
-            d->start(xs, fs);
-    }
-    std::vector<crossing> found;
-    const dense_adapter<integrator> dense(rk);
-    std::uint64_t next_sample = 0;
-    auto record_samples = [&](double t_end) {
-        while (o.sample_interval > 0) {
-            const double ts = static_cast<double>(next_sample) * o.sample_interval;
-            if (ts > t_end || ts > o.time) break;
-            const std::array<double, 4> x = ts == rk.t() ? first4(rk.x()) : dense.state(ts);
-            r.samples.push_back({ts, x[0], x[1], x[2], x[3]});
-            ++next_sample;
+        rk_.initialize(0, y);
+        {
+            const std::array<double, 4> xs = first4(rk_.x()), fs = first4(rk_.derivative());
+            for (flip_detector_base* d : detectors_)
+                d->start(xs, fs);
         }
-    };
-    if (o.sample_interval > 0) {
-        r.samples.push_back({0.0, x0[0], x0[1], x0[2], x0[3]});
-        next_sample = 1;
+        if (o.sample_interval > 0) {
+            r_.samples.push_back({0.0, x0[0], x0[1], x0[2], x0[3]});
+            next_sample_ = 1;
+        }
+        // NOTE: the energy check. An accepted step may not change H by more than
+        // energy_jump_factor * (atol + rtol |E|): embedded error estimates occasionally pass a
+        // step whose error is orders of magnitude above the tolerance (seen: DOP853 at rtol 1e-7
+        // once in ~1e7 steps, |dH| = 2e4 tol), and such a step is retried with half its size.
+        // Normal steps change H by 0.02 tol(1 + E) (median), 6-16 tol(1 + E) at the 1e-4
+        // quantile.
+        energy_ = flow_.hamiltonian_absolute(x0);
+        const rk_options& ro = rk_.options();
+        jump_ = energy_jump_factor * (ro.atol + ro.rtol * std::abs(energy_));
+        h_start_ = h_end_ = energy_;
+        rk_.set_step_check([this](const state&, const state& x_new) {
+            const double e = flow_.hamiltonian_absolute(first4(x_new));
+            if (!(std::abs(e - h_start_) <= jump_)) return false;
+            h_end_ = e;
+            return true;
+        });
+        r_.status = rk_status::ok;
+        if (!(rk_.t() < o_.time)) finish();
     }
-    const std::size_t nc = detectors.size();
-    const double energy = flow.hamiltonian(x0);
-    // NOTE: the energy check. An accepted step may not change H by more than
-    // energy_jump_factor * (atol + rtol |E|): embedded error estimates occasionally pass a step
-    // whose error is orders of magnitude above the tolerance (seen: DOP853 at rtol 1e-7 once in
-    // ~1e7 steps, |dH| = 2e4 tol), and such a step is retried with half its size. Normal steps
-    // change H by 0.02 tol(1 + E) (median), 6-16 tol(1 + E) at the 1e-4 quantile.
-    const double jump = energy_jump_factor * (ro.atol + ro.rtol * std::abs(energy));
-    double h_start = energy, h_end = energy;
-    rk.set_step_check([&](const state&, const state& x_new) {
-        const double e = flow.hamiltonian(first4(x_new));
-        if (!(std::abs(e - h_start) <= jump)) return false;
-        h_end = e;
+    lane(const lane&) = delete;
+    lane& operator=(const lane&) = delete;
+
+    bool begin() override {
+        if (done_) return false;
+        if (o_.stop != nullptr && o_.stop->load(std::memory_order_relaxed) != 0) {
+            r_.abandoned = true;
+            finish();
+            return false;
+        }
+        rk_status st = rk_status::ok;
+        if (!rk_.begin_step(o_.time, st)) {
+            r_.status = st;
+            finish();
+            return false;
+        }
         return true;
-    });
-    r.status = rk_status::ok;
-    while (rk.t() < o.time) {
-        const rk_status s = rk.step(o.time);
-        if (s != rk_status::ok) {
-            r.status = s;
-            break;
+    }
+    template <int s>
+    void stage() {
+        rk_.template stage<s>();
+    }
+    integrator& rk() { return rk_; }
+    const pendulum_flow& flow() const { return flow_; }
+    void end() override {
+        rk_status st = rk_status::ok;
+        const int outcome = rk_.end_step(st);
+        if (outcome < 0) {
+            r_.status = st;
+            finish();
+            return;
         }
-        const std::array<double, 4> x1 = first4(rk.x()), f1 = first4(rk.derivative());
-        const step_view view{rk.t_previous(), rk.t(), x1, f1, dense};
-        record_samples(rk.t());
-        for (std::size_t c = 0; c < nc; ++c) {
-            found.clear();
-            if (detectors[c]->step(view, found) > 0) {
-                for (const crossing& x : found)
-                    r.crossing_times[c].push_back(x.time);
-                if (o.keep_crossings)
-                    r.crossings[c].insert(r.crossings[c].end(), found.begin(), found.end());
+        if (outcome == 0) return;  // rejected: retried at the next begin()
+        after_step();
+        if (!(rk_.t() < o_.time)) finish();
+    }
+    bool finished() const override { return done_; }
+    trajectory_result& result() override { return r_; }
+
+  private:
+    static rk_options rk_opts(const ensemble_options& o) {
+        rk_options ro;
+        ro.rtol = o.rtol;
+        ro.atol = o.atol > 0 ? o.atol : o.rtol;
+        ro.controlled_components = 4;
+        return ro;
+    }
+    static std::array<double, 4> first4(const state& s) { return {s[0], s[1], s[2], s[3]}; }
+
+    void record_samples(double t_end) {
+        while (o_.sample_interval > 0) {
+            const double ts = static_cast<double>(next_sample_) * o_.sample_interval;
+            if (ts > t_end || ts > o_.time) break;
+            const std::array<double, 4> x = ts == rk_.t() ? first4(rk_.x()) : dense_.state(ts);
+            r_.samples.push_back({ts, x[0], x[1], x[2], x[3]});
+            ++next_sample_;
+        }
+    }
+
+    void after_step() {
+        const std::array<double, 4> x1 = first4(rk_.x()), f1 = first4(rk_.derivative());
+        const step_view view{rk_.t_previous(), rk_.t(), x1, f1, dense_};
+        record_samples(rk_.t());
+        for (std::size_t c = 0; c < detectors_.size(); ++c) {
+            found_.clear();
+            if (detectors_[c]->step(view, found_) > 0) {
+                for (const crossing& x : found_)
+                    r_.crossing_times[c].push_back(x.time);
+                if (o_.keep_crossings)
+                    r_.crossings[c].insert(r_.crossings[c].end(), found_.begin(), found_.end());
             }
         }
-        // h_end = H(x1), evaluated by the energy check
-        r.max_energy_drift = std::max(r.max_energy_drift, std::abs(h_end - energy));
-        h_start = h_end;
+        // h_end_ = H(x1), evaluated by the energy check
+        r_.max_energy_drift = std::max(r_.max_energy_drift, std::abs(h_end_ - energy_));
+        h_start_ = h_end_;
         const double d1 = reduction(x1[0]), d2 = reduction(x1[1]);
         if (d1 != 0 || d2 != 0) {
             state delta{};
             delta[0] = d1;
             delta[1] = d2;
-            rk.translate(delta);
-            for (flip_detector_base* d : detectors)
+            rk_.translate(delta);
+            for (flip_detector_base* d : detectors_)
                 d->shift(d1, d2);
         }
         if constexpr (Tangent) {
             double norm2 = 0;
             for (int i = 4; i < 8; ++i)
-                norm2 += rk.x()[i] * rk.x()[i];
+                norm2 += rk_.x()[i] * rk_.x()[i];
             // renormalise by a power of two (exact) when |v| leaves [2^-400, 2^400]
             if (norm2 > 0x1.0p800 || (norm2 < 0x1.0p-800 && norm2 > 0)) {
                 const int e = std::ilogb(norm2) / 2;
-                rk.rescale_tail(4, std::ldexp(1.0, -e));
-                log_growth += e * std::numbers::ln2;
+                rk_.rescale_tail(4, std::ldexp(1.0, -e));
+                log_growth_ += e * std::numbers::ln2;
             }
         }
     }
-    r.end_time = rk.t();
-    r.steps = rk.accepted_steps();
-    r.rejected_steps = rk.rejected_steps();
-    r.evaluations = rk.evaluations();
-    r.energy_check_rejections = rk.check_rejections();
-    if constexpr (Tangent) {
-        double norm2 = 0;
-        for (int i = 4; i < 8; ++i)
-            norm2 += rk.x()[i] * rk.x()[i];
-        r.lyapunov = r.end_time > 0 ? (log_growth + 0.5 * std::log(norm2)) / r.end_time
-                                    : std::numeric_limits<double>::quiet_NaN();
-    } else {
-        r.lyapunov = std::numeric_limits<double>::quiet_NaN();
+
+    void finish() {
+        done_ = true;
+        r_.end_time = rk_.t();
+        r_.steps = rk_.accepted_steps();
+        r_.rejected_steps = rk_.rejected_steps();
+        r_.evaluations = rk_.evaluations();
+        r_.energy_check_rejections = rk_.check_rejections();
+        if constexpr (Tangent) {
+            double norm2 = 0;
+            for (int i = 4; i < 8; ++i)
+                norm2 += rk_.x()[i] * rk_.x()[i];
+            r_.lyapunov = r_.end_time > 0 ? (log_growth_ + 0.5 * std::log(norm2)) / r_.end_time
+                                          : std::numeric_limits<double>::quiet_NaN();
+        } else {
+            r_.lyapunov = std::numeric_limits<double>::quiet_NaN();
+        }
+        r_.chaotic = o_.chaos && r_.lyapunov > chaos_threshold_rate(model_, o_.chaos_threshold);
     }
+
+    const ensemble_options& o_;
+    pendulum_flow flow_;
+    integrator rk_;
+    std::vector<flip_detector_base*> detectors_;
+    dense_adapter<integrator> dense_;
+    const double_pendulum<double>& model_;
+    trajectory_result r_;
+    std::vector<crossing> found_;
+    std::uint64_t next_sample_ = 0;
+    double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0;
+    bool done_ = false;
+};
+
+// One trial step of every unfinished lane, stage by stage (lanes of one type). Without the
+// tangent, the lanes' right-hand sides are evaluated two at a time (pendulum_flow::pair, the
+// same bits as one at a time).
+template <class Lane>
+void lockstep_round(std::span<Lane* const> lanes) {
+    std::array<Lane*, 16> active{};
+    std::size_t m = 0;
+    for (Lane* l : lanes)
+        if (l != nullptr && l->begin()) active[m++] = l;
+    if constexpr (Lane::N == 4) {
+        if (m == 0) return;
+        const pendulum_flow& flow = active[0]->flow();
+        Lane::integrator::for_each_stage([&]<int s>() {
+            for (std::size_t i = 0; i < m; i += 2) {
+                Lane* a = active[i];
+                Lane* b = i + 1 < m ? active[i + 1] : nullptr;
+                double ya[4], yb[4];
+                a->rk().template stage_input<s>(ya);
+                if (b)
+                    b->rk().template stage_input<s>(yb);
+                else
+                    for (int c = 0; c < 4; ++c)
+                        yb[c] = ya[c];
+                v2d x[4], f[4] = {};
+                for (int c = 0; c < 4; ++c)
+                    x[c] = v2d{ya[c], yb[c]};
+                flow.pair(x, f);
+                double* fa = a->rk().template stage_output<s>();
+                for (int c = 0; c < 4; ++c)
+                    fa[c] = f[c][0];
+                if (b) {
+                    double* fb = b->rk().template stage_output<s>();
+                    for (int c = 0; c < 4; ++c)
+                        fb[c] = f[c][1];
+                }
+            }
+        });
+    } else {
+        Lane::integrator::for_each_stage([&]<int s>() {
+            for (std::size_t i = 0; i < m; ++i)
+                active[i]->template stage<s>();
+        });
+    }
+    for (std::size_t i = 0; i < m; ++i)
+        active[i]->end();
+}
+
+// Runs one thread's share: ensemble_lanes trajectories advanced in lockstep, the next index
+// taken whenever one finishes. `deliver` gets each finished (or abandoned) lane's result.
+template <class Method, bool Tangent, class Next, class Deliver>
+void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
+               const microcanonical_sampler& sampler,
+               std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
+               Next&& next_index, Deliver&& deliver) {
+    using lane_type = lane<Method, Tangent>;
+    std::array<std::unique_ptr<lane_type>, ensemble_lanes> lanes;
+    std::array<lane_type*, ensemble_lanes> view{};
+    for (;;) {
+        bool any = false;
+        for (std::size_t l = 0; l < ensemble_lanes; ++l) {
+            if (lanes[l] && lanes[l]->finished()) {
+                deliver(lanes[l]->result());
+                lanes[l].reset();
+            }
+            if (!lanes[l]) {
+                std::uint64_t index = 0;
+                if (next_index(index))
+                    lanes[l] = std::make_unique<lane_type>(model, o, sampler.sample(o.seed, index),
+                                                           index, detectors[l]);
+            }
+            view[l] = lanes[l].get();
+            any = any || lanes[l] != nullptr;
+        }
+        if (!any) return;
+        lockstep_round<lane_type>(view);
+    }
+}
+
+template <class Next, class Deliver>
+void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
+               const microcanonical_sampler& sampler,
+               std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
+               Next&& next_index, Deliver&& deliver) {
+    if (o.method == integration_method::dop853) {
+        if (o.chaos)
+            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, next_index, deliver);
+        else
+            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, next_index, deliver);
+    } else {
+        if (o.chaos)
+            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, next_index, deliver);
+        else
+            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, next_index, deliver);
+    }
+}
+
+template <class Method, bool Tangent>
+trajectory_result single_trajectory(const double_pendulum<double>& model, const ensemble_options& o,
+                                    const phase_point<double>& x0, std::uint64_t index,
+                                    const std::vector<flip_detector_base*>& detectors) {
+    using lane_type = lane<Method, Tangent>;
+    lane_type l(model, o, x0, index, detectors);
+    lane_type* const one[1] = {&l};
+    while (!l.finished())
+        lockstep_round<lane_type>(one);
+    return std::move(l.result());
 }
 
 }  // namespace
@@ -232,24 +433,12 @@ trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,
                                       std::uint64_t index,
                                       const std::vector<flip_detector_base*>& detectors) {
-    trajectory_result r;
-    r.index = index;
-    r.initial_state = x0;
-    r.crossing_times.resize(detectors.size());
-    if (o.keep_crossings) r.crossings.resize(detectors.size());
-    if (o.method == integration_method::dop853) {
-        if (o.chaos)
-            integrate<dormand_prince_853, true>(model, o, x0, index, detectors, r);
-        else
-            integrate<dormand_prince_853, false>(model, o, x0, index, detectors, r);
-    } else {
-        if (o.chaos)
-            integrate<dormand_prince_5, true>(model, o, x0, index, detectors, r);
-        else
-            integrate<dormand_prince_5, false>(model, o, x0, index, detectors, r);
-    }
-    r.chaotic = o.chaos && r.lyapunov > chaos_threshold_rate(model, o.chaos_threshold);
-    return r;
+    if (o.method == integration_method::dop853)
+        return o.chaos
+                   ? single_trajectory<dormand_prince_853, true>(model, o, x0, index, detectors)
+                   : single_trajectory<dormand_prince_853, false>(model, o, x0, index, detectors);
+    return o.chaos ? single_trajectory<dormand_prince_5, true>(model, o, x0, index, detectors)
+                   : single_trajectory<dormand_prince_5, false>(model, o, x0, index, detectors);
 }
 
 trajectory_result run_trajectory(const double_pendulum<double>& model,
@@ -259,13 +448,81 @@ trajectory_result run_trajectory(const double_pendulum<double>& model,
     return simulate_trajectory(model, sampler.sample(o.seed, index), o, index, detectors);
 }
 
+batch_outcome run_trajectories(const double_pendulum<double>& model, const ensemble_options& o,
+                               const std::vector<ensemble_criterion>& criteria,
+                               std::span<const std::uint64_t> indices,
+                               const std::function<void(trajectory_result&&)>& finished) {
+    {
+        ensemble_options checked = o;  // the count and first index are not used here
+        checked.trajectories = 1;
+        checked.first_index = 0;
+        validate(checked);
+    }
+    for (const ensemble_criterion& c : criteria)
+        if (!c.detector)
+            throw std::invalid_argument("run_trajectories: criterion without detector");
+    const microcanonical_sampler sampler(model, o.energy);
+    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    std::exception_ptr failure;
+    const std::size_t n = indices.size();
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    int used = 1;
+    bool interrupted = false;
+    auto stopped = [&o] { return o.stop != nullptr && o.stop->load(std::memory_order_relaxed); };
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp single
+        used = omp_get_num_threads();
+        // each thread advances ensemble_lanes trajectories in lockstep (run_lockstep), taking the
+        // next index whenever one finishes
+        std::array<std::vector<std::unique_ptr<flip_detector_base>>, ensemble_lanes> own;
+        std::array<std::vector<flip_detector_base*>, ensemble_lanes> detectors;
+        for (std::size_t l = 0; l < ensemble_lanes; ++l)
+            for (const ensemble_criterion& c : criteria) {
+                own[l].push_back(c.detector->clone());
+                detectors[l].push_back(own[l].back().get());
+            }
+        try {
+            run_lanes(
+                model, o, sampler, detectors,
+                [&](std::uint64_t& index) {
+                    if (failed.load(std::memory_order_relaxed)) return false;
+                    if (stopped()) {
+                        if (next.load() < n) {
+#pragma omp atomic write
+                            interrupted = true;
+                        }
+                        return false;
+                    }
+                    const std::size_t i = next.fetch_add(1);
+                    if (i >= n) return false;
+                    index = indices[i];
+                    return true;
+                },
+                [&](trajectory_result& r) {
+                    if (r.abandoned) {
+#pragma omp atomic write
+                        interrupted = true;
+                    } else {
+#pragma omp critical(flipflux_ensemble_finished)
+                        finished(std::move(r));
+                    }
+                });
+        } catch (...) {
+            failed.store(true);
+#pragma omp critical(flipflux_ensemble_failure)
+            if (!failure) failure = std::current_exception();
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
+    return {used, interrupted};
+}
+
 ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& o,
                              const std::vector<ensemble_criterion>& criteria) {
     validate(o);
-    for (const ensemble_criterion& c : criteria)
-        if (!c.detector) throw std::invalid_argument("run_ensemble: criterion without detector");
     const auto start = std::chrono::steady_clock::now();
-    const microcanonical_sampler sampler(model, o.energy);
     ensemble_result result;
     result.energy = o.energy;
     result.time = o.time;
@@ -279,39 +536,18 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     for (const ensemble_criterion& c : criteria)
         result.criteria.push_back(c.name);
     result.trajectories.resize(o.trajectories);
-
-    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-    std::exception_ptr failure;
+    std::vector<std::uint64_t> indices(o.trajectories);
+    for (std::uint64_t i = 0; i < o.trajectories; ++i)
+        indices[i] = o.first_index + i;
     std::uint64_t finished = 0;
-    const auto n = static_cast<std::int64_t>(o.trajectories);
-    int used = 1;
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp single
-        used = omp_get_num_threads();
-        std::vector<std::unique_ptr<flip_detector_base>> own;
-        std::vector<flip_detector_base*> detectors;
-        for (const ensemble_criterion& c : criteria) {
-            own.push_back(c.detector->clone());
-            detectors.push_back(own.back().get());
-        }
-#pragma omp for schedule(dynamic, 1)
-        for (std::int64_t i = 0; i < n; ++i) {
-            try {
-                result.trajectories[static_cast<std::size_t>(i)] = run_trajectory(
-                    model, sampler, o, o.first_index + static_cast<std::uint64_t>(i), detectors);
-            } catch (...) {
-#pragma omp critical(flipflux_ensemble_failure)
-                if (!failure) failure = std::current_exception();
-            }
-            if (o.progress) {
-#pragma omp critical(flipflux_ensemble_progress)
-                o.progress(++finished, o.trajectories);
-            }
-        }
-    }
-    if (failure) std::rethrow_exception(failure);
-    result.threads = used;
+    const batch_outcome b =
+        run_trajectories(model, o, criteria, indices, [&](trajectory_result&& r) {
+            const std::uint64_t k = r.index - o.first_index;
+            result.trajectories[k] = std::move(r);
+            if (o.progress) o.progress(++finished, o.trajectories);
+        });
+    if (b.interrupted) throw std::runtime_error("run_ensemble: interrupted");
+    result.threads = b.threads;
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -1,13 +1,19 @@
 // A Monte Carlo study: ensembles, statistics, JSON report and CSVs (ensemble/simulation.hpp).
 #include "flipflux/ensemble/simulation.hpp"
 
+#include <charconv>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/version.hpp"
+#include "flipflux/ensemble/checkpoint.hpp"
 #include "flipflux/ensemble/criteria.hpp"
 #include "flipflux/ensemble/statistics.hpp"
 #include "flipflux/io/atomic_file.hpp"
@@ -156,19 +162,117 @@ std::vector<std::string> parse_criterion_list(const std::string& text, const std
     return out;
 }
 
+std::string to_string(rate_estimator e) {
+    return e == rate_estimator::long_trajectories ? "long" : "short";
+}
+
+rate_estimator parse_rate_estimator(const std::string& text, const std::string& option) {
+    if (text == "long") return rate_estimator::long_trajectories;
+    if (text == "short") return rate_estimator::short_trajectories;
+    throw input_error(option + ": '" + text + "' is not an estimator (long, short)");
+}
+
+namespace {
+
+class single_process final : public process_group {
+  public:
+    int rank() const override { return 0; }
+    int size() const override { return 1; }
+    std::string broadcast(const std::string& text) override { return text; }
+    std::vector<std::string> gather(const std::string& text) override { return {text}; }
+    bool any(bool flag) override { return flag; }
+};
+
+// exact (shortest round-trip) text of a double, and back
+std::string exact(double x) {
+    char buf[40];
+    return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
+}
+
+double from_exact(const json& j) {
+    const std::string t = j.get<std::string>();
+    double v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+        throw std::runtime_error("checkpoint: '" + t + "' is not a number");
+    return v;
+}
+
+json quality_json(const quality_sample& q) {
+    return json::array({exact(q.energy), exact(q.simulated), exact(q.predicted), exact(q.spread)});
+}
+
+quality_sample quality_from_json(const json& j) {
+    return {from_exact(j.at(0)), from_exact(j.at(1)), from_exact(j.at(2)), from_exact(j.at(3))};
+}
+
+// The run's identity, as recorded in (and compared with) a checkpoint header.
+json checkpoint_header(const double_pendulum<double>& model, const simulation_request& q,
+                       const ensemble_options& o) {
+    const auto& p = model.parameters();
+    json energies = json::array();
+    for (const auto& [label, e] : q.energies)
+        energies.push_back(to_decimal(e));
+    return json{{"format", checkpoint_format_version},
+                {"version", version_string()},
+                {"model", json::array({to_decimal(p.m1), to_decimal(p.m2), to_decimal(p.L1),
+                                       to_decimal(p.L2), to_decimal(p.a1), to_decimal(p.a2),
+                                       to_decimal(p.I1), to_decimal(p.I2), to_decimal(p.g)})},
+                {"arm", to_string(q.flip_arm)},
+                {"criteria", q.criteria},
+                {"energies", energies},
+                {"estimator", to_string(q.estimator)},
+                {"trajectories", o.trajectories},
+                {"first_index", o.first_index},
+                {"time", to_decimal(o.time)},
+                {"seed", o.seed},
+                {"method", to_string(o.method)},
+                {"rtol", to_decimal(o.rtol)},
+                {"atol", to_decimal(o.atol)},
+                {"chaos", o.chaos},
+                {"chaos_threshold", to_decimal(o.chaos_threshold)},
+                {"bins", q.bins}};
+}
+
+}  // namespace
+
 json simulate(const double_pendulum<double>& model, const simulation_request& request) {
     const arm a = request.flip_arm;
     const auto& energies = request.energies;
     const std::vector<std::string>& names = request.criteria;
     ensemble_options o = request.options;
     const std::size_t bins = request.bins;
+    single_process alone;
+    process_group& group = request.group ? *request.group : alone;
+    const bool root = group.rank() == 0;
     if (energies.empty()) throw input_error("--energy: no energy given");
     if (names.empty()) throw input_error("--criteria: no criterion given");
     if (o.sample_interval != 0 && request.csv_dir.empty())
         throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
                           "' needs --csv-dir (the sampled trajectories are written there)");
+    if (o.sample_interval != 0 && (!request.checkpoint.empty() || group.size() > 1))
+        throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
+                          "' cannot be combined with --checkpoint or MPI (samples are not "
+                          "checkpointed or gathered)");
+    if (!(request.checkpoint_interval >= 0))
+        throw input_error("--checkpoint-interval: '" + to_decimal(request.checkpoint_interval) +
+                          "' is invalid (must be >= 0)");
+    if (request.estimator == rate_estimator::short_trajectories) {
+        if (!std::isfinite(request.short_time) || !(request.short_time > 0))
+            throw input_error("--short-time: '" + to_decimal(request.short_time) +
+                              "' is invalid (must be finite and > 0)");
+        if (!(o.time > 0) || o.trajectories == 0) validate(o);
+        const double n = std::ceil(static_cast<double>(o.trajectories) * o.time /
+                                   request.short_time * (1 - 1e-15));
+        if (!(n <= 1e12))
+            throw input_error("--short-time: '" + to_decimal(request.short_time) +
+                              "' gives too many trajectories");
+        o.trajectories = static_cast<std::uint64_t>(std::max(1.0, n));
+        o.time = request.short_time;
+    }
+    o.atol = o.atol > 0 ? o.atol : o.rtol;
     const std::filesystem::path& dir = request.csv_dir;
-    if (!dir.empty()) {
+    if (!dir.empty() && root) {
         std::error_code ec;
         std::filesystem::create_directories(dir, ec);
         if (!std::filesystem::is_directory(dir))
@@ -188,11 +292,40 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
         }
     }
 
+    // the checkpoint: read on rank 0, its text shared, parsed (and checked) on every rank
+    const json header = checkpoint_header(model, request, o);
+    checkpoint_content saved;
+    std::unique_ptr<checkpoint_writer> writer;
+    if (!request.checkpoint.empty()) {
+        bool exists = false;
+        std::string text, status = "ok";
+        if (root) {
+            try {
+                text = read_checkpoint_text(request.checkpoint, exists);
+            } catch (const input_error& e) {
+                status = e.what();
+            }
+        }
+        if (group.size() > 1) {
+            status = group.broadcast(status);
+            exists = group.broadcast(exists ? "1" : "0") == "1";
+            if (exists && status == "ok") text = group.broadcast(text);
+        }
+        if (status != "ok") throw input_error(status);
+        if (exists) saved = parse_checkpoint(text, header, names.size(), request.checkpoint);
+        if (root)
+            writer = std::make_unique<checkpoint_writer>(request.checkpoint, header, saved,
+                                                         request.checkpoint_interval);
+    }
+
     json out{{"command", "simulate"},          {"arm", to_string(a)},
              {"trajectories", o.trajectories}, {"first_index", o.first_index},
              {"time", to_decimal(o.time)},     {"seed", o.seed},
              {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
-             {"atol", to_decimal(o.rtol)}};
+             {"atol", to_decimal(o.atol)},     {"estimator", to_string(request.estimator)}};
+    if (request.estimator == rate_estimator::short_trajectories)
+        out["budget"] = json{{"trajectories", request.options.trajectories},
+                             {"time", to_decimal(request.options.time)}};
     out["chaos"] =
         json{{"indicator",
               o.chaos ? "finite-time maximal Lyapunov exponent (variational equations)" : "none"},
@@ -202,9 +335,112 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
               o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time)}};
     json per_energy = json::array();
     std::vector<std::vector<quality_sample>> all(names.size()), chaotic(names.size());
+
+    simulation_progress progress;
+    progress.energies = energies.size();
+    progress.total = o.trajectories * energies.size();
+    progress.done += o.trajectories * saved.completed.size();
+    for (const auto& [k, t] : saved.trajectories)
+        progress.done += t.size();
+    progress.resumed = progress.done;
+    const auto ranks = static_cast<std::uint64_t>(group.size());
+
     for (std::size_t k = 0; k < energies.size(); ++k) {
         o.energy = energies[k].second;
-        const ensemble_result r = run_ensemble(model, o, criteria[k]);
+        if (const auto it = saved.completed.find(k); it != saved.completed.end()) {
+            if (root) {
+                per_energy.push_back(it->second.entry);
+                const json& qj = it->second.quality;
+                for (std::size_t c = 0; c < names.size(); ++c) {
+                    if (!qj.at(0).at(c).is_null()) all[c].push_back(quality_from_json(qj[0][c]));
+                    if (!qj.at(1).at(c).is_null())
+                        chaotic[c].push_back(quality_from_json(qj[1][c]));
+                }
+            }
+            continue;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        std::map<std::uint64_t, trajectory_result>& have = saved.trajectories[k];
+        // the trajectories still to do, dealt out round-robin over the ranks
+        std::vector<std::uint64_t> mine;
+        std::uint64_t position = 0;
+        for (std::uint64_t i = 0; i < o.trajectories; ++i) {
+            const std::uint64_t index = o.first_index + i;
+            if (have.count(index)) continue;
+            if (position++ % ranks == static_cast<std::uint64_t>(group.rank()))
+                mine.push_back(index);
+        }
+        progress.energy = k;
+        std::string outgoing;
+        const batch_outcome b =
+            run_trajectories(model, o, criteria[k], mine, [&](trajectory_result&& r) {
+                if (root) {
+                    if (writer) writer->add(trajectory_record(k, r));
+                    const std::uint64_t index = r.index;
+                    have.emplace(index, std::move(r));
+                    progress.done = std::min(progress.total, progress.done + ranks);
+                    if (request.progress) request.progress(progress);
+                } else {
+                    outgoing += trajectory_record(k, r);
+                }
+            });
+        const bool interrupted = group.size() > 1 ? group.any(b.interrupted) : b.interrupted;
+        if (group.size() > 1) {
+            const std::vector<std::string> incoming = group.gather(outgoing);
+            for (const std::string& text : incoming) {
+                std::size_t pos = 0;
+                while (pos < text.size()) {
+                    const std::size_t nl = text.find('\n', pos);
+                    const std::string_view line(text.data() + pos, nl - pos);
+                    std::size_t kk = 0;
+                    trajectory_result r = parse_trajectory_record(line, names.size(), kk);
+                    if (writer) writer->add(std::string(line) + "\n");
+                    const std::uint64_t index = r.index;
+                    have.emplace(index, std::move(r));
+                    pos = nl + 1;
+                }
+            }
+        }
+        if (interrupted) {
+            std::uint64_t kept = 0;
+            if (writer) {
+                writer->flush();
+                kept = writer->saved_trajectories();
+            }
+            const int signal = o.stop ? o.stop->load() : 0;
+            throw simulation_interrupted(
+                request.checkpoint.empty()
+                    ? "interrupted (without --checkpoint: the finished trajectories are lost)"
+                    : "interrupted: " + std::to_string(k) + " energies complete and " +
+                          std::to_string(kept) + " trajectories of E = " + energies[k].first +
+                          " saved in '" + request.checkpoint.string() +
+                          "'; rerun the same command to resume",
+                signal, kept);
+        }
+        if (!root) {
+            saved.trajectories.erase(k);
+            continue;
+        }
+        if (have.size() != o.trajectories)
+            throw std::logic_error("simulate: trajectories missing after the gather");
+        ensemble_result r;
+        r.energy = o.energy;
+        r.time = o.time;
+        r.rtol = o.rtol;
+        r.atol = o.atol;
+        r.chaos_threshold = o.chaos_threshold;
+        r.seed = o.seed;
+        r.first_index = o.first_index;
+        r.method = o.method;
+        r.chaos = o.chaos;
+        r.criteria = names;
+        r.threads = b.threads;
+        r.trajectories.reserve(have.size());
+        for (auto& [index, t] : have)
+            r.trajectories.push_back(std::move(t));
+        saved.trajectories.erase(k);
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
         double drift = 0;
         long steps = 0;
         std::size_t failed = 0;
@@ -215,16 +451,20 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
             failed += t.status != rk_status::ok;
             energy_rejections += t.energy_check_rejections;
         }
-        json e{{"energy", energies[k].first},
-               {"seconds", r.seconds},
-               {"threads", r.threads},
-               {"steps_per_trajectory",
-                static_cast<double>(steps) / static_cast<double>(r.trajectories.size())},
-               {"failed_trajectories", failed},
-               {"energy_check_rejections", energy_rejections},
-               {"max_energy_drift", to_decimal(drift)}};
+        json e{{"energy", energies[k].first}};
+        if (request.timing) {
+            e["seconds"] = r.seconds;
+            e["threads"] = r.threads;
+            e["processes"] = group.size();
+        }
+        e["steps_per_trajectory"] =
+            static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
+        e["failed_trajectories"] = failed;
+        e["energy_check_rejections"] = energy_rejections;
+        e["max_energy_drift"] = to_decimal(drift);
         json per_criterion = json::object();
         std::vector<criterion_statistics> stats;
+        json q_all = json::array(), q_chaotic = json::array();
         for (std::size_t c = 0; c < names.size(); ++c) {
             const auto& p = predictions[k][c];
             const double predicted = p ? p->value : nan;
@@ -248,22 +488,33 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
                                         {"mean", number(st.residence.summary.mean)}};
             j["rate_histogram"] = histogram_json(st.rate_distribution);
             per_criterion[names[c]] = j;
+            json qa = nullptr, qc = nullptr;
             if (p) {
-                all[c].push_back({o.energy, st.rates.mean, predicted, st.rates.standard_deviation});
-                if (st.chaotic > 0)
-                    chaotic[c].push_back({o.energy, st.chaotic_rates.mean, predicted,
-                                          st.chaotic_rates.standard_deviation});
+                const quality_sample sa{o.energy, st.rates.mean, predicted,
+                                        st.rates.standard_deviation};
+                all[c].push_back(sa);
+                qa = quality_json(sa);
+                if (st.chaotic > 0) {
+                    const quality_sample sc{o.energy, st.chaotic_rates.mean, predicted,
+                                            st.chaotic_rates.standard_deviation};
+                    chaotic[c].push_back(sc);
+                    qc = quality_json(sc);
+                }
             }
+            q_all.push_back(qa);
+            q_chaotic.push_back(qc);
         }
         e["criteria"] = per_criterion;
-        per_energy.push_back(e);
         if (!dir.empty()) write_csvs(dir, energies[k].first, r, stats);
+        if (writer) writer->complete(k, {e, json::array({q_all, q_chaotic})});
+        per_energy.push_back(std::move(e));
     }
+    if (!root) return nullptr;
     out["energies"] = per_energy;
     // quality indices (paper Sec. 5.6): IQI over all trajectories, PQI also over the chaotic
     // sub-ensemble (the paper's PQI tables use the chaotic trajectories)
     const std::vector<energy_regime> regimes = paper_regimes(model, a);
-    auto quality_json = [&](const std::vector<quality_sample>& samples) {
+    auto quality_table = [&](const std::vector<quality_sample>& samples) {
         json arr = json::array();
         for (const quality_indices& q : quality(samples, regimes))
             if (q.energies > 0)
@@ -275,8 +526,8 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
     };
     json qual = json::object();
     for (std::size_t c = 0; c < names.size(); ++c)
-        qual[names[c]] = json{{"all_trajectories", quality_json(all[c])},
-                              {"chaotic_trajectories", quality_json(chaotic[c])}};
+        qual[names[c]] = json{{"all_trajectories", quality_table(all[c])},
+                              {"chaotic_trajectories", quality_table(chaotic[c])}};
     out["quality"] = qual;
     json reg = json::array();
     for (const energy_regime& g : regimes)

@@ -22,9 +22,11 @@
 //     without the indicator. The trajectory counts as chaotic when lambda_T > chaos_threshold.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -68,6 +70,10 @@ struct ensemble_options {
     double sample_interval = 0;
     /// Called (serialised) after each finished trajectory with (finished, total).
     std::function<void(std::uint64_t, std::uint64_t)> progress;
+    /// When non-null and nonzero (e.g. set by a signal handler): no further trajectory is
+    /// started, and the ones in flight are abandoned at their next step (trajectory_result::
+    /// abandoned). Read with relaxed loads once per step.
+    const std::atomic<int>* stop = nullptr;
 };
 
 /// A flip criterion: its name and a detector prototype (cloned per thread).
@@ -86,6 +92,7 @@ struct trajectory_result {
     bool chaotic = false;         ///< lambda_T > threshold (false without `chaos`)
     long steps = 0, rejected_steps = 0, evaluations = 0;
     long energy_check_rejections = 0;  ///< steps the energy check refused (see energy_jump_factor)
+    bool abandoned = false;            ///< stopped before T by options.stop (not a result)
     std::vector<std::vector<double>> crossing_times;  ///< per criterion, in time order
     std::vector<std::vector<crossing>> crossings;     ///< per criterion, with keep_crossings
     std::vector<std::array<double, 5>> samples;       ///< (t, th1, th2, l1, l2), sample_interval
@@ -131,7 +138,24 @@ trajectory_result run_trajectory(const double_pendulum<double>& model,
                                  const ensemble_options& options, std::uint64_t index,
                                  const std::vector<flip_detector_base*>& detectors);
 
-/// Simulates the ensemble (OpenMP across trajectories).
+/// What run_trajectories did.
+struct batch_outcome {
+    int threads = 1;           ///< OpenMP threads used
+    bool interrupted = false;  ///< options.stop was set: some trajectories were not finished
+};
+
+/// Runs the trajectories with the given indices (OpenMP across them, dynamic schedule) and
+/// calls `finished` (serialised, in completion order) with each finished one; abandoned or
+/// skipped trajectories (options.stop) are not reported. options.trajectories and first_index
+/// are ignored. Exceptions from a trajectory are rethrown after the loop.
+batch_outcome run_trajectories(const double_pendulum<double>& model,
+                               const ensemble_options& options,
+                               const std::vector<ensemble_criterion>& criteria,
+                               std::span<const std::uint64_t> indices,
+                               const std::function<void(trajectory_result&&)>& finished);
+
+/// Simulates the ensemble (OpenMP across trajectories). With options.stop set during the run
+/// it throws std::runtime_error (the ensemble is incomplete).
 ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& options,
                              const std::vector<ensemble_criterion>& criteria);
 

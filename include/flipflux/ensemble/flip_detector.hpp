@@ -104,6 +104,14 @@ class flip_detector final : public flip_detector_base {
                 "of length at most 2 pi");
         centre_ = (lo_ + hi_) / 2;
         full_ = hi_ - lo_ >= two_pi * (1 - 1e-12);
+        // a bound on |h| for the prefilter: the maximum over 513 points, widened by 10 % and
+        // 0.05 rad (h is smooth on its domain and constant beyond; see step())
+        double hmax = 0;
+        for (int i = 0; i <= 512; ++i)
+            hmax = std::max(
+                hmax,
+                std::abs(static_cast<double>(curve_.offset(lo_ + (hi_ - lo_) * (i / 512.0)))));
+        offset_bound_ = hmax == 0 ? 0.0 : 1.1 * hmax + 0.05;
     }
 
     std::unique_ptr<flip_detector_base> clone() const override {
@@ -114,35 +122,49 @@ class flip_detector final : public flip_detector_base {
     long examined_steps() const override { return examined_; }
 
     void start(const std::array<double, 4>& x0, const std::array<double, 4>& f0) override {
-        start_ = evaluate(x0, {f0[0], f0[1]});
+        last_x_ = x0;
+        last_w_ = {f0[0], f0[1]};
+        start_ = evaluate(x0, last_w_);
+        start_valid_ = true;
     }
 
     void shift(double d1, double d2) override {
         // phi shifts with the flip angle; h(red(s)) is unchanged (red removes the s shift)
         start_.phi += arm_ == arm::two ? d2 : d1;
+        last_x_[0] += d1;
+        last_x_[1] += d2;
     }
 
     int step(const step_view& v, std::vector<crossing>& out) override {
+        // the prefilter: a crossing needs the flip angle f within offset_bound_ of pi (mod 2 pi)
+        // somewhere in the step; the cubic Hermite range of f (from f, f' at both ends), widened
+        // by the margin of the main test below, is checked first, and the curve is not even
+        // evaluated when it stays away (most steps for any curve with |h| < pi)
+        {
+            const int fi = arm_ == arm::two ? 1 : 0;
+            const double h = v.t1 - v.t0;
+            const double p0 = last_x_[fi], p1 = v.x1[fi];
+            const double m0 = h * last_w_[fi], m1 = h * v.f1[fi];
+            double lo = 0, hi = 0;
+            hermite_range(p0, p1, m0, m1, lo, hi);
+            lo -= offset_bound_ + pi;
+            hi += offset_bound_ - pi;
+            const bool skip = std::ceil(lo / two_pi) > std::floor(hi / two_pi);
+            if (!skip && !start_valid_) start_ = evaluate(last_x_, last_w_);
+            last_x_ = v.x1;
+            last_w_ = {v.f1[0], v.f1[1]};
+            start_valid_ = !skip;  // when examined, start_ = end below
+            if (skip) return 0;
+        }
         const value end = evaluate(v.x1, {v.f1[0], v.f1[1]});
         const double h = v.t1 - v.t0;
         const double p0 = start_.phi, p1 = end.phi;
         const double m0 = h * start_.dphi, m1 = h * end.dphi;
-        // range of the cubic Hermite interpolant on [0, 1]
-        double lo = std::min(p0, p1), hi = std::max(p0, p1);
+        double lo = 0, hi = 0;
         std::array<double, 2> crit{};
-        const int ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
-        for (int i = 0; i < ncrit; ++i) {
-            const double c = hermite(p0, p1, m0, m1, crit[i]);
-            lo = std::min(lo, c);
-            hi = std::max(hi, c);
-        }
-        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
-        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
-        const double margin = 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) +
-                              0.125 * std::max(d2a, d2b) +
-                              64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
+        const int ncrit = hermite_range(p0, p1, m0, m1, lo, hi, &crit);
         int found = 0;
-        if (std::ceil((lo - margin) / two_pi) <= std::floor((hi + margin) / two_pi)) {
+        if (std::ceil(lo / two_pi) <= std::floor(hi / two_pi)) {
             ++examined_;
             found = examine(v, end, crit, ncrit, out);
         }
@@ -181,6 +203,31 @@ class flip_detector final : public flip_detector_base {
     value evaluate_at(const step_view& v, double t) const {
         const std::array<double, 4> x = v.dense.state(t);
         return evaluate(x, flow_.velocities(x));
+    }
+
+    // The range of the cubic Hermite interpolant of (p, m) on the step, widened by the margin (a
+    // quarter of the variation of the data plus an eighth of the cubic's largest
+    // second-derivative term); returns its interior critical points.
+    static int hermite_range(double p0, double p1, double m0, double m1, double& lo, double& hi,
+                             std::array<double, 2>* critical = nullptr) {
+        lo = std::min(p0, p1);
+        hi = std::max(p0, p1);
+        std::array<double, 2> crit{};
+        const int ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
+        for (int i = 0; i < ncrit; ++i) {
+            const double c = hermite(p0, p1, m0, m1, crit[i]);
+            lo = std::min(lo, c);
+            hi = std::max(hi, c);
+        }
+        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
+        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
+        const double margin = 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) +
+                              0.125 * std::max(d2a, d2b) +
+                              64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
+        lo -= margin;
+        hi += margin;
+        if (critical) *critical = crit;
+        return ncrit;
     }
 
     static double hermite(double p0, double p1, double m0, double m1, double u) {
@@ -295,6 +342,10 @@ class flip_detector final : public flip_detector_base {
     double lo_ = 0, hi_ = 0, centre_ = 0;
     bool full_ = true;
     value start_{};
+    bool start_valid_ = false;
+    std::array<double, 4> last_x_{};  ///< state at the last step's end (shifted with the angles)
+    std::array<double, 2> last_w_{};  ///< its angular velocities
+    double offset_bound_ = 0;         ///< the prefilter's bound on |h|
     long examined_ = 0;
 };
 

@@ -20,7 +20,9 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +30,51 @@
 #include "flipflux/ensemble/ensemble.hpp"
 
 namespace flipflux {
+
+/// The processes of a distributed run (MPI in the CLI; the library knows no MPI). Every
+/// process calls simulate() with the same request; trajectories are dealt out by index, the
+/// results gathered to rank 0, which alone returns the report and writes files.
+class process_group {
+  public:
+    virtual ~process_group() = default;
+    virtual int rank() const = 0;
+    virtual int size() const = 0;
+    /// Rank 0's `text`, on every rank.
+    virtual std::string broadcast(const std::string& text) = 0;
+    /// On rank 0: every rank's `text`, by rank; elsewhere: empty.
+    virtual std::vector<std::string> gather(const std::string& text) = 0;
+    /// Whether `flag` is true on any rank (on every rank).
+    virtual bool any(bool flag) = 0;
+};
+
+/// Estimators of the mean rate (docs/scale.md): `long` integrates `trajectories` trajectories
+/// of length `time` (the paper's); `short` spends the same budget (trajectories x time units) on
+/// ceil(trajectories * time / short_time) trajectories of length short_time. The crossing count
+/// of the invariant ensemble is exact for any length, so both are unbiased.
+enum class rate_estimator { long_trajectories, short_trajectories };
+std::string to_string(rate_estimator e);
+rate_estimator parse_rate_estimator(const std::string& text,
+                                    const std::string& option = "--estimator");
+
+/// Progress of a study: trajectories finished (including those read from a checkpoint) of the
+/// total over all energies.
+struct simulation_progress {
+    std::uint64_t done = 0, total = 0, resumed = 0;  ///< resumed: read from the checkpoint
+    std::size_t energy = 0, energies = 0;            ///< the energy being simulated
+};
+
+/// Thrown by simulate() when options.stop was set: finished trajectories are in the checkpoint.
+class simulation_interrupted : public std::runtime_error {
+  public:
+    simulation_interrupted(const std::string& what, int signal, std::uint64_t saved)
+        : std::runtime_error(what), signal_(signal), saved_(saved) {}
+    int signal() const { return signal_; }  ///< the value options.stop held
+    std::uint64_t saved() const { return saved_; }
+
+  private:
+    int signal_;
+    std::uint64_t saved_;
+};
 
 struct simulation_request {
     arm flip_arm = arm::two;
@@ -37,9 +84,20 @@ struct simulation_request {
     ensemble_options options;       ///< options.energy is set per energy
     std::size_t bins = 0;           ///< histogram bins (0: square-root rule)
     std::filesystem::path csv_dir;  ///< empty: no CSV output
+    /// Non-empty: resume from / save to this checkpoint (ensemble/checkpoint.hpp).
+    std::filesystem::path checkpoint;
+    double checkpoint_interval = 2;  ///< seconds between appends of finished trajectories
+    bool timing = true;              ///< report "seconds" and "threads" (they vary run to run)
+    rate_estimator estimator = rate_estimator::long_trajectories;
+    double short_time = 20;          ///< trajectory length of the short estimator
+    process_group* group = nullptr;  ///< null: a single process
+    /// Called (serialised, on rank 0) after each finished trajectory.
+    std::function<void(const simulation_progress&)> progress;
 };
 
-/// Runs the study. Throws input_error for bad input (naming the option) before integrating.
+/// Runs the study. Throws input_error for bad input (naming the option) before integrating, and
+/// simulation_interrupted when options.stop is set during the run. With a process group, only
+/// rank 0 returns the report (the others return null).
 nlohmann::ordered_json simulate(const double_pendulum<double>& model,
                                 const simulation_request& request);
 

@@ -38,6 +38,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace flipflux {
 
@@ -251,46 +252,117 @@ class explicit_rk {
 
     /// Takes one accepted step towards t_end (> t()), landing exactly on t_end when it is reached.
     rk_status step(double t_end) {
+        for (;;) {
+            rk_status status = rk_status::ok;
+            if (!begin_step(t_end, status)) return status;
+            for_each_stage([this]<int s>() { stage<s>(); });
+            const int r = end_step(status);
+            if (r > 0) return rk_status::ok;
+            if (r < 0) return status;
+        }
+    }
+
+    // ---- phased stepping: step() as begin_step, stage(1) ... stage(stages - 1), end_step. Several
+    // integrators advanced in lockstep, stage by stage, give the processor independent chains of
+    // work (the stages of one step depend on each other); each integrator's arithmetic is exactly
+    // that of step().
+
+    /// Starts a trial step towards t_end (> t()). False (with `status`) when the step size
+    /// underflowed.
+    bool begin_step(double t_end, rk_status& status) {
         if (!(t_end > t_))
             throw std::invalid_argument("explicit_rk::step: t_end must lie after t()");
-        for (;;) {
-            double h = h_;
-            bool last = false;
-            if (t_ + 1.01 * h >= t_end) {
-                h = t_end - t_;
-                last = true;
-            }
-            if (!(h > 16 * std::numeric_limits<double>::epsilon() * std::abs(t_)) && !last)
-                return rk_status::step_size_underflow;
-            const double err = attempt(h);
-            if (opt_.fixed_step > 0 || err <= 1) {
-                if (opt_.fixed_step > 0 || !check_ || check_(x_, x_new_)) {
-                    accept(h, err, last ? t_end : t_ + h);
-                    return rk_status::ok;
-                }
-                // the error estimate passed but the step check failed: halve and retry
-                ++rejected_;
-                ++check_rejections_;
-                last_rejected_ = true;
-                h_ = 0.5 * h;
-                if (!(h_ > 16 * std::numeric_limits<double>::epsilon() * std::abs(t_)))
-                    return rk_status::step_size_underflow;
-                continue;
-            }
-            ++rejected_;
-            last_rejected_ = true;
-            if (!std::isfinite(err)) {
-                h_ = h * 0.1;
-                if (!(h_ > 16 * std::numeric_limits<double>::epsilon() * std::abs(t_)))
-                    return rk_status::non_finite;
-                continue;
-            }
-            h_ = h * std::max(Method::fac_min,
-                              Method::safety *
-                                  std::pow(err, -1.0 / Method::order + 0.75 * Method::beta));
-            if (!(h_ > 16 * std::numeric_limits<double>::epsilon() * std::abs(t_)))
-                return rk_status::step_size_underflow;
+        double h = h_;
+        bool last = false;
+        if (t_ + 1.01 * h >= t_end) {
+            h = t_end - t_;
+            last = true;
         }
+        if (!(h > 16 * std::numeric_limits<double>::epsilon() * std::abs(t_)) && !last) {
+            status = rk_status::step_size_underflow;
+            return false;
+        }
+        trial_h_ = h;
+        trial_last_ = last;
+        trial_end_ = t_end;
+        copy(fx_.data(), k_[0]);
+        return true;
+    }
+
+    /// Stage s (1 <= s < stages) of the trial step. The stage index is a template argument: the
+    /// tableau row is then unrolled with its zero coefficients dropped.
+    template <int s>
+    void stage() {
+        static_assert(s >= 1 && s < S);
+        double y[N];
+        stage_point_ct<s>(trial_h_, x_.data(), y);
+        if constexpr (s == S - 1) copy(y, x_new_.data());
+        eval_into(t_ + Method::c[s] * trial_h_, y, k_[s]);
+    }
+
+    /// stage<s>() in two halves, for right-hand sides evaluated by the caller (several
+    /// integrators' stages at once): stage_input<s>(y) writes the stage's point, the caller
+    /// stores f(t, y) to stage_output<s>().
+    template <int s>
+    void stage_input(double* y) {
+        static_assert(s >= 1 && s < S);
+        stage_point_ct<s>(trial_h_, x_.data(), y);
+        if constexpr (s == S - 1) copy(y, x_new_.data());
+    }
+    template <int s>
+    double* stage_output() {
+        ++evaluations_;
+        return k_[s];
+    }
+
+    /// Calls fn.template operator()<s>() for s = 1, ..., stages - 1 in order.
+    template <class Fn>
+    static void for_each_stage(Fn&& fn) {
+        [&]<int... s>(std::integer_sequence<int, s...>) {
+            (fn.template operator()<s + 1>(), ...);
+        }
+        (std::make_integer_sequence<int, S - 1>{});
+    }
+
+    /// Ends the trial step: 1 accepted, 0 rejected (retry with the new step size), -1 failed
+    /// (`status` says why).
+    int end_step(rk_status& status) {
+        const double h = trial_h_;
+        const double err = error_norm(h);
+        const double tiny = 16 * std::numeric_limits<double>::epsilon() * std::abs(t_);
+        if (opt_.fixed_step > 0 || err <= 1) {
+            if (opt_.fixed_step > 0 || !check_ || check_(x_, x_new_)) {
+                accept(h, err, trial_last_ ? trial_end_ : t_ + h);
+                return 1;
+            }
+            // the error estimate passed but the step check failed: halve and retry
+            ++rejected_;
+            ++check_rejections_;
+            last_rejected_ = true;
+            h_ = 0.5 * h;
+            if (!(h_ > tiny)) {
+                status = rk_status::step_size_underflow;
+                return -1;
+            }
+            return 0;
+        }
+        ++rejected_;
+        last_rejected_ = true;
+        if (!std::isfinite(err)) {
+            h_ = h * 0.1;
+            if (!(h_ > tiny)) {
+                status = rk_status::non_finite;
+                return -1;
+            }
+            return 0;
+        }
+        h_ = h * std::max(Method::fac_min, Method::safety * std::pow(err, -1.0 / Method::order +
+                                                                              0.75 * Method::beta));
+        if (!(h_ > tiny)) {
+            status = rk_status::step_size_underflow;
+            return -1;
+        }
+        return 0;
     }
 
     /// An optional acceptance test applied after the error test: check(x_old, x_new) == false
@@ -436,6 +508,25 @@ class explicit_rk {
         return std::isfinite(h) && h > 0 ? h : 1e-6;
     }
 
+    // stage_point with the row known at compile time (same arithmetic, zero terms dropped)
+    template <int s>
+    void stage_point_ct(double h, const double* base, double* y) const {
+        copy(base, y);
+        [&]<int... j>(std::integer_sequence<int, j...>) {
+            (add_stage_term<s, j>(h, y), ...);
+        }
+        (std::make_integer_sequence<int, s>{});
+    }
+    template <int s, int j>
+    void add_stage_term(double h, double* y) const {
+        constexpr double a = Method::a[s][j];
+        if constexpr (a != 0) {
+            const double* kj = k_[j];
+            for (std::size_t i = 0; i < N; ++i)
+                y[i] += h * a * kj[i];
+        }
+    }
+
     // y = base + h sum_{j < s} a[s][j] k_j
     void stage_point(int s, double h, const double* base, double* y) const {
         copy(base, y);
@@ -446,19 +537,6 @@ class explicit_rk {
             for (std::size_t i = 0; i < N; ++i)
                 y[i] += h * a * kj[i];
         }
-    }
-
-    // One trial step of size h from (t_, x_): fills k_ and x_new_, returns the error norm.
-    double attempt(double h) {
-        copy(fx_.data(), k_[0]);
-        const double* x = x_.data();
-        double y[N];
-        for (int s = 1; s < S; ++s) {
-            stage_point(s, h, x, y);
-            if (s == S - 1) copy(y, x_new_.data());
-            eval_into(t_ + Method::c[s] * h, y, k_[s]);
-        }
-        return error_norm(h);
     }
 
     double error_norm(double h) const {
@@ -565,6 +643,8 @@ class explicit_rk {
     F f_;
     rk_options opt_;
     double t_ = 0, t_prev_ = 0, h_ = 0, h_last_ = 0, facold_ = 1e-4;
+    double trial_h_ = 0, trial_end_ = 0;
+    bool trial_last_ = false;
     bool last_rejected_ = false, dense_ready_ = false;
     state x_{}, x_prev_{}, x_new_{}, fx_{}, f_prev_{};
     double k_[SD][N] = {};

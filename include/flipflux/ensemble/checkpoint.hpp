@@ -1,0 +1,101 @@
+// Checkpoints of a Monte Carlo study (`flipflux simulate --checkpoint FILE`), and the text form
+// of one trajectory's result that checkpoints and the MPI gather share.
+//
+// File format (text, one record per line; every line ends with " #" and the FNV-1a 64-bit hash
+// of what precedes it, in 16 hex digits, so a torn or damaged line is recognised):
+//   line 1   "flipflux-checkpoint <json>"  the run's identity: format, flipflux version, model,
+//            arm, criteria, energies, trajectories, first index, time, seed, method, tolerances,
+//            chaos options, bins, estimator (everything the results depend on);
+//   "E <k> <json>"  energy k completed: its report entry and quality samples;
+//   "T <k> <fields>"  one finished trajectory of energy k (trajectory_record).
+// Real numbers are written by std::to_chars in the shortest form that reads back to the same
+// double (std::from_chars), so a resumed run reproduces every bit of an uninterrupted one.
+// A run appends T lines as trajectories finish (write(2) of whole lines, fdatasync, at most
+// every `interval` seconds), and when an energy completes rewrites the file atomically
+// (write_file_atomically) as the header plus the E lines: the file stays small. A SIGKILL can
+// only leave a torn last line, which reading drops; a damaged line before the last makes the file
+// unreadable (refused).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "flipflux/ensemble/ensemble.hpp"
+
+namespace flipflux {
+
+inline constexpr int checkpoint_format_version = 1;
+
+/// FNV-1a, 64 bits.
+std::uint64_t fnv1a64(std::string_view text);
+
+/// One line (with its hash and the newline) holding trajectory r of energy k, and back.
+/// Everything but `crossings` and `samples` (never checkpointed) is stored.
+std::string trajectory_record(std::size_t energy, const trajectory_result& r);
+/// Parses a line written by trajectory_record (without the newline; the hash is checked).
+/// Throws std::runtime_error describing the defect.
+trajectory_result parse_trajectory_record(std::string_view line, std::size_t criteria,
+                                          std::size_t& energy);
+
+/// A completed energy as stored: its report entry and, per criterion, the quality samples
+/// (energy, simulated, predicted, spread) over all and over chaotic trajectories (null: none).
+struct completed_energy {
+    nlohmann::ordered_json entry;
+    nlohmann::ordered_json quality;
+};
+
+/// What a checkpoint holds.
+struct checkpoint_content {
+    bool exists = false;
+    std::map<std::size_t, completed_energy> completed;
+    /// energy -> (index -> result)
+    std::map<std::size_t, std::map<std::uint64_t, trajectory_result>> trajectories;
+    bool torn = false;  ///< the last line was incomplete or damaged and was dropped
+};
+
+/// Parses the text of a checkpoint against the header this run expects. Throws input_error
+/// (naming --checkpoint, the file and, for another run's file, the first field that differs).
+checkpoint_content parse_checkpoint(const std::string& text, const nlohmann::ordered_json& header,
+                                    std::size_t criteria, const std::filesystem::path& file);
+
+/// Reads the file (absent: empty content, exists = false). Throws input_error when it exists
+/// but cannot be read.
+std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists);
+
+/// The writer (one per run; in MPI runs, rank 0's).
+class checkpoint_writer {
+  public:
+    /// Starts the file: header plus the completed energies and trajectories of `content`,
+    /// written atomically; appends go to it afterwards.
+    checkpoint_writer(std::filesystem::path file, const nlohmann::ordered_json& header,
+                      const checkpoint_content& content, double interval_seconds);
+    ~checkpoint_writer();
+    checkpoint_writer(const checkpoint_writer&) = delete;
+    checkpoint_writer& operator=(const checkpoint_writer&) = delete;
+
+    /// Queues a T line (from trajectory_record); written when `interval` has passed.
+    void add(std::string line);
+    /// Writes the queued lines now.
+    void flush();
+    /// Energy k is complete: rewrites the file atomically as the header plus the E lines.
+    void complete(std::size_t energy, const completed_energy& done);
+    std::uint64_t saved_trajectories() const { return saved_; }
+
+  private:
+    void rewrite(const std::string& tail);
+    void open_for_append();
+    std::filesystem::path file_;
+    std::string header_line_, completed_lines_, pending_;
+    double interval_;
+    std::chrono::steady_clock::time_point last_flush_;
+    int fd_ = -1;
+    std::uint64_t saved_ = 0;
+};
+
+}  // namespace flipflux

@@ -1,0 +1,336 @@
+// Checkpoints of Monte Carlo studies (include/flipflux/ensemble/checkpoint.hpp).
+#include "flipflux/ensemble/checkpoint.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/io/atomic_file.hpp"
+
+namespace flipflux {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+constexpr std::string_view header_tag = "flipflux-checkpoint ";
+
+std::string hex16(std::uint64_t v) {
+    static const char* digits = "0123456789abcdef";
+    std::string s(16, '0');
+    for (int i = 15; i >= 0; --i, v >>= 4)
+        s[static_cast<std::size_t>(i)] = digits[v & 15];
+    return s;
+}
+
+std::string hashed_line(const std::string& content) {
+    return content + " #" + hex16(fnv1a64(content)) + "\n";
+}
+
+// The content of a hashed line (without the newline), or false when the hash does not match.
+bool verified(std::string_view line, std::string_view& content) {
+    if (line.size() < 18) return false;
+    const std::string_view tail = line.substr(line.size() - 18);
+    if (tail[0] != ' ' || tail[1] != '#') return false;
+    content = line.substr(0, line.size() - 18);
+    return hex16(fnv1a64(content)) == tail.substr(2);
+}
+
+void put(std::string& s, double x) {
+    char buf[40];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    s += ' ';
+    s.append(buf, r.ptr);
+}
+template <class Int>
+void put_int(std::string& s, Int x) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    s += ' ';
+    s.append(buf, r.ptr);
+}
+
+class tokens {
+  public:
+    explicit tokens(std::string_view s) : s_(s) {}
+    std::string_view next() {
+        while (pos_ < s_.size() && s_[pos_] == ' ')
+            ++pos_;
+        if (pos_ >= s_.size()) throw std::runtime_error("the record ends early");
+        const std::size_t end = std::min(s_.find(' ', pos_), s_.size());
+        const std::string_view t = s_.substr(pos_, end - pos_);
+        pos_ = end;
+        return t;
+    }
+    double real() {
+        const std::string_view t = next();
+        double v = 0;
+        const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+            throw std::runtime_error("'" + std::string(t) + "' is not a number");
+        return v;
+    }
+    template <class Int>
+    Int integer() {
+        const std::string_view t = next();
+        Int v = 0;
+        const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+            throw std::runtime_error("'" + std::string(t) + "' is not an integer");
+        return v;
+    }
+    bool done() {
+        while (pos_ < s_.size() && s_[pos_] == ' ')
+            ++pos_;
+        return pos_ >= s_.size();
+    }
+
+  private:
+    std::string_view s_;
+    std::size_t pos_ = 0;
+};
+
+std::string shorten(const std::string& s) {
+    return s.size() <= 60 ? s : s.substr(0, 57) + "...";
+}
+
+}  // namespace
+
+std::uint64_t fnv1a64(std::string_view text) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (const char c : text) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 0x100000001b3ULL;
+    }
+    return h;
+}
+
+std::string trajectory_record(std::size_t energy, const trajectory_result& r) {
+    std::string s = "T";
+    put_int(s, energy);
+    put_int(s, r.index);
+    put_int(s, static_cast<int>(r.status));
+    put(s, r.end_time);
+    put(s, r.max_energy_drift);
+    put(s, r.lyapunov);
+    put_int(s, r.chaotic ? 1 : 0);
+    put_int(s, r.steps);
+    put_int(s, r.rejected_steps);
+    put_int(s, r.evaluations);
+    put_int(s, r.energy_check_rejections);
+    for (double x : r.initial_state)
+        put(s, x);
+    put_int(s, r.crossing_times.size());
+    for (const std::vector<double>& times : r.crossing_times) {
+        put_int(s, times.size());
+        for (double t : times)
+            put(s, t);
+    }
+    return hashed_line(s);
+}
+
+trajectory_result parse_trajectory_record(std::string_view line, std::size_t criteria,
+                                          std::size_t& energy) {
+    std::string_view content;
+    if (!verified(line, content)) throw std::runtime_error("damaged record (hash mismatch)");
+    tokens t(content);
+    if (t.next() != "T") throw std::runtime_error("not a trajectory record");
+    trajectory_result r;
+    energy = t.integer<std::size_t>();
+    r.index = t.integer<std::uint64_t>();
+    const int status = t.integer<int>();
+    if (status < 0 || status > static_cast<int>(rk_status::non_finite))
+        throw std::runtime_error("bad status " + std::to_string(status));
+    r.status = static_cast<rk_status>(status);
+    r.end_time = t.real();
+    r.max_energy_drift = t.real();
+    r.lyapunov = t.real();
+    r.chaotic = t.integer<int>() != 0;
+    r.steps = t.integer<long>();
+    r.rejected_steps = t.integer<long>();
+    r.evaluations = t.integer<long>();
+    r.energy_check_rejections = t.integer<long>();
+    for (double& x : r.initial_state)
+        x = t.real();
+    const auto nc = t.integer<std::size_t>();
+    if (nc != criteria)
+        throw std::runtime_error("the record has " + std::to_string(nc) + " criteria, not " +
+                                 std::to_string(criteria));
+    r.crossing_times.resize(nc);
+    for (std::vector<double>& times : r.crossing_times) {
+        const auto n = t.integer<std::size_t>();
+        if (n > content.size()) throw std::runtime_error("bad crossing count");
+        times.resize(n);
+        for (double& x : times)
+            x = t.real();
+    }
+    if (!t.done()) throw std::runtime_error("trailing fields");
+    return r;
+}
+
+std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists) {
+    std::error_code ec;
+    exists = std::filesystem::exists(file, ec);
+    if (!exists) return {};
+    std::ifstream in(file, std::ios::binary);
+    if (!in || std::filesystem::is_directory(file, ec))
+        throw input_error("--checkpoint: '" + file.string() + "' cannot be read");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+checkpoint_content parse_checkpoint(const std::string& text, const json& header,
+                                    std::size_t criteria, const std::filesystem::path& file) {
+    checkpoint_content c;
+    c.exists = true;
+    const std::string name = "--checkpoint: '" + file.string() + "'";
+    // split into lines; a last line without newline is torn
+    std::vector<std::string_view> lines;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        const std::size_t nl = text.find('\n', pos);
+        if (nl == std::string::npos) {
+            c.torn = true;
+            break;
+        }
+        lines.emplace_back(text.data() + pos, nl - pos);
+        pos = nl + 1;
+    }
+    std::string_view content;
+    if (lines.empty() || !verified(lines[0], content) || !content.starts_with(header_tag))
+        throw input_error(name + " is not a flipflux checkpoint (no valid header line)");
+    json found;
+    try {
+        found = json::parse(content.substr(header_tag.size()));
+    } catch (const json::exception&) {
+        throw input_error(name + " is not a flipflux checkpoint (unreadable header)");
+    }
+    if (!found.is_object()) throw input_error(name + " is not a flipflux checkpoint");
+    for (const auto& [key, value] : header.items()) {
+        const auto it = found.find(key);
+        const std::string theirs = it == found.end() ? "(absent)" : it->dump();
+        if (it == found.end() || *it != value)
+            throw input_error(name + " belongs to another run: its " + key + " is " +
+                              shorten(theirs) + ", this run's is " + shorten(value.dump()));
+    }
+    for (const auto& [key, value] : found.items())
+        if (!header.contains(key))
+            throw input_error(name + " belongs to another run: it has a field " + key +
+                              " this run does not have");
+    const std::size_t energies = header.at("energies").size();
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        const bool last = i + 1 == lines.size();
+        try {
+            if (!lines[i].empty() && lines[i][0] == 'T') {
+                std::size_t k = 0;
+                trajectory_result r = parse_trajectory_record(lines[i], criteria, k);
+                if (k >= energies) throw std::runtime_error("energy index out of range");
+                const std::uint64_t index = r.index;
+                c.trajectories[k][index] = std::move(r);
+            } else {
+                if (!verified(lines[i], content) || !content.starts_with("E "))
+                    throw std::runtime_error("damaged line");
+                tokens t(content);
+                t.next();
+                const auto k = t.integer<std::size_t>();
+                if (k >= energies) throw std::runtime_error("energy index out of range");
+                const std::size_t brace = content.find('{');
+                if (brace == std::string_view::npos) throw std::runtime_error("no record");
+                const json j = json::parse(content.substr(brace));
+                c.completed[k] = {j.at("entry"), j.at("quality")};
+            }
+        } catch (const std::exception& e) {
+            if (last) {  // a torn or damaged last line: the run was killed while writing it
+                c.torn = true;
+                break;
+            }
+            throw input_error(name + " is damaged (line " + std::to_string(i + 1) + ": " +
+                              e.what() + ")");
+        }
+    }
+    for (const auto& [k, done] : c.completed)
+        c.trajectories.erase(k);
+    return c;
+}
+
+checkpoint_writer::checkpoint_writer(std::filesystem::path file, const json& header,
+                                     const checkpoint_content& content, double interval_seconds)
+    : file_(std::move(file)),
+      header_line_(hashed_line(std::string(header_tag) + header.dump())),
+      interval_(interval_seconds),
+      last_flush_(std::chrono::steady_clock::now()) {
+    for (const auto& [k, done] : content.completed)
+        completed_lines_ +=
+            hashed_line("E " + std::to_string(k) + " " +
+                        json{{"entry", done.entry}, {"quality", done.quality}}.dump());
+    std::string tail;
+    for (const auto& [k, trajectories] : content.trajectories)
+        for (const auto& [index, r] : trajectories) {
+            tail += trajectory_record(k, r);
+            ++saved_;
+        }
+    rewrite(tail);
+}
+
+checkpoint_writer::~checkpoint_writer() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void checkpoint_writer::rewrite(const std::string& tail) {
+    if (fd_ >= 0) {
+        ::close(fd_);
+        fd_ = -1;
+    }
+    try {
+        write_file_atomically(file_, header_line_ + completed_lines_ + tail);
+    } catch (const std::runtime_error&) {
+        throw input_error("--checkpoint: cannot write '" + file_.string() + "'");
+    }
+    open_for_append();
+}
+
+void checkpoint_writer::open_for_append() {
+    fd_ = ::open(file_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+    if (fd_ < 0) throw input_error("--checkpoint: cannot append to '" + file_.string() + "'");
+}
+
+void checkpoint_writer::add(std::string line) {
+    pending_ += line;
+    ++saved_;
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_flush_).count() >=
+        interval_)
+        flush();
+}
+
+void checkpoint_writer::flush() {
+    last_flush_ = std::chrono::steady_clock::now();
+    std::size_t done = 0;
+    while (done < pending_.size()) {
+        const ssize_t n = ::write(fd_, pending_.data() + done, pending_.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw std::runtime_error("--checkpoint: cannot append to '" + file_.string() +
+                                     "': " + std::strerror(errno));
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    pending_.clear();
+    ::fdatasync(fd_);
+}
+
+void checkpoint_writer::complete(std::size_t energy, const completed_energy& done) {
+    flush();
+    completed_lines_ += hashed_line("E " + std::to_string(energy) + " " +
+                                    json{{"entry", done.entry}, {"quality", done.quality}}.dump());
+    saved_ = 0;
+    rewrite("");
+}
+
+}  // namespace flipflux

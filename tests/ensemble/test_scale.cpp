@@ -1,0 +1,463 @@
+// Runs at scale (issue 6): checkpoint records that read back bit for bit, checkpoints that refuse
+// another run's file, a run killed with SIGKILL (or stopped by SIGTERM) and resumed that equals
+// an uninterrupted one, thread counts and MPI processes that do not change a bit of the report,
+// and the short-trajectory estimator.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+#include <thread>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/checkpoint.hpp"
+#include "flipflux/ensemble/fast_trig.hpp"
+#include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/ensemble/simulation.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+bool same_bits(double a, double b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+trajectory_result odd_result() {
+    trajectory_result r;
+    r.index = 123456789012345ULL;
+    r.initial_state = {-0.0, 3.141592653589793, 1e-310, -2.5e300};
+    r.status = rk_status::step_size_underflow;
+    r.end_time = 0.1 + 0.2;
+    r.max_energy_drift = 5e-324;
+    r.lyapunov = std::numeric_limits<double>::quiet_NaN();
+    r.chaotic = true;
+    r.steps = 1234567;
+    r.rejected_steps = 3;
+    r.evaluations = 9999999999L;
+    r.energy_check_rejections = 2;
+    r.crossing_times = {{1.0 / 3, 2.0 / 3, 1e4 - 1e-12}, {}, {std::nextafter(7.0, 8.0)}};
+    return r;
+}
+
+TEST(Checkpoint, TrajectoryRecordsReadBackBitForBit) {
+    const trajectory_result r = odd_result();
+    const std::string line = trajectory_record(7, r);
+    ASSERT_EQ(line.back(), '\n');
+    std::size_t k = 0;
+    const trajectory_result b =
+        parse_trajectory_record(std::string_view(line).substr(0, line.size() - 1), 3, k);
+    EXPECT_EQ(k, 7u);
+    EXPECT_EQ(b.index, r.index);
+    EXPECT_EQ(b.status, r.status);
+    for (int i = 0; i < 4; ++i)
+        EXPECT_TRUE(same_bits(b.initial_state[i], r.initial_state[i])) << i;
+    EXPECT_TRUE(same_bits(b.end_time, r.end_time));
+    EXPECT_TRUE(same_bits(b.max_energy_drift, r.max_energy_drift));
+    EXPECT_TRUE(std::isnan(b.lyapunov));
+    EXPECT_EQ(b.chaotic, r.chaotic);
+    EXPECT_EQ(b.steps, r.steps);
+    EXPECT_EQ(b.rejected_steps, r.rejected_steps);
+    EXPECT_EQ(b.evaluations, r.evaluations);
+    EXPECT_EQ(b.energy_check_rejections, r.energy_check_rejections);
+    ASSERT_EQ(b.crossing_times.size(), 3u);
+    for (std::size_t c = 0; c < 3; ++c) {
+        ASSERT_EQ(b.crossing_times[c].size(), r.crossing_times[c].size());
+        for (std::size_t i = 0; i < r.crossing_times[c].size(); ++i)
+            EXPECT_TRUE(same_bits(b.crossing_times[c][i], r.crossing_times[c][i]));
+    }
+}
+
+TEST(Checkpoint, DamagedRecordsAreRecognised) {
+    const std::string line = trajectory_record(0, odd_result());
+    const std::string body = line.substr(0, line.size() - 1);
+    std::size_t k = 0;
+    EXPECT_THROW(parse_trajectory_record(body, 2, k), std::runtime_error);  // criteria count
+    std::string flipped = body;
+    flipped[10] = flipped[10] == '1' ? '2' : '1';
+    EXPECT_THROW(parse_trajectory_record(flipped, 3, k), std::runtime_error);  // hash
+    EXPECT_THROW(parse_trajectory_record(body.substr(0, 30), 3, k), std::runtime_error);
+    EXPECT_THROW(parse_trajectory_record("", 3, k), std::runtime_error);
+    EXPECT_EQ(fnv1a64(""), 0xcbf29ce484222325ULL);
+    EXPECT_EQ(fnv1a64("a"), 0xaf63dc4c8601ec8cULL);  // the published FNV-1a test vector
+}
+
+json header_for(int seed) {
+    return json{{"format", 1}, {"seed", seed}, {"energies", json::array({"5", "5.5"})}};
+}
+
+TEST(Checkpoint, ParsingChecksTheHeaderAndDropsATornLastLine) {
+    const fs::path file = fs::path(::testing::TempDir()) / "flipflux_parse_checkpoint.txt";
+    fs::remove(file);
+    trajectory_result r = odd_result();
+    {
+        checkpoint_content empty;
+        checkpoint_writer w(file, header_for(1), empty, 0);
+        w.add(trajectory_record(0, r));
+        r.index = 5;
+        w.add(trajectory_record(0, r));
+        EXPECT_EQ(w.saved_trajectories(), 2u);
+    }
+    bool exists = false;
+    std::string text = read_checkpoint_text(file, exists);
+    ASSERT_TRUE(exists);
+    const checkpoint_content c = parse_checkpoint(text, header_for(1), 3, file);
+    EXPECT_FALSE(c.torn);
+    ASSERT_EQ(c.trajectories.at(0).size(), 2u);
+    EXPECT_TRUE(c.trajectories.at(0).count(5));
+    // another seed: refused, naming the field
+    try {
+        parse_checkpoint(text, header_for(2), 3, file);
+        ADD_FAILURE() << "accepted another run's checkpoint";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("its seed is 1, this run's is 2"), std::string::npos)
+            << e.what();
+    }
+    json extra = header_for(1);
+    extra.erase("energies");
+    EXPECT_THROW(parse_checkpoint(text, extra, 3, file), input_error);  // a field too many
+    // a torn last line (killed while writing) is dropped
+    const std::string torn = text.substr(0, text.size() - 7);
+    const checkpoint_content t = parse_checkpoint(torn, header_for(1), 3, file);
+    EXPECT_TRUE(t.torn);
+    EXPECT_EQ(t.trajectories.at(0).size(), 1u);
+    // ... and so is a complete but damaged last line; a damaged line before it is refused
+    std::string damaged = text;
+    damaged[damaged.size() - 30] ^= 1;
+    EXPECT_TRUE(parse_checkpoint(damaged, header_for(1), 3, file).torn);
+    std::string middle = text;
+    middle[text.find('\n') + 20] ^= 1;
+    EXPECT_THROW(parse_checkpoint(middle, header_for(1), 3, file), input_error);
+    EXPECT_THROW(parse_checkpoint("hello\n", header_for(1), 3, file), input_error);
+    EXPECT_THROW(parse_checkpoint("", header_for(1), 3, file), input_error);
+    // completing an energy compacts the file to the header and the E lines
+    {
+        checkpoint_writer w(file, header_for(1), c, 10);
+        w.complete(0, {json{{"energy", "5"}}, json::array({json::array(), json::array()})});
+        EXPECT_EQ(w.saved_trajectories(), 0u);
+    }
+    text = read_checkpoint_text(file, exists);
+    const checkpoint_content done = parse_checkpoint(text, header_for(1), 3, file);
+    EXPECT_TRUE(done.trajectories.empty());
+    ASSERT_EQ(done.completed.size(), 1u);
+    EXPECT_EQ(done.completed.at(0).entry.at("energy"), "5");
+    // unreadable
+    EXPECT_THROW(read_checkpoint_text(fs::path(::testing::TempDir()), exists), input_error);
+    fs::remove(file);
+}
+
+// The inline sin/cos pair of the right-hand side against libm (correctly rounded to < 1 ulp in
+// glibc): within 2 ulp of 1 in absolute terms, and within 2 ulp relative for sin of small
+// arguments; special points, quadrant boundaries, and the libm fallback beyond 2^19.
+TEST(FastTrig, AgreesWithLibmToTwoUlp) {
+    random_reals rnd(5);
+    const double ulp1 = std::numeric_limits<double>::epsilon();
+    double worst = 0;
+    auto check = [&](double x) {
+        double s = 0, c = 0;
+        fast_sincos(x, s, c);
+        double s2 = 0, c2 = 0, s3 = 0, c3 = 0;  // the two-lane version, bit for bit
+        fast_sincos2(x, -0.5 * x, s2, c2, s3, c3);
+        EXPECT_TRUE(same_bits(s2, s) && same_bits(c2, c)) << x;
+        double s4 = 0, c4 = 0;
+        fast_sincos(-0.5 * x, s4, c4);
+        EXPECT_TRUE(same_bits(s3, s4) && same_bits(c3, c4)) << x;
+        const double es = std::abs(s - std::sin(x)), ec = std::abs(c - std::cos(x));
+        worst = std::max({worst, es / ulp1, ec / ulp1});
+        if (std::abs(x) < 0.5) {
+            EXPECT_LE(es, 2 * ulp1 * std::abs(std::sin(x))) << x;
+        }
+    };
+    for (int i = 0; i < 200000; ++i)
+        check(rnd(-8, 8));
+    for (int i = 0; i < 20000; ++i)
+        check(rnd(-1e5, 1e5));
+    for (int k = -8; k <= 8; ++k)
+        for (double d : {-1e-9, -1e-300, 0.0, 1e-300, 1e-9, 0.785, -0.786})
+            check(k * std::numbers::pi / 4 + d);
+    check(1e-310);
+    check(-0.0);
+    EXPECT_LE(worst, 2.0);
+    double s = 0, c = 0;
+    fast_sincos(1e7, s, c);  // fallback
+    EXPECT_EQ(s, std::sin(1e7));
+    EXPECT_EQ(c, std::cos(1e7));
+    fast_sincos(std::numeric_limits<double>::quiet_NaN(), s, c);
+    EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+    double s1 = 0, c1 = 0;
+    fast_sincos2(1e7, 0.5, s, c, s1, c1);  // fallback of the two-lane version
+    EXPECT_EQ(s, std::sin(1e7));
+    EXPECT_TRUE(same_bits(s1, [] {
+        double a = 0, b = 0;
+        fast_sincos(0.5, a, b);
+        return a;
+    }()));
+}
+
+// The two-state right-hand side (the ensemble's lockstep lanes) is bit for bit the one-state one,
+// including the libm fallback for huge angles.
+TEST(FastTrig, PairedRightHandSideEqualsTheSingleOne) {
+    random_reals rnd(9);
+    const pendulum_flow flow(double_pendulum<double>(
+        physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
+    for (int k = 0; k < 2000; ++k) {
+        std::array<double, 4> a{rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3)};
+        std::array<double, 4> b{rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3)};
+        if (k == 0) b[1] = 1e7;
+        v2d x[4], f[4];
+        for (int i = 0; i < 4; ++i)
+            x[i] = v2d{a[i], b[i]};
+        flow.pair(x, f);
+        const auto fa = flow(0.0, a), fb = flow(0.0, b);
+        for (int i = 0; i < 4; ++i) {
+            EXPECT_TRUE(same_bits(f[i][0], fa[i])) << k << " " << i;
+            EXPECT_TRUE(same_bits(f[i][1], fb[i])) << k << " " << i;
+        }
+    }
+}
+
+// ---- the command line ------------------------------------------------------------------------
+
+const std::string study =
+    "simulate --energy 4.6,5.2 --criteria upright,approx,saddle --trajectories 24 --time 60 "
+    "--seed 11 --rtol 1e-9 --no-timing";
+
+json report(const std::string& text) {
+    json j = json::parse(text);
+    j.erase("model");
+    return j;
+}
+
+std::size_t trajectory_lines(const fs::path& file) {
+    std::ifstream in(file);
+    std::string line;
+    std::size_t n = 0;
+    while (std::getline(in, line))
+        n += !line.empty() && (line[0] == 'T' || line[0] == 'E');
+    return n;
+}
+
+// Starts the CLI in the background (stdout, stderr to /dev/null); returns its pid.
+pid_t spawn(const std::string& args) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        const int null = open("/dev/null", O_WRONLY);
+        dup2(null, 1);
+        dup2(null, 2);
+        execl("/bin/sh", "sh", "-c", ("exec " + std::string(FLIPFLUX_EXE) + " " + args).c_str(),
+              static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    return pid;
+}
+
+// Waits until the checkpoint holds at least `n` records, or the process ends.
+bool wait_for_records(pid_t pid, const fs::path& file, std::size_t n) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < deadline) {
+        if (fs::exists(file) && trajectory_lines(file) >= n) return true;
+        int status = 0;
+        if (waitpid(pid, &status, WNOHANG) == pid) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
+}
+
+class CliScale : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        const command_result r = run_flipflux(study + " --threads 2");
+        ASSERT_EQ(r.status, 0) << r.err;
+        reference_ = new json(report(r.out));
+    }
+    static void TearDownTestSuite() {
+        delete reference_;
+        reference_ = nullptr;
+    }
+    static json* reference_;
+};
+json* CliScale::reference_ = nullptr;
+
+TEST_F(CliScale, ThreadCountDoesNotChangeABit) {
+    const command_result one = run_flipflux(study + " --threads 1");
+    ASSERT_EQ(one.status, 0) << one.err;
+    EXPECT_EQ(report(one.out), *reference_);
+    EXPECT_FALSE(reference_->at("energies").at(0).contains("seconds"));
+}
+
+TEST_F(CliScale, KilledAndResumedRunEqualsAnUninterruptedOne) {
+    const fs::path file = fs::path(::testing::TempDir()) / "flipflux_killed.ckpt";
+    fs::remove(file);
+    // one thread, a record after every trajectory: kill it once 4 records are in the file
+    const pid_t pid =
+        spawn(study + " --threads 1 --checkpoint-interval 0 --checkpoint " + file.string());
+    ASSERT_TRUE(wait_for_records(pid, file, 4)) << "the run ended before the checkpoint filled";
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    const std::size_t saved = trajectory_lines(file);
+    EXPECT_GE(saved, 4u);
+    const command_result resumed =
+        run_flipflux(study + " --threads 2 --checkpoint " + file.string());
+    ASSERT_EQ(resumed.status, 0) << resumed.err;
+    EXPECT_EQ(report(resumed.out), *reference_);
+    // a finished run's checkpoint holds only the completed energies; running again reads them
+    EXPECT_EQ(trajectory_lines(file), 2u);
+    const command_result again = run_flipflux(study + " --checkpoint " + file.string());
+    ASSERT_EQ(again.status, 0) << again.err;
+    EXPECT_EQ(report(again.out), *reference_);
+    fs::remove(file);
+}
+
+TEST_F(CliScale, SigtermStopsCleanlyAndTheRunResumes) {
+    const fs::path file = fs::path(::testing::TempDir()) / "flipflux_sigterm.ckpt";
+    fs::remove(file);
+    const pid_t pid =
+        spawn(study + " --threads 1 --checkpoint-interval 0 --checkpoint " + file.string());
+    ASSERT_TRUE(wait_for_records(pid, file, 2));
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+    const command_result resumed = run_flipflux(study + " --checkpoint " + file.string());
+    ASSERT_EQ(resumed.status, 0) << resumed.err;
+    EXPECT_EQ(report(resumed.out), *reference_);
+    fs::remove(file);
+}
+
+TEST_F(CliScale, MismatchedOrUnreadableCheckpointsAreRefused) {
+    const fs::path file = fs::path(::testing::TempDir()) / "flipflux_mismatch.ckpt";
+    fs::remove(file);
+    const std::string small = "simulate --no-chaos --checkpoint " + file.string();
+    const std::string same = " --criteria upright --trajectories 2 --time 5";
+    ASSERT_EQ(run_flipflux(small + same + " --seed 1 --energy 5").status, 0);
+    for (const auto& [args, field] : std::vector<std::pair<std::string, std::string>>{
+             {" --seed 2 --energy 5", "seed"},
+             {" --seed 1 --energy 5.1", "energies"},
+             {" --seed 1 --energy 5 --rtol 1e-8", "rtol"},
+             {" --seed 1 --energy 5 --arm 1", "arm"},
+             {" --seed 1 --energy 5 --m2 2", "model"},
+             {" --seed 1 --energy 5 --criteria approx --trajectories 2 --time 5", "criteria"},
+             {" --seed 1 --energy 5 --criteria upright --trajectories 2 --time 6", "time"},
+             {" --seed 1 --energy 5 --criteria upright --trajectories 3 --time 5", "trajectories"},
+             {" --seed 1 --energy 5 --method dopri5", "method"}}) {
+        const command_result r =
+            run_flipflux(small + args + (args.find("--time") == std::string::npos ? same : ""));
+        EXPECT_EQ(r.status, 2) << args;
+        EXPECT_NE(r.err.find("its " + field + " is"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    { std::ofstream(file) << "not a checkpoint\n"; }
+    const command_result bad = run_flipflux(small + same + " --seed 1 --energy 5");
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("--checkpoint"), std::string::npos) << bad.err;
+    fs::remove(file);
+    const command_result dir = run_flipflux(small + same + " --seed 1 --energy 5 --checkpoint " +
+                                            fs::path(::testing::TempDir()).string());
+    EXPECT_EQ(dir.status, 2) << dir.err;
+    EXPECT_EQ(run_flipflux(small + same + " --seed 1 --energy 5 --checkpoint-interval -1").status,
+              2);
+    EXPECT_EQ(run_flipflux(small + same + " --seed 1 --energy 5 --estimator medium").status, 2);
+    EXPECT_EQ(run_flipflux(small + same + " --seed 1 --energy 5 --sample-interval 1 --csv-dir " +
+                           fs::path(::testing::TempDir()).string())
+                  .status,
+              2);
+    fs::remove(file);
+}
+
+TEST_F(CliScale, ProgressBarReportsDoneTotalRateAndEta) {
+    const command_result r = run_flipflux(
+        "simulate --energy 5 --criteria upright --trajectories 3 --time 5 --no-chaos --progress");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("3/3 trajectories"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("ETA"), std::string::npos) << r.err;
+}
+
+TEST_F(CliScale, MpirunGivesTheSameReport) {
+    if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+    // OpenMPI in a container as root: allow it, no ssh/rsh launcher, no CMA single copy
+    const std::string env =
+        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm=isolated "
+        "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_rmaps_base_oversubscribe=1 ";
+    const std::string cmd = env + "mpirun --oversubscribe -np 2 " + std::string(FLIPFLUX_EXE) +
+                            " " + study + " --threads 1 2>/dev/null";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string out;
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0)
+        out.append(buf, n);
+    const int status = pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+    EXPECT_EQ(report(out), *reference_);
+}
+
+// The short estimator spends the budget on trajectories of --short-time: count and an exact
+// check of the mean rate against the prediction (the invariant ensemble's crossing count is exact
+// for any T).
+TEST(ShortEstimator, SpendsTheBudgetOnShortTrajectories) {
+    const double_pendulum<double> m;
+    simulation_request q;
+    q.criteria = {"upright"};
+    q.energies = {{"5", 5.0}};
+    q.options.trajectories = 4;
+    q.options.time = 1000;
+    q.options.seed = 3;
+    q.options.rtol = 1e-8;
+    q.options.chaos = false;
+    q.estimator = rate_estimator::short_trajectories;
+    q.short_time = 3;  // 4000 / 3 -> 1334 trajectories
+    const json j = simulate(m, q);
+    EXPECT_EQ(j.at("trajectories").get<std::uint64_t>(), 1334u);
+    EXPECT_EQ(j.at("time").get<std::string>(), "3");
+    EXPECT_EQ(j.at("estimator"), "short");
+    const json& c = j.at("energies").at(0).at("criteria").at("upright");
+    const double z = std::stod(c.at("z_score").get<std::string>());
+    EXPECT_LT(std::abs(z), 4) << c.dump();
+    q.short_time = 0;
+    EXPECT_THROW(simulate(m, q), input_error);
+    EXPECT_EQ(to_string(rate_estimator::long_trajectories), "long");
+    EXPECT_EQ(parse_rate_estimator("short"), rate_estimator::short_trajectories);
+    EXPECT_THROW(parse_rate_estimator("x"), input_error);
+}
+
+// A stop request before the run: nothing is integrated, simulate() reports the interruption.
+TEST(Interruption, StopFlagEndsTheStudy) {
+    const double_pendulum<double> m;
+    simulation_request q;
+    q.criteria = {"upright"};
+    q.energies = {{"5", 5.0}};
+    q.options.trajectories = 3;
+    q.options.time = 5;
+    q.options.chaos = false;
+    std::atomic<int> stop{SIGINT};
+    q.options.stop = &stop;
+    try {
+        simulate(m, q);
+        ADD_FAILURE() << "not interrupted";
+    } catch (const simulation_interrupted& e) {
+        EXPECT_EQ(e.signal(), SIGINT);
+        EXPECT_EQ(e.saved(), 0u);
+    }
+    ensemble_options o = q.options;
+    o.energy = 5;
+    EXPECT_THROW(run_ensemble(m, o, {}), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace flipflux::test
