@@ -133,6 +133,12 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     EXPECT_EQ(c.orbit_solves, 0u);
     EXPECT_EQ(c.trajectories, 8u * 2 + 8u);
     EXPECT_EQ(c.curve_criteria, 1u);  // approx at E = 5 only
+    // the short estimator spends the same budget on trajectories of length 20 (its default)
+    const scene sh =
+        scene_in(out,
+                 "[[ensemble]]\nname = \"short\"\ncriteria = [\"upright\"]\n"
+                 "energies = [5]\ntrajectories = 4\ntime = 50\nestimator = \"short\"\n");
+    EXPECT_EQ(run(sh).trajectories, 10u);  // ceil(4 x 50 / 20)
     const auto u = nlohmann::json::parse(slurp(out / "ensemble-u.json"));
     ASSERT_EQ(u["energies"].size(), 2u);
     EXPECT_EQ(u["energies"][0]["criteria"].size(), 1u);
