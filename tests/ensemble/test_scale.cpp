@@ -231,7 +231,7 @@ TEST(FastTrig, PairedRightHandSideEqualsTheSingleOne) {
 // ---- the command line ------------------------------------------------------------------------
 
 const std::string study =
-    "simulate --energy 4.6,5.2 --criteria upright,approx,saddle --trajectories 24 --time 60 "
+    "simulate --energy 4.6,5.2 --criteria upright,approx,saddle --trajectories 24 --time 200 "
     "--seed 11 --rtol 1e-9 --no-timing";
 
 json report(const std::string& text) {
