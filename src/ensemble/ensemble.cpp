@@ -114,18 +114,8 @@ struct tangent_rhs {
 // (samples, detectors, energy drift, angle reduction, tangent renormalisation). Stepped through
 // explicit_rk's phases (begin, stages, end) so that several trajectories can advance in lockstep
 // (run_lanes); a trajectory's arithmetic is the same whichever lane or partner it has.
-class lane_base {
-  public:
-    virtual ~lane_base() = default;
-    /// Starts a trial step; false when the trajectory is finished (or failed or abandoned).
-    virtual bool begin() = 0;
-    virtual void end() = 0;
-    virtual bool finished() const = 0;
-    virtual trajectory_result& result() = 0;
-};
-
 template <class Method, bool Tangent>
-class lane final : public lane_base {
+class lane {
   public:
     static constexpr std::size_t N = Tangent ? 8 : 4;
     using state = std::array<double, N>;
@@ -193,7 +183,8 @@ class lane final : public lane_base {
     lane(const lane&) = delete;
     lane& operator=(const lane&) = delete;
 
-    bool begin() override {
+    /// Starts a trial step; false when the trajectory is finished (or failed or abandoned).
+    bool begin() {
         if (done_) return false;
         if (o_.stop != nullptr && o_.stop->load(std::memory_order_relaxed) != 0) {
             r_.abandoned = true;
@@ -214,7 +205,7 @@ class lane final : public lane_base {
     }
     integrator& rk() { return rk_; }
     const pendulum_flow& flow() const { return flow_; }
-    void end() override {
+    void end() {
         rk_status st = rk_status::ok;
         const int outcome = rk_.end_step(st);
         if (outcome < 0) {
@@ -226,8 +217,8 @@ class lane final : public lane_base {
         after_step();
         if (!(rk_.t() < o_.time)) finish();
     }
-    bool finished() const override { return done_; }
-    trajectory_result& result() override { return r_; }
+    bool finished() const { return done_; }
+    trajectory_result& result() { return r_; }
 
   private:
     static rk_options rk_opts(const ensemble_options& o) {
