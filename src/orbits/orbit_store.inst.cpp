@@ -74,7 +74,7 @@ void read_array(const json& j, Real* out, std::size_t n, const std::string& wher
         out[i] = real_of<Real>(j[i], where);
 }
 
-constexpr int format_version = 1;
+constexpr int format_version = 2;  // 2: monodromy at the final (beta, T)
 
 }  // namespace
 
