@@ -1,0 +1,152 @@
+// The saddle-orbit store (orbits/orbit_store.hpp): the on-disk record reads back bit-identically
+// in every precision, malformed records are refused naming what is wrong, the memo returns what
+// was remembered for the same pendulum, arm, energy and method only, and cache keys separate
+// everything that changes an orbit.
+#include <nlohmann/json.hpp>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
+#include "support.hpp"
+
+namespace flipflux {
+std::size_t saddle_orbit_memo_misses();  // src/orbits/orbit_names.cpp
+}
+
+namespace flipflux::test {
+namespace {
+
+/// A synthetic orbit whose every field holds a distinct value that is not a short decimal.
+template <class Real>
+saddle_orbit<Real> synthetic(arm a, const Real& energy) {
+    saddle_orbit<Real> o;
+    int k = 1;
+    auto next = [&k] { return Real(1) / Real(7 * k++ + 3); };
+    o.flip_arm = a;
+    o.energy = energy;
+    o.excess = next(), o.beta = next(), o.period = next(), o.action = next();
+    o.period_derivative = next();
+    o.saddle = {next(), next()};
+    o.start = {next(), next(), next(), next()};
+    o.turning_points = {std::array<Real, 2>{next(), next()}, std::array<Real, 2>{next(), next()}};
+    for (auto& z : o.floquet.eigenvalues)
+        z = std::complex<Real>(next(), -next());
+    o.floquet.trace = next(), o.floquet.stability_index = next();
+    o.floquet.hyperbolic = true;
+    o.floquet.multiplier = next(), o.floquet.angle = next();
+    o.floquet.unit_deviation = next(), o.floquet.determinant_deviation = next();
+    for (auto& row : o.monodromy)
+        for (auto& v : row)
+            v = next();
+    o.status = orbit_status::stalled;
+    o.method = orbit_method::symmetric;
+    o.stages = 7, o.steps = 123, o.newton_iterations = 5;
+    o.tolerance = next(), o.residual = next(), o.last_update = next(), o.energy_error = next();
+    o.error_estimate_period = next(), o.error_estimate_action = next();
+    o.double_stage = "report, with \"quotes\"";
+    o.quarter_step = next();
+    for (int i = 0; i < 3; ++i)
+        o.quarter.push_back({next(), next(), next(), next()});
+    return o;
+}
+
+template <class Real>
+void expect_identical(const saddle_orbit<Real>& a, const saddle_orbit<Real>& b) {
+    // serialising again gives the same text: every real came back bit for bit
+    EXPECT_EQ(orbit_to_json(a), orbit_to_json(b));
+    EXPECT_EQ(a.period, b.period);
+    EXPECT_EQ(a.monodromy[3][2], b.monodromy[3][2]);
+    EXPECT_EQ(a.floquet.eigenvalues[1], b.floquet.eigenvalues[1]);
+    EXPECT_EQ(a.quarter.back()[3], b.quarter.back()[3]);
+    EXPECT_EQ(a.status, b.status);
+    EXPECT_EQ(a.method, b.method);
+    EXPECT_EQ(a.flip_arm, b.flip_arm);
+    EXPECT_EQ(a.double_stage, b.double_stage);
+}
+
+template <class Real>
+class OrbitStore : public ::testing::Test {};
+TYPED_TEST_SUITE(OrbitStore, real_types);
+
+TYPED_TEST(OrbitStore, RecordsReadBackBitIdentically) {
+    using Real = TypeParam;
+    const auto o = synthetic<Real>(arm::one, parse_real<Real>("4.7", "E"));
+    expect_identical(o, orbit_from_json<Real>(orbit_to_json(o), "x.json"));
+}
+
+TEST(OrbitStore, MalformedRecordsAreRefusedNamingTheProblem) {
+    const auto o = synthetic<double>(arm::two, 3.0);
+    const auto good = nlohmann::json::parse(orbit_to_json(o));
+    auto refused = [](const std::string& text, const std::string& what) {
+        try {
+            (void)orbit_from_json<double>(text, "f.json");
+            ADD_FAILURE() << "accepted: " << what;
+        } catch (const input_error& e) {
+            EXPECT_NE(std::string(e.what()).find("f.json"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    };
+    refused("{not json", "not JSON");
+    auto with = [&](const char* key, const nlohmann::json& v) {
+        auto j = good;
+        j[key] = v;
+        return j.dump();
+    };
+    refused(with("format", 99), "cache format");
+    refused(with("precision", "quad"), "precision");
+    refused(with("arm", "3"), "arm '3'");
+    refused(with("status", "weird"), "status 'weird'");
+    refused(with("period", 1.5), "period: expected a decimal string");
+    refused(with("period", "1.5x"), "period");
+    refused(with("saddle", nlohmann::json::array({"1"})), "saddle: expected an array of 2");
+    refused(with("quarter", nlohmann::json::array()), "quarter: empty");
+    refused(with("method", "newton"), "method");
+    auto j = good;
+    j.erase("action");
+    refused(j.dump(), "malformed orbit record");
+}
+
+TEST(OrbitStore, MemoReturnsOnlyTheSameOrbit) {
+    forget_saddle_orbits();
+    const double_pendulum<double> model;
+    physical_parameters<double> p;
+    p.m2 = 2;
+    const double_pendulum<double> other(p);
+    auto o = synthetic<double>(arm::two, 3.0);
+    o.method = orbit_method::periodic;
+    o.status = orbit_status::converged;
+    remember_saddle_orbit(model, o);
+    ASSERT_TRUE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::periodic).has_value());
+    EXPECT_FALSE(recall_saddle_orbit(model, arm::one, 3.0, orbit_method::periodic).has_value());
+    EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.5, orbit_method::periodic).has_value());
+    EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::symmetric).has_value());
+    EXPECT_FALSE(recall_saddle_orbit(other, arm::two, 3.0, orbit_method::periodic).has_value());
+    // find_or_solve returns the remembered orbit without solving
+    const std::size_t misses = saddle_orbit_memo_misses();
+    const auto found = find_or_solve_saddle_orbit(model, arm::two, 3.0);
+    EXPECT_EQ(saddle_orbit_memo_misses(), misses);
+    EXPECT_EQ(found.period, o.period);  // the synthetic one: nothing was solved
+    forget_saddle_orbits();
+    EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::periodic).has_value());
+}
+
+TEST(OrbitStore, CacheKeysSeparatePendulumsPrecisionsAndOptions) {
+    const double_pendulum<double> model;
+    physical_parameters<double> p;
+    p.a2 = 2;  // (L2 alone does not enter the dynamics: the key follows the coefficients)
+    const double_pendulum<double> other(p);
+    const orbit_options<double> periodic;
+    orbit_options<double> symmetric, stages;
+    symmetric.method = orbit_method::symmetric;
+    stages.stages = 8;
+    const std::string k = orbit_cache_key(model, periodic);
+    EXPECT_EQ(k, orbit_cache_key(model, periodic));  // deterministic
+    EXPECT_EQ(k.rfind("double-", 0), 0u);
+    EXPECT_NE(k, orbit_cache_key(other, periodic));
+    EXPECT_NE(k, orbit_cache_key(model, symmetric));
+    EXPECT_NE(k, orbit_cache_key(model, stages));
+    const std::string kq = orbit_cache_key(double_pendulum<mp50>(), orbit_options<mp50>{});
+    EXPECT_EQ(kq.rfind("mp50-", 0), 0u);  // no ':' in a directory name
+}
+
+}  // namespace
+}  // namespace flipflux::test
