@@ -12,6 +12,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/model_json.hpp"
 #include "flipflux/model/model_text.hpp"
 
 namespace flipflux::cli {
@@ -27,26 +28,12 @@ struct precision_option {
 };
 void add_precision_option(CLI::App& app, precision_option& option);
 
+/// The parameters and, under "coefficients", the Lagrangian coefficients (model/model_json.hpp).
 template <class Real>
 json parameters_json(const double_pendulum<Real>& model) {
-    const auto& p = model.parameters();
-    const auto& k = model.coefficients();
-    return json{{"m1", to_decimal(p.m1)},
-                {"m2", to_decimal(p.m2)},
-                {"L1", to_decimal(p.L1)},
-                {"L2", to_decimal(p.L2)},
-                {"a1", to_decimal(p.a1)},
-                {"a2", to_decimal(p.a2)},
-                {"I1", to_decimal(p.I1)},
-                {"I2", to_decimal(p.I2)},
-                {"g", to_decimal(p.g)},
-                {"coefficients",
-                 {{"A", to_decimal(k.A)},
-                  {"B", to_decimal(k.B)},
-                  {"C", to_decimal(k.C)},
-                  {"alpha", to_decimal(k.alpha)},
-                  {"beta", to_decimal(k.beta)},
-                  {"AB_minus_C2", to_decimal(k.D0)}}}};
+    json out = flipflux::parameters_json(model.parameters());
+    out["coefficients"] = coefficients_json(model.coefficients());
+    return out;
 }
 
 /// Registry of subcommands: each src/cli/*_command.cpp registers one at static-init time.

@@ -3,9 +3,11 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <numbers>
@@ -310,49 +312,77 @@ class lane {
     bool done_ = false;
 };
 
-// One trial step of every unfinished lane, stage by stage (lanes of one type). Without the
-// tangent, the lanes' right-hand sides are evaluated two at a time (pendulum_flow::pair, the
-// same bits as one at a time).
+// Stage s of the active lanes, their right-hand sides evaluated W = lanes_of<V> at a time in the
+// lanes of vectors V (pendulum_flow::lanes / tangent_lanes: per trajectory the same bits as one
+// at a time). A short last group is padded with copies of its first lane's point.
+template <class Lane, int s, class V>
+[[gnu::always_inline]] inline void vector_stage(Lane* const* active, std::size_t m) {
+    constexpr int W = lanes_of<V>;
+    constexpr std::size_t N = Lane::N;
+    const pendulum_flow& flow = active[0]->flow();
+    for (std::size_t i = 0; i < m; i += W) {
+        const std::size_t g = std::min<std::size_t>(W, m - i);
+        double y[W][N] = {};  // (zeroed: the compiler cannot see that g >= 1)
+        for (std::size_t l = 0; l < g; ++l)
+            active[i + l]->rk().template stage_input<s>(y[l]);
+        for (std::size_t l = g; l < W; ++l)
+            for (std::size_t c = 0; c < N; ++c)
+                y[l][c] = y[0][c];
+        V x[N], f[N];
+        for (std::size_t c = 0; c < N; ++c) {
+            double column[W];
+            for (int l = 0; l < W; ++l)
+                column[l] = y[l][c];
+            std::memcpy(&x[c], column, sizeof(V));
+        }
+        if constexpr (N == 4)
+            flow.lanes(x, f);
+        else
+            flow.tangent_lanes(x, f);
+        for (std::size_t l = 0; l < g; ++l) {
+            double* out = active[i + l]->rk().template stage_output<s>();
+            for (std::size_t c = 0; c < N; ++c)
+                out[c] = f[c][l];
+        }
+    }
+}
+
+// Every stage of a trial step of the active lanes, two lanes per SSE2 vector (any x86-64) ...
+template <class Lane>
+void vector_stages_sse2(Lane* const* active, std::size_t m) {
+    Lane::integrator::for_each_stage([&]<int s>() { vector_stage<Lane, s, v2d>(active, m); });
+}
+
+// ... or four per AVX2 vector (the same bits; used when the processor has AVX2). `flatten'
+// inlines everything called here, so that all of it is compiled for AVX2; no FMA is enabled, so
+// the operations and their rounding are those of the scalar code.
+template <class Lane>
+__attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active,
+                                                                 std::size_t m) {
+    Lane::integrator::for_each_stage([&]<int s>() { vector_stage<Lane, s, v4d>(active, m); });
+}
+
+bool processor_has_avx2() {
+    static const bool has = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return has;
+}
+
+// One trial step of every unfinished lane, stage by stage (lanes of one type), the lanes'
+// right-hand sides evaluated together in vectors (vector_stage).
 template <class Lane>
 void lockstep_round(std::span<Lane* const> lanes) {
     std::array<Lane*, 16> active{};
     std::size_t m = 0;
     for (Lane* l : lanes)
         if (l != nullptr && l->begin()) active[m++] = l;
-    if constexpr (Lane::N == 4) {
-        if (m == 0) return;
-        const pendulum_flow& flow = active[0]->flow();
-        Lane::integrator::for_each_stage([&]<int s>() {
-            for (std::size_t i = 0; i < m; i += 2) {
-                Lane* a = active[i];
-                Lane* b = i + 1 < m ? active[i + 1] : nullptr;
-                double ya[4], yb[4];
-                a->rk().template stage_input<s>(ya);
-                if (b)
-                    b->rk().template stage_input<s>(yb);
-                else
-                    for (int c = 0; c < 4; ++c)
-                        yb[c] = ya[c];
-                v2d x[4], f[4] = {};
-                for (int c = 0; c < 4; ++c)
-                    x[c] = v2d{ya[c], yb[c]};
-                flow.pair(x, f);
-                double* fa = a->rk().template stage_output<s>();
-                for (int c = 0; c < 4; ++c)
-                    fa[c] = f[c][0];
-                if (b) {
-                    double* fb = b->rk().template stage_output<s>();
-                    for (int c = 0; c < 4; ++c)
-                        fb[c] = f[c][1];
-                }
-            }
-        });
-    } else {
-        Lane::integrator::for_each_stage([&]<int s>() {
-            for (std::size_t i = 0; i < m; ++i)
-                active[i]->template stage<s>();
-        });
-    }
+    if (m == 0) return;
+    if (m > 2 && processor_has_avx2())
+        vector_stages_avx2<Lane>(active.data(), m);
+    else
+        vector_stages_sse2<Lane>(active.data(), m);
     for (std::size_t i = 0; i < m; ++i)
         active[i]->end();
 }

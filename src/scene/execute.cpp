@@ -11,6 +11,7 @@
 #include "flipflux/ensemble/simulation.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/model/model_json.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/quantities/accuracy.hpp"
@@ -68,23 +69,8 @@ json model_json(const double_pendulum<Real>& model) {
         curves[to_string(a)] = {{"offset", "pi + slope sin(s)"},
                                 {"slope", to_decimal(c.slope(Real(0)))}};
     }
-    return {{"parameters",
-             {{"m1", to_decimal(p.m1)},
-              {"m2", to_decimal(p.m2)},
-              {"L1", to_decimal(p.L1)},
-              {"L2", to_decimal(p.L2)},
-              {"a1", to_decimal(p.a1)},
-              {"a2", to_decimal(p.a2)},
-              {"I1", to_decimal(p.I1)},
-              {"I2", to_decimal(p.I2)},
-              {"g", to_decimal(p.g)}}},
-            {"coefficients",
-             {{"A", to_decimal(k.A)},
-              {"B", to_decimal(k.B)},
-              {"C", to_decimal(k.C)},
-              {"alpha", to_decimal(k.alpha)},
-              {"beta", to_decimal(k.beta)},
-              {"D0", to_decimal(k.D0)}}},
+    return {{"parameters", parameters_json(p)},
+            {"coefficients", coefficients_json(k)},
             {"potential", "V = alpha (1 - cos theta1) + beta (1 - cos theta2)"},
             {"saddle_energy",
              {{"1", to_decimal(model.saddle_energy(arm::one))},
@@ -260,7 +246,11 @@ void run_ensemble(context& ctx, const plan_step& step) {
     request.estimator = parse_rate_estimator(x.estimator, where + ": estimator");
     const std::string base = "ensemble-" + x.name;
     request.csv_dir = ctx.s.output / base;  // per-trajectory CSVs always (the report reads them)
+    // an interrupted run resumes where it stopped (finished trajectories are not integrated
+    // again); the checkpoint is removed once the ensemble is complete
+    request.checkpoint = ctx.s.output / (base + ".checkpoint");
     const json result = simulate(model, request);
+    std::filesystem::remove(request.checkpoint);
     // what was integrated and detected, read back from the result
     for (const json& e : result.at("energies")) {
         ctx.counters.trajectories += result.at("trajectories").get<std::uint64_t>();
@@ -370,16 +360,19 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     auto elapsed = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
-    bool orbit_tables_written = false;
+    // the orbit tables, once, after the last orbit family (the families come first in a plan)
+    bool orbit_tables_written = !s.orbits;
+    auto write_orbit_tables_once = [&] {
+        if (orbit_tables_written) return;
+        dispatch(s.prec, [&]<class Real>() {
+            for (int a : s.orbits->arms)
+                write_orbit_tables<Real>(ctx, a);
+        });
+        orbit_tables_written = true;
+    };
     for (const plan_step& step : p.steps) {
         log << "- " << step.description << "\n";
-        if (step.what != plan_step::kind::orbit_family && s.orbits && !orbit_tables_written) {
-            dispatch(s.prec, [&]<class Real>() {
-                for (int a : s.orbits->arms)
-                    write_orbit_tables<Real>(ctx, a);
-            });
-            orbit_tables_written = true;
-        }
+        if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         switch (step.what) {
             case plan_step::kind::orbit_family:
                 dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
@@ -401,12 +394,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                 break;
         }
     }
-    if (s.orbits && !orbit_tables_written) {
-        dispatch(s.prec, [&]<class Real>() {
-            for (int a : s.orbits->arms)
-                write_orbit_tables<Real>(ctx, a);
-        });
-    }
+    write_orbit_tables_once();
     // orbits solved one by one outside a family (e.g. beyond where a continuation stopped)
     ctx.counters.orbit_solves += saddle_orbit_memo_misses() - misses_before;
     ctx.summary["counters"] = {{"orbit_solves", ctx.counters.orbit_solves},

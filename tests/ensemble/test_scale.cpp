@@ -228,6 +228,46 @@ TEST(FastTrig, PairedRightHandSideEqualsTheSingleOne) {
     }
 }
 
+// Four states per vector, and the tangent equations two and four at a time: per lane the bits of
+// one state at a time, including the libm fallback for a huge angle in one lane.
+TEST(FastTrig, VectorTangentAndFourLaneRightHandSidesEqualTheSingleOnes) {
+    random_reals rnd(10);
+    const pendulum_flow flow(double_pendulum<double>(
+        physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
+    for (int k = 0; k < 1000; ++k) {
+        std::array<std::array<double, 8>, 4> y{};
+        for (auto& one : y) {
+            one = {rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3),
+                   rnd(-1, 1), rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)};
+        }
+        if (k == 0) y[2][0] = -3e6;
+        v4d x4[4], f4[4], t4[8], g4[8];
+        v2d t2[8], g2[8];
+        for (int i = 0; i < 8; ++i)
+            for (int l = 0; l < 4; ++l) {
+                if (i < 4) x4[i][l] = y[l][i];
+                t4[i][l] = y[l][i];
+                if (l < 2) t2[i][l] = y[l][i];
+            }
+        flow.lanes(x4, f4);
+        flow.tangent_lanes(t4, g4);
+        flow.tangent_lanes(t2, g2);
+        for (int l = 0; l < 4; ++l) {
+            const auto f = flow(0.0, {y[l][0], y[l][1], y[l][2], y[l][3]});
+            const auto g = flow.tangent(y[l]);
+            for (int i = 0; i < 8; ++i) {
+                if (i < 4) {
+                    EXPECT_TRUE(same_bits(f4[i][l], f[i])) << k << " " << l << " " << i;
+                }
+                EXPECT_TRUE(same_bits(g4[i][l], g[i])) << k << " " << l << " " << i;
+                if (l < 2) {
+                    EXPECT_TRUE(same_bits(g2[i][l], g[i])) << k << " " << l << " " << i;
+                }
+            }
+        }
+    }
+}
+
 // ---- the command line ------------------------------------------------------------------------
 
 const std::string study =

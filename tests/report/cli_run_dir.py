@@ -119,7 +119,7 @@ def main():
         "model": {
             "parameters": {k: model[k] for k in ("m1", "m2", "L1", "L2", "a1", "a2", "I1", "I2", "g")},
             "coefficients": {"A": coeff["A"], "B": coeff["B"], "C": coeff["C"], "alpha": coeff["alpha"],
-                             "beta": coeff["beta"], "D0": coeff["AB_minus_C2"]},
+                             "beta": coeff["beta"], "D0": coeff["D0"]},
             "saddle_energy": {"1": repr(2 * alpha), "2": repr(2 * beta)},
             "maximum_energy": repr(2 * (alpha + beta)),
         },

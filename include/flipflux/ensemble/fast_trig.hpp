@@ -59,41 +59,78 @@ inline void fast_sincos(double x, double& s, double& c) {
 
 using v2d = double __attribute__((vector_size(16)));  ///< two doubles (SSE2 on x86-64)
 using v2l = long long __attribute__((vector_size(16)));
+/// Four doubles: AVX registers in functions compiled for AVX2 (ensemble.cpp dispatches at run
+/// time), two SSE2 registers elsewhere.
+using v4d = double __attribute__((vector_size(32)));
+using v4l = long long __attribute__((vector_size(32)));
 
-/// fast_sincos in both lanes of a vector, |x| <= 2^19 in each (the caller checks): the same
-/// operations in the same order per lane as fast_sincos, hence the same bits (tested).
-inline void fast_sincos_v2(v2d x, v2d& s, v2d& c) {
+/// The number of lanes of a vector type.
+template <class V>
+inline constexpr int lanes_of = sizeof(V) / sizeof(double);
+/// The integer vector of the same shape.
+template <class V>
+struct lane_mask;
+template <>
+struct lane_mask<v2d> {
+    using type = v2l;
+};
+template <>
+struct lane_mask<v4d> {
+    using type = v4l;
+};
+
+/// fast_sincos in every lane of a vector V (v2d or v4d),
+/// |x| <= 2^19 in each (the caller checks, fast_sincos_in_range): the same operations in the same
+/// order per lane as fast_sincos, hence the same bits (tested). Always inlined, so that a caller
+/// compiled for AVX2 gets it in AVX2.
+template <class V>
+[[gnu::always_inline]] inline void fast_sincos_lanes(V x, V& s, V& c) {
+    using L = typename lane_mask<V>::type;
     constexpr double two_over_pi = 6.36619772367581382433e-01;
     constexpr double pio2_1 = 1.57079632673412561417e+00;
     constexpr double pio2_2 = 6.07710050630396597660e-11;
     constexpr double pio2_2t = 2.02226624879595063154e-21;
     constexpr double shifter = 0x1.8p52;
-    const v2d shifted = x * two_over_pi + shifter;
-    const v2d q = shifted - shifter;
-    const v2d r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
-    const v2d z = r * r;
+    const V shifted = x * two_over_pi + shifter;
+    const V q = shifted - shifter;
+    const V r = ((x - q * pio2_1) - q * pio2_2) - q * pio2_2t;
+    const V z = r * r;
     constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
                      S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
                      S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
-    const v2d ps = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
-    const v2d sr = r + r * z * (S1 + z * ps);
+    const V ps = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    const V sr = r + r * z * (S1 + z * ps);
     constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
                      C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
                      C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
-    const v2d pc = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
-    const v2d hz = 0.5 * z;
-    const v2d w = 1.0 - hz;
-    const v2d cr = w + (((1.0 - w) - hz) + z * pc);
-    const v2l quadrant = reinterpret_cast<v2l>(shifted) & 3;
-    const v2l swap = (quadrant & 1) != 0;
-    const v2d a = swap ? cr : sr, b = swap ? sr : cr;
+    const V pc = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    const V hz = 0.5 * z;
+    const V w = 1.0 - hz;
+    const V cr = w + (((1.0 - w) - hz) + z * pc);
+    const L quadrant = reinterpret_cast<L>(shifted) & 3;
+    const L swap = (quadrant & 1) != 0;
+    const V a = swap ? cr : sr, b = swap ? sr : cr;
     s = (quadrant & 2) != 0 ? -a : a;
     c = ((quadrant + 1) & 2) != 0 ? -b : b;
 }
 
+/// Whether every lane is in fast_sincos_lanes' range.
+template <class V>
+[[gnu::always_inline]] inline bool fast_sincos_in_range(V x) {
+    bool ok = true;
+    for (int i = 0; i < lanes_of<V>; ++i)
+        ok = ok && std::abs(x[i]) <= 524288.0;
+    return ok;
+}
+
+/// fast_sincos in both lanes of a vector (fast_sincos_lanes for v2d).
+inline void fast_sincos_v2(v2d x, v2d& s, v2d& c) {
+    fast_sincos_lanes(x, s, c);
+}
+
 /// Whether both lanes are in fast_sincos_v2's range.
 inline bool fast_sincos_v2_range(v2d x) {
-    return std::abs(x[0]) <= 524288.0 && std::abs(x[1]) <= 524288.0;
+    return fast_sincos_in_range(x);
 }
 
 /// fast_sincos of two arguments at once, bit for bit fast_sincos(x0) and fast_sincos(x1).

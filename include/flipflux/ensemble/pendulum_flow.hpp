@@ -42,14 +42,14 @@ class pendulum_flow {
         return {w1, w2, -P - k_.alpha * g.s1, P - k_.beta * g.s2};
     }
 
-    /// Hamilton's equations at two states at once, x[i] = (component i of state 0, of state 1),
-    /// in the lanes of vectors: per lane the same operations in the same order as operator(),
-    /// hence the same bits (tested), in about half the instructions. Used by the ensemble's
-    /// lockstep lanes.
-    void pair(const v2d x[4], v2d f[4]) const {
-        const v2d th1 = x[0], th2 = x[1];
-        if (!fast_sincos_v2_range(th1) || !fast_sincos_v2_range(th2)) {
-            for (int lane = 0; lane < 2; ++lane) {
+    /// Hamilton's equations at lanes_of<V> states at once (V = v2d or v4d), x[i] = (component i
+    /// of each state): per lane the same operations in the same order as operator(), hence the
+    /// same bits (tested), in a fraction of the instructions. Used by the ensemble's lockstep
+    /// lanes; always inlined, so that a caller compiled for AVX2 gets AVX2 code.
+    template <class V>
+    [[gnu::always_inline]] void lanes(const V x[4], V f[4]) const {
+        if (!fast_sincos_in_range(x[0]) || !fast_sincos_in_range(x[1])) {
+            for (int lane = 0; lane < lanes_of<V>; ++lane) {
                 const std::array<double, 4> f1 =
                     (*this)(0.0, {x[0][lane], x[1][lane], x[2][lane], x[3][lane]});
                 for (int i = 0; i < 4; ++i)
@@ -57,21 +57,66 @@ class pendulum_flow {
             }
             return;
         }
-        // th1 and th2 of both states: (s1, c1) from th1's lanes, (s2, c2) from th2's
-        v2d s1, c1, s2, c2;
-        fast_sincos_v2(th1, s1, c1);
-        fast_sincos_v2(th2, s2, c2);
-        const v2d sd = s1 * c2 - c1 * s2;
-        const v2d cd = c1 * c2 + s1 * s2;
+        V s1, c1, s2, c2;
+        fast_sincos_lanes(x[0], s1, c1);
+        fast_sincos_lanes(x[1], s2, c2);
+        const V sd = s1 * c2 - c1 * s2;
+        const V cd = c1 * c2 + s1 * s2;
         const double CC = k_.C * k_.C;
-        const v2d det = k_.D0 + CC * sd * sd;
-        const v2d w1 = (k_.B * x[2] - k_.C * cd * x[3]) / det;
-        const v2d w2 = (k_.A * x[3] - k_.C * cd * x[2]) / det;
-        const v2d P = k_.C * sd * w1 * w2;
+        const V det = k_.D0 + CC * sd * sd;
+        const V w1 = (k_.B * x[2] - k_.C * cd * x[3]) / det;
+        const V w2 = (k_.A * x[3] - k_.C * cd * x[2]) / det;
+        const V P = k_.C * sd * w1 * w2;
         f[0] = w1;
         f[1] = w2;
         f[2] = -P - k_.alpha * s1;
         f[3] = P - k_.beta * s2;
+    }
+
+    /// lanes() for two states.
+    void pair(const v2d x[4], v2d f[4]) const { lanes(x, f); }
+
+    /// tangent() at lanes_of<V> states at once, y[i] = (component i of each state): per lane
+    /// the same bits as tangent() (tested).
+    template <class V>
+    [[gnu::always_inline]] void tangent_lanes(const V y[8], V f[8]) const {
+        if (!fast_sincos_in_range(y[0]) || !fast_sincos_in_range(y[1])) {
+            for (int lane = 0; lane < lanes_of<V>; ++lane) {
+                std::array<double, 8> one{};
+                for (int i = 0; i < 8; ++i)
+                    one[i] = y[i][lane];
+                const std::array<double, 8> f1 = tangent(one);
+                for (int i = 0; i < 8; ++i)
+                    f[i][lane] = f1[i];
+            }
+            return;
+        }
+        V s1, c1, s2, c2;
+        fast_sincos_lanes(y[0], s1, c1);
+        fast_sincos_lanes(y[1], s2, c2);
+        const V sd = s1 * c2 - c1 * s2;
+        const V cd = c1 * c2 + s1 * s2;
+        const double C = k_.C;
+        const V det = k_.D0 + C * C * sd * sd;
+        const V n1 = k_.B * y[2] - C * cd * y[3];
+        const V n2 = k_.A * y[3] - C * cd * y[2];
+        const V w1 = n1 / det, w2 = n2 / det;
+        const V P = C * sd * w1 * w2;
+        const V dd = y[4] - y[5];
+        const V dsd = cd * dd, dcd = -sd * dd;
+        const V ddet = 2 * C * C * sd * dsd;
+        const V dn1 = k_.B * y[6] - C * (dcd * y[3] + cd * y[7]);
+        const V dn2 = k_.A * y[7] - C * (dcd * y[2] + cd * y[6]);
+        const V dw1 = (dn1 - w1 * ddet) / det, dw2 = (dn2 - w2 * ddet) / det;
+        const V dP = C * (dsd * w1 * w2 + sd * (dw1 * w2 + w1 * dw2));
+        f[0] = w1;
+        f[1] = w2;
+        f[2] = -P - k_.alpha * s1;
+        f[3] = P - k_.beta * s2;
+        f[4] = dw1;
+        f[5] = dw2;
+        f[6] = -dP - k_.alpha * c1 * y[4];
+        f[7] = dP - k_.beta * c2 * y[5];
     }
 
     /// Angular velocities th' = M^-1 l.

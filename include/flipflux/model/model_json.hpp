@@ -1,0 +1,28 @@
+// The model as JSON, every number a decimal string with all the digits of its precision: the
+// nine physical parameters and the Lagrangian coefficients. One layout for the CLI's JSON output
+// (`flipflux model`, `eval`, `simulate`) and the scene's run.json (src/report reads it).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/model/double_pendulum.hpp"
+
+namespace flipflux {
+
+/// {"m1", "m2", "L1", "L2", "a1", "a2", "I1", "I2", "g"}.
+template <class Real>
+nlohmann::ordered_json parameters_json(const physical_parameters<Real>& p) {
+    return {{"m1", to_decimal(p.m1)}, {"m2", to_decimal(p.m2)}, {"L1", to_decimal(p.L1)},
+            {"L2", to_decimal(p.L2)}, {"a1", to_decimal(p.a1)}, {"a2", to_decimal(p.a2)},
+            {"I1", to_decimal(p.I1)}, {"I2", to_decimal(p.I2)}, {"g", to_decimal(p.g)}};
+}
+
+/// {"A", "B", "C", "alpha", "beta", "D0"}, D0 = AB - C^2.
+template <class Real>
+nlohmann::ordered_json coefficients_json(const lagrangian_coefficients<Real>& k) {
+    return {{"A", to_decimal(k.A)},         {"B", to_decimal(k.B)},       {"C", to_decimal(k.C)},
+            {"alpha", to_decimal(k.alpha)}, {"beta", to_decimal(k.beta)}, {"D0", to_decimal(k.D0)}};
+}
+
+}  // namespace flipflux
