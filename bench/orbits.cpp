@@ -6,28 +6,13 @@
 
 #include <cmath>
 
+#include "flipflux/core/convert.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
 namespace {
-
-template <class To, class From>
-To convert(const From& x) {
-    if constexpr (std::is_same_v<To, From>)
-        return x;
-    else
-        return parse_real<To>(to_decimal(x, output_digits<From>() + 2), "convert");
-}
-
-template <class Lo, class Hi>
-double digits(const Lo& lo, const Hi& hi) {
-    using std::abs;
-    const mp100 a = convert<mp100>(lo), b = convert<mp100>(hi);
-    const mp100 r = abs(a - b) / abs(b);
-    return r == 0 ? 100.0 : -static_cast<double>(log10(r));
-}
 
 std::vector<double> arm2_grid() {
     std::vector<double> e;
@@ -71,8 +56,8 @@ void orbit_benchmark(benchmark::State& state, orbit_method method, const Ref& re
     ro.stages = ref_stages;
     const auto ref =
         solve_saddle_orbit(double_pendulum<Ref>(), arm::two, parse_real<Ref>("3", "E"), ro);
-    state.counters["digits_T"] = digits(o.period, ref.period);
-    state.counters["digits_F"] = digits(o.action, ref.action);
+    state.counters["digits_T"] = correct_digits(o.period, ref.period);
+    state.counters["digits_F"] = correct_digits(o.action, ref.action);
     state.counters["steps"] = static_cast<double>(o.steps);
     state.counters["stages"] = o.stages;
     state.SetLabel(to_string(method));

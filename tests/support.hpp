@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 
+#include "flipflux/core/convert.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/real.hpp"
 
@@ -28,27 +29,13 @@ struct real_name {
     }
 };
 
+// conversion between precisions and relative errors (core/convert.hpp), also as test::...
+using flipflux::convert;
+using flipflux::relative_error;
+
 template <class Real>
 Real eps() {
     return std::numeric_limits<Real>::epsilon();
-}
-
-/// Converts between supported types through a decimal string with all digits of `From`.
-template <class To, class From>
-To convert(const From& x) {
-    if constexpr (std::is_same_v<To, From>)
-        return x;
-    else
-        return parse_real<To>(to_decimal(x, output_digits<From>() + 2), "convert");
-}
-
-/// |a - b| / |b| (or |a - b| when b == 0), evaluated in mp100.
-template <class A, class B>
-double relative_error(const A& a, const B& b) {
-    const mp100 x = convert<mp100>(a), y = convert<mp100>(b);
-    using std::abs;
-    const mp100 d = abs(x - y);
-    return static_cast<double>(y == 0 ? d : d / abs(y));
 }
 
 /// Reproducible random reals in [lo, hi], generated in double (exactly representable in all

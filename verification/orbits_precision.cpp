@@ -8,27 +8,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "flipflux/core/convert.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
 namespace {
-
-/// Converts through all digits of the source.
-template <class To, class From>
-To convert(const From& x) {
-    if constexpr (std::is_same_v<To, From>)
-        return x;
-    else
-        return parse_real<To>(to_decimal(x, output_digits<From>() + 2), "convert");
-}
-
-template <class Lo, class Hi>
-double rel(const Lo& lo, const Hi& hi) {
-    using std::abs;
-    const mp100 a = convert<mp100>(lo), b = convert<mp100>(hi);
-    return static_cast<double>(abs(a - b) / abs(b));
-}
 
 template <class Real>
 saddle_orbit<Real> orbit(arm a, const std::string& energy, orbit_method m,
@@ -46,8 +31,9 @@ saddle_orbit<Real> orbit(arm a, const std::string& energy, orbit_method m,
 template <class Lo, class Hi>
 void compare(const saddle_orbit<Lo>& lo, const saddle_orbit<Hi>& hi, double t_tol, double f_tol,
              const char* label) {
-    const double dT = rel(lo.period, hi.period), dF = rel(lo.action, hi.action);
-    const double dmu = rel(lo.floquet.stability_index, hi.floquet.stability_index);
+    const double dT = relative_error(lo.period, hi.period),
+                 dF = relative_error(lo.action, hi.action);
+    const double dmu = relative_error(lo.floquet.stability_index, hi.floquet.stability_index);
     std::printf("  %-28s arm %s E = %s: T %.2e (est. %.1e), F %.2e (est. %.1e), mu+1/mu %.1e\n",
                 label, to_string(lo.flip_arm).c_str(), to_decimal(hi.energy, 12).c_str(), dT,
                 static_cast<double>(lo.error_estimate_period / lo.period), dF,

@@ -33,7 +33,19 @@ std::string to_string(orbit_status s) {
 namespace {
 std::atomic<unsigned> memo_generation{0};
 std::atomic<std::size_t> memo_misses{0};
+thread_local bool memo_bypassed = false;
 }  // namespace
+
+saddle_orbit_memo_bypass::saddle_orbit_memo_bypass() : previous_(memo_bypassed) {
+    memo_bypassed = true;
+}
+saddle_orbit_memo_bypass::~saddle_orbit_memo_bypass() {
+    memo_bypassed = previous_;
+}
+// Whether a saddle_orbit_memo_bypass lives in this thread.
+bool saddle_orbit_memo_bypassed() {
+    return memo_bypassed;
+}
 
 // Orbits solved by find_or_solve_saddle_orbit because the memo did not have them.
 std::size_t saddle_orbit_memo_misses() {

@@ -1,10 +1,12 @@
 // Saddle orbits solved once: memo and serialisation (include/flipflux/orbits/orbit_store.hpp).
 #include "flipflux/orbits/orbit_store.hpp"
 
+#include <condition_variable>
 #include <cstdint>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/instantiate.hpp"
@@ -14,6 +16,7 @@ namespace flipflux {
 
 unsigned saddle_orbit_memo_generation();  // src/orbits/orbit_names.cpp
 void count_saddle_orbit_memo_miss();      // src/orbits/orbit_names.cpp
+bool saddle_orbit_memo_bypassed();        // src/orbits/orbit_names.cpp
 
 namespace {
 
@@ -33,6 +36,8 @@ struct memo {
     std::mutex mutex;
     unsigned generation = 0;
     std::map<std::string, saddle_orbit<Real>> orbits;
+    std::set<std::string> solving;   ///< keys being solved by find_or_solve_saddle_orbit
+    std::condition_variable solved;  ///< notified when a key leaves `solving`
 
     static memo& instance() {
         static memo m;
@@ -102,7 +107,37 @@ template <class Real>
 saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
                                               const Real& energy,
                                               const orbit_options<Real>& options) {
-    if (auto o = recall_saddle_orbit(model, a, energy, options.method)) return *o;
+    if (saddle_orbit_memo_bypassed()) {
+        count_saddle_orbit_memo_miss();
+        saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+        if (orbit.status != orbit_status::not_converged) remember_saddle_orbit(model, orbit);
+        return orbit;
+    }
+    // Recall; else, when another thread is solving the same orbit, wait for its result rather
+    // than solve it a second time (mp:100 orbits take minutes); else solve it here.
+    auto& m = memo<Real>::instance();
+    const std::string key = memo<Real>::key(model, a, energy, options.method);
+    {
+        std::unique_lock<std::mutex> lock(m.mutex);
+        for (;;) {
+            m.refresh();
+            if (const auto it = m.orbits.find(key); it != m.orbits.end()) return it->second;
+            if (m.solving.count(key) == 0) break;
+            m.solved.wait(lock);  // if that solve fails, this thread tries in turn
+        }
+        m.solving.insert(key);
+    }
+    struct release {  // leaves `solving` after the orbit is remembered, also on an exception
+        memo<Real>& m;
+        const std::string& key;
+        ~release() {
+            {
+                const std::lock_guard<std::mutex> lock(m.mutex);
+                m.solving.erase(key);
+            }
+            m.solved.notify_all();
+        }
+    } const done{m, key};
     count_saddle_orbit_memo_miss();
     saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
     if (orbit.status != orbit_status::not_converged) remember_saddle_orbit(model, orbit);

@@ -37,13 +37,15 @@ struct timed_value {
 };
 
 /// `fresh`: time a saddle-orbit quantity from scratch (the orbit memo, which shares one orbit
-/// between period, action, flux, ..., would otherwise make repeated evaluations free).
+/// between period, action, flux, ..., would otherwise make repeated evaluations free); the memo
+/// keeps its orbits for the references of the next quantities.
 template <class Real>
 std::optional<timed_value> evaluate(const quantity& q, const std::string& method, const probe& p,
                                     bool fresh = false) {
     const double_pendulum<Real> model;
     const Real energy = parse_real<Real>(p.energy, "--energy");
-    if (fresh && q.needs_saddle_orbit) forget_saddle_orbits();
+    std::optional<saddle_orbit_memo_bypass> bypass;
+    if (fresh && q.needs_saddle_orbit) bypass.emplace();
     try {
         const auto start = std::chrono::steady_clock::now();
         const quantity_value<Real> v = q.evaluate(model, p.a, energy, method);

@@ -1,6 +1,7 @@
 // Helpers shared by the ensemble tests: random admissible pendulums, the non-egalitarian
-// pendulum used throughout, and a small independent quadrature of the configuration density and
-// of curve fluxes (a temporary reference, independent of prediction/).
+// pendulum used throughout, and the configuration density integrated over parts of the
+// configuration space (for the sampler's marginals), built on the independent quadrature of
+// verification/ensemble_reference.hpp (independent of prediction/).
 #pragma once
 
 #include <array>
@@ -9,6 +10,7 @@
 #include <functional>
 #include <numbers>
 
+#include "../../verification/ensemble_reference.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "support.hpp"
@@ -45,13 +47,7 @@ inline physical_parameters<double> lopsided_parameters() {
     return p;
 }
 
-/// Adaptive Gauss-Kronrod on [a, b] (split at kinks yourself); depth 0: one 31-point rule, exact
-/// to rounding for the smooth, slowly varying line integrands used here.
-inline double integrate(const std::function<double(double)>& f, double a, double b,
-                        unsigned depth = 15, double tol = 1e-12) {
-    if (!(b > a)) return 0;
-    return boost::math::quadrature::gauss_kronrod<double, 31>::integrate(f, a, b, depth, tol);
-}
+using verification::integrate;
 
 /// Half-width of the accessible interval of th with 2 k sin^2(th/2) < E_rest (pi if all).
 inline double accessible_half_width(double rest, double k) {
@@ -109,41 +105,6 @@ inline std::vector<double> width_breaks_th2(const double_pendulum<double>& m, do
     if (rest <= 0 || rest >= 2 * k.beta) return {};
     const double t = 2 * std::asin(std::sqrt(rest / (2 * k.beta)));
     return {-t, t};
-}
-
-/// Omega(E) = 2 pi int int sqrt(det M) Theta(E - V) (independent quadrature).
-inline double phase_volume_reference(const double_pendulum<double>& m, double E) {
-    const double pi = std::numbers::pi;
-    std::vector<double> br = width_breaks_th1(m, E, 0.0);
-    auto line = [&](double t1) { return density_line_th2(m, E, t1, -pi, pi); };
-    return 2 * pi * integrate_with_breaks(line, -pi, pi, br);
-}
-
-/// Flux through the curve: f = 4 int ds sqrt(2 K_+) sqrt(n^T M^-1 n) sqrt(det M), n the normal
-/// of g = flip - pi - h(s): arm 2 (th1 = s, th2 = pi + h): sqrt(A + 2 C c h' + B h'^2);
-/// arm 1 (th2 = s, th1 = pi + h): sqrt(B + 2 C c h' + A h'^2), c = cos(th1 - th2).
-template <class Curve>
-double curve_flux_reference(const double_pendulum<double>& m, const Curve& curve, double E) {
-    const auto& k = m.coefficients();
-    const arm a = curve.flip_arm();
-    auto integrand = [&](double s) {
-        const double f = std::numbers::pi + curve.offset(s), hp = curve.slope(s);
-        const double th1 = a == arm::two ? s : f, th2 = a == arm::two ? f : s;
-        const double K = E - m.potential(th1, th2);
-        if (K <= 0) return 0.0;
-        const double c = std::cos(th1 - th2);
-        const double q = a == arm::two ? k.A + 2 * k.C * c * hp + k.B * hp * hp
-                                       : k.B + 2 * k.C * c * hp + k.A * hp * hp;
-        return 4 * std::sqrt(2 * K) * std::sqrt(q);
-    };
-    // split the s-range into many pieces so that the kinks of K_+ are resolved
-    const std::array<double, 2> d = curve.domain();
-    const int pieces = 64;
-    double s = 0;
-    for (int i = 0; i < pieces; ++i)
-        s += integrate(integrand, d[0] + (d[1] - d[0]) * i / pieces,
-                       d[0] + (d[1] - d[0]) * (i + 1) / pieces);
-    return s;
 }
 
 }  // namespace flipflux::test

@@ -3,6 +3,8 @@
 // was remembered for the same pendulum, arm, energy and method only, and cache keys separate
 // everything that changes an orbit.
 #include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
@@ -125,8 +127,38 @@ TEST(OrbitStore, MemoReturnsOnlyTheSameOrbit) {
     const auto found = find_or_solve_saddle_orbit(model, arm::two, 3.0);
     EXPECT_EQ(saddle_orbit_memo_misses(), misses);
     EXPECT_EQ(found.period, o.period);  // the synthetic one: nothing was solved
+    // a bypass solves afresh (the real orbit, not the synthetic one) and leaves it remembered
+    {
+        const saddle_orbit_memo_bypass bypass;
+        const auto solved = find_or_solve_saddle_orbit(model, arm::two, 3.0);
+        EXPECT_EQ(saddle_orbit_memo_misses(), misses + 1);
+        EXPECT_NE(solved.period, o.period);
+        EXPECT_EQ(solved.period, solve_saddle_orbit(model, arm::two, 3.0, {}).period);
+    }
+    const auto after = find_or_solve_saddle_orbit(model, arm::two, 3.0);
+    EXPECT_EQ(saddle_orbit_memo_misses(), misses + 1);  // recalled, not solved
+    EXPECT_NE(after.period, o.period);
     forget_saddle_orbits();
     EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::periodic).has_value());
+}
+
+// Threads asking for the same orbit at once solve it once: the others wait for its result.
+TEST(OrbitStore, ConcurrentRequestsForOneOrbitSolveItOnce) {
+    forget_saddle_orbits();
+    const double_pendulum<double> model;
+    const std::size_t misses = saddle_orbit_memo_misses();
+    std::vector<saddle_orbit<double>> found(4);
+    std::vector<std::thread> threads;
+    for (std::size_t i = 0; i < found.size(); ++i)
+        threads.emplace_back(
+            [&, i] { found[i] = find_or_solve_saddle_orbit(model, arm::one, 4.75); });
+    for (std::thread& t : threads)
+        t.join();
+    EXPECT_EQ(saddle_orbit_memo_misses(), misses + 1);
+    for (const auto& o : found)
+        EXPECT_EQ(o.period, found[0].period);
+    EXPECT_EQ(found[0].period, solve_saddle_orbit(model, arm::one, 4.75, {}).period);
+    forget_saddle_orbits();
 }
 
 TEST(OrbitStore, CacheKeysSeparatePendulumsPrecisionsAndOptions) {

@@ -5,7 +5,8 @@
 // solves it (solve_saddle_orbit) and remembers it. The registry's saddle quantities
 // (src/quantities/orbits.cpp) and the Monte Carlo saddle criterion (src/ensemble/criteria.cpp)
 // both go through it, so a scene that continues a family once never solves its orbits again.
-// Thread-safe (one mutex per Real).
+// Thread-safe (one mutex per Real); threads asking for an orbit another thread is solving wait
+// for that solve instead of repeating it.
 //
 // Disk: `orbit_to_json` / `orbit_from_json` serialise every field of a saddle_orbit, the reals as
 // decimal strings with all digits of Real, so that an orbit read back is bit-identical to the one
@@ -32,6 +33,20 @@ void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbi
 
 /// Forgets every remembered orbit of every precision (tests).
 void forget_saddle_orbits();
+
+/// While an object of this type lives, find_or_solve_saddle_orbit in this thread solves every
+/// orbit afresh (and remembers it): for timing a solve (the accuracy report) without forgetting
+/// the orbits that other evaluations share.
+class saddle_orbit_memo_bypass {
+  public:
+    saddle_orbit_memo_bypass();
+    ~saddle_orbit_memo_bypass();
+    saddle_orbit_memo_bypass(const saddle_orbit_memo_bypass&) = delete;
+    saddle_orbit_memo_bypass& operator=(const saddle_orbit_memo_bypass&) = delete;
+
+  private:
+    bool previous_;
+};
 
 /// Recall, else solve (solve_saddle_orbit with `options`) and remember a converged or stalled
 /// orbit.
