@@ -55,6 +55,11 @@ const register_command registration([](CLI::App& app) {
                          r.quantity.c_str(), r.arm.empty() ? "-" : r.arm.c_str(), r.energy.c_str(),
                          r.digits);
         };
+        std::size_t skipped = 0;
+        options.skipped = [&skipped](const std::string& what) {
+            ++skipped;
+            std::fprintf(stderr, "golden: skipped %s\n", what.c_str());
+        };
         std::error_code ec;
         std::filesystem::create_directories(s->out, ec);
         if (ec) throw input_error("--out: cannot create '" + s->out + "': " + ec.message());
@@ -69,6 +74,7 @@ const register_command registration([](CLI::App& app) {
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);
         const json summary{{"rows", rows.size()},
+                           {"skipped", skipped},
                            {"least_digits", least},
                            {"csv", s->out + "/golden.csv"},
                            {"provenance", s->out + "/provenance.json"}};

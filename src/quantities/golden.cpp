@@ -48,7 +48,13 @@ struct golden_task {
     std::string energy;
 };
 
-std::optional<golden_row> compute_row(const golden_task& t) {
+/// The row of a task, or why it has none (outside the quantity's domain, undefined there).
+struct golden_outcome {
+    std::optional<golden_row> row;
+    std::string skipped;
+};
+
+golden_outcome compute_row(const golden_task& t) {
     const double_pendulum<mp50> model50;
     const double_pendulum<mp100> model100;
     const mp50 e50 = parse_real<mp50>(t.energy, "--energy");
@@ -58,12 +64,13 @@ std::optional<golden_row> compute_row(const golden_task& t) {
     try {
         high = t.q->evaluate(model100, t.a, e100, "");
         low = t.q->evaluate(model50, t.a, e50, "");
-    } catch (const input_error&) {
-        return std::nullopt;  // outside the quantity's domain
-    } catch (const std::runtime_error&) {
-        return std::nullopt;  // undefined here (e.g. the real multiplier of an elliptic orbit)
+    } catch (const input_error& e) {
+        return {std::nullopt, e.what()};  // outside the quantity's domain
+    } catch (const std::runtime_error& e) {
+        // undefined here (e.g. the real multiplier of an elliptic orbit)
+        return {std::nullopt, e.what()};
     }
-    if (high.value == 0) return std::nullopt;
+    if (high.value == 0) return {std::nullopt, "zero (no relative digits to certify)"};
     const std::string reference = to_decimal(high.value);
     int digits = agreement_digits(to_decimal(low.value), reference);
     std::string checked;
@@ -85,7 +92,7 @@ std::optional<golden_row> compute_row(const golden_task& t) {
     row.digits = digits;
     row.value = to_decimal(high.value, std::max(digits, 1));
     row.method = high.method + (checked.empty() ? "" : "|" + checked);
-    return row;
+    return {row, ""};
 }
 
 }  // namespace
@@ -158,7 +165,7 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
             sample.push_back(tasks[i * tasks.size() / options.max_rows]);
         tasks.swap(sample);
     }
-    std::vector<std::optional<golden_row>> rows(tasks.size());
+    std::vector<golden_outcome> rows(tasks.size());
     std::size_t done = 0;
     const long n = static_cast<long>(tasks.size());
 #pragma omp parallel for schedule(dynamic) num_threads(options.jobs > 0 ? options.jobs : 1)
@@ -167,12 +174,17 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
 #pragma omp critical(flipflux_golden_progress)
         {
             ++done;
-            if (options.progress && rows[i]) options.progress(*rows[i], done, tasks.size());
+            if (options.progress && rows[i].row) options.progress(*rows[i].row, done, tasks.size());
+            if (options.skipped && !rows[i].row) {
+                const golden_task& t = tasks[i];
+                options.skipped(t.q->name + " arm " + (t.q->per_arm ? to_string(t.a) : "-") +
+                                " E " + t.energy + ": " + rows[i].skipped);
+            }
         }
     }
     std::vector<golden_row> out;
     for (auto& r : rows)
-        if (r) out.push_back(std::move(*r));
+        if (r.row) out.push_back(std::move(*r.row));
     return out;
 }
 

@@ -16,12 +16,7 @@ namespace {
 
 using test::relative_error;
 
-std::string read_text(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream buf;
-    buf << in.rdbuf();
-    return buf.str();
-}
+using test::read_text;
 
 const std::vector<std::string> prediction_quantities{"omega", "flux-upright", "flux-approx",
                                                      "rate-upright", "rate-approx"};
@@ -114,7 +109,7 @@ TEST(Golden, CommandWritesASmallSelection) {
         "golden --out " + dir + " --quantities flux-upright --max-rows 2 --jobs 2");
     ASSERT_EQ(r.status, 0) << r.err;
     const std::vector<golden_row> rows = parse_golden_csv(read_text(dir + "/golden.csv"));
-    ASSERT_EQ(rows.size(), 2u);
+    ASSERT_EQ(rows.size(), 2u) << r.err;
     for (const golden_row& row : rows) {
         EXPECT_EQ(row.quantity, "flux-upright");
         EXPECT_GE(row.digits, 45);
@@ -122,6 +117,7 @@ TEST(Golden, CommandWritesASmallSelection) {
     }
     const nlohmann::json summary = nlohmann::json::parse(r.out);
     EXPECT_EQ(summary["rows"], 2);
+    EXPECT_EQ(summary["skipped"], 0) << r.err;
     EXPECT_TRUE(std::filesystem::exists(dir + "/provenance.json"));
     EXPECT_FALSE(std::filesystem::exists(dir + "/golden.csv.tmp"));
     std::filesystem::remove_all(dir);

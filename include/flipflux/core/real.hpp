@@ -27,6 +27,29 @@ using mp50 = boost::multiprecision::number<boost::multiprecision::mpfr_float_bac
 using mp100 = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<100>,
                                             boost::multiprecision::et_off>;
 
+namespace detail {
+
+/// Fills std::numeric_limits<Real>'s value caches (epsilon, round_error, min, max, infinity,
+/// quiet_NaN).
+/// NOTE: Boost 1.74 fills those of MPFR numbers on first call, unguarded:
+/// `if (!value.first) { value.first = true; value.second = ...; }`, so a second thread arriving
+/// in between reads max() == 0 (seen as a spurious "ellint_rf: numeric overflow" under
+/// `flipflux golden --jobs 2`). Boost's own start-up initializer warms the expression-template
+/// type only, not the et_off types flipflux uses; flipflux warms them during static
+/// initialisation below, before any thread exists.
+template <class Real>
+bool warm_numeric_limits() {
+    using limits = std::numeric_limits<Real>;
+    const bool ready = limits::epsilon() > 0 && limits::round_error() > 0 && (limits::min)() > 0 &&
+                       (limits::max)() > 0 && limits::infinity() > 0;
+    (void)limits::quiet_NaN();
+    return ready;
+}
+
+inline const bool mpfr_limits_warm = warm_numeric_limits<mp50>() && warm_numeric_limits<mp100>();
+
+}  // namespace detail
+
 /// The run-time name of a supported real type.
 enum class precision { double_, quad, mp50, mp100 };
 

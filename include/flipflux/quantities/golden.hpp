@@ -45,6 +45,9 @@ struct golden_options {
     std::size_t max_rows = 0;             ///< 0: all (for quick runs and tests)
     /// called after each row (from one thread at a time), for progress reports
     std::function<void(const golden_row&, std::size_t done, std::size_t total)> progress;
+    /// called for each task that gives no row ("QUANTITY arm A E ENERGY: reason"), one thread at
+    /// a time: outside the quantity's domain, or undefined there
+    std::function<void(const std::string& what)> skipped;
 };
 
 /// Generates the rows for the egalitarian pendulum (the paper's).
