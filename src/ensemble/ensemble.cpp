@@ -201,10 +201,6 @@ class lane {
         }
         return true;
     }
-    template <int s>
-    void stage() {
-        rk_.template stage<s>();
-    }
     integrator& rk() { return rk_; }
     const pendulum_flow& flow() const { return flow_; }
     void end() {

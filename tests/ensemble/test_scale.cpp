@@ -208,7 +208,7 @@ TEST(FastTrig, AgreesWithLibmToTwoUlp) {
 
 // The two-state right-hand side (the ensemble's lockstep lanes) is bit for bit the one-state one,
 // including the libm fallback for huge angles.
-TEST(FastTrig, PairedRightHandSideEqualsTheSingleOne) {
+TEST(FastTrig, TwoLaneRightHandSideEqualsTheSingleOne) {
     random_reals rnd(9);
     const pendulum_flow flow(double_pendulum<double>(
         physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
@@ -219,7 +219,7 @@ TEST(FastTrig, PairedRightHandSideEqualsTheSingleOne) {
         v2d x[4], f[4];
         for (int i = 0; i < 4; ++i)
             x[i] = v2d{a[i], b[i]};
-        flow.pair(x, f);
+        flow.lanes(x, f);
         const auto fa = flow(0.0, a), fb = flow(0.0, b);
         for (int i = 0; i < 4; ++i) {
             EXPECT_TRUE(same_bits(f[i][0], fa[i])) << k << " " << i;

@@ -49,12 +49,8 @@ class pendulum_flow {
     template <class V>
     [[gnu::always_inline]] void lanes(const V x[4], V f[4]) const {
         if (!fast_sincos_in_range(x[0]) || !fast_sincos_in_range(x[1])) {
-            for (int lane = 0; lane < lanes_of<V>; ++lane) {
-                const std::array<double, 4> f1 =
-                    (*this)(0.0, {x[0][lane], x[1][lane], x[2][lane], x[3][lane]});
-                for (int i = 0; i < 4; ++i)
-                    f[i][lane] = f1[i];
-            }
+            per_lane<4>(x, f,
+                        [this](const std::array<double, 4>& one) { return (*this)(0.0, one); });
             return;
         }
         V s1, c1, s2, c2;
@@ -73,22 +69,12 @@ class pendulum_flow {
         f[3] = P - k_.beta * s2;
     }
 
-    /// lanes() for two states.
-    void pair(const v2d x[4], v2d f[4]) const { lanes(x, f); }
-
     /// tangent() at lanes_of<V> states at once, y[i] = (component i of each state): per lane
     /// the same bits as tangent() (tested).
     template <class V>
     [[gnu::always_inline]] void tangent_lanes(const V y[8], V f[8]) const {
         if (!fast_sincos_in_range(y[0]) || !fast_sincos_in_range(y[1])) {
-            for (int lane = 0; lane < lanes_of<V>; ++lane) {
-                std::array<double, 8> one{};
-                for (int i = 0; i < 8; ++i)
-                    one[i] = y[i][lane];
-                const std::array<double, 8> f1 = tangent(one);
-                for (int i = 0; i < 8; ++i)
-                    f[i][lane] = f1[i];
-            }
+            per_lane<8>(y, f, [this](const std::array<double, 8>& one) { return tangent(one); });
             return;
         }
         V s1, c1, s2, c2;
@@ -174,6 +160,20 @@ class pendulum_flow {
     const lagrangian_coefficients<double>& coefficients() const { return k_; }
 
   private:
+    /// The libm fallback of lanes() and tangent_lanes() (an angle outside the fast sin/cos
+    /// range): `one` (operator() or tangent()) on each lane's state in turn.
+    template <std::size_t N, class V, class One>
+    static void per_lane(const V in[N], V out[N], One one) {
+        for (int lane = 0; lane < lanes_of<V>; ++lane) {
+            std::array<double, N> x{};
+            for (std::size_t i = 0; i < N; ++i)
+                x[i] = in[i][lane];
+            const std::array<double, N> f = one(x);
+            for (std::size_t i = 0; i < N; ++i)
+                out[i][lane] = f[i];
+        }
+    }
+
     struct trig {
         double s1, c1, s2, c2, sd, cd;
         explicit trig(const double* x) {
