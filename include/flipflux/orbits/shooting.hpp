@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "flipflux/integrators/gauss_legendre.hpp"
 #include "flipflux/orbits/saddle_frame.hpp"
@@ -158,17 +159,39 @@ struct periodic_residual {
     variational_end<Real> end;
 };
 
+/// What both shooting residuals need from one shot of duration `duration` from the saddle at
+/// beta: the start x0, the end state with its monodromy, the vector field f there, dl/dbeta of the
+/// start's momenta, and the residual scale 1 / momentum_scale.
+template <class Real>
+struct shot {
+    std::array<Real, 4> x0, f;
+    variational_end<Real> end;
+    std::array<Real, 2> dl;
+    Real inv;
+};
+
+template <class Real>
+shot<Real> shoot(const shooting_setup<Real>& setup, const Real& beta, const Real& duration,
+                 long steps) {
+    shot<Real> s;
+    s.x0 = setup.start(beta);
+    s.end = integrate_variational(setup, s.x0, duration, steps);
+    setup.frame.rhs(s.end.x, s.f);
+    s.dl = setup.momentum_derivative(beta);
+    s.inv = 1 / setup.momentum_scale;
+    return s;
+}
+
 template <class Real>
 periodic_residual<Real> periodic_shooting(const shooting_setup<Real>& setup, const Real& beta,
                                           const Real& period, long steps) {
     periodic_residual<Real> out;
-    const auto x0 = setup.start(beta);
-    out.end = integrate_variational(setup, x0, period, steps);
-    const auto& e = out.end;
-    std::array<Real, 4> f;
-    setup.frame.rhs(e.x, f);
-    const auto dl = setup.momentum_derivative(beta);
-    const Real inv = 1 / setup.momentum_scale;
+    shot<Real> s = shoot(setup, beta, period, steps);
+    const auto& e = s.end;
+    const auto& x0 = s.x0;
+    const auto& f = s.f;
+    const auto& dl = s.dl;
+    const Real& inv = s.inv;
     for (int i = 0; i < 4; ++i) {
         out.r[i] = (e.x[i] - x0[i]) * inv;
         // (Phi - I) dx0/dbeta with dx0/dbeta = (0, 0, dl)
@@ -177,6 +200,7 @@ periodic_residual<Real> periodic_shooting(const shooting_setup<Real>& setup, con
         out.jacobian[i][0] = v * inv;
         out.jacobian[i][1] = f[i] * inv;
     }
+    out.end = std::move(s.end);
     return out;
 }
 
@@ -192,18 +216,14 @@ template <class Real>
 symmetric_residual<Real> symmetric_shooting(const shooting_setup<Real>& setup, const Real& beta,
                                             const Real& quarter, long steps) {
     symmetric_residual<Real> out;
-    const auto x0 = setup.start(beta);
-    out.end = integrate_variational(setup, x0, quarter, steps);
-    const auto& e = out.end;
-    std::array<Real, 4> f;
-    setup.frame.rhs(e.x, f);
-    const auto dl = setup.momentum_derivative(beta);
-    const Real inv = 1 / setup.momentum_scale;
+    shot<Real> s = shoot(setup, beta, quarter, steps);
+    const auto& e = s.end;
     for (int i = 0; i < 2; ++i) {
-        out.r[i] = e.x[2 + i] * inv;
-        out.jacobian[i][0] = (e.phi[2 + i][2] * dl[0] + e.phi[2 + i][3] * dl[1]) * inv;
-        out.jacobian[i][1] = f[2 + i] * inv;
+        out.r[i] = e.x[2 + i] * s.inv;
+        out.jacobian[i][0] = (e.phi[2 + i][2] * s.dl[0] + e.phi[2 + i][3] * s.dl[1]) * s.inv;
+        out.jacobian[i][1] = s.f[2 + i] * s.inv;
     }
+    out.end = std::move(s.end);
     return out;
 }
 
