@@ -7,7 +7,10 @@
 #include <unistd.h>
 #include <array>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "flipflux/core/convert.hpp"
@@ -55,6 +58,14 @@ struct command_result {
     int status = -1;
     std::string out, err;
 };
+
+/// A whole file as text ("" when it cannot be read).
+inline std::string read_text(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
 
 /// Runs `flipflux <args>` (args are passed through the shell) and captures everything.
 inline command_result run_flipflux(const std::string& args) {

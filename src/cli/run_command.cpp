@@ -1,4 +1,5 @@
 // flipflux run [--dry-run] SCENE: compute what a scene file asks for, and nothing else.
+#include <cmath>
 #include <iostream>
 
 #include "common.hpp"
@@ -14,6 +15,7 @@ struct run_state {
     std::string cache_dir;
     bool no_cache = false;
     int threads = 0;
+    double checkpoint_interval = 2;
 };
 
 const register_command registration([](CLI::App& app) {
@@ -28,13 +30,22 @@ const register_command registration([](CLI::App& app) {
     sub->add_flag("--no-cache", s->no_cache, "neither read nor write the saddle-orbit cache");
     sub->add_option("--threads", s->threads, "OpenMP threads (0: all available)")
         ->check(CLI::NonNegativeNumber);
+    sub->add_option("--checkpoint-interval", s->checkpoint_interval,
+                    "seconds between checkpoint appends of an ensemble's finished trajectories "
+                    "(0: after every one)")
+        ->capture_default_str();
     sub->callback([s] {
+        if (!(s->checkpoint_interval >= 0) || !std::isfinite(s->checkpoint_interval)) {
+            throw input_error("--checkpoint-interval: '" + to_decimal(s->checkpoint_interval) +
+                              "' is invalid (must be a finite number >= 0)");
+        }
         const scene sc = load_scene(s->file);
         const plan p = make_plan(sc);
         print_plan(sc, p, std::cout);
         if (s->dry_run) return;
         run_options options;
         options.threads = s->threads;
+        options.checkpoint_interval = s->checkpoint_interval;
         if (!s->no_cache)
             options.cache_dir =
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);

@@ -249,6 +249,7 @@ void run_ensemble(context& ctx, const plan_step& step) {
     // an interrupted run resumes where it stopped (finished trajectories are not integrated
     // again); the checkpoint is removed once the ensemble is complete
     request.checkpoint = ctx.s.output / (base + ".checkpoint");
+    request.checkpoint_interval = ctx.options.checkpoint_interval;
     const json result = simulate(model, request);
     std::filesystem::remove(request.checkpoint);
     // what was integrated and detected, read back from the result

@@ -379,6 +379,63 @@ TEST_F(CliScale, SigtermStopsCleanlyAndTheRunResumes) {
     fs::remove(file);
 }
 
+// A scene's ensembles checkpoint too (<output>/ensemble-NAME.checkpoint): `flipflux run` killed
+// in the middle of an ensemble and run again resumes it, and writes every bit an uninterrupted run
+// writes (the result less its wall-clock fields, and every per-trajectory CSV).
+TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
+    const fs::path dir =
+        fs::path(::testing::TempDir()) / ("flipflux_scene_kill_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto scene_file = [&](const std::string& name) {
+        const fs::path file = dir / (name + ".toml");
+        std::ofstream f(file);
+        f << "[scene]\nname = \"" << name << "\"\noutput = \"" << (dir / name).string() << "\"\n"
+          << "[[ensemble]]\nname = \"k\"\ncriteria = [\"upright\", \"approx\"]\n"
+             "energies = [4.6, 5.2]\ntrajectories = 24\ntime = 2000\nseed = 7\nrtol = 1e-9\n";
+        return file;
+    };
+    const fs::path whole = scene_file("whole"), killed = scene_file("killed");
+    const command_result reference = run_flipflux("run --no-cache --threads 2 " + whole.string());
+    ASSERT_EQ(reference.status, 0) << reference.err;
+
+    const fs::path checkpoint = dir / "killed" / "ensemble-k.checkpoint";
+    const pid_t pid =
+        spawn("run --no-cache --threads 1 --checkpoint-interval 0 " + killed.string());
+    ASSERT_TRUE(wait_for_records(pid, checkpoint, 4))
+        << "the run ended before the checkpoint filled";
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    const std::size_t saved = trajectory_lines(checkpoint);
+    EXPECT_GE(saved, 4u);
+    EXPECT_LT(saved, 48u);
+    const command_result resumed = run_flipflux("run --no-cache --threads 2 " + killed.string());
+    ASSERT_EQ(resumed.status, 0) << resumed.err;
+    EXPECT_FALSE(fs::exists(checkpoint)) << "a complete ensemble's checkpoint is removed";
+
+    const auto result = [&](const std::string& name) {
+        json j = json::parse(read_text(dir / name / "ensemble-k.json"));
+        for (json& e : j.at("energies")) {
+            for (const char* wall : {"seconds", "threads", "processes"})
+                e.erase(wall);
+        }
+        return j;
+    };
+    EXPECT_EQ(result("killed"), result("whole"));
+    std::size_t csvs = 0;
+    for (const fs::directory_entry& f : fs::directory_iterator(dir / "whole" / "ensemble-k")) {
+        EXPECT_EQ(read_text(dir / "killed" / "ensemble-k" / f.path().filename()),
+                  read_text(f.path()))
+            << f.path().filename();
+        ++csvs;
+    }
+    EXPECT_GE(csvs, 2u);
+    EXPECT_EQ(run_flipflux("run --checkpoint-interval -1 " + whole.string()).status, 2);
+    fs::remove_all(dir);
+}
+
 TEST_F(CliScale, MismatchedOrUnreadableCheckpointsAreRefused) {
     const fs::path file = fs::path(::testing::TempDir()) / "flipflux_mismatch.ckpt";
     fs::remove(file);

@@ -72,11 +72,9 @@ TEST(OrbitCommand, OutWritesTheFileAtomically) {
     const auto r = run_flipflux("orbit --energy 2.5 --samples 5 --out " + path);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(r.out.empty());
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
+    const std::string written = read_text(path);
     const auto stdout_run = run_flipflux("orbit --energy 2.5 --samples 5");
-    EXPECT_EQ(ss.str(), stdout_run.out);
+    EXPECT_EQ(written, stdout_run.out);
     std::remove(path.c_str());
     const auto bad = run_flipflux("orbit --energy 2.5 --out /nonexistent-dir/x.csv");
     EXPECT_EQ(bad.status, 2);

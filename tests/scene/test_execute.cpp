@@ -18,13 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream b;
-    b << in.rdbuf();
-    return b.str();
-}
-
 fs::path fresh_dir(const std::string& name) {
     const fs::path d = fs::path(::testing::TempDir()) /
                        ("flipflux_scene_" + name + "_" + std::to_string(getpid()));
@@ -68,7 +61,7 @@ TEST(Execute, UprightPredictionsSolveNoOrbitAndIntegrateNothing) {
         EXPECT_EQ(r.fields.at(3), to_decimal(q.evaluate(model, a, e, "").value))
             << r.fields.at(0) << " " << e;
     }
-    const auto run_json = nlohmann::json::parse(slurp(out / "run.json"));
+    const auto run_json = nlohmann::json::parse(read_text(out / "run.json"));
     EXPECT_EQ(run_json["predictions"]["skipped"].size(), 0u);
     EXPECT_EQ(run_json["model"]["coefficients"]["alpha"], "2");
     fs::remove_all(out);
@@ -84,16 +77,16 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
     const run_counters first = run(s, cache);
     EXPECT_EQ(first.orbit_solves, 2u);  // one family, two orbits, shared by both outputs
     EXPECT_EQ(first.orbit_cache_hits, 0u);
-    const std::string predictions = slurp(out / "predictions.csv");
-    const std::string orbits = slurp(out / "orbits-arm2.csv");
+    const std::string predictions = read_text(out / "predictions.csv");
+    const std::string orbits = read_text(out / "orbits-arm2.csv");
 
     forget_saddle_orbits();  // a new process: only the disk cache remains
     fs::remove_all(out);
     const run_counters second = run(s, cache);
     EXPECT_EQ(second.orbit_solves, 0u);
     EXPECT_EQ(second.orbit_cache_hits, 2u);
-    EXPECT_EQ(slurp(out / "predictions.csv"), predictions);  // bit-identical through the cache
-    EXPECT_EQ(slurp(out / "orbits-arm2.csv"), orbits);
+    EXPECT_EQ(read_text(out / "predictions.csv"), predictions);  // bit-identical through the cache
+    EXPECT_EQ(read_text(out / "orbits-arm2.csv"), orbits);
 
     // independent reference: scipy DOP853 at rtol 1e-13 with a shooting on (beta, T) gives, for
     // the egalitarian pendulum at E = 3, F = 5.61072094322671 and T = 5.97481755607803
@@ -116,7 +109,7 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
     forget_saddle_orbits();
     const run_counters third = run(s, cache);
     EXPECT_EQ(third.orbit_solves, 2u);
-    EXPECT_EQ(slurp(out / "predictions.csv"), predictions);
+    EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
     fs::remove_all(out);
     fs::remove_all(cache);
 }
@@ -139,7 +132,7 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
                  "[[ensemble]]\nname = \"short\"\ncriteria = [\"upright\"]\n"
                  "energies = [5]\ntrajectories = 4\ntime = 50\nestimator = \"short\"\n");
     EXPECT_EQ(run(sh).trajectories, 10u);  // ceil(4 x 50 / 20)
-    const auto u = nlohmann::json::parse(slurp(out / "ensemble-u.json"));
+    const auto u = nlohmann::json::parse(read_text(out / "ensemble-u.json"));
     ASSERT_EQ(u["energies"].size(), 2u);
     EXPECT_EQ(u["energies"][0]["criteria"].size(), 1u);
     EXPECT_TRUE(u["energies"][0]["criteria"].contains("upright"));
