@@ -28,7 +28,7 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--quantities", s->quantities,
                     "comma-separated quantity names (default: every registered quantity)");
     sub->add_option("--precisions", s->precisions,
-                    "comma-separated subset of double, quad, mp:50, mp:100")
+                    "comma-separated precisions (double, quad, mp:DIGITS), the report's columns")
         ->capture_default_str();
     sub->add_option("--min-seconds", s->min_seconds, "timing budget per cell")
         ->capture_default_str();
@@ -41,16 +41,7 @@ const register_command registration([](CLI::App& app) {
             find_quantity(item);  // input_error naming an unknown quantity
             options.quantities.push_back(item);
         }
-        std::stringstream list(s->precisions);
-        for (bool& p : options.precisions)
-            p = false;
-        while (std::getline(list, item, ',')) {
-            const precision p = parse_precision(item, "--precisions");
-            if (p == precision::double_) options.precisions[0] = true;
-            if (p == precision::quad) options.precisions[1] = true;
-            if (p == precision::mp50) options.precisions[2] = true;
-            if (p == precision::mp100) options.precisions[3] = true;
-        }
+        options.precisions = parse_precision_list(s->precisions, "--precisions");
         if (!(s->min_seconds >= 0)) {
             throw input_error("--min-seconds: must be >= 0");
         }
@@ -63,7 +54,7 @@ const register_command registration([](CLI::App& app) {
         if (s->precisions != "double,quad,mp:50,mp:100")
             command += " --precisions " + s->precisions;
         const auto entries = measure_accuracy(options);
-        write_file_atomically(s->out, accuracy_markdown(entries, command));
+        write_file_atomically(s->out, accuracy_markdown(entries, options.precisions, command));
         print(json{{"entries", entries.size()}, {"out", s->out}}.dump(2) + "\n");
     });
 });

@@ -16,6 +16,7 @@ struct golden_state {
     std::string quantities;
     int jobs = 2;
     std::size_t max_rows = 0;
+    precision_option precision{"mp:100"};
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -31,8 +32,8 @@ const register_command registration([](CLI::App& app) {
     auto s = std::make_shared<golden_state>();
     CLI::App* sub = app.add_subcommand(
         "golden",
-        "Write golden reference data (mp:100 values certified against mp:50 and an independent "
-        "method) for every registered quantity on the golden energy grid");
+        "Write golden reference data (values in --precision mp:N certified against mp:(N/2) and "
+        "an independent method) for every registered quantity on the golden energy grid");
     sub->add_option("--out", s->out, "output directory (golden.csv, provenance.json)")
         ->capture_default_str();
     sub->add_option("--quantities", s->quantities,
@@ -40,8 +41,11 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--jobs", s->jobs, "threads")->capture_default_str();
     sub->add_option("--max-rows", s->max_rows, "an evenly spread sample of at most N rows (0: all)")
         ->capture_default_str();
+    add_precision_option(*sub, s->precision);
     sub->callback([s] {
         golden_options options;
+        options.value_precision = parse_precision(s->precision.text);
+        (void)golden_check_precision(options.value_precision);  // input_error when too low
         options.quantities = split_list(s->quantities);
         for (const std::string& name : options.quantities)
             find_quantity(name);  // input_error naming an unknown quantity
@@ -68,8 +72,9 @@ const register_command registration([](CLI::App& app) {
             "flipflux golden --out " + s->out + " --jobs " + std::to_string(s->jobs);
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;
         if (s->max_rows > 0) command += " --max-rows " + std::to_string(s->max_rows);
+        if (s->precision.text != "mp:100") command += " --precision " + s->precision.text;
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
-        write_file_atomically(s->out + "/provenance.json", golden_provenance(command, rows.size()));
+        write_file_atomically(s->out + "/provenance.json", golden_provenance(command, rows.size(), options.value_precision));
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);

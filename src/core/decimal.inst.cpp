@@ -1,6 +1,5 @@
 #include "flipflux/core/decimal.hpp"
 
-#include <cerrno>
 #include <cstdlib>
 #include <iomanip>
 #include <sstream>
@@ -20,8 +19,9 @@ Real parse_real(std::string_view text, std::string_view what) {
     const std::string s(text);
     Real value;
     if constexpr (std::is_same_v<Real, double>) {
-        errno = 0;
         value = std::strtod(s.c_str(), nullptr);  // correctly rounded (glibc)
+    } else if constexpr (std::is_floating_point_v<Real>) {
+        value = static_cast<Real>(std::strtold(s.c_str(), nullptr));
     } else {
         value = Real(s.c_str());  // strtoflt128 / mpfr_set_str: correctly rounded
     }
@@ -42,6 +42,12 @@ std::string to_decimal(const Real& x, int significant_digits) {
 
 template <class Real>
 std::string to_decimal(const Real& x) {
+    if constexpr (has_variable_precision_v<Real>) {
+        // a value of another precision than the active one (e.g. an outer scope's) keeps its own
+        const int active = active_mp_digits();
+        if (active == 0 || static_cast<int>(x.precision()) != mp_working_digits(active))
+            return to_decimal(x, static_cast<int>(x.precision()) + 2);
+    }
     return to_decimal(x, output_digits<Real>());
 }
 

@@ -151,10 +151,12 @@ template <class Real>
 const gauss_legendre_tableau<Real>& gauss_legendre_tableau_of(int s) {
     if (s < 1 || s > max_gauss_legendre_stages)
         (void)make_gauss_legendre_tableau<Real>(s);  // throws
+    // NOTE: keyed by the working precision too (mp's changes at run time)
     static std::mutex mutex;
-    static std::map<int, std::unique_ptr<const gauss_legendre_tableau<Real>>> cache;
+    static std::map<std::pair<int, int>, std::unique_ptr<const gauss_legendre_tableau<Real>>>
+        cache;
     std::lock_guard<std::mutex> lock(mutex);
-    auto& slot = cache[s];
+    auto& slot = cache[{s, binary_digits<Real>()}];
     if (!slot)
         slot = std::make_unique<const gauss_legendre_tableau<Real>>(
             make_gauss_legendre_tableau<Real>(s));

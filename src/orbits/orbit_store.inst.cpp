@@ -45,8 +45,8 @@ struct memo {
     }
     static std::string key(const double_pendulum<Real>& model, arm a, const Real& energy,
                            orbit_method method) {
-        return model_text_key(model) + to_string(a) + ";" + to_decimal(energy) + ";" +
-               to_string(method);
+        return model_text_key(model) + precision_name<Real>() + ";" + to_string(a) + ";" +
+               to_decimal(energy) + ";" + to_string(method);
     }
     void refresh() {  // under the lock
         const unsigned g = saddle_orbit_memo_generation();
@@ -293,7 +293,7 @@ std::string orbit_cache_key(const double_pendulum<Real>& model,
     std::string hex(16, '0');
     for (int i = 15; i >= 0; --i, h >>= 4)
         hex[static_cast<std::size_t>(i)] = digits[h & 15];
-    std::string name = precision_name<Real>();  // "mp:50" -> "mp50"
+    std::string name = precision_name<Real>();  // "mp:120" -> "mp120"
     std::erase(name, ':');
     return name + "-" + hex;
 }

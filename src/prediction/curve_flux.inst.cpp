@@ -2,11 +2,10 @@
 // and the zeros of K along the curve. See include/flipflux/prediction/curve_flux.hpp and
 // docs/theory.md#phase-volume-and-fluxes.
 #include <algorithm>
-#include <boost/math/quadrature/gauss.hpp>
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/tools/roots.hpp>
 #include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -205,19 +204,18 @@ struct half_circle_rule {
     std::vector<Real> cos_x, sin_x, w_kronrod, w_gauss;  // w_gauss = 0 at Kronrod-only nodes
 
     explicit half_circle_rule(std::size_t panels) {
-        using boost::math::quadrature::gauss;
-        using boost::math::quadrature::gauss_kronrod;
         using std::cos;
         using std::sin;
-        const auto& x = gauss_kronrod<Real, 61>::abscissa();
-        const auto& wk = gauss_kronrod<Real, 61>::weights();
-        const auto& wg = gauss<Real, 30>::weights();
+        const gauss_kronrod_rule<Real>& rule = gauss_kronrod_61<Real>();
+        const auto& x = rule.abscissa;
+        const auto& wk = rule.kronrod_weights;
+        const auto& wg = rule.gauss_weights;
         const Real half_width = pi<Real>() / (2 * panels);
         for (std::size_t p = 0; p < panels; ++p) {
             const Real centre = -half_pi<Real>() + (2 * p + 1) * half_width;
             for (std::size_t i = 0; i < x.size(); ++i) {
-                // Boost stores the non-negative half; its 30-point Gauss rule (even order) uses
-                // the odd indices, not the centre (as in gauss_kronrod::integrate_non_adaptive).
+                // the rule stores the non-negative half; its 30-point Gauss rule (even order)
+                // uses the odd indices, not the centre
                 const Real g = i % 2 == 1 ? wg[i / 2] : Real(0);
                 for (int sign : {1, -1}) {
                     if (i == 0 && sign < 0) continue;
@@ -231,16 +229,19 @@ struct half_circle_rule {
         }
     }
 
-    /// The rule with the smallest power of two >= panels (<= 64) panels; built on first use.
+    /// The rule with the smallest power of two >= panels (<= 64) panels; built on first use at
+    /// each working precision.
     static const half_circle_rule& get(std::size_t panels) {
         static std::mutex mutex;
-        static std::array<std::unique_ptr<half_circle_rule>, 7> rules;  // 1, 2, 4, ..., 64
+        // keyed by (binary digits, log2 panels): 1, 2, 4, ..., 64 panels
+        static std::map<std::pair<int, std::size_t>, std::unique_ptr<half_circle_rule>> rules;
         std::size_t k = 0;
-        while ((std::size_t(1) << k) < panels && k + 1 < rules.size())
+        while ((std::size_t(1) << k) < panels && k < 6)
             ++k;
         const std::lock_guard<std::mutex> lock(mutex);
-        if (!rules[k]) rules[k] = std::make_unique<half_circle_rule>(std::size_t(1) << k);
-        return *rules[k];
+        auto& rule = rules[{binary_digits<Real>(), k}];
+        if (!rule) rule = std::make_unique<half_circle_rule>(std::size_t(1) << k);
+        return *rule;
     }
 };
 

@@ -10,13 +10,10 @@ template <class Real>
 prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& model,
                                                    const Real& energy);
 
-extern template prediction_result<double> phase_volume_quadrature_2d<double>(
-    const double_pendulum<double>&, const double&);
-extern template prediction_result<quad> phase_volume_quadrature_2d<quad>(
-    const double_pendulum<quad>&, const quad&);
-extern template prediction_result<mp50> phase_volume_quadrature_2d<mp50>(
-    const double_pendulum<mp50>&, const mp50&);
-extern template prediction_result<mp100> phase_volume_quadrature_2d<mp100>(
-    const double_pendulum<mp100>&, const mp100&);
+#define FLIPFLUX_PHASE_VOLUME_2D_EXTERN(R)                                   \
+    extern template prediction_result<R> phase_volume_quadrature_2d<R>( \
+        const double_pendulum<R>&, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_PHASE_VOLUME_2D_EXTERN)
+#undef FLIPFLUX_PHASE_VOLUME_2D_EXTERN
 
 }  // namespace flipflux::detail

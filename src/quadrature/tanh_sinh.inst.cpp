@@ -5,6 +5,8 @@
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <stdexcept>
 
 #include "flipflux/core/instantiate.hpp"
@@ -19,15 +21,21 @@ constexpr std::size_t tanh_sinh_levels = 15;
 template <class Real>
 boost::math::quadrature::tanh_sinh<Real>& thread_integrator() {
     using std::ldexp;
-    if constexpr (std::is_same_v<Real, double> || std::is_same_v<Real, quad>) {
+    if constexpr (!has_variable_precision_v<Real>) {
         thread_local boost::math::quadrature::tanh_sinh<Real> integrator(tanh_sinh_levels);
         return integrator;
     } else {
-        // NOTE: Boost 1.74's default minimum complement (4 * min_value) is 2^-(2^30) for MPFR and
+        // NOTE: one integrator per working precision (its abscissas are built in it).
+        // Boost 1.74's default minimum complement (4 * min_value) is 2^-(2^30) for MPFR and
         // overflows itrunc; 2^-(4 digits + 64) lies far below every weight that matters.
-        thread_local boost::math::quadrature::tanh_sinh<Real> integrator(
-            tanh_sinh_levels, ldexp(Real(1), -(4 * std::numeric_limits<Real>::digits + 64)));
-        return integrator;
+        thread_local std::map<int, std::unique_ptr<boost::math::quadrature::tanh_sinh<Real>>>
+            integrators;
+        const int bits = binary_digits<Real>();
+        auto& slot = integrators[bits];
+        if (!slot)
+            slot = std::make_unique<boost::math::quadrature::tanh_sinh<Real>>(
+                tanh_sinh_levels, ldexp(Real(1), -(4 * bits + 64)));
+        return *slot;
     }
 }
 

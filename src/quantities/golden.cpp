@@ -12,6 +12,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -48,50 +49,65 @@ struct golden_task {
     std::string energy;
 };
 
-/// The row of a task, or why it has none (outside the quantity's domain, undefined there).
+/// One evaluation as decimal text (every digit of its precision), or why there is none.
+struct evaluation {
+    std::string value;    ///< "" when there is none
+    std::string method;   ///< the method that produced it
+    std::string skipped;  ///< why there is none
+};
+
+template <class Real>
+evaluation evaluate_text(const golden_task& t, const std::string& method) {
+    try {
+        const double_pendulum<Real> model;
+        const Real energy = parse_real<Real>(t.energy, "--energy");
+        const quantity_value<Real> v = t.q->evaluate(model, t.a, energy, method);
+        return {to_decimal(v.value), v.method, ""};
+    } catch (const input_error& e) {
+        return {"", "", e.what()};  // outside the quantity's (or method's) domain
+    } catch (const std::runtime_error& e) {
+        // undefined here (e.g. the real multiplier of an elliptic orbit), or no solution
+        return {"", "", e.what()};
+    }
+}
+
+/// The default method in the value precision (pass 1).
+evaluation value_of(const golden_task& t, const precision& p) {
+    return dispatch(p, [&]<class Real>() { return evaluate_text<Real>(t, ""); });
+}
+
+/// The default method and the first other applicable method in the check precision (pass 2).
+std::pair<evaluation, evaluation> checks_of(const golden_task& t, const precision& p) {
+    return dispatch(p, [&]<class Real>() {
+        std::pair<evaluation, evaluation> out{evaluate_text<Real>(t, ""), {}};
+        for (std::size_t i = 1; i < t.q->methods.size() && out.second.value.empty(); ++i)
+            out.second = evaluate_text<Real>(t, t.q->methods[i]);
+        return out;
+    });
+}
+
+/// The row of a task, or why it has none.
 struct golden_outcome {
     std::optional<golden_row> row;
     std::string skipped;
 };
 
-golden_outcome compute_row(const golden_task& t) {
-    const double_pendulum<mp50> model50;
-    const double_pendulum<mp100> model100;
-    const mp50 e50 = parse_real<mp50>(t.energy, "--energy");
-    const mp100 e100 = parse_real<mp100>(t.energy, "--energy");
-    quantity_value<mp100> high;
-    quantity_value<mp50> low;
-    try {
-        high = t.q->evaluate(model100, t.a, e100, "");
-        low = t.q->evaluate(model50, t.a, e50, "");
-    } catch (const input_error& e) {
-        return {std::nullopt, e.what()};  // outside the quantity's domain
-    } catch (const std::runtime_error& e) {
-        // undefined here (e.g. the real multiplier of an elliptic orbit)
-        return {std::nullopt, e.what()};
-    }
-    if (high.value == 0) return {std::nullopt, "zero (no relative digits to certify)"};
-    const std::string reference = to_decimal(high.value);
-    int digits = agreement_digits(to_decimal(low.value), reference);
-    std::string checked;
-    for (std::size_t i = 1; i < t.q->methods.size() && checked.empty(); ++i) {
-        try {
-            const quantity_value<mp50> other = t.q->evaluate(model50, t.a, e50, t.q->methods[i]);
-            digits = std::min(digits, agreement_digits(to_decimal(other.value), reference));
-            checked = other.method;
-        } catch (const input_error&) {
-            // this method does not apply at this energy (e.g. a closed form): try the next
-        } catch (const std::runtime_error&) {
-            // no solution by this method here: try the next
-        }
-    }
+golden_outcome certify(const golden_task& t, const evaluation& high,
+                       const std::pair<evaluation, evaluation>& checks, int cap) {
+    if (high.value.empty()) return {std::nullopt, high.skipped};
+    if (decimal_agreement(high.value, "0") == std::numeric_limits<double>::infinity())
+        return {std::nullopt, "zero (no relative digits to certify)"};
+    if (checks.first.value.empty()) return {std::nullopt, "check: " + checks.first.skipped};
+    int digits = agreement_digits(checks.first.value, high.value, cap);
+    if (!checks.second.value.empty())
+        digits = std::min(digits, agreement_digits(checks.second.value, high.value, cap));
     golden_row row;
     row.quantity = t.q->name;
     row.arm = t.q->per_arm ? to_string(t.a) : "";
     row.energy = t.energy;
     row.digits = digits;
-    row.value = to_decimal(high.value, std::max(digits, 1));
-    row.method = high.method + (checked.empty() ? "" : "|" + checked);
+    row.value = round_decimal(high.value, std::max(digits, 1));
+    row.method = high.method + (checks.second.value.empty() ? "" : "|" + checks.second.method);
     return {row, ""};
 }
 
@@ -124,17 +140,20 @@ std::vector<std::string> golden_orbit_energies(double start, double maximum) {
 }
 
 int agreement_digits(const std::string& value, const std::string& reference, int cap) {
-    using std::abs;
-    using std::floor;
-    using std::log10;
-    const mp100 a = parse_real<mp100>(value, "value"),
-                b = parse_real<mp100>(reference, "reference");
-    const mp100 diff = abs(a - b);
-    if (diff == 0) return cap;
-    if (b == 0) return 0;
-    const mp100 digits = floor(-log10(diff / abs(b)));
+    if (decimal_agreement(reference, "0") == std::numeric_limits<double>::infinity())
+        return value == reference ? cap : 0;
+    const double digits = std::floor(decimal_agreement(value, reference));
     if (digits < 0) return 0;
     return digits > cap ? cap : static_cast<int>(digits);
+}
+
+precision golden_check_precision(const precision& value_precision) {
+    if (value_precision.kind == real_kind::mp && value_precision.digits >= 2)
+        return mp_precision(value_precision.digits / 2);
+    if (value_precision.kind == real_kind::quad) return precision{real_kind::double_};
+    throw input_error("--precision: '" + precision_name(value_precision) +
+                      "' is too low for golden data (a lower precision certifies it: use quad or "
+                      "mp:DIGITS with DIGITS >= 2)");
 }
 
 std::vector<golden_row> generate_golden(const golden_options& options) {
@@ -165,12 +184,23 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
             sample.push_back(tasks[i * tasks.size() / options.max_rows]);
         tasks.swap(sample);
     }
+    // NOTE: two passes, each in one precision: threads of one precision run concurrently, while
+    // a second precision in the same process waits for the first (core/real.hpp, precision_scope)
+    const precision check = golden_check_precision(options.value_precision);
+    const int cap = decimal_digits(check);
+    const long n = static_cast<long>(tasks.size());
+    const int threads = options.jobs > 0 ? options.jobs : 1;
+    std::vector<evaluation> high(tasks.size());
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    for (long i = 0; i < n; ++i)
+        high[i] = value_of(tasks[i], options.value_precision);
+    std::vector<std::pair<evaluation, evaluation>> checks(tasks.size());
     std::vector<golden_outcome> rows(tasks.size());
     std::size_t done = 0;
-    const long n = static_cast<long>(tasks.size());
-#pragma omp parallel for schedule(dynamic) num_threads(options.jobs > 0 ? options.jobs : 1)
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (long i = 0; i < n; ++i) {
-        rows[i] = compute_row(tasks[i]);
+        if (!high[i].value.empty()) checks[i] = checks_of(tasks[i], check);
+        rows[i] = certify(tasks[i], high[i], checks[i], cap);
 #pragma omp critical(flipflux_golden_progress)
         {
             ++done;
@@ -227,7 +257,9 @@ std::vector<golden_row> parse_golden_csv(const std::string& text) {
     return rows;
 }
 
-std::string golden_provenance(const std::string& command, std::size_t rows) {
+std::string golden_provenance(const std::string& command, std::size_t rows,
+                              const precision& value_precision) {
+    const precision check = golden_check_precision(value_precision);
     nlohmann::ordered_json j;
     j["command"] = command;
     j["flipflux_version"] = version_string();
@@ -243,11 +275,13 @@ std::string golden_provenance(const std::string& command, std::size_t rows) {
         {"gmp", gmp_version},
         {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) +
                       "." + std::to_string(EIGEN_MINOR_VERSION)}};
+    const std::string hi = precision_name(value_precision), lo = precision_name(check);
     j["precision"] = {
-        {"values", "mp:100 (MPFR, 100 decimal digits), the quantity's default method"},
-        {"certification",
-         "digits = min(agreement of the default method in mp:50 with mp:100, agreement of the "
-         "first other applicable method in mp:50 with mp:100), capped at 50"}};
+        {"values", hi + " (the quantity's default method)"},
+        {"certification", "digits = min(agreement of the default method in " + lo + " with " + hi +
+                              ", agreement of the first other applicable method in " + lo +
+                              " with " + hi + "), capped at " +
+                              std::to_string(decimal_digits(check))}};
     j["boost_math_policy"] =
         "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
         "(domain and evaluation errors throw)";
@@ -261,7 +295,7 @@ std::string golden_provenance(const std::string& command, std::size_t rows) {
     j["columns"] = {{"quantity", "registered name (flipflux eval --help)"},
                     {"arm", "1 or 2; empty for quantities that are not per arm"},
                     {"energy", "E as decimal text"},
-                    {"value", "mp:100 value rounded to `digits` significant digits"},
+                    {"value", hi + " value rounded to `digits` significant digits"},
                     {"digits", "certified significant digits"},
                     {"method", "default method | independent method that certified it"}};
     j["rows"] = rows;

@@ -276,6 +276,7 @@ void run_golden(context& ctx) {
     }
     golden_options options;
     options.quantities = g.quantities;
+    options.value_precision = g.value_precision;
     options.jobs = ctx.options.threads > 0 ? ctx.options.threads : 2;
     std::size_t last = 0;
     options.progress = [&](const golden_row&, std::size_t done, std::size_t total) {
@@ -289,7 +290,8 @@ void run_golden(context& ctx) {
     std::filesystem::create_directories(dir);
     write_file_atomically(dir / "golden.csv", golden_csv(rows));
     write_file_atomically(dir / "provenance.json",
-                          golden_provenance("flipflux run " + ctx.s.file.string(), rows.size()));
+                          golden_provenance("flipflux run " + ctx.s.file.string(), rows.size(),
+                                            options.value_precision));
     ctx.counters.files.push_back((dir / "golden.csv").string());
     ctx.counters.files.push_back((dir / "provenance.json").string());
     ctx.log << "  wrote " << (dir / "golden.csv").string() << " (" << rows.size() << " rows)\n";
@@ -310,10 +312,11 @@ void run_accuracy(context& ctx) {
     }
     accuracy_options options;
     options.quantities = a.quantities;
+    options.precisions = a.precisions;
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
     const std::string md =
-        accuracy_markdown(entries, "flipflux run " + ctx.s.file.string()) + appendix;
+        accuracy_markdown(entries, a.precisions, "flipflux run " + ctx.s.file.string()) + appendix;
     const std::filesystem::path out = a.out;
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     write_file_atomically(out, md);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "flipflux/core/decimal.hpp"
+#include "flipflux/quantities/golden.hpp"
 #include "flipflux/scene/scene.hpp"
 
 namespace flipflux {
@@ -317,6 +318,14 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         g.line = r.line();
         g.dir = r.string("dir").value_or(g.dir);
         g.quantities = r.strings("quantities").value_or(g.quantities);
+        if (auto p = r.string("precision")) {
+            try {
+                g.value_precision = parse_precision(*p, "precision");
+                (void)golden_check_precision(g.value_precision);
+            } catch (const input_error& e) {
+                r.fail(r.get("precision"), "precision", e.what());
+            }
+        }
         r.finish();
         s.golden = g;
     }
@@ -327,6 +336,16 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         a.out = r.string("out").value_or(a.out);
         a.quantities = r.strings("quantities").value_or(a.quantities);
         a.appendices = r.strings("appendices").value_or(a.appendices);
+        if (auto list = r.strings("precisions")) {
+            std::string text;
+            for (const std::string& item : *list)
+                text += (text.empty() ? "" : ",") + item;
+            try {
+                a.precisions = parse_precision_list(text, "precisions");
+            } catch (const input_error& e) {
+                r.fail(r.get("precisions"), "precisions", e.what());
+            }
+        }
         r.finish();
         s.accuracy = a;
     }

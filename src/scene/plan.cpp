@@ -93,7 +93,7 @@ plan make_plan(const scene& s) {
         ensemble_energies.push_back(
             expand(x.energies, "ensemble[" + std::to_string(i) + "].energies"));
         if (std::find(x.criteria.begin(), x.criteria.end(), "saddle") != x.criteria.end()) {
-            want_orbits(x.arm, ensemble_energies.back(), precision::double_);
+            want_orbits(x.arm, ensemble_energies.back(), precision{real_kind::double_});
         }
     }
 
@@ -127,7 +127,7 @@ plan make_plan(const scene& s) {
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
         plan_step step{plan_step::kind::ensemble, x.arm, {}, {}, x.criteria, i, {},
-                       precision::double_};
+                       precision{real_kind::double_}};
         for (const auto& e : ensemble_energies[i])
             step.energies.push_back(e.text);
         step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) + ", " +
@@ -145,7 +145,7 @@ plan make_plan(const scene& s) {
                            {},
                            0,
                            "golden data -> " + s.golden->dir,
-                           precision::mp100});
+                           s.golden->value_precision});
     }
     if (s.accuracy) {
         p.steps.push_back({plan_step::kind::accuracy,

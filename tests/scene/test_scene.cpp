@@ -25,7 +25,7 @@ TEST(Scene, ParsesAMinimalScene) {
     const scene s = parse_scene(minimal, "s.toml");
     EXPECT_EQ(s.name, "t");
     EXPECT_EQ(s.output, "out/t");
-    EXPECT_EQ(s.prec, precision::double_);
+    EXPECT_EQ(s.prec, precision{real_kind::double_});
     EXPECT_FALSE(s.predictions.has_value());
     EXPECT_TRUE(s.ensembles.empty());
 }

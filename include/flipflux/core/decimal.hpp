@@ -2,7 +2,7 @@
 //
 // Inputs are parsed from their decimal text directly in Real (never through a double), so that
 // `--energy 5.3 --precision quad` means 5.3 to all 34 digits. Outputs carry every digit of the
-// precision: double 17 significant digits, quad 36, MPFR its digits + 2.
+// precision: double 17 significant digits, quad 36, mp:N N + 2.
 #pragma once
 
 #include <string>
@@ -12,15 +12,16 @@
 
 namespace flipflux {
 
-/// Significant digits written for Real: 17 (double), 36 (quad), digits10 + 2 (MPFR).
+/// Significant digits written for Real: max_digits10 of the fixed types (double 17, quad 36),
+/// N + 2 at mp:N.
 template <class Real>
 int output_digits() {
-    if constexpr (std::is_same_v<Real, double>)
-        return 17;
-    else if constexpr (std::is_same_v<Real, quad>)
-        return 36;
-    else
-        return std::numeric_limits<Real>::digits10 + 2;
+    if constexpr (has_variable_precision_v<Real>) {
+        const int n = active_mp_digits();
+        return (n > 0 ? n : static_cast<int>(Real::default_precision())) + 2;
+    } else {
+        return std::numeric_limits<Real>::max_digits10;
+    }
 }
 
 /// True when `text` is a plain finite decimal number: [+-]digits[.digits][(e|E)[+-]digits].
@@ -39,14 +40,27 @@ std::string to_decimal(const Real& x);
 template <class Real>
 std::string to_decimal(const Real& x, int significant_digits);
 
+/// Agreement of two decimal numbers in significant digits: -log10(|a - b| / |b|) (-log10 |a - b|
+/// when b == 0), +infinity when they are equal. Computed in MPFR with every digit of both texts
+/// (plus 64 bits), independently of the working precision; thread-safe. Throws input_error
+/// naming `what` for a text that is not a finite decimal number.
+double decimal_agreement(std::string_view a, std::string_view b, std::string_view what = "value");
+
+/// |a - b| / |b| (|a - b| when b == 0) of two decimal numbers, as decimal_agreement computes it,
+/// rounded to double (0 below double's range).
+double decimal_relative_error(std::string_view a, std::string_view b,
+                              std::string_view what = "value");
+
+/// A decimal number rounded to `significant_digits` (>= 1) digits, correctly rounded from every
+/// digit of the text, in the form to_decimal writes.
+std::string round_decimal(std::string_view text, int significant_digits,
+                          std::string_view what = "value");
+
 #define FLIPFLUX_DECIMAL_EXTERN(R)                                       \
     extern template R parse_real<R>(std::string_view, std::string_view); \
     extern template std::string to_decimal<R>(const R&);                 \
-    extern template std::string to_decimal<R>(const R&, int)
-FLIPFLUX_DECIMAL_EXTERN(double);
-FLIPFLUX_DECIMAL_EXTERN(quad);
-FLIPFLUX_DECIMAL_EXTERN(mp50);
-FLIPFLUX_DECIMAL_EXTERN(mp100);
+    extern template std::string to_decimal<R>(const R&, int);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_DECIMAL_EXTERN)
 #undef FLIPFLUX_DECIMAL_EXTERN
 
 }  // namespace flipflux

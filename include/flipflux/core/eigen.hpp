@@ -1,4 +1,4 @@
-// Eigen support for the multiprecision real types (float128 and the MPFR et_off types).
+// Eigen support for the multiprecision real types (float128 and the MPFR et_off type).
 //
 // NOTE: Boost 1.74's boost/multiprecision/eigen.hpp is broken with Eigen 3.4 (no infinity() or
 // quiet_NaN(), lowest() = +min), so it is not included; this specialisation replaces it. It is
@@ -37,8 +37,9 @@ struct NumTraits<boost::multiprecision::number<Backend, boost::multiprecision::e
     static Self lowest() { return -(std::numeric_limits<Self>::max)(); }
     static Self infinity() { return std::numeric_limits<Self>::infinity(); }
     static Self quiet_NaN() { return std::numeric_limits<Self>::quiet_NaN(); }
-    static int digits10() { return std::numeric_limits<Self>::digits10; }
-    static int digits() { return std::numeric_limits<Self>::digits; }
+    // NOTE: run-time values for mp (its numeric_limits say INT_MAX)
+    static int digits() { return flipflux::binary_digits<Self>(); }
+    static int digits10() { return (digits() - 1) * 301 / 1000; }
     static int min_exponent() { return std::numeric_limits<Self>::min_exponent; }
     static int max_exponent() { return std::numeric_limits<Self>::max_exponent; }
 };

@@ -37,7 +37,7 @@
 
 namespace flipflux {
 
-inline constexpr int max_gauss_legendre_stages = 24;
+inline constexpr int max_gauss_legendre_stages = 64;
 
 /// The Butcher tableau of the s-stage Gauss-Legendre method, with the derived coefficients the
 /// integrator uses.
@@ -64,11 +64,8 @@ gauss_legendre_tableau<Real> make_gauss_legendre_tableau(int stages);
 
 #define FLIPFLUX_GL_EXTERN(R)                                                           \
     extern template const gauss_legendre_tableau<R>& gauss_legendre_tableau_of<R>(int); \
-    extern template gauss_legendre_tableau<R> make_gauss_legendre_tableau<R>(int)
-FLIPFLUX_GL_EXTERN(double);
-FLIPFLUX_GL_EXTERN(quad);
-FLIPFLUX_GL_EXTERN(mp50);
-FLIPFLUX_GL_EXTERN(mp100);
+    extern template gauss_legendre_tableau<R> make_gauss_legendre_tableau<R>(int);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_GL_EXTERN)
 #undef FLIPFLUX_GL_EXTERN
 
 /// Counters of an integration.
@@ -109,7 +106,7 @@ class gauss_legendre {
     int order() const { return 2 * t_->stages; }
     const gauss_legendre_tableau<Real>& tableau() const { return *t_; }
     /// Fixed-point sweeps allowed per step: digits + 10.
-    static int max_iterations() { return std::numeric_limits<Real>::digits + 10; }
+    static int max_iterations() { return binary_digits<Real>() + 10; }
 
     /// Forgets the previous step (its stages seed the next step's iteration) and the rounding
     /// carry of compensated summation. Call when x is changed from outside.

@@ -64,11 +64,8 @@ std::array<std::complex<Real>, 4> linearized_eigenvalues(
     extern template critical_point<R> flip_saddle<R>(const double_pendulum<R>&, arm); \
     extern template std::array<std::complex<R>, 4> linearized_eigenvalues<R>(         \
         const double_pendulum<R>&, const R&, const R&,                                \
-        std::array<std::array<std::complex<R>, 2>, 4>*)
-FLIPFLUX_CRITICAL_EXTERN(double);
-FLIPFLUX_CRITICAL_EXTERN(quad);
-FLIPFLUX_CRITICAL_EXTERN(mp50);
-FLIPFLUX_CRITICAL_EXTERN(mp100);
+        std::array<std::array<std::complex<R>, 2>, 4>*);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_CRITICAL_EXTERN)
 #undef FLIPFLUX_CRITICAL_EXTERN
 
 }  // namespace flipflux

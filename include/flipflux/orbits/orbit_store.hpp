@@ -77,11 +77,8 @@ std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_opti
     extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                       \
     extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&); \
     extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                   \
-                                                   const orbit_options<R>&)
-FLIPFLUX_ORBIT_STORE_EXTERN(double);
-FLIPFLUX_ORBIT_STORE_EXTERN(quad);
-FLIPFLUX_ORBIT_STORE_EXTERN(mp50);
-FLIPFLUX_ORBIT_STORE_EXTERN(mp100);
+                                                   const orbit_options<R>&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_STORE_EXTERN)
 #undef FLIPFLUX_ORBIT_STORE_EXTERN
 
 }  // namespace flipflux

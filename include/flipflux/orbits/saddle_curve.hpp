@@ -144,11 +144,8 @@ std::array<Real, 5> orbit_point_at_s(const double_pendulum<Real>& model,
     extern template saddle_curve<R> make_saddle_curve<R>(const double_pendulum<R>&,         \
                                                          const saddle_orbit<R>&, const R&); \
     extern template std::array<R, 5> orbit_point_at_s<R>(const double_pendulum<R>&,         \
-                                                         const saddle_orbit<R>&, const R&)
-FLIPFLUX_CURVE_EXTERN(double);
-FLIPFLUX_CURVE_EXTERN(quad);
-FLIPFLUX_CURVE_EXTERN(mp50);
-FLIPFLUX_CURVE_EXTERN(mp100);
+                                                         const saddle_orbit<R>&, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_CURVE_EXTERN)
 #undef FLIPFLUX_CURVE_EXTERN
 
 }  // namespace flipflux

@@ -13,7 +13,7 @@
 // requested tolerance. Convergence is reported in `status`, never thrown.
 //
 // Accuracy (verified in verification/orbits*.cpp against a higher-precision solve): T and F to a
-// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp50); error_estimate_* state the
+// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp:50); error_estimate_* state the
 // per-orbit estimate. Near E_max the multiplier grows like (E_max - E)^(-lambda/...) and the
 // attainable accuracy degrades accordingly (see docs/theory.md).
 #pragma once
@@ -184,11 +184,8 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& e
         const double_pendulum<R>&, arm, const std::vector<R>&, const orbit_options<R>&);           \
     extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,                       \
                                                   const saddle_orbit<R>&, const R&);               \
-    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const R&)
-FLIPFLUX_ORBIT_EXTERN(double);
-FLIPFLUX_ORBIT_EXTERN(quad);
-FLIPFLUX_ORBIT_EXTERN(mp50);
-FLIPFLUX_ORBIT_EXTERN(mp100);
+    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_EXTERN)
 #undef FLIPFLUX_ORBIT_EXTERN
 
 }  // namespace flipflux

@@ -39,7 +39,7 @@
 // non-finite energy or an empty domain.
 // Accuracy (tests/prediction, verification/prediction_routes.cpp, docs/accuracy.md): relative
 // error a few eps for the sine and upright curves from E_s + 1e-12 to 1e6, both arms, both
-// routes, at double, quad, mp50 and mp100. The error estimate is the quadrature's last-level
+// routes, at double, quad and mp:N. The error estimate is the quadrature's last-level
 // difference: conservative, usually by many orders of magnitude.
 #pragma once
 
@@ -125,11 +125,8 @@ Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const Real& ene
         const double_pendulum<R>&, const R&, const curve_view<R>&);                              \
     extern template curve_flux_result<R> curve_flux<R>(const double_pendulum<R>&, const R&,      \
                                                        const curve_view<R>&, curve_flux_method); \
-    extern template R near_saddle_flux<R>(const double_pendulum<R>&, arm, const R&, const R&)
-FLIPFLUX_CURVE_FLUX_EXTERN(double);
-FLIPFLUX_CURVE_FLUX_EXTERN(quad);
-FLIPFLUX_CURVE_FLUX_EXTERN(mp50);
-FLIPFLUX_CURVE_FLUX_EXTERN(mp100);
+    extern template R near_saddle_flux<R>(const double_pendulum<R>&, arm, const R&, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_CURVE_FLUX_EXTERN)
 #undef FLIPFLUX_CURVE_FLUX_EXTERN
 
 }  // namespace flipflux

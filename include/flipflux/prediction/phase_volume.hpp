@@ -24,7 +24,7 @@
 // Domain: any finite E. Omega = 0 and the densities vanish for E <= 0 (empty energy surface).
 // closed_form with E < E_max and non-finite arguments throw std::domain_error.
 // Accuracy (tests/prediction, verification/prediction*.cpp): relative error a few eps across
-// 0 < E <= 1e6 at double, quad, mp50 and mp100, the routes agreeing to the same level.
+// 0 < E <= 1e6 at double, quad and mp:N, the routes agreeing to the same level.
 #pragma once
 
 #include <string>
@@ -93,11 +93,8 @@ prediction_result<Real> marginal_cdf(const double_pendulum<Real>& model, const R
     extern template R marginal_density<R>(const double_pendulum<R>&, const R&,                \
                                           configuration_angle, const R&);                     \
     extern template prediction_result<R> marginal_cdf<R>(const double_pendulum<R>&, const R&, \
-                                                         configuration_angle, const R&)
-FLIPFLUX_PHASE_VOLUME_EXTERN(double);
-FLIPFLUX_PHASE_VOLUME_EXTERN(quad);
-FLIPFLUX_PHASE_VOLUME_EXTERN(mp50);
-FLIPFLUX_PHASE_VOLUME_EXTERN(mp100);
+                                                         configuration_angle, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_PHASE_VOLUME_EXTERN)
 #undef FLIPFLUX_PHASE_VOLUME_EXTERN
 
 }  // namespace flipflux

@@ -29,11 +29,8 @@ prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a
 
 #define FLIPFLUX_RATES_EXTERN(R)                                                           \
     extern template prediction_result<R> predicted_rate<R>(const double_pendulum<R>&, arm, \
-                                                           flip_criterion, const R&, rate_route)
-FLIPFLUX_RATES_EXTERN(double);
-FLIPFLUX_RATES_EXTERN(quad);
-FLIPFLUX_RATES_EXTERN(mp50);
-FLIPFLUX_RATES_EXTERN(mp100);
+                                                           flip_criterion, const R&, rate_route);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_RATES_EXTERN)
 #undef FLIPFLUX_RATES_EXTERN
 
 }  // namespace flipflux

@@ -63,11 +63,8 @@ Real upright_flux_near_saddle(const double_pendulum<Real>& model, arm a, const R
     extern template R upright_flux_complete_elliptic<R>(const double_pendulum<R>&, arm, const R&); \
     extern template R upright_flux_reciprocal_modulus<R>(const double_pendulum<R>&, arm,           \
                                                          const R&);                                \
-    extern template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm, const R&)
-FLIPFLUX_UPRIGHT_FLUX_EXTERN(double);
-FLIPFLUX_UPRIGHT_FLUX_EXTERN(quad);
-FLIPFLUX_UPRIGHT_FLUX_EXTERN(mp50);
-FLIPFLUX_UPRIGHT_FLUX_EXTERN(mp100);
+    extern template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_UPRIGHT_FLUX_EXTERN)
 #undef FLIPFLUX_UPRIGHT_FLUX_EXTERN
 
 }  // namespace flipflux

@@ -7,7 +7,7 @@
 //                            b - x, to full relative accuracy even where x itself has rounded
 //                            onto the endpoint: integrands like sqrt(K(x)) with K(a) = 0 evaluate
 //                            K from the distance without cancellation.
-//   gauss_kronrod_integrate  adaptive 61-point Gauss-Kronrod (Boost.Math), for smooth
+//   gauss_kronrod_integrate  adaptive 61-point Gauss-Kronrod (Boost.Math's rule and recursion), for smooth
 //                            integrands; an independent rule for cross-checks.
 //   nested_integrate         the outer integral (tanh-sinh) of inner integrals supplied as
 //                            quadrature_results; inner error estimates are propagated.
@@ -19,11 +19,10 @@
 // value is typically accurate to far below it (tests check actual errors, not estimates).
 //
 // Precision: the integrators are built in Real (abscissas and weights in the working precision;
-// no double constants). For the MPFR types the tanh-sinh rule is constructed with an explicit
-// minimum complement 2^-(4 digits + 64) (Boost 1.74's default, 4 * min_value, overflows itrunc).
-// Caches: Boost keeps abscissa rows per integrator object and Gauss-Kronrod nodes in function-
-// local statics per type; every flipflux real type has a fixed precision, so a cache is never
-// reused at another precision.
+// no double constants). For mp the tanh-sinh rule is constructed with an explicit minimum
+// complement 2^-(4 digits + 64) (Boost 1.74's default, 4 * min_value, overflows itrunc).
+// Caches: one tanh-sinh integrator per thread and working precision; one Gauss-Kronrod rule per
+// type and working precision (gauss_kronrod_61), so no cache is reused at another precision.
 // Threads: a tanh_sinh object is not thread-safe while it lazily adds levels (TOOLCHAIN.md), so
 // each thread owns its own (thread_local); all functions here may be called concurrently.
 #pragma once
@@ -129,6 +128,16 @@ quadrature_result<Real> tanh_sinh_integrate_graded(endpoint_integrand<Real> f, c
                                                    const Real& b, const Real& r_a, const Real& r_b,
                                                    const quadrature_options<Real>& = {});
 
+/// The 61-point Gauss-Kronrod rule on [-1, 1] in the working precision, by symmetry: abscissa[i]
+/// >= 0 ascending (abscissa[0] = 0), kronrod_weights[i] of +-abscissa[i], gauss_weights[i / 2] of
+/// the 30-point Gauss rule at the odd indices i. Built once per type and precision; thread-safe.
+template <class Real>
+struct gauss_kronrod_rule {
+    std::vector<Real> abscissa, kronrod_weights, gauss_weights;
+};
+template <class Real>
+const gauss_kronrod_rule<Real>& gauss_kronrod_61();
+
 /// Integral of a smooth f over [a, b] by adaptive 61-point Gauss-Kronrod.
 template <class Real>
 quadrature_result<Real> gauss_kronrod_integrate(function_ref<Real(const Real&)> f, const Real& a,
@@ -171,6 +180,7 @@ quadrature_result<Real> nested_integrate(
     extern template quadrature_result<R> tanh_sinh_integrate_graded<R>(                           \
         endpoint_integrand<R>, const R&, const R&, const R&, const R&,                            \
         const quadrature_options<R>&);                                                            \
+    extern template const gauss_kronrod_rule<R>& gauss_kronrod_61<R>();                          \
     extern template quadrature_result<R> gauss_kronrod_integrate<R>(                              \
         function_ref<R(const R&)>, const R&, const R&, const quadrature_options<R>&);             \
     extern template quadrature_result<R> gauss_kronrod_fixed<R>(function_ref<R(const R&)>,        \
@@ -178,11 +188,8 @@ quadrature_result<Real> nested_integrate(
     extern template std::size_t kronrod_panels<R>(const R&, const R&, std::size_t);               \
     extern template quadrature_result<R> nested_integrate<R>(                                     \
         function_ref<quadrature_result<R>(const R&, const R&, const R&)>, const R&, const R&,     \
-        const R&, const R&, const quadrature_options<R>&)
-FLIPFLUX_QUADRATURE_EXTERN(double);
-FLIPFLUX_QUADRATURE_EXTERN(quad);
-FLIPFLUX_QUADRATURE_EXTERN(mp50);
-FLIPFLUX_QUADRATURE_EXTERN(mp100);
+        const R&, const R&, const quadrature_options<R>&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_QUADRATURE_EXTERN)
 #undef FLIPFLUX_QUADRATURE_EXTERN
 
 }  // namespace flipflux

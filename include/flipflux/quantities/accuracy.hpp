@@ -1,45 +1,59 @@
 // What accuracy costs: for every registered quantity and method, the significant digits achieved
-// and the time per evaluation at double, quad, mp:50 and mp:100, as a Markdown report
-// (`flipflux accuracy --out docs/accuracy.md`). Registry-driven, like golden data.
+// and the time per evaluation in each requested precision (by default double, quad, mp:50 and
+// mp:100), as a Markdown report (`flipflux accuracy --out docs/accuracy.md`). Registry-driven,
+// like golden data.
 //
 // Digits of a (method, precision) cell: the minimum over test energies (and both arms) of
-// -log10(|x - ref| / |ref|), ref the quantity's default method in mp:100 (for the default method
-// in mp:100 itself: the first other applicable method in mp:100). Time: the mean over repeated
-// evaluations (at least min_seconds in total, at least one) at the first test energy.
+// -log10(|x - ref| / |ref|), ref the quantity's default method in the reference precision mp:R,
+// R = the highest requested digits + 20 (at least 120). A default-method cell is thus checked
+// against a higher precision, every other method against an independent route. Time: the mean
+// over repeated evaluations (at least min_seconds in total, at least one) at the first test energy.
+// A method whose evaluation takes longer than max_seconds in one precision is not measured in the
+// higher ones (its cells say so).
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "flipflux/core/real.hpp"
+
 namespace flipflux {
 
 struct accuracy_options {
-    std::vector<std::string> quantities;            ///< empty: every registered quantity
-    bool precisions[4] = {true, true, true, true};  ///< double, quad, mp:50, mp:100
-    double min_seconds = 0.2;                       ///< timing budget per cell
+    std::vector<std::string> quantities;  ///< empty: every registered quantity
+    /// the columns, in increasing precision
+    std::vector<precision> precisions{precision{real_kind::double_}, precision{real_kind::quad},
+                                      mp_precision(50), mp_precision(100)};
+    double min_seconds = 0.2;  ///< timing budget per cell
     /// a cell whose first evaluation takes longer is measured at its first energy only
     double slow_seconds = 3;
+    /// a method slower than this in one precision is not measured in the higher ones
+    double max_seconds = 120;
     std::function<void(const std::string&)> progress;  ///< called with a line per cell
 };
 
+/// The reference precision of a set of columns: mp:(highest digits + 20), at least mp:120.
+precision accuracy_reference_precision(const std::vector<precision>& columns);
+
 struct accuracy_cell {
-    bool applies = false;  ///< false when the method has no test energy in its domain
-    double digits = 0;     ///< significant digits achieved (minimum over energies)
-    double seconds = 0;    ///< mean time per evaluation
-    int energies = 0;      ///< energies (and arms) checked
+    bool applies = false;   ///< false when the method has no test energy in its domain
+    bool skipped = false;   ///< not measured: too slow in a lower precision
+    double digits = 0;      ///< significant digits achieved (minimum over energies)
+    double seconds = 0;     ///< mean time per evaluation
+    int energies = 0;       ///< energies (and arms) checked
 };
 
 struct accuracy_entry {
     std::string quantity, description, method;
-    accuracy_cell cells[4];  ///< double, quad, mp:50, mp:100
+    std::vector<accuracy_cell> cells;  ///< one per column (accuracy_options::precisions)
 };
 
 /// Measures every (quantity, method, precision).
 std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options);
 
-/// The Markdown report.
+/// The Markdown report; `columns` are the options' precisions.
 std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
-                              const std::string& command);
+                              const std::vector<precision>& columns, const std::string& command);
 
 }  // namespace flipflux

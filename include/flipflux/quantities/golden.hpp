@@ -1,10 +1,11 @@
 // Golden reference data: every registered quantity on an energy grid, with its certified digits
 // (`flipflux golden`; data/golden/README.md describes the files).
 //
-// A row's value is computed by the quantity's default method in mp:100. Its certified digits are
-//     min( agreement of the default method in mp:50 with mp:100,
-//          agreement of the first other method that applies, in mp:50, with mp:100 ),
-// agreement = floor(-log10(|a - b| / |b|)), at most 50; the value is written with that many
+// A row's value is computed by the quantity's default method in mp:N (by default mp:100). Its
+// certified digits are
+//     min( agreement of the default method in mp:(N/2) with mp:N,
+//          agreement of the first other method that applies, in mp:(N/2), with mp:N ),
+// agreement = floor(-log10(|a - b| / |b|)), at most N/2; the value is written with that many
 // significant digits. Rows whose quantity is zero (a flux below its saddle) or whose energy is
 // outside the quantity's domain (input_error) are left out. Driven by the registry: quantities
 // registered by other modules join without change here.
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/core/real.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 
@@ -23,7 +25,7 @@ struct golden_row {
     std::string quantity;
     std::string arm;     ///< "1", "2", or "" for quantities that are not per arm
     std::string energy;  ///< decimal text, exactly as parsed in every precision
-    std::string value;   ///< the mp:100 value with `digits` significant digits
+    std::string value;   ///< the value with `digits` significant digits
     int digits = 0;      ///< certified significant digits
     std::string method;  ///< "default|checked" methods, e.g. "elliptic|quadrature-2d"
 };
@@ -41,6 +43,7 @@ std::vector<std::string> golden_orbit_energies(double start, double maximum);
 
 struct golden_options {
     std::vector<std::string> quantities;  ///< empty: every registered quantity
+    precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
     int jobs = 1;                         ///< OpenMP threads
     std::size_t max_rows = 0;             ///< 0: all (for quick runs and tests)
     /// called after each row (from one thread at a time), for progress reports
@@ -65,6 +68,11 @@ std::vector<golden_row> parse_golden_csv(const std::string& text);
 
 /// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
 /// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count.
-std::string golden_provenance(const std::string& command, std::size_t rows);
+std::string golden_provenance(const std::string& command, std::size_t rows,
+                              const precision& value_precision);
+
+/// The precision that certifies golden values computed in `value_precision`: mp:N -> mp:(N/2),
+/// quad -> double. Throws input_error for double (and mp:1).
+precision golden_check_precision(const precision& value_precision);
 
 }  // namespace flipflux

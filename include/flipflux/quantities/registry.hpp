@@ -39,22 +39,13 @@ struct quantity {
     /// true when every evaluation needs the saddle orbit at E (scenes plan an orbit family for
     /// it; golden data use a coarser grid, the orbit costing minutes in mp:100)
     bool needs_saddle_orbit = false;
-    quantity_function<double> f_double;
-    quantity_function<quad> f_quad;
-    quantity_function<mp50> f_mp50;
-    quantity_function<mp100> f_mp100;
+    /// the evaluation in every supported real type
+    per_real_type<quantity_function> functions;
 
     template <class Real>
     quantity_value<Real> evaluate(const double_pendulum<Real>& model, arm a, const Real& energy,
                                   const std::string& method) const {
-        if constexpr (std::is_same_v<Real, double>)
-            return f_double(model, a, energy, method);
-        else if constexpr (std::is_same_v<Real, quad>)
-            return f_quad(model, a, energy, method);
-        else if constexpr (std::is_same_v<Real, mp50>)
-            return f_mp50(model, a, energy, method);
-        else
-            return f_mp100(model, a, energy, method);
+        return std::get<quantity_function<Real>>(functions)(model, a, energy, method);
     }
 };
 
@@ -62,19 +53,12 @@ struct quantity {
 template <class F>
 quantity make_quantity(std::string name, std::string description, std::vector<std::string> methods,
                        bool per_arm, F f) {
-    quantity q{std::move(name),
-               std::move(description),
-               std::move(methods),
-               per_arm,
-               false,
-               {},
-               {},
-               {},
-               {}};
-    q.f_double = [f](auto&&... a) { return f.template operator()<double>(a...); };
-    q.f_quad = [f](auto&&... a) { return f.template operator()<quad>(a...); };
-    q.f_mp50 = [f](auto&&... a) { return f.template operator()<mp50>(a...); };
-    q.f_mp100 = [f](auto&&... a) { return f.template operator()<mp100>(a...); };
+    quantity q{std::move(name), std::move(description), std::move(methods), per_arm, false, {}};
+    for_each_real_type([&]<class Real>() {
+        std::get<quantity_function<Real>>(q.functions) = [f](auto&&... a) {
+            return f.template operator()<Real>(a...);
+        };
+    });
     return q;
 }
 

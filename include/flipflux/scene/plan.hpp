@@ -33,7 +33,7 @@ struct plan_step {
     std::string description;
     /// orbit families: the precision they are computed in (the scene's for predictions and
     /// [orbits]; double for the saddle criterion of ensembles)
-    precision prec = precision::double_;
+    precision prec = precision{real_kind::double_};
 };
 
 struct plan {

@@ -69,6 +69,7 @@ struct ensemble_spec {
 struct golden_spec {
     std::string dir = "data/golden";
     std::vector<std::string> quantities;  ///< empty: every registered quantity
+    precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
     int line = 0;
 };
 
@@ -77,6 +78,9 @@ struct accuracy_spec {
     std::vector<std::string> quantities;  ///< empty: every registered quantity
     /// Markdown files appended verbatim after the measured tables (e.g. benchmark figures)
     std::vector<std::string> appendices;
+    /// the report's columns
+    std::vector<precision> precisions{precision{real_kind::double_}, precision{real_kind::quad},
+                                      mp_precision(50), mp_precision(100)};
     int line = 0;
 };
 
@@ -90,7 +94,7 @@ struct scene {
     std::string name, description;
     std::filesystem::path output;  ///< output directory
     std::string precision_text = "double";
-    precision prec = precision::double_;
+    precision prec = precision{real_kind::double_};
     model_spec model;
     bool custom_model = false;
     std::optional<predictions_spec> predictions;
@@ -118,11 +122,8 @@ template <class Real>
 std::vector<Real> energies_of(const energy_grid& grid, const std::string& where);
 
 #define FLIPFLUX_SCENE_EXTERN(R) \
-    extern template std::vector<R> energies_of<R>(const energy_grid&, const std::string&)
-FLIPFLUX_SCENE_EXTERN(double);
-FLIPFLUX_SCENE_EXTERN(quad);
-FLIPFLUX_SCENE_EXTERN(mp50);
-FLIPFLUX_SCENE_EXTERN(mp100);
+    extern template std::vector<R> energies_of<R>(const energy_grid&, const std::string&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_SCENE_EXTERN)
 #undef FLIPFLUX_SCENE_EXTERN
 
 }  // namespace flipflux

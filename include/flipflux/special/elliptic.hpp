@@ -75,11 +75,8 @@ Real elliptic_f_carlson(const Real& s, const Real& c2, const Real& d, const Real
     extern template R elliptic_k<R>(const R&);                                       \
     extern template R elliptic_f<R>(const R&, const R&);                             \
     extern template R elliptic_e_carlson<R>(const R&, const R&, const R&, const R&); \
-    extern template R elliptic_f_carlson<R>(const R&, const R&, const R&, const R&)
-FLIPFLUX_ELLIPTIC_EXTERN(double);
-FLIPFLUX_ELLIPTIC_EXTERN(quad);
-FLIPFLUX_ELLIPTIC_EXTERN(mp50);
-FLIPFLUX_ELLIPTIC_EXTERN(mp100);
+    extern template R elliptic_f_carlson<R>(const R&, const R&, const R&, const R&);
+FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ELLIPTIC_EXTERN)
 #undef FLIPFLUX_ELLIPTIC_EXTERN
 
 }  // namespace flipflux

@@ -1,0 +1,101 @@
+// Decimal text independently of the working precision (core/decimal.hpp): recognising a decimal
+// number, rounding it, and comparing two of them.
+#include <mpfr.h>
+
+#include <boost/multiprecision/mpfr.hpp>
+#include <ios>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+
+namespace flipflux {
+namespace {
+
+/// An MPFR number with its own precision (no Boost default precision involved).
+class mpfr_value {
+  public:
+    explicit mpfr_value(mpfr_prec_t bits) { mpfr_init2(x_, bits); }
+    ~mpfr_value() { mpfr_clear(x_); }
+    mpfr_value(const mpfr_value&) = delete;
+    mpfr_value& operator=(const mpfr_value&) = delete;
+    mpfr_ptr get() { return x_; }
+
+  private:
+    mpfr_t x_;
+};
+
+void set_decimal(mpfr_value& x, std::string_view text, std::string_view what) {
+    if (!is_decimal_number(text))
+        throw input_error(std::string(what) + ": '" + std::string(text) +
+                          "' is not a finite decimal number");
+    const std::string s(text);
+    mpfr_set_str(x.get(), s.c_str(), 10, MPFR_RNDN);
+}
+
+/// log10 |a - b| / |b| (log10 |a - b| when b == 0) in MPFR, as a double (-inf when equal).
+double log10_relative_difference(std::string_view a, std::string_view b, std::string_view what) {
+    // every significant digit of both texts, and room for the difference
+    const mpfr_prec_t bits = static_cast<mpfr_prec_t>(4 * (a.size() + b.size()) + 64);
+    mpfr_value x(bits), y(bits);
+    set_decimal(x, a, what);
+    set_decimal(y, b, what);
+    mpfr_sub(x.get(), x.get(), y.get(), MPFR_RNDN);
+    mpfr_abs(x.get(), x.get(), MPFR_RNDN);
+    if (mpfr_zero_p(x.get())) return -std::numeric_limits<double>::infinity();
+    if (!mpfr_zero_p(y.get())) {
+        mpfr_abs(y.get(), y.get(), MPFR_RNDN);
+        mpfr_div(x.get(), x.get(), y.get(), MPFR_RNDN);
+    }
+    mpfr_log10(x.get(), x.get(), MPFR_RNDN);
+    return mpfr_get_d(x.get(), MPFR_RNDN);
+}
+
+}  // namespace
+
+bool is_decimal_number(std::string_view t) {
+    std::size_t i = 0;
+    const std::size_t n = t.size();
+    if (i < n && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t mantissa_digits = 0;
+    while (i < n && t[i] >= '0' && t[i] <= '9')
+        ++i, ++mantissa_digits;
+    if (i < n && t[i] == '.') {
+        ++i;
+        while (i < n && t[i] >= '0' && t[i] <= '9')
+            ++i, ++mantissa_digits;
+    }
+    if (mantissa_digits == 0) return false;
+    if (i < n && (t[i] == 'e' || t[i] == 'E')) {
+        ++i;
+        if (i < n && (t[i] == '+' || t[i] == '-')) ++i;
+        std::size_t exponent_digits = 0;
+        while (i < n && t[i] >= '0' && t[i] <= '9')
+            ++i, ++exponent_digits;
+        if (exponent_digits == 0 || exponent_digits > 6) return false;
+    }
+    return i == n;
+}
+
+std::string round_decimal(std::string_view text, int significant_digits, std::string_view what) {
+    mpfr_value x(static_cast<mpfr_prec_t>(4 * text.size() + 64));
+    set_decimal(x, text, what);
+    // formatted by Boost's MPFR backend, as to_decimal's iostream output is (its precision is
+    // taken from x, not from the process-wide default)
+    boost::multiprecision::mpfr_float_backend<0> b;
+    b = static_cast<mpfr_srcptr>(x.get());
+    return b.str(significant_digits < 1 ? 1 : significant_digits, std::ios_base::fmtflags(0));
+}
+
+double decimal_agreement(std::string_view a, std::string_view b, std::string_view what) {
+    return -log10_relative_difference(a, b, what);
+}
+
+double decimal_relative_error(std::string_view a, std::string_view b, std::string_view what) {
+    return std::pow(10.0, log10_relative_difference(a, b, what));
+}
+
+}  // namespace flipflux
