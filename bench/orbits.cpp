@@ -1,7 +1,7 @@
 // Saddle-orbit benchmarks: the whole arm-2 family on a 100-point grid at double, one orbit at
-// quad, mp50 and mp100, the saddle curve's construction and evaluation. Each orbit benchmark also
-// reports the digits it reached (counters digits_T, digits_F: -log10 of the relative error against
-// a solve at higher precision), so the figures are digits versus time.
+// quad, mp:50, mp:100 and mp:150, the saddle curve's construction and evaluation. Each orbit
+// benchmark also reports the digits it reached (counters digits_T, digits_F: -log10 of the relative
+// error against a solve at higher precision), so the figures are digits versus time.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -37,64 +37,81 @@ void BM_Arm2FamilyDouble(benchmark::State& state) {
 }
 BENCHMARK(BM_Arm2FamilyDouble)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-/// One orbit at Real (E = 3, arm 2), digits against a reference at Ref.
-template <class Real, class Ref>
-void orbit_benchmark(benchmark::State& state, orbit_method method, const Ref& ref_tolerance,
-                     int ref_stages) {
+/// One orbit in precision p (E = 3, arm 2), timed; its T and F as decimal text.
+struct timed_orbit {
+    std::string period, action;
+    double steps = 0, stages = 0;
+};
+
+template <class Real>
+timed_orbit solve_timed(benchmark::State* state, orbit_method method, const std::string& tolerance,
+                        int stages) {
     const double_pendulum<Real> model;
     const Real E = parse_real<Real>("3", "E");
     orbit_options<Real> options;
     options.method = method;
+    if (!tolerance.empty()) options.tolerance = parse_real<Real>(tolerance, "tolerance");
+    options.stages = stages;
     saddle_orbit<Real> o;
-    for (auto _ : state) {
+    if (state != nullptr) {
+        for (auto _ : *state) {
+            o = solve_saddle_orbit(model, arm::two, E, options);
+            benchmark::DoNotOptimize(o.action);
+        }
+    } else {
         o = solve_saddle_orbit(model, arm::two, E, options);
-        benchmark::DoNotOptimize(o.action);
     }
-    orbit_options<Ref> ro;
-    ro.method = orbit_method::symmetric;
-    ro.tolerance = ref_tolerance;
-    ro.stages = ref_stages;
-    const auto ref =
-        solve_saddle_orbit(double_pendulum<Ref>(), arm::two, parse_real<Ref>("3", "E"), ro);
+    return {to_decimal(o.period, full_digits(o.period)),
+            to_decimal(o.action, full_digits(o.action)), static_cast<double>(o.steps),
+            static_cast<double>(o.stages)};
+}
+
+/// One orbit in p, digits against a symmetric-shooting reference in `reference` (with its
+/// tolerance and stages).
+void orbit_benchmark(benchmark::State& state, const precision& p, orbit_method method,
+                     const precision& reference, const std::string& ref_tolerance, int ref_stages) {
+    const timed_orbit o =
+        dispatch(p, [&]<class Real>() { return solve_timed<Real>(&state, method, "", 0); });
+    const timed_orbit ref = dispatch(reference, [&]<class Real>() {
+        return solve_timed<Real>(nullptr, orbit_method::symmetric, ref_tolerance, ref_stages);
+    });
     state.counters["digits_T"] = correct_digits(o.period, ref.period);
     state.counters["digits_F"] = correct_digits(o.action, ref.action);
-    state.counters["steps"] = static_cast<double>(o.steps);
+    state.counters["steps"] = o.steps;
     state.counters["stages"] = o.stages;
-    state.SetLabel(to_string(method));
+    state.SetLabel(to_string(method) + " " + precision_name(p) + " vs " +
+                   precision_name(reference));
 }
 
 void BM_OrbitDouble(benchmark::State& state) {
-    orbit_benchmark<double, quad>(state, static_cast<orbit_method>(state.range(0)), quad(0), 0);
+    orbit_benchmark(state, precision{real_kind::double_}, static_cast<orbit_method>(state.range(0)),
+                    precision{real_kind::quad}, "", 0);
 }
 BENCHMARK(BM_OrbitDouble)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_OrbitQuad(benchmark::State& state) {
-    orbit_benchmark<quad, mp50>(state, static_cast<orbit_method>(state.range(0)), mp50("1e-40"),
-                                12);
+    orbit_benchmark(state, precision{real_kind::quad}, static_cast<orbit_method>(state.range(0)),
+                    mp_precision(50), "1e-40", 12);
 }
 BENCHMARK(BM_OrbitQuad)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 void BM_OrbitMp50(benchmark::State& state) {
-    orbit_benchmark<mp50, mp100>(state, static_cast<orbit_method>(state.range(0)), mp100("1e-56"),
-                                 14);
+    orbit_benchmark(state, mp_precision(50), static_cast<orbit_method>(state.range(0)),
+                    mp_precision(100), "1e-56", 14);
 }
 BENCHMARK(BM_OrbitMp50)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_OrbitMp100(benchmark::State& state) {
-    // no higher precision to compare with: time only (its accuracy is that of the tolerance,
-    // 64 eps, as verified for the other types)
-    const double_pendulum<mp100> model;
-    orbit_options<mp100> options;
-    options.method = orbit_method::symmetric;
-    saddle_orbit<mp100> o;
-    for (auto _ : state) {
-        o = solve_saddle_orbit(model, arm::two, mp100(3), options);
-        benchmark::DoNotOptimize(o.action);
-    }
-    state.counters["steps"] = static_cast<double>(o.steps);
-    state.counters["stages"] = o.stages;
+    orbit_benchmark(state, mp_precision(100), orbit_method::symmetric, mp_precision(150), "1e-106",
+                    0);
 }
 BENCHMARK(BM_OrbitMp100)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_OrbitMp150(benchmark::State& state) {
+    orbit_benchmark(state, mp_precision(150), orbit_method::symmetric, mp_precision(200), "1e-156",
+                    0);
+}
+BENCHMARK(BM_OrbitMp150)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_CurveBuildDouble(benchmark::State& state) {
     const double_pendulum<double> model;

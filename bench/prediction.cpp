@@ -18,7 +18,8 @@ namespace {
 using namespace flipflux;
 
 template <class Real>
-void run(benchmark::State& state, const quantity* q, std::string method, arm a, std::string e) {
+void run_in(benchmark::State& state, const quantity* q, const std::string& method, arm a,
+            const std::string& e) {
     const double_pendulum<Real> model;
     const Real energy = parse_real<Real>(e, "--energy");
     for (auto _ : state) {
@@ -34,8 +35,12 @@ void run(benchmark::State& state, const quantity* q, std::string method, arm a, 
     }
 }
 
-template <class Real>
-void register_all() {
+void run(benchmark::State& state, const quantity* q, std::string method, arm a, std::string e,
+         precision p) {
+    dispatch(p, [&]<class Real>() { run_in<Real>(state, q, method, a, e); });
+}
+
+void register_all(const precision& p) {
     for (const quantity& q : quantities()) {
         std::vector<std::pair<arm, std::string>> cases;
         if (q.per_arm)
@@ -46,8 +51,8 @@ void register_all() {
             for (const auto& [a, e] : cases) {
                 const std::string name = q.name + "/" + m +
                                          (q.per_arm ? "/arm" + to_string(a) : "") + "/E=" + e +
-                                         "/" + precision_name<Real>();
-                benchmark::RegisterBenchmark(name.c_str(), run<Real>, &q, m, a, e)
+                                         "/" + precision_name(p);
+                benchmark::RegisterBenchmark(name.c_str(), run, &q, m, a, e, p)
                     ->Unit(benchmark::kMicrosecond);
             }
         }
@@ -57,10 +62,8 @@ void register_all() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    register_all<double>();
-    register_all<quad>();
-    register_all<mp50>();
-    register_all<mp100>();
+    for (const char* p : {"double", "quad", "mp:50", "mp:100"})
+        register_all(parse_precision(p));
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

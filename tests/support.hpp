@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include "flipflux/core/convert.hpp"
 #include "flipflux/core/decimal.hpp"
@@ -19,21 +20,70 @@
 
 namespace flipflux::test {
 
-using real_types = ::testing::Types<double, quad, mp50, mp100>;
+namespace list_detail {
+template <class Tuple>
+struct gtest_types;
+template <class... Ts>
+struct gtest_types<std::tuple<Ts...>> {
+    using type = ::testing::Types<Ts...>;
+};
+}  // namespace list_detail
+
+/// Every supported real type (core/real.hpp's list), for typed tests.
+using real_types = list_detail::gtest_types<flipflux::real_types>::type;
+
+/// The precision typed tests run mp in (tolerances follow from its epsilon).
+inline constexpr int mp_test_digits = 50;
+
+/// The precision a typed test runs Real in: the fixed types' own, mp:mp_test_digits for mp.
+template <class Real>
+precision test_precision() {
+    if constexpr (has_variable_precision_v<Real>)
+        return mp_precision(mp_test_digits);
+    else
+        return precision_of<Real>();
+}
+
+/// The fixture of typed tests: Real's test precision is the working precision throughout.
+template <class Real>
+class real_test : public ::testing::Test {
+    precision_scope scope_{test_precision<Real>()};
+};
 
 /// Human-readable names for typed tests.
 struct real_name {
     template <class T>
     static std::string GetName(int) {
-        std::string n = precision_name<T>();
+        std::string n = precision_name(test_precision<T>());
         for (char& c : n)
             if (c == ':') c = '_';
         return n;
     }
 };
 
+/// A fixed 120-digit MPFR type for references that tests compute with Boost.Math directly. Not a
+/// flipflux real type (no library routine is instantiated for it) and independent of mp's
+/// working precision.
+using reference_real = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<120>,
+                                                     boost::multiprecision::et_off>;
+
+/// x in reference_real, through every digit of x.
+template <class Real>
+reference_real to_reference(const Real& x) {
+    return reference_real(to_decimal(x, full_digits(x) + 2));
+}
+
+/// f() evaluated with mp:digits the working precision (a nested scope: values of another mp
+/// precision must not be used inside f except through their decimal text).
+template <class F>
+auto in_mp(int digits, F&& f) {
+    const precision_scope scope(mp_precision(digits));
+    return f();
+}
+
 // conversion between precisions and relative errors (core/convert.hpp), also as test::...
 using flipflux::convert;
+using flipflux::correct_digits;
 using flipflux::relative_error;
 
 template <class Real>

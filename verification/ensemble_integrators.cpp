@@ -20,11 +20,11 @@
 namespace flipflux::verification {
 namespace {
 
-using state50 = phase_point<mp50>;
+using state50 = phase_point<mp>;
 
-state50 gbs_step(const double_pendulum<mp50>& m, const state50& y, const mp50& H, int K) {
+state50 gbs_step(const double_pendulum<mp>& m, const state50& y, const mp& H, int K) {
     std::vector<state50> T(static_cast<std::size_t>(K));
-    auto axpy = [](const state50& a, const mp50& h, const state50& f) {
+    auto axpy = [](const state50& a, const mp& h, const state50& f) {
         state50 r;
         for (int i = 0; i < 4; ++i)
             r[i] = a[i] + h * f[i];
@@ -32,7 +32,7 @@ state50 gbs_step(const double_pendulum<mp50>& m, const state50& y, const mp50& H
     };
     for (int j = 0; j < K; ++j) {
         const int n = 2 * (j + 1);
-        const mp50 h = H / n;
+        const mp h = H / n;
         state50 z0 = y, z1 = axpy(y, h, m.rhs(y));
         for (int s = 1; s < n; ++s) {
             const state50 z2 = axpy(z0, 2 * h, m.rhs(z1));
@@ -47,8 +47,8 @@ state50 gbs_step(const double_pendulum<mp50>& m, const state50& y, const mp50& H
         T[static_cast<std::size_t>(j)] = t;
         // Neville (Aitken) extrapolation to h = 0 in powers of h^2
         for (int k = j - 1; k >= 0; --k) {
-            const mp50 r = mp50(n) / (2 * (k + 1));
-            const mp50 d = r * r - 1;
+            const mp r = mp(n) / (2 * (k + 1));
+            const mp d = r * r - 1;
             for (int i = 0; i < 4; ++i)
                 T[static_cast<std::size_t>(k)][i] =
                     T[static_cast<std::size_t>(k + 1)][i] +
@@ -59,14 +59,14 @@ state50 gbs_step(const double_pendulum<mp50>& m, const state50& y, const mp50& H
 }
 
 // The states at the increasing times `at`, macro steps of about H landing on each.
-std::vector<state50> reference(const double_pendulum<mp50>& m, const state50& y0,
+std::vector<state50> reference(const double_pendulum<mp>& m, const state50& y0,
                                const std::vector<double>& at, double H) {
     std::vector<state50> out;
     state50 y = y0;
     double t = 0;
     for (double target : at) {
         const int n = static_cast<int>(std::ceil((target - t) / H - 1e-9));
-        const mp50 h = (mp50(target) - mp50(t)) / n;
+        const mp h = (mp(target) - mp(t)) / n;
         for (int i = 0; i < n; ++i)
             y = gbs_step(m, y, h, 16);
         out.push_back(y);
@@ -89,9 +89,9 @@ physical_parameters<double> lopsided() {
     return p;
 }
 
-physical_parameters<mp50> to_mp(const physical_parameters<double>& p) {
-    return {mp50(p.m1), mp50(p.m2), mp50(p.L1), mp50(p.L2), mp50(p.a1),
-            mp50(p.a2), mp50(p.I1), mp50(p.I2), mp50(p.g)};
+physical_parameters<mp> to_mp(const physical_parameters<double>& p) {
+    return {mp(p.m1), mp(p.m2), mp(p.L1), mp(p.L2), mp(p.a1),
+            mp(p.a2), mp(p.I1), mp(p.I2), mp(p.g)};
 }
 
 template <class Method>
@@ -120,11 +120,12 @@ double max_error(const double_pendulum<double>& m, const phase_point<double>& x0
 }
 
 void check_pendulum(const char* label, const physical_parameters<double>& p, double fraction) {
+    const precision_scope scope(mp_precision(50));  // the reference in mp:50
     const double_pendulum<double> m(p);
-    const double_pendulum<mp50> mq(to_mp(p));
+    const double_pendulum<mp> mq(to_mp(p));
     const double E = fraction * m.maximum_energy();
     const phase_point<double> x0 = microcanonical_sampler(m, E).sample(77, 0);
-    const state50 y0{mp50(x0[0]), mp50(x0[1]), mp50(x0[2]), mp50(x0[3])};
+    const state50 y0{mp(x0[0]), mp(x0[1]), mp(x0[2]), mp(x0[3])};
     const double T = 5;
     const std::vector<double> mids{0.731, 2.2, 3.97};
     const std::vector<state50> refs = reference(mq, y0, {0.731, 2.2, 3.97, T}, 0.05);

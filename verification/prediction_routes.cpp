@@ -16,7 +16,6 @@
 namespace flipflux {
 namespace {
 
-using test::exactly;
 using test::relative_error;
 using test::target;
 
@@ -88,12 +87,23 @@ TEST(PredictionRoutes, EveryRouteAgreesInDouble) {
     }
 }
 
+/// The default routes of f1 and f2 at E (decimal text) in mp:digits, as decimal text: the
+/// references of the lower precisions.
+std::pair<std::string, std::string> fluxes_in_mp(int digits, const test::model_spec& spec, arm a,
+                                                 const std::string& energy) {
+    return test::in_mp(digits, [&] {
+        const double_pendulum<mp> reference = test::make_model<mp>(spec);
+        const mp e = parse_real<mp>(energy, "E");
+        return std::pair{to_decimal(upright_flux(reference, a, e).value),
+                         to_decimal(approximate_saddle_flux(reference, a, e).value)};
+    });
+}
+
 TEST(PredictionRoutes, EveryRouteAgreesInQuadAndMatchesMp50) {
     // NOTE: test time (quad is slow at -O0): two pendulums, three energies per arm
     for (std::size_t i : {0, 2}) {
         const auto& spec = test::model_specs()[i];
         const double_pendulum<quad> model = test::make_model<quad>(spec);
-        const double_pendulum<mp50> reference = test::make_model<mp50>(spec);
         for (arm a : {arm::two, arm::one}) {
             for (const quad& E : energies(model, a, false)) {
                 const auto grid = energies(model, a, false);
@@ -105,123 +115,151 @@ TEST(PredictionRoutes, EveryRouteAgreesInQuadAndMatchesMp50) {
                 expect_routes_agree(r.omega, target<quad>(), where + " omega");
                 expect_routes_agree(r.flux_upright, target<quad>(), where + " f1");
                 expect_routes_agree(r.flux_approx, target<quad>(), where + " f2");
-                const mp50 e = exactly<mp50>(E);
-                EXPECT_LE(relative_error(r.flux_approx[0].second,
-                                         approximate_saddle_flux(reference, a, e).value),
-                          target<quad>())
-                    << where;
-                EXPECT_LE(
-                    relative_error(r.flux_upright[0].second, upright_flux(reference, a, e).value),
-                    target<quad>())
-                    << where;
+                const auto [f1, f2] = fluxes_in_mp(50, spec, a, to_decimal(E, 140));
+                EXPECT_LE(relative_error(r.flux_approx[0].second, f2), target<quad>()) << where;
+                EXPECT_LE(relative_error(r.flux_upright[0].second, f1), target<quad>()) << where;
             }
         }
     }
 }
 
 TEST(PredictionRoutes, Mp50RoutesAgreeAndMatchMp100) {
-    const double_pendulum<mp50> model;
-    const double_pendulum<mp100> reference;
-    // every route at one energy per arm (the 2-D phase volume once: it is not per arm)
-    const mp50 E2(3), E1(5);
-    const auto r2 = evaluate_routes(model, arm::two, E2, true);
-    expect_routes_agree(r2.omega, target<mp50>(), "egalitarian omega");
-    expect_routes_agree(r2.flux_upright, target<mp50>(), "egalitarian arm 2 f1");
-    expect_routes_agree(r2.flux_approx, target<mp50>(), "egalitarian arm 2 f2");
-    EXPECT_LE(relative_error(r2.omega[0].second, phase_volume(reference, mp100(3)).value),
-              target<mp50>());
-    EXPECT_LE(relative_error(r2.flux_approx[0].second,
-                             approximate_saddle_flux(reference, arm::two, mp100(3)).value),
-              target<mp50>());
-    const mp50 f2 = approximate_saddle_flux(model, arm::one, E1).value;
-    EXPECT_LE(
-        relative_error(
-            approximate_saddle_flux(model, arm::one, E1, curve_flux_method::momentum).value, f2),
-        target<mp50>());
-    EXPECT_LE(relative_error(f2, approximate_saddle_flux(reference, arm::one, mp100(5)).value),
-              target<mp50>());
-    EXPECT_LE(
-        relative_error(upright_flux(model, arm::one, E1).value,
-                       upright_flux(model, arm::one, E1, upright_flux_method::integral).value),
-        target<mp50>());
+    // the references in mp:100 first: omega and f2 at E = 3 (arm 2), f2 at E = 5 (arm 1)
+    const auto [omega3, f2_3] = test::in_mp(100, [] {
+        const double_pendulum<mp> reference;
+        return std::pair{to_decimal(phase_volume(reference, mp(3)).value),
+                         to_decimal(approximate_saddle_flux(reference, arm::two, mp(3)).value)};
+    });
+    const std::string f2_5 = fluxes_in_mp(100, test::model_specs()[0], arm::one, "5").second;
+    test::in_mp(50, [&] {
+        const double_pendulum<mp> model;
+        // every route at one energy per arm (the 2-D phase volume once: it is not per arm)
+        const mp E2(3), E1(5);
+        const auto r2 = evaluate_routes(model, arm::two, E2, true);
+        expect_routes_agree(r2.omega, target<mp>(), "egalitarian omega");
+        expect_routes_agree(r2.flux_upright, target<mp>(), "egalitarian arm 2 f1");
+        expect_routes_agree(r2.flux_approx, target<mp>(), "egalitarian arm 2 f2");
+        EXPECT_LE(relative_error(r2.omega[0].second, omega3), target<mp>());
+        EXPECT_LE(relative_error(r2.flux_approx[0].second, f2_3), target<mp>());
+        const mp f2 = approximate_saddle_flux(model, arm::one, E1).value;
+        EXPECT_LE(
+            relative_error(
+                approximate_saddle_flux(model, arm::one, E1, curve_flux_method::momentum).value,
+                f2),
+            target<mp>());
+        EXPECT_LE(relative_error(f2, f2_5), target<mp>());
+        EXPECT_LE(
+            relative_error(upright_flux(model, arm::one, E1).value,
+                           upright_flux(model, arm::one, E1, upright_flux_method::integral).value),
+            target<mp>());
+    });
 }
 
 TEST(PredictionRoutes, Mp100IndependentRoutes) {
-    const double_pendulum<mp100> model;
-    for (arm a : {arm::two, arm::one}) {
-        const mp100 E = a == arm::two ? mp100(3) : mp100(5);
-        const mp100 f1 = upright_flux(model, a, E).value;
+    test::in_mp(100, [] {
+        const double_pendulum<mp> model;
+        for (arm a : {arm::two, arm::one}) {
+            const mp E = a == arm::two ? mp(3) : mp(5);
+            const mp f1 = upright_flux(model, a, E).value;
+            EXPECT_LE(
+                relative_error(upright_flux(model, a, E, upright_flux_method::integral).value, f1),
+                target<mp>());
+            EXPECT_LE(
+                relative_error(upright_flux(model, a, E, upright_flux_method::curve).value, f1),
+                target<mp>());
+        }
+        // Omega above the maximum: elliptic route, closed form and 2-D ring
+        const mp E(20);
+        const mp omega = phase_volume(model, E, phase_volume_method::closed_form).value;
+        EXPECT_LE(relative_error(phase_volume(model, E).value, omega), target<mp>());
         EXPECT_LE(
-            relative_error(upright_flux(model, a, E, upright_flux_method::integral).value, f1),
-            target<mp100>());
-        EXPECT_LE(relative_error(upright_flux(model, a, E, upright_flux_method::curve).value, f1),
-                  target<mp100>());
-    }
-    // Omega above the maximum: elliptic route, closed form and 2-D ring
-    const mp100 E(20);
-    const mp100 omega = phase_volume(model, E, phase_volume_method::closed_form).value;
-    EXPECT_LE(relative_error(phase_volume(model, E).value, omega), target<mp100>());
-    EXPECT_LE(
-        relative_error(phase_volume(model, E, phase_volume_method::quadrature_2d).value, omega),
-        target<mp100>());
+            relative_error(phase_volume(model, E, phase_volume_method::quadrature_2d).value, omega),
+            target<mp>());
+    });
 }
 
 // The hard cases at every precision: relative accuracy at E_s + 1e-12 (both saddles), at
-// E_max +- 1e-12 and at E = 1e6, against the next precision up (quad for double, mp50 for quad,
-// mp100 for mp50) and, in double and quad, across routes. NOTE: in mp50 the phase volume is
-// compared with mp100 at the kink and the huge energy only (test time); its saddle cases are in
-// the golden data (2.05, 4.05) and in the unit tests' power laws.
-template <class Real, class Ref>
-void hard_cases(bool with_routes) {
-    const double_pendulum<Real> model;
-    const double_pendulum<Ref> reference;
+// E_max +- 1e-12 and at E = 1e6, against a higher precision (quad for double, mp:50 for quad,
+// mp:100 for mp:50, mp:320 for mp:300) and, in double and quad, across routes. NOTE: in mp the
+// phase volume is compared with the reference at the kink and the huge energy only (test time);
+// its saddle cases are in the golden data (2.05, 4.05) and in the unit tests' power laws.
+
+/// The hard-case energies rounded to Real, as exact decimal text (140 digits: exact for every
+/// precision up to mp:130, and 1e-140 relative beyond).
+template <class Real>
+std::vector<std::pair<arm, std::string>> hard_energies() {
     const Real d = Real(1) / 1000000000000;
-    std::vector<std::pair<arm, Real>> cases{{arm::two, Real(2 + d)},
-                                            {arm::one, Real(4 + d)},
-                                            {arm::two, Real(6 - d)},
-                                            {arm::one, Real(6 + d)},
-                                            {arm::two, Real(1000000)}};
-    for (const auto& [a, E] : cases) {
-        const std::string where = "arm " + to_string(a) + " E " + to_decimal(E, 20);
-        const Ref e = exactly<Ref>(E);
-        const Real f1 = upright_flux(model, a, E).value;
-        const Real f2 = approximate_saddle_flux(model, a, E).value;
-        EXPECT_LE(
-            relative_error(f1, upright_flux(reference, a, e, upright_flux_method::integral).value),
-            target<Real>())
-            << where;
-        EXPECT_LE(relative_error(f2, approximate_saddle_flux(reference, a, e).value),
-                  target<Real>())
-            << where;
-        if (with_routes || E > 5) {
-            const Real omega = phase_volume(model, E).value;
-            EXPECT_LE(relative_error(omega, phase_volume(reference, e).value), target<Real>())
-                << where;
-            if (with_routes) {
-                EXPECT_LE(
-                    relative_error(phase_volume(model, E, phase_volume_method::quadrature_2d).value,
-                                   omega),
-                    target<Real>())
-                    << where;
-                EXPECT_LE(
-                    relative_error(
-                        approximate_saddle_flux(model, a, E, curve_flux_method::momentum).value,
-                        f2),
-                    target<Real>())
-                    << where;
-            }
+    const std::pair<arm, Real> cases[] = {{arm::two, Real(2 + d)},
+                                          {arm::one, Real(4 + d)},
+                                          {arm::two, Real(6 - d)},
+                                          {arm::one, Real(6 + d)},
+                                          {arm::two, Real(1000000)}};
+    std::vector<std::pair<arm, std::string>> out;
+    for (const auto& [a, E] : cases)
+        out.emplace_back(a, to_decimal(E, 140));
+    return out;
+}
+
+struct hard_values {
+    std::string f1, f2, omega, omega_2d, f2_momentum;
+    double target = 0;
+};
+
+/// The values at one hard case in Real: the default routes (the reference: f1 by its integral
+/// route, an independent one), omega when asked, the 2-D routes with `routes`.
+template <class Real>
+hard_values hard_values_in(arm a, const std::string& energy, bool omega, bool routes,
+                           bool reference) {
+    const double_pendulum<Real> model;
+    const Real E = parse_real<Real>(energy, "E");
+    hard_values v;
+    v.target = target<Real>();
+    v.f1 = to_decimal(
+        upright_flux(model, a, E,
+                     reference ? upright_flux_method::integral : upright_flux_method::elliptic)
+            .value);
+    v.f2 = to_decimal(approximate_saddle_flux(model, a, E).value);
+    if (omega) v.omega = to_decimal(phase_volume(model, E).value);
+    if (routes) {
+        v.omega_2d = to_decimal(phase_volume(model, E, phase_volume_method::quadrature_2d).value);
+        v.f2_momentum =
+            to_decimal(approximate_saddle_flux(model, a, E, curve_flux_method::momentum).value);
+    }
+    return v;
+}
+
+void hard_cases(const precision& p, const precision& reference, bool with_routes) {
+    const auto cases = dispatch(p, []<class Real>() { return hard_energies<Real>(); });
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const auto& [a, e] = cases[i];
+        const std::string where =
+            precision_name(p) + " arm " + to_string(a) + " E " + e.substr(0, 20);
+        const bool omega = with_routes || i >= 2;  // E > 5
+        const hard_values v = dispatch(
+            p, [&]<class Real>() { return hard_values_in<Real>(a, e, omega, with_routes, false); });
+        const hard_values r = dispatch(reference, [&]<class Real>() {
+            return hard_values_in<Real>(a, e, omega, false, true);
+        });
+        EXPECT_LE(relative_error(v.f1, r.f1), v.target) << where;
+        EXPECT_LE(relative_error(v.f2, r.f2), v.target) << where;
+        if (omega) {
+            EXPECT_LE(relative_error(v.omega, r.omega), v.target) << where;
+        }
+        if (with_routes) {
+            EXPECT_LE(relative_error(v.omega_2d, v.omega), v.target) << where;
+            EXPECT_LE(relative_error(v.f2_momentum, v.f2), v.target) << where;
         }
     }
 }
 
 TEST(PredictionRoutes, HardCasesDouble) {
-    hard_cases<double, quad>(true);
+    hard_cases(precision{real_kind::double_}, precision{real_kind::quad}, true);
 }
 TEST(PredictionRoutes, HardCasesQuad) {
-    hard_cases<quad, mp50>(false);
+    hard_cases(precision{real_kind::quad}, mp_precision(50), false);
 }
 TEST(PredictionRoutes, HardCasesMp50) {
-    hard_cases<mp50, mp100>(false);
+    hard_cases(mp_precision(50), mp_precision(100), false);
 }
 
 }  // namespace

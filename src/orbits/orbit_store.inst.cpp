@@ -46,7 +46,7 @@ struct memo {
     static std::string key(const double_pendulum<Real>& model, arm a, const Real& energy,
                            orbit_method method) {
         return model_text_key(model) + precision_name<Real>() + ";" + to_string(a) + ";" +
-               to_decimal(energy) + ";" + to_string(method);
+               to_decimal(energy, full_digits(energy)) + ";" + to_string(method);
     }
     void refresh() {  // under the lock
         const unsigned g = saddle_orbit_memo_generation();
@@ -57,11 +57,17 @@ struct memo {
     }
 };
 
+/// Every digit x holds (for mp its guard digits too): a cached orbit reads back bit-identical.
+template <class Real>
+std::string exact_decimal(const Real& x) {
+    return to_decimal(x, full_digits(x));
+}
+
 template <class Real>
 json real_array(const Real* v, std::size_t n) {
     json a = json::array();
     for (std::size_t i = 0; i < n; ++i)
-        a.push_back(to_decimal(v[i]));
+        a.push_back(exact_decimal(v[i]));
     return a;
 }
 
@@ -150,27 +156,27 @@ std::string orbit_to_json(const saddle_orbit<Real>& o) {
     j["format"] = format_version;
     j["precision"] = precision_name<Real>();
     j["arm"] = to_string(o.flip_arm);
-    j["energy"] = to_decimal(o.energy);
-    j["excess"] = to_decimal(o.excess);
-    j["beta"] = to_decimal(o.beta);
-    j["period"] = to_decimal(o.period);
-    j["action"] = to_decimal(o.action);
-    j["period_derivative"] = to_decimal(o.period_derivative);
+    j["energy"] = exact_decimal(o.energy);
+    j["excess"] = exact_decimal(o.excess);
+    j["beta"] = exact_decimal(o.beta);
+    j["period"] = exact_decimal(o.period);
+    j["action"] = exact_decimal(o.action);
+    j["period_derivative"] = exact_decimal(o.period_derivative);
     j["saddle"] = real_array(o.saddle.data(), 2);
     j["start"] = real_array(o.start.data(), 4);
     j["turning_points"] = json::array(
         {real_array(o.turning_points[0].data(), 2), real_array(o.turning_points[1].data(), 2)});
     json eig = json::array();
     for (const auto& z : o.floquet.eigenvalues)
-        eig.push_back({to_decimal(z.real()), to_decimal(z.imag())});
+        eig.push_back({exact_decimal(z.real()), exact_decimal(z.imag())});
     j["floquet"] = {{"eigenvalues", eig},
-                    {"trace", to_decimal(o.floquet.trace)},
-                    {"stability_index", to_decimal(o.floquet.stability_index)},
+                    {"trace", exact_decimal(o.floquet.trace)},
+                    {"stability_index", exact_decimal(o.floquet.stability_index)},
                     {"hyperbolic", o.floquet.hyperbolic},
-                    {"multiplier", to_decimal(o.floquet.multiplier)},
-                    {"angle", to_decimal(o.floquet.angle)},
-                    {"unit_deviation", to_decimal(o.floquet.unit_deviation)},
-                    {"determinant_deviation", to_decimal(o.floquet.determinant_deviation)}};
+                    {"multiplier", exact_decimal(o.floquet.multiplier)},
+                    {"angle", exact_decimal(o.floquet.angle)},
+                    {"unit_deviation", exact_decimal(o.floquet.unit_deviation)},
+                    {"determinant_deviation", exact_decimal(o.floquet.determinant_deviation)}};
     json mono = json::array();
     for (const auto& row : o.monodromy)
         mono.push_back(real_array(row.data(), 4));
@@ -179,15 +185,15 @@ std::string orbit_to_json(const saddle_orbit<Real>& o) {
     j["method"] = to_string(o.method);
     j["stages"] = o.stages;
     j["steps"] = o.steps;
-    j["tolerance"] = to_decimal(o.tolerance);
+    j["tolerance"] = exact_decimal(o.tolerance);
     j["newton_iterations"] = o.newton_iterations;
-    j["residual"] = to_decimal(o.residual);
-    j["last_update"] = to_decimal(o.last_update);
-    j["energy_error"] = to_decimal(o.energy_error);
-    j["error_estimate_period"] = to_decimal(o.error_estimate_period);
-    j["error_estimate_action"] = to_decimal(o.error_estimate_action);
+    j["residual"] = exact_decimal(o.residual);
+    j["last_update"] = exact_decimal(o.last_update);
+    j["energy_error"] = exact_decimal(o.energy_error);
+    j["error_estimate_period"] = exact_decimal(o.error_estimate_period);
+    j["error_estimate_action"] = exact_decimal(o.error_estimate_action);
     j["double_stage"] = o.double_stage;
-    j["quarter_step"] = to_decimal(o.quarter_step);
+    j["quarter_step"] = exact_decimal(o.quarter_step);
     json q = json::array();
     for (const auto& x : o.quarter)
         q.push_back(real_array(x.data(), 4));

@@ -11,7 +11,6 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/special_functions/legendre.hpp>
 #include <boost/math/special_functions/legendre_stieltjes.hpp>
-#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -46,11 +45,30 @@ gauss_kronrod_rule<Real> computed_rule() {
     using boost::math::legendre_p;
     using boost::math::legendre_p_prime;
     gauss_kronrod_rule<Real> r;
-    r.abscissa = boost::math::legendre_p_zeros<Real>(gauss_order);  // the 15 positive zeros
+    const std::vector<Real> gauss_nodes = boost::math::legendre_p_zeros<Real>(gauss_order);
     const boost::math::legendre_stieltjes<Real> stieltjes(gauss_order + 1);
-    const std::vector<Real> kronrod_nodes = stieltjes.zeros();  // 0 and 15 positive zeros
-    r.abscissa.insert(r.abscissa.end(), kronrod_nodes.begin(), kronrod_nodes.end());
-    std::sort(r.abscissa.begin(), r.abscissa.end());
+    // the Kronrod nodes: 0 and one zero of E_31 between consecutive Gauss nodes (and above the
+    // last). NOTE: legendre_stieltjes::zeros() does not converge for a run-time-precision type in
+    // Boost 1.74 (its Newton step stops ~1e-5 off); a safeguarded Newton iteration here.
+    r.abscissa.push_back(Real(0));
+    for (std::size_t k = 0; k < gauss_nodes.size(); ++k) {
+        Real lo = gauss_nodes[k], hi = k + 1 < gauss_nodes.size() ? gauss_nodes[k + 1] : Real(1);
+        const bool rising = stieltjes(lo) < 0;
+        Real x = (lo + hi) / 2;
+        for (int i = 0; i < 10000; ++i) {
+            const Real e = stieltjes(x);
+            if (e == 0) break;
+            ((e < 0) == rising ? lo : hi) = x;  // keep the sign change bracketed
+            Real next = x - e / stieltjes.prime(x);
+            if (!(next > lo && next < hi)) next = (lo + hi) / 2;
+            using std::abs;
+            const bool converged = abs(next - x) <= 4 * epsilon<Real>() * abs(x);
+            x = next;
+            if (converged) break;
+        }
+        r.abscissa.push_back(gauss_nodes[k]);
+        r.abscissa.push_back(x);
+    }
     r.kronrod_weights.assign(r.abscissa.size(), Real(0));
     for (std::size_t i = 0; i < r.abscissa.size(); ++i) {
         const Real& x = r.abscissa[i];

@@ -7,7 +7,7 @@ namespace flipflux::test {
 namespace {
 
 template <class Real>
-class Decimal : public ::testing::Test {};
+class Decimal : public test::real_test<Real> {};
 TYPED_TEST_SUITE(Decimal, real_types, real_name);
 
 TYPED_TEST(Decimal, ParsesInWorkingPrecisionNotThroughDouble) {
@@ -29,8 +29,11 @@ TYPED_TEST(Decimal, RoundTripsWithAllDigits) {
     random_reals rnd(7);
     for (int i = 0; i < 50; ++i) {
         const Real x = Real(rnd(-10, 10)) / 3 * pi<Real>() * Real(rnd(1, 1e6));
-        const std::string s = to_decimal(x);
+        // every digit (for mp: its guard digits too) round-trips exactly
+        const std::string s = to_decimal(x, full_digits(x));
         EXPECT_EQ(parse_real<Real>(s, "x"), x) << s;
+        // the output form (output_digits) agrees with x to its last digit
+        EXPECT_GE(correct_digits(to_decimal(x), x), output_digits<Real>() - 1.5) << s;
     }
     EXPECT_EQ(to_decimal(Real(1) / 2), "0.5");
 }
@@ -62,26 +65,76 @@ TYPED_TEST(Decimal, RejectsAnythingButAFiniteDecimal) {
             EXPECT_EQ(msg.find('\n'), std::string::npos);
         }
     }
-    if constexpr (std::is_same_v<Real, double> || std::is_same_v<Real, quad>) {
+    if constexpr (!has_variable_precision_v<Real>) {
         EXPECT_THROW((void)parse_real<Real>("1e99999", "--energy"), input_error);
     }
 }
 
-TEST(Precision, ParsesNamesAndRoundsDigitsUp) {
-    EXPECT_EQ(parse_precision("double"), precision::double_);
-    EXPECT_EQ(parse_precision("quad"), precision::quad);
-    EXPECT_EQ(parse_precision("mp:1"), precision::mp50);
-    EXPECT_EQ(parse_precision("mp:50"), precision::mp50);
-    EXPECT_EQ(parse_precision("mp:51"), precision::mp100);
-    EXPECT_EQ(parse_precision("mp:100"), precision::mp100);
-    for (const char* bad : {"float", "mp:", "mp:0", "mp:101", "mp:-3", "mp:5x", "MP:50", ""}) {
+TEST(Precision, ParsesNamesAndAnyDigits) {
+    EXPECT_EQ(parse_precision("double"), precision{real_kind::double_});
+    EXPECT_EQ(parse_precision("quad"), precision{real_kind::quad});
+    for (int n : {1, 2, 49, 50, 51, 80, 100, 101, 300, 1000, 10000, max_mp_digits}) {
+        const precision p = parse_precision("mp:" + std::to_string(n));
+        EXPECT_EQ(p, mp_precision(n));
+        EXPECT_EQ(decimal_digits(p), n);
+        EXPECT_EQ(precision_name(p), "mp:" + std::to_string(n));
+    }
+    for (const char* bad : {"float", "mp:", "mp", "mp:0", "mp:-3", "mp:abc", "mp:1000001", "mp:5x",
+                            "mp:+5", "mp:1e3", "MP:50", "double:2", "quad:", ""}) {
         EXPECT_THROW(parse_precision(bad), input_error) << bad;
     }
-    EXPECT_EQ(decimal_digits(precision::double_), 15);
-    EXPECT_EQ(decimal_digits(precision::quad), 33);
-    EXPECT_GE(decimal_digits(precision::mp50), 50);
-    EXPECT_GE(decimal_digits(precision::mp100), 100);
-    EXPECT_EQ(precision_name(precision::mp100), "mp:100");
+    try {
+        parse_precision("mp:1000001", "--precision");
+        ADD_FAILURE() << "no error";
+    } catch (const input_error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("--precision: 'mp:1000001'"), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos);
+    }
+    EXPECT_EQ(decimal_digits(precision{real_kind::double_}), 15);
+    EXPECT_EQ(decimal_digits(precision{real_kind::quad}), 33);
+    EXPECT_EQ(mp_working_digits(1), mp_min_working_digits);
+    EXPECT_EQ(mp_working_digits(100), 100 + mp_guard_digits);
+    // lists: ordered by digits, repeats dropped
+    const std::vector<precision> list =
+        parse_precision_list("mp:300,double,mp:50,quad,double", "x");
+    ASSERT_EQ(list.size(), 4u);
+    EXPECT_EQ(list[0], precision{real_kind::double_});
+    EXPECT_EQ(list[1], precision{real_kind::quad});
+    EXPECT_EQ(list[2], mp_precision(50));
+    EXPECT_EQ(list[3], mp_precision(300));
+    EXPECT_THROW(parse_precision_list("", "x"), input_error);
+    EXPECT_THROW(parse_precision_list("double,mp:0", "x"), input_error);
+}
+
+// mp:N prints N + 2 significant digits, computes with mp_working_digits(N), and parses its input
+// in that precision.
+TEST(Precision, MpPrintsTheRequestedDigitsPlusTwo) {
+    for (int n : {1, 7, 50, 123, 1000}) {
+        const precision_scope scope(mp_precision(n));
+        const mp third = mp(1) / 3;
+        const std::string text = to_decimal(third);
+        EXPECT_EQ(text, "0." + std::string(static_cast<std::size_t>(n + 2), '3')) << "mp:" << n;
+        EXPECT_EQ(static_cast<int>(third.precision()), mp_working_digits(n));
+        // every working digit is there: 1/3 - 0.333...3 (working digits) is below 1e-(W)
+        const std::string all = to_decimal(third, full_digits(third));
+        EXPECT_GE(decimal_agreement(all, "0." + std::string(2000, '3')), mp_working_digits(n) - 1);
+    }
+}
+
+// Decimal comparisons do not depend on the working precision: 1000-digit texts compared exactly.
+TEST(Precision, DecimalComparisonsUseEveryDigit) {
+    const std::string a = "1." + std::string(999, '0') + "1", b = "1";
+    EXPECT_NEAR(decimal_agreement(a, b), 1000, 1e-9);
+    EXPECT_EQ(decimal_agreement(b, b), std::numeric_limits<double>::infinity());
+    EXPECT_EQ(decimal_relative_error(a, b), 0.0);  // 1e-1000 is below double's range
+    EXPECT_NEAR(decimal_relative_error("1.5", "1"), 0.5, 1e-15);
+    EXPECT_NEAR(decimal_agreement("0.001", "0"), 3, 1e-12);  // absolute when the reference is 0
+    EXPECT_EQ(round_decimal("3.14159", 3), "3.14");
+    EXPECT_EQ(round_decimal("0.25", 1), "0.2");  // ties to even, as MPFR rounds
+    EXPECT_EQ(round_decimal("-2.5e-300", 1), "-3e-300");  // 2.5e-300 is not a tie in binary
+    EXPECT_EQ(round_decimal("1." + std::string(60, '9'), 5), "2");
+    EXPECT_THROW(decimal_agreement("1", "abc"), input_error);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // The fast double-precision flow (ensemble/pendulum_flow.hpp) against the precision-templated
-// model evaluated in mp100 (an independent implementation: different trigonometric
+// model evaluated in 120 digits (an independent implementation: different trigonometric
 // formulation, Jacobian written separately), and its tangent map against finite differences of
 // two nearby trajectories.
 #include <cmath>
@@ -33,11 +33,12 @@ TEST(PendulumFlow, MatchesTheModelInHighPrecision) {
         const auto p =
             trial == 0 ? physical_parameters<double>{} : random_parameters(rnd, trial % 2 == 0);
         const double_pendulum<double> md(p);
-        const double_pendulum<mp100> mq(convert_parameters<mp100>(p));
+        const double_pendulum<reference_real> mq(convert_parameters<reference_real>(p));
         const pendulum_flow flow(md);
         for (int point = 0; point < 5; ++point) {
             const phase_point<double> x{rnd(-3.2, 3.2), rnd(-3.2, 3.2), rnd(-4, 4), rnd(-4, 4)};
-            const phase_point<mp100> xq{mp100(x[0]), mp100(x[1]), mp100(x[2]), mp100(x[3])};
+            const phase_point<reference_real> xq{reference_real(x[0]), reference_real(x[1]),
+                                                 reference_real(x[2]), reference_real(x[3])};
             const auto f = flow(0, x);
             const auto fq = mq.rhs(xq);
             const auto jq = mq.rhs_jacobian(xq);
@@ -54,9 +55,9 @@ TEST(PendulumFlow, MatchesTheModelInHighPrecision) {
                 worst = std::max(worst, e);
                 EXPECT_LT(e, 64 * eps<double>()) << "rhs component " << i;
                 EXPECT_EQ(tg[i], f[i]);
-                mp100 jv = 0;
+                reference_real jv = 0;
                 for (int j = 0; j < 4; ++j)
-                    jv += jq[i][j] * mp100(v[j]);
+                    jv += jq[i][j] * reference_real(v[j]);
                 EXPECT_LT(std::abs(tg[4 + i] - static_cast<double>(jv)),
                           256 * eps<double>() * jscale)
                     << "tangent component " << i;

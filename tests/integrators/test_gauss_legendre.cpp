@@ -14,7 +14,7 @@ namespace flipflux::test {
 namespace {
 
 template <class Real>
-class GaussLegendre : public ::testing::Test {};
+class GaussLegendre : public test::real_test<Real> {};
 TYPED_TEST_SUITE(GaussLegendre, real_types, real_name);
 
 /// The stage counts whose order is tested at a type: all up to 6 at double and 10 at quad, a
@@ -25,10 +25,8 @@ std::vector<int> tested_stages() {
         return {1, 2, 3, 4, 5, 6};
     else if constexpr (std::is_same_v<Real, quad>)
         return {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
-    else if constexpr (std::is_same_v<Real, mp50>)
-        return {2, 7, 12};
     else
-        return {3, 16};
+        return {2, 7, 12};
 }
 
 template <class Real>
@@ -332,4 +330,22 @@ TYPED_TEST(GaussLegendre, FailedStageIterationSplitsTheStepOrFails) {
 }
 
 }  // namespace
+// The tableau cache is keyed by the working precision: 16 stages at mp:300 after mp:30 are
+// exact to 300 digits (a tableau frozen at mp:30 would give ~40).
+TEST(GaussLegendreCache, FollowsTheWorkingPrecision) {
+    for (int digits : {30, 300}) {
+        test::in_mp(digits, [&] {
+            const auto& t = gauss_legendre_tableau_of<mp>(16);
+            const std::vector<mp> z = boost::math::legendre_p_zeros<mp>(16);
+            for (std::size_t k = 0; k < z.size(); ++k)
+                EXPECT_LE(abs(t.roots[16 - z.size() + k] - z[k]), 16 * epsilon<mp>())
+                    << "mp:" << digits << " k " << k;
+            mp sum = 0;
+            for (int i = 0; i < 16; ++i)
+                sum += t.b[i];
+            EXPECT_LE(abs(sum - 1), 64 * epsilon<mp>()) << "mp:" << digits;
+        });
+    }
+}
+
 }  // namespace flipflux::test

@@ -8,7 +8,7 @@ namespace flipflux::test {
 namespace {
 
 template <class Real>
-class CriticalPoints : public ::testing::Test {};
+class CriticalPoints : public test::real_test<Real> {};
 TYPED_TEST_SUITE(CriticalPoints, real_types, real_name);
 
 TYPED_TEST(CriticalPoints, EgalitarianValuesOfThePaper) {

@@ -1,6 +1,6 @@
 // The model against independent routes: the mass matrix and potential from the rigid-body
 // kinetic energy and centre-of-mass heights (not from the coefficient formulas), Hamilton's
-// equations and their Jacobian against finite differences computed in mp100.
+// equations and their Jacobian against finite differences computed in 120 digits.
 #include <cmath>
 
 #include "flipflux/core/constants.hpp"
@@ -12,7 +12,7 @@ namespace flipflux::test {
 namespace {
 
 template <class Real>
-class Model : public ::testing::Test {};
+class Model : public test::real_test<Real> {};
 TYPED_TEST_SUITE(Model, real_types, real_name);
 
 /// Random admissible parameters: point masses (inertia 0, a = L) or rigid links.
@@ -136,13 +136,13 @@ TYPED_TEST(Model, EgalitarianPotentialAndHamiltonian) {
     }
 }
 
-/// Central finite differences in mp100 with h = 1e-30: truncation ~1e-60, rounding ~1e-70.
+/// Central finite differences in 120 digits with h = 1e-30: truncation ~1e-60, rounding ~1e-70.
 /// Tolerances against them are therefore floored at fd_floor.
 constexpr double fd_floor = 1e-55;
 template <class F>
-std::array<mp100, 4> fd_gradient(F&& f, const phase_point<mp100>& x) {
-    const mp100 h = mp100("1e-30");
-    std::array<mp100, 4> g;
+std::array<reference_real, 4> fd_gradient(F&& f, const phase_point<reference_real>& x) {
+    const reference_real h = reference_real("1e-30");
+    std::array<reference_real, 4> g;
     for (int i = 0; i < 4; ++i) {
         auto xp = x, xm = x;
         xp[i] += h;
@@ -156,49 +156,49 @@ TYPED_TEST(Model, HamiltonsEquationsMatchFiniteDifferencesOfH) {
     using Real = TypeParam;
     random_reals rnd(5);
     for (int trial = 0; trial < 10; ++trial) {
-        const auto p_ref = random_parameters<mp100>(rnd, trial % 2 == 0);
+        const auto p_ref = random_parameters<reference_real>(rnd, trial % 2 == 0);
         physical_parameters<Real> p;
         p.m1 = convert<Real>(p_ref.m1), p.m2 = convert<Real>(p_ref.m2);
         p.L1 = convert<Real>(p_ref.L1), p.L2 = convert<Real>(p_ref.L2);
         p.a1 = convert<Real>(p_ref.a1), p.a2 = convert<Real>(p_ref.a2);
         p.I1 = convert<Real>(p_ref.I1), p.I2 = convert<Real>(p_ref.I2);
         p.g = convert<Real>(p_ref.g);
-        const double_pendulum<mp100> ref(p_ref);
+        const double_pendulum<reference_real> ref(p_ref);
         const double_pendulum<Real> model(p);
-        const phase_point<mp100> x{mp100(rnd(-7, 7)), mp100(rnd(-7, 7)), mp100(rnd(-4, 4)),
-                                   mp100(rnd(-4, 4))};
-        const auto g =
-            fd_gradient([&](const phase_point<mp100>& y) { return ref.hamiltonian(y); }, x);
+        const phase_point<reference_real> x{reference_real(rnd(-7, 7)), reference_real(rnd(-7, 7)),
+                                            reference_real(rnd(-4, 4)), reference_real(rnd(-4, 4))};
+        const auto g = fd_gradient(
+            [&](const phase_point<reference_real>& y) { return ref.hamiltonian(y); }, x);
         const phase_point<Real> xr{convert<Real>(x[0]), convert<Real>(x[1]), convert<Real>(x[2]),
                                    convert<Real>(x[3])};
         const auto f = model.rhs(xr);
-        const std::array<mp100, 4> expected{g[2], g[3], -g[0], -g[1]};
-        mp100 scale = 0;
+        const std::array<reference_real, 4> expected{g[2], g[3], -g[0], -g[1]};
+        reference_real scale = 0;
         for (const auto& v : expected)
             scale += abs(v);
         for (int i = 0; i < 4; ++i) {
-            EXPECT_LE(static_cast<double>(abs(convert<mp100>(f[i]) - expected[i]) / scale),
+            EXPECT_LE(static_cast<double>(abs(to_reference(f[i]) - expected[i]) / scale),
                       std::max(fd_floor, 64 * static_cast<double>(eps<Real>())))
                 << "component " << i;
         }
         // dH/dt = grad H . f vanishes to rounding: the gradient here is independent of rhs()
-        mp100 dHdt = 0, norm = 0;
+        reference_real dHdt = 0, norm = 0;
         for (int i = 0; i < 4; ++i) {
-            dHdt += g[i] * convert<mp100>(f[i]);
-            norm += abs(g[i] * convert<mp100>(f[i]));
+            dHdt += g[i] * to_reference(f[i]);
+            norm += abs(g[i] * to_reference(f[i]));
         }
         EXPECT_LE(static_cast<double>(abs(dHdt) / norm),
                   std::max(fd_floor, 64 * static_cast<double>(eps<Real>())));
-        // Jacobian of rhs against finite differences of rhs (in mp100)
+        // Jacobian of rhs against finite differences of rhs (in reference_real)
         const auto J = model.rhs_jacobian(xr);
         for (int i = 0; i < 4; ++i) {
             const auto gi =
-                fd_gradient([&](const phase_point<mp100>& y) { return ref.rhs(y)[i]; }, x);
-            mp100 row_scale = 1;
+                fd_gradient([&](const phase_point<reference_real>& y) { return ref.rhs(y)[i]; }, x);
+            reference_real row_scale = 1;
             for (const auto& v : gi)
                 row_scale += abs(v);
             for (int j = 0; j < 4; ++j) {
-                EXPECT_LE(static_cast<double>(abs(convert<mp100>(J[i][j]) - gi[j]) / row_scale),
+                EXPECT_LE(static_cast<double>(abs(to_reference(J[i][j]) - gi[j]) / row_scale),
                           std::max(fd_floor, 256 * static_cast<double>(eps<Real>())))
                     << "J[" << i << "][" << j << "]";
             }

@@ -66,8 +66,8 @@ void expect_identical(const saddle_orbit<Real>& a, const saddle_orbit<Real>& b) 
 }
 
 template <class Real>
-class OrbitStore : public ::testing::Test {};
-TYPED_TEST_SUITE(OrbitStore, real_types);
+class OrbitStore : public test::real_test<Real> {};
+TYPED_TEST_SUITE(OrbitStore, real_types, real_name);
 
 TYPED_TEST(OrbitStore, RecordsReadBackBitIdentically) {
     using Real = TypeParam;
@@ -176,8 +176,13 @@ TEST(OrbitStore, CacheKeysSeparatePendulumsPrecisionsAndOptions) {
     EXPECT_NE(k, orbit_cache_key(other, periodic));
     EXPECT_NE(k, orbit_cache_key(model, symmetric));
     EXPECT_NE(k, orbit_cache_key(model, stages));
-    const std::string kq = orbit_cache_key(double_pendulum<mp50>(), orbit_options<mp50>{});
-    EXPECT_EQ(kq.rfind("mp50-", 0), 0u);  // no ':' in a directory name
+    const std::string k50 =
+        in_mp(50, [] { return orbit_cache_key(double_pendulum<mp>(), orbit_options<mp>{}); });
+    EXPECT_EQ(k50.rfind("mp50-", 0), 0u);  // no ':' in a directory name
+    // another precision is another orbit
+    const std::string k51 =
+        in_mp(51, [] { return orbit_cache_key(double_pendulum<mp>(), orbit_options<mp>{}); });
+    EXPECT_EQ(k51.rfind("mp51-", 0), 0u);
 }
 
 }  // namespace

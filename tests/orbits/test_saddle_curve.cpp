@@ -13,7 +13,7 @@ namespace {
 
 static_assert(dividing_curve<saddle_curve<double>, double>);
 static_assert(dividing_curve<saddle_curve<quad>, quad>);
-static_assert(dividing_curve<saddle_curve<mp50>, mp50>);
+static_assert(dividing_curve<saddle_curve<mp>, mp>);
 
 template <class Real>
 void check_curve(const double_pendulum<Real>& model, arm a, const Real& E) {

@@ -12,7 +12,7 @@ namespace flipflux::test {
 namespace {
 
 template <class Real>
-class SaddleFrame : public ::testing::Test {};
+class SaddleFrame : public test::real_test<Real> {};
 TYPED_TEST_SUITE(SaddleFrame, real_types, real_name);
 
 template <class Real>

@@ -15,7 +15,7 @@ namespace flipflux::test {
 namespace {
 
 template <class Real>
-class SaddleOrbitTyped : public ::testing::Test {};
+class SaddleOrbitTyped : public test::real_test<Real> {};
 TYPED_TEST_SUITE(SaddleOrbitTyped, real_types, real_name);
 
 TYPED_TEST(SaddleOrbitTyped, LinearGuessIsThePapersCentreMode) {

@@ -51,24 +51,21 @@ To exactly(const From& x) {
     return parse_real<To>(to_decimal(x, 140), "exactly");
 }
 
-/// eps of Real times c, with a floor of 1e-95 for mp100 (references computed in mp100 itself).
+/// eps of Real times c.
 template <class Real>
 double tolerance(double c) {
-    const double t = c * static_cast<double>(eps<Real>());
-    return std::is_same_v<Real, mp100> ? std::max(t, 1e-95) : t;
+    return c * static_cast<double>(eps<Real>());
 }
 
-/// The accuracy targets: double 1e-14, quad 1e-31, mp50 1e-46 (and mp100 1e-95).
+/// The accuracy targets: double 1e-14, quad 1e-31, mp:N 10^-(N - 4).
 template <class Real>
 double target() {
     if constexpr (std::is_same_v<Real, double>)
         return 1e-14;
     else if constexpr (std::is_same_v<Real, quad>)
         return 1e-31;
-    else if constexpr (std::is_same_v<Real, mp50>)
-        return 1e-46;
     else
-        return 1e-95;
+        return std::pow(10.0, -(active_mp_digits() - 4));
 }
 
 }  // namespace flipflux::test

@@ -19,7 +19,7 @@ using test::target;
 using test::tolerance;
 
 template <class Real>
-class PhaseVolume : public ::testing::Test {};
+class PhaseVolume : public test::real_test<Real> {};
 TYPED_TEST_SUITE(PhaseVolume, test::real_types, test::real_name);
 
 // 16 pi^2 E(-1) by mpmath 1.3.0 (120 digits).
@@ -31,7 +31,7 @@ TYPED_TEST(PhaseVolume, ClosedFormAtTheMaximumIsSixteenPiSquaredE) {
     using Real = TypeParam;
     const double_pendulum<Real> model;
     const Real six(6);
-    const mp100 expected = parse_real<mp100>(omega_egalitarian_max, "ref");
+    const std::string expected = omega_egalitarian_max;
     for (phase_volume_method m : {phase_volume_method::closed_form, phase_volume_method::elliptic,
                                   phase_volume_method::quadrature_2d}) {
         const prediction_result<Real> r = phase_volume(model, six, m);
@@ -52,9 +52,7 @@ TYPED_TEST(PhaseVolume, ClosedFormAtTheMaximumIsSixteenPiSquaredE) {
 TYPED_TEST(PhaseVolume, KinkAtTheMaximumFollowsItsPowerLaw) {
     using Real = TypeParam;
     using std::sqrt;
-    const bool mp100_type = std::is_same_v<Real, mp100>;
     for (std::size_t i : {0, 2}) {
-        if (mp100_type && i > 0) break;  // NOTE: test time; the rigid links at mp100 are verified
         const auto& spec = test::model_specs()[i];
         const double_pendulum<Real> model = test::make_model<Real>(spec);
         const auto& k = model.coefficients();
@@ -67,7 +65,7 @@ TYPED_TEST(PhaseVolume, KinkAtTheMaximumFollowsItsPowerLaw) {
         // the difference of two O(1) numbers carries their rounding, magnified by 1/(slope d)
         const double tol =
             static_cast<double>(16 * eps<Real>() * omega_max / (slope * d)) + 100 * 1e-12;
-        EXPECT_LE(relative_error(ratio, mp100(1)), tol) << spec.name;
+        EXPECT_LE(relative_error(ratio, "1"), tol) << spec.name;
         // the 2-D route agrees with the elliptic one just below the kink (double, quad)
         if constexpr (std::is_same_v<Real, double> || std::is_same_v<Real, quad>) {
             EXPECT_LE(
@@ -85,7 +83,6 @@ TYPED_TEST(PhaseVolume, KinkAtTheMaximumFollowsItsPowerLaw) {
 // Small E: the harmonic limit Omega = 4 pi^2 sqrt(D0 / (alpha beta)) E (1 + O(E)).
 TYPED_TEST(PhaseVolume, HarmonicLimit) {
     using Real = TypeParam;
-    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
     using std::sqrt;
     const double_pendulum<Real> model = test::make_model<Real>(test::model_specs()[1]);
     const auto& k = model.coefficients();
@@ -97,7 +94,7 @@ TYPED_TEST(PhaseVolume, HarmonicLimit) {
 
 TYPED_TEST(PhaseVolume, RoutesAgreeForEveryPendulum) {
     using Real = TypeParam;
-    if constexpr (std::is_same_v<Real, mp50> || std::is_same_v<Real, mp100>) {
+    if constexpr (has_variable_precision_v<Real>) {
         GTEST_SKIP() << "the 2-D route at MPFR precision is in verification/prediction_routes";
     } else {
         // NOTE: quad on a subset for test time; the full grid is in verification/
@@ -117,19 +114,22 @@ TYPED_TEST(PhaseVolume, RoutesAgreeForEveryPendulum) {
     }
 }
 
-// Against the next precision up (mp50 for double and quad, mp100 for mp50); mp100 itself is
-// checked against the closed form above and across routes in verification/.
+// Against mp:50 (for double and quad); mp itself is checked against the closed form above and
+// across routes and precisions in verification/.
 TYPED_TEST(PhaseVolume, HigherPrecisionReference) {
     using Real = TypeParam;
-    if constexpr (std::is_same_v<Real, mp50> || std::is_same_v<Real, mp100>) {
-        GTEST_SKIP() << "test time: MPFR against mp100 in verification/prediction_routes.cpp";
+    if constexpr (has_variable_precision_v<Real>) {
+        GTEST_SKIP() << "test time: MPFR against a higher precision in "
+                        "verification/prediction_routes.cpp";
     } else {
-        using Ref = std::conditional_t<std::is_same_v<Real, mp50>, mp100, mp50>;
         const double_pendulum<Real> model = test::make_model<Real>(test::model_specs()[2]);
-        const double_pendulum<Ref> reference = test::make_model<Ref>(test::model_specs()[2]);
         const Real E = model.maximum_energy() * 5 / 8;
         const prediction_result<Real> r = phase_volume(model, E);
-        const Ref expected = phase_volume(reference, convert<Ref>(E)).value;
+        const std::string e_text = to_decimal(E, full_digits(E));
+        const std::string expected = test::in_mp(50, [&] {
+            const double_pendulum<mp> reference = test::make_model<mp>(test::model_specs()[2]);
+            return to_decimal(phase_volume(reference, parse_real<mp>(e_text, "E")).value);
+        });
         EXPECT_LE(relative_error(r.value, expected), target<Real>());
         EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(64));
         EXPECT_GT(r.evaluations, 0u);
@@ -150,13 +150,12 @@ TYPED_TEST(PhaseVolume, OutsideTheDomain) {
 }
 
 // rho_i(x) = integral of 2 pi sqrt(det M) over the allowed interval of the other angle, checked by
-// tanh-sinh in mp100 over [-t, t] (t from allowed_half_width, itself checked against V = E).
+// tanh-sinh in mp:100 over [-t, t] (t from allowed_half_width, itself checked against V = E).
 TYPED_TEST(PhaseVolume, MarginalDensitiesMatchQuadratureOfTheDensity) {
     using Real = TypeParam;
     using std::cos;
     using std::sqrt;
     const double_pendulum<Real> model = test::make_model<Real>(test::model_specs()[2]);
-    const double_pendulum<mp100> ref = test::make_model<mp100>(test::model_specs()[2]);
     const Real E = model.maximum_energy() * 5 / 8;
     test::random_reals rnd(7);
     for (configuration_angle which : {configuration_angle::theta1, configuration_angle::theta2}) {
@@ -174,22 +173,28 @@ TYPED_TEST(PhaseVolume, MarginalDensitiesMatchQuadratureOfTheDensity) {
             if (t < pi<Real>()) {
                 EXPECT_LE(abs(V - E), 64 * eps<Real>() * E);
             }
-            const mp100 X = convert<mp100>(x), T = convert<mp100>(t);
-            auto f = [&](const mp100& y, const mp100&, const mp100&) -> mp100 {
-                return which == configuration_angle::theta1 ? ref.mass_determinant(X, y)
-                                                            : ref.mass_determinant(y, X);
-            };
-            auto g = [&](const mp100& y, const mp100& a, const mp100& b) -> mp100 {
-                return two_pi<mp100>() * sqrt(f(y, a, b));
-            };
-            const mp100 expected = tanh_sinh_integrate<mp100>(g, -T, T).value;
+            const std::string x_text = to_decimal(x, full_digits(x)),
+                              t_text = to_decimal(t, full_digits(t));
+            // the marginal and the density at (x, 0) in mp:100
+            const auto [expected, inside_expected] = test::in_mp(100, [&] {
+                const double_pendulum<mp> ref = test::make_model<mp>(test::model_specs()[2]);
+                const mp X = parse_real<mp>(x_text, "x"), T = parse_real<mp>(t_text, "t");
+                auto f = [&](const mp& y) -> mp {
+                    return which == configuration_angle::theta1 ? ref.mass_determinant(X, y)
+                                                                : ref.mass_determinant(y, X);
+                };
+                auto g = [&](const mp& y, const mp&, const mp&) -> mp {
+                    return two_pi<mp>() * sqrt(f(y));
+                };
+                return std::pair{to_decimal(tanh_sinh_integrate<mp>(g, -T, T).value),
+                                 to_decimal(mp(two_pi<mp>() * sqrt(f(mp(0)))))};
+            });
             EXPECT_LE(relative_error(rho, expected), tolerance<Real>(64)) << "x " << x;
             // the density itself: inside, on and outside the allowed region
             const Real inside = which == configuration_angle::theta1
                                     ? configuration_density(model, E, x, Real(0))
                                     : configuration_density(model, E, Real(0), x);
-            EXPECT_LE(relative_error(inside, two_pi<mp100>() * sqrt(f(mp100(0), X, X))),
-                      tolerance<Real>(8));
+            EXPECT_LE(relative_error(inside, inside_expected), tolerance<Real>(8));
         }
     }
     EXPECT_EQ(configuration_density(model, E, pi<Real>(), pi<Real>()), Real(0));
@@ -203,15 +208,14 @@ TYPED_TEST(PhaseVolume, MarginalDensitiesMatchQuadratureOfTheDensity) {
 
 TYPED_TEST(PhaseVolume, MarginalsNormaliseToOmegaAndTheCdfIsConsistent) {
     using Real = TypeParam;
-    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
     const double_pendulum<Real> model;
     const Real E = Real(7) / 2;
     const Real omega = phase_volume(model, E).value;
     // Omega = 2 * integral_0^pi rho_2: the theta2 marginal is an independent 1-D reduction
     const prediction_result<Real> half =
         marginal_cdf(model, E, configuration_angle::theta2, Real(0));
-    EXPECT_LE(relative_error(half.value, mp100(1) / 2), tolerance<Real>(4));
-    if (std::is_same_v<Real, mp50>) return;  // NOTE: test time; the rest runs in double and quad
+    EXPECT_LE(relative_error(half.value, "0.5"), tolerance<Real>(4));
+    if (has_variable_precision_v<Real>) return;  // NOTE: test time; the rest runs in double, quad
     EXPECT_EQ(marginal_cdf(model, E, configuration_angle::theta1, pi<Real>()).value, Real(1));
     EXPECT_EQ(marginal_cdf(model, E, configuration_angle::theta1, Real(-pi<Real>())).value,
               Real(0));

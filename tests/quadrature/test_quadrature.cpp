@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <boost/math/special_functions/bessel.hpp>
+#include <boost/math/special_functions/legendre.hpp>
 #include <stdexcept>
 
 #include "flipflux/core/constants.hpp"
@@ -17,7 +18,7 @@ using test::eps;
 using test::relative_error;
 
 template <class Real>
-class Quadrature : public ::testing::Test {};
+class Quadrature : public test::real_test<Real> {};
 TYPED_TEST_SUITE(Quadrature, test::real_types, test::real_name);
 
 TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
@@ -27,7 +28,7 @@ TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
     // int_0^1 sqrt(1 - x) dx = 2/3, with the distance to b (no cancellation in 1 - x)
     auto f = [](const Real&, const Real&, const Real& to_b) -> Real { return sqrt(to_b); };
     const quadrature_result<Real> a = tanh_sinh_integrate<Real>(f, Real(0), Real(1));
-    EXPECT_LE(relative_error(a.value, mp100(2) / 3), tol);
+    EXPECT_LE(relative_error(a.value, test::reference_real(2) / 3), tol);
     EXPECT_GE(a.error_estimate, abs(a.value - Real(2) / 3));  // a conservative estimate
     EXPECT_GT(a.evaluations, 0u);
     EXPECT_GT(a.levels, 0u);
@@ -36,7 +37,7 @@ TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
         return 1 / sqrt(x < 0 ? to_a * (2 - to_a) : to_b * (2 - to_b));
     };
     const quadrature_result<Real> b = tanh_sinh_integrate<Real>(g, Real(-1), Real(1));
-    EXPECT_LE(relative_error(b.value, pi<mp100>()), tol);
+    EXPECT_LE(relative_error(b.value, pi<test::reference_real>()), tol);
     // the distances agree with x to the rounding of x (they are more accurate than x - a near a)
     auto h = [](const Real& x, const Real& to_a, const Real& to_b) -> Real {
         using std::abs;
@@ -44,7 +45,8 @@ TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
         EXPECT_LE(abs(to_a + to_b - 3), 8 * eps<Real>());
         return x;
     };
-    EXPECT_LE(relative_error(tanh_sinh_integrate<Real>(h, Real(2), Real(5)).value, mp100(21) / 2),
+    EXPECT_LE(relative_error(tanh_sinh_integrate<Real>(h, Real(2), Real(5)).value,
+                             test::reference_real(21) / 2),
               tol);
 }
 
@@ -55,7 +57,8 @@ TYPED_TEST(Quadrature, PiecesAndEmptyIntervals) {
     auto f = [](const Real& x, const Real&, const Real&) -> Real { return abs(sin(x)); };
     const std::vector<Real> p{Real(0), pi<Real>(), two_pi<Real>(), Real(3 * pi<Real>())};
     const quadrature_result<Real> r = tanh_sinh_integrate_pieces<Real>(f, p);
-    EXPECT_LE(relative_error(r.value, mp100(6)), 8 * static_cast<double>(eps<Real>()));
+    EXPECT_LE(relative_error(r.value, test::reference_real(6)),
+              8 * static_cast<double>(eps<Real>()));
     EXPECT_EQ(tanh_sinh_integrate<Real>(f, Real(1), Real(1)).value, Real(0));
     EXPECT_THROW(tanh_sinh_integrate<Real>(f, Real(2), Real(1)), std::domain_error);
     EXPECT_THROW(tanh_sinh_integrate<Real>(f, Real(0), std::numeric_limits<Real>::infinity()),
@@ -92,7 +95,6 @@ TYPED_TEST(Quadrature, GaussKronrodAdaptiveAndFixed) {
 // int_0^1 int_0^x sqrt(x - y) dy dx = int_0^1 (2/3) x^(3/2) dx = 4/15.
 TYPED_TEST(Quadrature, NestedIntegralPropagatesInnerResults) {
     using Real = TypeParam;
-    if (std::is_same_v<Real, mp100>) GTEST_SKIP() << "test time: covered at mp50";
     using std::sqrt;
     auto inner = [](const Real& x, const Real&, const Real&) {
         return tanh_sinh_integrate<Real>(
@@ -100,7 +102,8 @@ TYPED_TEST(Quadrature, NestedIntegralPropagatesInnerResults) {
             x);
     };
     const quadrature_result<Real> r = nested_integrate<Real>(inner, Real(0), Real(1));
-    EXPECT_LE(relative_error(r.value, mp100(4) / 15), 16 * static_cast<double>(eps<Real>()));
+    EXPECT_LE(relative_error(r.value, test::reference_real(4) / 15),
+              16 * static_cast<double>(eps<Real>()));
     EXPECT_GT(r.evaluations, 100u);
     EXPECT_GE(r.error_estimate, abs(r.value - Real(4) / 15));
 }
@@ -110,7 +113,7 @@ TYPED_TEST(Quadrature, NestedIntegralPropagatesInnerResults) {
 TYPED_TEST(Quadrature, ThreadSafeUnderOpenMP) {
     using Real = TypeParam;
     using std::sqrt;
-    const int n = std::is_same_v<Real, mp100> ? 8 : 32;
+    const int n = has_variable_precision_v<Real> ? 8 : 32;
     std::vector<Real> serial(n), parallel(n);
     auto integral = [](int i) {
         const Real c = Real(i + 1) / 7;
@@ -128,6 +131,66 @@ TYPED_TEST(Quadrature, ThreadSafeUnderOpenMP) {
         parallel[i] = integral(i);
     for (int i = 0; i < n; ++i)
         EXPECT_EQ(parallel[i], serial[i]) << i;
+}
+
+// The integrators' caches follow mp's working precision: tanh-sinh abscissas and the Gauss-Kronrod
+// rule are built per precision, so 400 digits after 40 (and 40 again after 400) are each
+// accurate to their own precision. With a cache frozen at its first precision the mp:400 results
+// would carry ~50 digits.
+TEST(QuadratureCaches, FollowTheWorkingPrecision) {
+    using std::exp;
+    using std::sqrt;
+    const std::string two_thirds = "0." + std::string(600, '6') + "7";
+    for (int digits : {40, 400, 40}) {
+        test::in_mp(digits, [&] {
+            const int working = mp_working_digits(digits);
+            auto f = [](const mp&, const mp&, const mp& to_b) -> mp { return sqrt(to_b); };
+            const mp a = tanh_sinh_integrate<mp>(f, mp(0), mp(1)).value;
+            EXPECT_GE(test::correct_digits(a, two_thirds), working - 3) << "mp:" << digits;
+            auto g = [](const mp& x) -> mp { return exp(x); };
+            const mp b = gauss_kronrod_integrate<mp>(g, mp(0), mp(1)).value;
+            const mp e1 = exp(mp(1)) - 1;
+            EXPECT_GE(test::correct_digits(b, e1), 0.74 * working) << "mp:" << digits;
+            const mp c = gauss_kronrod_fixed<mp>(g, mp(0), mp(1), 4).value;
+            // four fixed panels: the 61-point rule's truncation error is ~1e-256 here
+            EXPECT_GE(test::correct_digits(c, e1), std::min(working - 3, 250)) << "mp:" << digits;
+            // the rule itself: Gauss nodes are zeros of P_30, weights sum to 2
+            const gauss_kronrod_rule<mp>& rule = gauss_kronrod_61<mp>();
+            ASSERT_EQ(rule.abscissa.size(), 31u);
+            ASSERT_EQ(rule.gauss_weights.size(), 15u);
+            mp kronrod_sum = rule.kronrod_weights[0], gauss_sum = 0;
+            for (std::size_t i = 1; i < 31; ++i) {
+                kronrod_sum += 2 * rule.kronrod_weights[i];
+                if (i % 2 == 1) {
+                    gauss_sum += 2 * rule.gauss_weights[i / 2];
+                    EXPECT_LE(abs(boost::math::legendre_p(30, rule.abscissa[i])),
+                              1000 * epsilon<mp>());
+                }
+            }
+            EXPECT_LE(abs(kronrod_sum - 2), 100 * epsilon<mp>());
+            EXPECT_LE(abs(gauss_sum - 2), 100 * epsilon<mp>());
+        });
+    }
+}
+
+// The tabulated rule of the fixed types is Boost's: the computed rule (as mp builds it) agrees
+// with it to the type's precision at double and quad.
+TEST(QuadratureCaches, ComputedRuleMatchesBoostsTablesInQuad) {
+    const gauss_kronrod_rule<quad>& q = gauss_kronrod_61<quad>();
+    const auto [x, w] = test::in_mp(40, [] {
+        const gauss_kronrod_rule<mp>& r = gauss_kronrod_61<mp>();
+        std::vector<std::string> xs, ws;
+        for (std::size_t i = 0; i < r.abscissa.size(); ++i) {
+            xs.push_back(to_decimal(r.abscissa[i], 45));
+            ws.push_back(to_decimal(r.kronrod_weights[i], 45));
+        }
+        return std::pair{xs, ws};
+    });
+    for (std::size_t i = 1; i < x.size(); ++i) {
+        EXPECT_LE(relative_error(q.abscissa[i], x[i]), 4 * static_cast<double>(eps<quad>())) << i;
+        EXPECT_LE(relative_error(q.kronrod_weights[i], w[i]), 8 * static_cast<double>(eps<quad>()))
+            << i;
+    }
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ TEST(Scene, ErrorsNameFileLineAndKey) {
         {"[scene]\nname = \"t\"\noutput = \"o\"\nprecison = \"quad\"\n",
          "s.toml:4: scene.precison: unknown key"},
         {"[scene]\nname = 3\noutput = \"o\"\n", "s.toml:2: scene.name: expected a string"},
-        {"[scene]\noutput = \"o\"\nprecision = \"mp:500\"\n", "s.toml:3: scene.precision:"},
+        {"[scene]\noutput = \"o\"\nprecision = \"mp:5000000\"\n", "s.toml:3: scene.precision:"},
         {"[scene]\nname = \"t\"\n", "s.toml:1: scene.output: is required"},
         {"[scene]\noutput = \"o\"\n[model]\nm1 = \"abc\"\n", "s.toml:4: model.m1: 'abc' is not"},
         {"[scene]\noutput = \"o\"\n[model]\nm1 = -1\n", "s.toml:3: model: --m1: '-1' is invalid"},
@@ -80,7 +80,7 @@ TEST(Scene, GridsExpandInTheWorkingPrecision) {
     EXPECT_EQ(texts[1], "2.1");
     EXPECT_EQ(texts[20], "3.05");
     EXPECT_EQ(energies_of<double>(g, "energies")[1], 2.1);
-    EXPECT_EQ(energies_of<mp50>(g, "energies")[77], parse_real<mp50>("5.9", "x"));
+    in_mp(50, [&] { EXPECT_EQ(energies_of<mp>(g, "energies")[77], parse_real<mp>("5.9", "x")); });
     energy_grid bad;
     bad.from = "2", bad.to = "3.01", bad.step = "0.1";
     EXPECT_THROW(energies_of<double>(bad, "energies"), scene_error);

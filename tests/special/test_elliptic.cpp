@@ -1,8 +1,8 @@
 // Elliptic integrals E(phi|m), F(phi|m), E(m), K(m) (include/flipflux/special/elliptic.hpp)
 // against three independent references: values computed with mpmath 1.3.0 (ellipe, ellipf,
-// ellipk at 70 digits), direct tanh-sinh quadrature of the defining integral in 100-digit
-// arithmetic, and DLMF's imaginary- and reciprocal-modulus transformations evaluated with Boost's
-// ellint_1/ellint_2 (which take the modulus k and apply only for 0 <= k^2 sin^2 phi < 1).
+// ellipk at 70 digits), direct tanh-sinh quadrature of the defining integral in mp:100, and DLMF's
+// imaginary- and reciprocal-modulus transformations evaluated with Boost's ellint_1/ellint_2 (which
+// take the modulus k and apply only for 0 <= k^2 sin^2 phi < 1).
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/ellint_2.hpp>
 #include <stdexcept>
@@ -20,7 +20,7 @@ using test::eps;
 using test::relative_error;
 
 template <class Real>
-class Elliptic : public ::testing::Test {};
+class Elliptic : public test::real_test<Real> {};
 TYPED_TEST_SUITE(Elliptic, test::real_types, test::real_name);
 
 template <class Real>
@@ -28,33 +28,34 @@ Real R(const char* text) {
     return parse_real<Real>(text, "test");
 }
 
-/// c eps of Real; for mp100 not below 1e-95, the accuracy of references that are themselves
-/// computed in mp100 (quadrature, DLMF transformations with their cancellations).
+/// c eps of Real (the references are computed in 100 digits or more).
 template <class Real>
 double tolerance(double c) {
-    const double t = c * static_cast<double>(eps<Real>());
-    return std::is_same_v<Real, mp100> ? std::max(t, 1e-95) : t;
+    return c * static_cast<double>(eps<Real>());
 }
 
-/// E(phi|m) by tanh-sinh quadrature of sqrt(1 - m sin^2 u) in mp100, split at multiples of
-/// pi/2 (where sqrt(1 - sin^2 u) = |cos u| has its kinks when m = 1).
-mp100 e_by_quadrature(const mp100& phi, const mp100& m) {
-    using std::abs;
-    using std::sin;
-    using std::sqrt;
-    auto f = [&](const mp100& u, const mp100&, const mp100&) -> mp100 {
-        const mp100 s = sin(u);
-        const mp100 d = 1 - m * s * s;
-        return d > 0 ? sqrt(d) : mp100(0);
-    };
-    std::vector<mp100> p{mp100(0)};
-    const mp100 step = half_pi<mp100>();
-    const mp100 target = abs(phi);
-    while (p.back() + step < target)
-        p.push_back(p.back() + step);
-    p.push_back(target);
-    const mp100 v = tanh_sinh_integrate_pieces<mp100>(f, p).value;
-    return phi < 0 ? mp100(-v) : v;
+/// E(phi|m) by tanh-sinh quadrature of sqrt(1 - m sin^2 u) in mp:100, split at multiples of
+/// pi/2 (where sqrt(1 - sin^2 u) = |cos u| has its kinks when m = 1), as decimal text.
+std::string e_by_quadrature(const std::string& phi_text, const std::string& m_text) {
+    return test::in_mp(100, [&] {
+        using std::abs;
+        using std::sin;
+        using std::sqrt;
+        const mp phi = parse_real<mp>(phi_text, "phi"), m = parse_real<mp>(m_text, "m");
+        auto f = [&](const mp& u, const mp&, const mp&) -> mp {
+            const mp s = sin(u);
+            const mp d = 1 - m * s * s;
+            return d > 0 ? sqrt(d) : mp(0);
+        };
+        std::vector<mp> p{mp(0)};
+        const mp step = half_pi<mp>();
+        const mp target = abs(phi);
+        while (p.back() + step < target)
+            p.push_back(p.back() + step);
+        p.push_back(target);
+        const mp v = tanh_sinh_integrate_pieces<mp>(f, p).value;
+        return to_decimal(phi < 0 ? mp(-v) : v);
+    });
 }
 
 struct mpmath_case {
@@ -101,7 +102,7 @@ TYPED_TEST(Elliptic, IncompleteSecondKindMatchesMpmath) {
     double worst = 0;
     for (const auto& c : mpmath_e) {
         const Real value = elliptic_e(R<Real>(c.phi), R<Real>(c.m));
-        const double err = relative_error(value, R<mp100>(c.value));
+        const double err = relative_error(value, std::string(c.value));
         worst = std::max(worst, err);
         // NOTE: 64 eps covers the corner m -> 1, phi -> pi/2, where the two Carlson terms are
         // each ~ log(1/cos phi) ~ 37 and cancel to 1.
@@ -113,32 +114,35 @@ TYPED_TEST(Elliptic, IncompleteSecondKindMatchesMpmath) {
 TYPED_TEST(Elliptic, CompleteAndFirstKindMatchMpmath) {
     using Real = TypeParam;
     const double tol = 16 * static_cast<double>(eps<Real>());
+    EXPECT_LE(relative_error(elliptic_e(Real(-1)),
+                             std::string("1."
+                                         "91009889451385600895238104108572164595498380"
+                                         "7323637360540248328373597900607164960533"
+                                         "0905447256112414110214889")),
+              tol);
     EXPECT_LE(
-        relative_error(elliptic_e(Real(-1)), R<mp100>("1."
-                                                      "91009889451385600895238104108572164595498380"
-                                                      "7323637360540248328373597900607164960533"
-                                                      "0905447256112414110214889")),
+        relative_error(elliptic_k(Real(1) / 2),
+                       std::string("1."
+                                   "854074677301371918433850347195260046217598823521766905585928"
+                                   "045056021776838119978357"
+                                   "271861650371897277771871")),
         tol);
-    EXPECT_LE(relative_error(elliptic_k(Real(1) / 2),
-                             R<mp100>("1."
-                                      "854074677301371918433850347195260046217598823521766905585928"
-                                      "045056021776838119978357"
-                                      "271861650371897277771871")),
-              tol);
-    EXPECT_LE(relative_error(elliptic_f(R<Real>("1.25"), Real(-3)),
-                             R<mp100>("0."
-                                      "915766948798575060740100419173648567481908842432039520102132"
-                                      "910037110254470023289705"
-                                      "32334543594065926759062563")),
-              tol);
-    EXPECT_LE(relative_error(elliptic_f(R<Real>("0.5"), Real(4)),
-                             R<mp100>("0."
-                                      "677417538203930386580891364645540813208927669811008158617960"
-                                      "111371864017983053244725"
-                                      "36634252457378915819841952")),
-              tol);
+    EXPECT_LE(
+        relative_error(elliptic_f(R<Real>("1.25"), Real(-3)),
+                       std::string("0."
+                                   "915766948798575060740100419173648567481908842432039520102132"
+                                   "910037110254470023289705"
+                                   "32334543594065926759062563")),
+        tol);
+    EXPECT_LE(
+        relative_error(elliptic_f(R<Real>("0.5"), Real(4)),
+                       std::string("0."
+                                   "677417538203930386580891364645540813208927669811008158617960"
+                                   "111371864017983053244725"
+                                   "36634252457378915819841952")),
+        tol);
     EXPECT_EQ(elliptic_e(Real(1)), Real(1));
-    EXPECT_LE(relative_error(elliptic_e(Real(0)), half_pi<mp100>()), tol);
+    EXPECT_LE(relative_error(elliptic_e(Real(0)), half_pi<test::reference_real>()), tol);
 }
 
 TYPED_TEST(Elliptic, BoundaryOfTheRealDomainMatchesMpmath) {
@@ -146,17 +150,18 @@ TYPED_TEST(Elliptic, BoundaryOfTheRealDomainMatchesMpmath) {
     const double tol = 16 * static_cast<double>(eps<Real>());
     // m sin^2 phi = 1 exactly: sin phi = 1/2, m = 4, and sin phi = 1/1000, m = 10^6.
     const Real e4 = elliptic_e_carlson(Real(1) / 2, Real(3) / 4, Real(0), Real(4));
-    EXPECT_LE(relative_error(e4, R<mp100>("0."
-                                          "40629888645996024661278504728321678779952216344283035482"
-                                          "1658826141497900219061130698"
-                                          "4006005620903488621669239")),
-              tol);
+    EXPECT_LE(
+        relative_error(e4, std::string("0."
+                                       "40629888645996024661278504728321678779952216344283035482"
+                                       "1658826141497900219061130698"
+                                       "4006005620903488621669239")),
+        tol);
     const Real s = Real(1) / 1000;
     const Real e6 = elliptic_e_carlson(s, Real(1 - s * s), Real(0), Real(1000000));
     EXPECT_LE(
         relative_error(
             e6,
-            R<mp100>(
+            std::string(
                 "0."
                 "000785398261572255549854783574760113532827306679411090369496154288139522863970508"
                 "32158552008489545469989804426398")),
@@ -185,15 +190,16 @@ TYPED_TEST(Elliptic, NegativeParameterMatchesImaginaryModulusTransformation) {
     for (int i = 0; i < 12; ++i) {
         const Real phi = Real(rnd(0.01, 1.57));
         const Real k2 = Real(rnd(0.001, 50));  // m = -k2
-        // the transformation, evaluated in mp100 (it cancels near phi = pi/2, kappa -> 1)
-        const mp100 p = convert<mp100>(phi), K2 = convert<mp100>(k2);
-        const mp100 kappa = sqrt(K2 / (1 + K2));
-        const mp100 sp = sin(p);
-        const mp100 theta = asin(sqrt(1 + K2) * sp / sqrt(1 + K2 * sp * sp));
-        const mp100 st = sin(theta), ct = cos(theta);
-        const mp100 expected = (boost::math::ellint_2(kappa, theta) -
-                                kappa * kappa * st * ct / sqrt(1 - kappa * kappa * st * st)) *
-                               sqrt(1 + K2);
+        // the transformation, evaluated in 120 digits (it cancels near phi = pi/2, kappa -> 1)
+        using ref = test::reference_real;
+        const ref p = test::to_reference(phi), K2 = test::to_reference(k2);
+        const ref kappa = sqrt(K2 / (1 + K2));
+        const ref sp = sin(p);
+        const ref theta = asin(sqrt(1 + K2) * sp / sqrt(1 + K2 * sp * sp));
+        const ref st = sin(theta), ct = cos(theta);
+        const ref expected = (boost::math::ellint_2(kappa, theta) -
+                              kappa * kappa * st * ct / sqrt(1 - kappa * kappa * st * st)) *
+                             sqrt(1 + K2);
         const double err = relative_error(elliptic_e(phi, Real(-k2)), expected);
         worst = std::max(worst, err);
         EXPECT_LE(err, tolerance<Real>(16)) << "phi " << phi << " m " << -k2;
@@ -213,12 +219,13 @@ TYPED_TEST(Elliptic, ParameterAboveOneMatchesReciprocalModulusTransformation) {
         const Real m = Real(rnd(1.01, 200));
         const Real phi_max = asin(1 / sqrt(m));
         const Real phi = phi_max * Real(rnd(0.05, 0.999));
-        // the transformation in mp100 (its two terms ~ sqrt(m) phi cancel)
-        const mp100 M = convert<mp100>(m), p = convert<mp100>(phi);
-        const mp100 k = 1 / sqrt(M);
-        const mp100 beta = asin(sqrt(M) * sin(p));
-        const mp100 expected = sqrt(M) * boost::math::ellint_2(k, beta) -
-                               (M - 1) / sqrt(M) * boost::math::ellint_1(k, beta);
+        // the transformation in 120 digits (its two terms ~ sqrt(m) phi cancel)
+        using ref = test::reference_real;
+        const ref M = test::to_reference(m), p = test::to_reference(phi);
+        const ref k = 1 / sqrt(M);
+        const ref beta = asin(sqrt(M) * sin(p));
+        const ref expected = sqrt(M) * boost::math::ellint_2(k, beta) -
+                             (M - 1) / sqrt(M) * boost::math::ellint_1(k, beta);
         EXPECT_LE(relative_error(elliptic_e(phi, m), expected), tolerance<Real>(16))
             << "phi " << phi << " m " << m;
     }
@@ -232,7 +239,8 @@ TYPED_TEST(Elliptic, LegendreRelation) {
         const Real lhs = elliptic_e_complete(m, mc) * elliptic_k_complete(mc, m) +
                          elliptic_e_complete(mc, m) * elliptic_k_complete(m, mc) -
                          elliptic_k_complete(m, mc) * elliptic_k_complete(mc, m);
-        EXPECT_LE(relative_error(lhs, half_pi<mp100>()), 64 * static_cast<double>(eps<Real>()))
+        EXPECT_LE(relative_error(lhs, half_pi<test::reference_real>()),
+                  64 * static_cast<double>(eps<Real>()))
             << "m " << text;
     }
 }
@@ -253,10 +261,10 @@ TYPED_TEST(Elliptic, QuasiPeriodicityAndOddness) {
 }
 
 // Against the defining integral on a grid covering m < 0, 0 <= m <= 1, m > 1 and |phi| > pi/2.
-// mp100 is checked on a few points only (its quadrature reference is the expensive part).
+// mp is checked on a few points only (its quadrature reference is the expensive part).
 TYPED_TEST(Elliptic, MatchesQuadratureOfTheDefiningIntegral) {
     using Real = TypeParam;
-    const bool mp = std::is_same_v<Real, mp100>;
+    const bool mp = has_variable_precision_v<Real>;
     const std::vector<std::pair<const char*, const char*>> grid = {
         {"0.75", "-50"}, {"2.25", "-2"},     {"-4.5", "-0.0001"}, {"1", "0.0000001"},
         {"1.5", "0.9"},  {"5.5", "0.999"},   {"0.3", "10"},       {"0.0625", "200"},
@@ -266,7 +274,8 @@ TYPED_TEST(Elliptic, MatchesQuadratureOfTheDefiningIntegral) {
     for (const auto& [phi_text, m_text] : grid) {
         if (mp && ++n > 4) break;
         const Real phi = R<Real>(phi_text), m = R<Real>(m_text);
-        const mp100 reference = e_by_quadrature(convert<mp100>(phi), convert<mp100>(m));
+        const std::string reference =
+            e_by_quadrature(to_decimal(phi, full_digits(phi)), to_decimal(m, full_digits(m)));
         const double err = relative_error(elliptic_e(phi, m), reference);
         worst = std::max(worst, err);
         EXPECT_LE(err, tolerance<Real>(32)) << "phi " << phi_text << " m " << m_text;

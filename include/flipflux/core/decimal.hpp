@@ -5,6 +5,9 @@
 // precision: double 17 significant digits, quad 36, mp:N N + 2.
 #pragma once
 
+#include <iomanip>
+#include <limits>
+#include <sstream>
 #include <string>
 #include <string_view>
 
@@ -24,6 +27,16 @@ int output_digits() {
     }
 }
 
+/// Every digit x holds: max_digits10 of the fixed types, its own working digits + 2 for mp (to
+/// compare values through their text without losing the guard digits; outputs use to_decimal).
+template <class Real>
+int full_digits(const Real& x) {
+    if constexpr (has_variable_precision_v<Real>)
+        return static_cast<int>(x.precision()) + 2;
+    else
+        return std::numeric_limits<Real>::max_digits10;
+}
+
 /// True when `text` is a plain finite decimal number: [+-]digits[.digits][(e|E)[+-]digits].
 bool is_decimal_number(std::string_view text);
 
@@ -39,6 +52,14 @@ std::string to_decimal(const Real& x);
 /// Formats with an explicit number of significant digits.
 template <class Real>
 std::string to_decimal(const Real& x, int significant_digits);
+
+/// Another floating type (a test's fixed-precision reference, say): every digit it has.
+template <class Real>
+requires(!is_supported_real_v<Real>) std::string to_decimal(const Real& x) {
+    std::ostringstream out;
+    out << std::setprecision(std::numeric_limits<Real>::max_digits10) << x;
+    return out.str();
+}
 
 /// Agreement of two decimal numbers in significant digits: -log10(|a - b| / |b|) (-log10 |a - b|
 /// when b == 0), +infinity when they are equal. Computed in MPFR with every digit of both texts
