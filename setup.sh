@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # flipflux setup: installs what a fresh Debian 12 machine lacks, builds, and runs.
 #
-#   bash setup.sh main   install, build (release), run the default scene
-#   bash setup.sh test   install, format check, ASan+UBSan unit tests, coverage build running every
-#                        test, coverage gate (lines of src/ and include/ >= 90 %)
-#   bash setup.sh deps   install only (idempotent: apt-get runs only when a package is missing)
+#   bash setup.sh main    install, build the command-line tool (release), run the default scene
+#   bash setup.sh test    install, format check, one instrumented build (ASan+UBSan and coverage at
+#                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %)
+#   bash setup.sh verify  install, release build, the verification suite with the checks too slow
+#                         for CI (high precisions); writes docs/verification.md
+#   bash setup.sh deps    install only (idempotent: apt-get runs only when a package is missing)
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -33,13 +35,13 @@ install_deps() {
   fi
 }
 
-build() {  # build PRESET
+build() {  # build PRESET [TARGET]: everything, or only TARGET and what it needs
   cmake --preset "$1" >/dev/null
-  cmake --build --preset "$1" -j "$JOBS"
+  cmake --build --preset "$1" -j "$JOBS" ${2:+--target "$2"}
 }
 
 run_main() {
-  build release
+  build release flipflux_cli
   # the default scene: predictions for every criterion and both arms, saddle-orbit families and an
   # exact-check ensemble; outputs in out/default/ (docs/scenes.md)
   ./build/release/flipflux run data/scenes/default.toml
@@ -63,20 +65,14 @@ format_check() {
   git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run --Werror
 }
 
-sanitizer_tests() {
-  echo "== ASan+UBSan build and unit tests"
-  build asan-ubsan
-  run_ctest asan-ubsan --timeout 900
-}
-
-coverage_tests() {
-  echo "== coverage build and every test"
-  build coverage
-  local dir=build/coverage
+ci_tests() {
+  echo "== instrumented build (ASan+UBSan, coverage, -O0) and every test"
+  build ci
+  local dir=build/ci
   find "$dir" -name '*.gcda' -delete
   lcov --quiet --capture --initial --directory "$dir" --output-file "$dir/base.info" \
     --rc lcov_branch_coverage=0 2>/dev/null
-  run_ctest coverage --timeout 1800
+  run_ctest ci --timeout 1800
   lcov --quiet --capture --directory "$dir" --output-file "$dir/run.info" \
     --rc lcov_branch_coverage=0 2>/dev/null
   lcov --quiet -a "$dir/base.info" -a "$dir/run.info" -o "$dir/total.info" 2>/dev/null
@@ -96,6 +92,18 @@ coverage_tests() {
   echo "coverage gate passed: lines $pct% >= $COVERAGE_GATE%"
 }
 
+run_verify() {
+  echo "== release build and the verification suite (docs/verification.md)"
+  build release
+  local dir=build/release/verification-results
+  rm -rf "$dir" && mkdir -p "$dir"
+  local status=0
+  run_ctest verify --timeout 7200 \
+    --output-junit "$PWD/$dir/ctest.xml" || status=1
+  python3 tools/verification_report.py --results "$dir" --out docs/verification.md
+  return $status
+}
+
 # NOTE: each step is its own statement: `set -e` does not apply inside functions called as part
 # of an && list, so chaining them would let a failed build go unnoticed.
 case "${1:-}" in
@@ -107,9 +115,11 @@ case "${1:-}" in
   test)
     install_deps
     format_check
-    sanitizer_tests
-    coverage_tests ;;
+    ci_tests ;;
+  verify)
+    install_deps
+    run_verify ;;
   *)
-    echo "usage: bash setup.sh main|test|deps" >&2
+    echo "usage: bash setup.sh main|test|verify|deps" >&2
     exit 2 ;;
 esac

@@ -97,18 +97,18 @@ BENCHMARK(BM_OrbitQuad)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iteratio
 
 void BM_OrbitMp50(benchmark::State& state) {
     orbit_benchmark(state, mp_precision(50), static_cast<orbit_method>(state.range(0)),
-                    mp_precision(100), "1e-56", 14);
+                    mp_precision(100), "1e-72", 14);
 }
 BENCHMARK(BM_OrbitMp50)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_OrbitMp100(benchmark::State& state) {
-    orbit_benchmark(state, mp_precision(100), orbit_method::symmetric, mp_precision(150), "1e-106",
+    orbit_benchmark(state, mp_precision(100), orbit_method::symmetric, mp_precision(150), "1e-125",
                     0);
 }
 BENCHMARK(BM_OrbitMp100)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_OrbitMp150(benchmark::State& state) {
-    orbit_benchmark(state, mp_precision(150), orbit_method::symmetric, mp_precision(200), "1e-156",
+    orbit_benchmark(state, mp_precision(150), orbit_method::symmetric, mp_precision(200), "1e-175",
                     0);
 }
 BENCHMARK(BM_OrbitMp150)->Unit(benchmark::kMillisecond)->Iterations(1);

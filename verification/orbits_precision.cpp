@@ -109,7 +109,7 @@ TEST(OrbitsPrecision, QuadAgainstMp50) {
 
 TEST(OrbitsPrecision, Mp50AgainstMp100) {
     compare(mp_orbit(50, arm::two, "2.5", orbit_method::symmetric, "", 0),
-            mp_orbit(100, arm::two, "2.5", orbit_method::symmetric, "1e-56", 14), 1e-40, 1e-40,
+            mp_orbit(100, arm::two, "2.5", orbit_method::symmetric, "1e-72", 14), 1e-40, 1e-40,
             "mp:50 symmetric vs mp:100");
 }
 

@@ -26,7 +26,8 @@ void add_model_options(CLI::App& app, model_options& o) {
 void add_precision_option(CLI::App& app, precision_option& o) {
     app.add_option("--precision", o.text,
                    "working precision: double, quad (float128) or mp:DIGITS (MPFR, any DIGITS "
-                   "from 1 to " + std::to_string(max_mp_digits) + "; computed with " +
+                   "from 1 to " +
+                       std::to_string(max_mp_digits) + "; computed with " +
                        std::to_string(mp_guard_digits) + " guard digits, printed with DIGITS + 2)")
         ->capture_default_str();
 }

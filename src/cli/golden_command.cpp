@@ -74,7 +74,8 @@ const register_command registration([](CLI::App& app) {
         if (s->max_rows > 0) command += " --max-rows " + std::to_string(s->max_rows);
         if (s->precision.text != "mp:100") command += " --precision " + s->precision.text;
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
-        write_file_atomically(s->out + "/provenance.json", golden_provenance(command, rows.size(), options.value_precision));
+        write_file_atomically(s->out + "/provenance.json",
+                              golden_provenance(command, rows.size(), options.value_precision));
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);

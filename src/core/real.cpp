@@ -3,6 +3,7 @@
 // running concurrently, scopes of another waiting.
 #include "flipflux/core/real.hpp"
 
+#include <mpfr.h>
 #include <algorithm>
 #include <charconv>
 #include <condition_variable>
@@ -74,7 +75,13 @@ precision_scope::~precision_scope() {
     thread_scopes.pop_back();
     if (!thread_scopes.empty() && thread_scopes.back() == digits) return;
     a.give(lock);
-    if (!thread_scopes.empty()) a.take(lock, thread_scopes.back());
+    if (!thread_scopes.empty()) {
+        a.take(lock, thread_scopes.back());
+    } else {
+        // NOTE: MPFR keeps per-thread caches (pi, log 2, ...) that a thread must free before it
+        // ends; the outermost scope of a thread frees them (they are rebuilt on next use)
+        mpfr_free_cache2(MPFR_FREE_LOCAL_CACHE);
+    }
 }
 
 int active_mp_digits() {
@@ -86,8 +93,8 @@ int active_mp_digits() {
 
 std::string precision_name(const precision& p) {
     switch (p.kind) {
-#define FLIPFLUX_DETAIL_NAME(id, T, name, ...) \
-    case real_kind::id:                        \
+#define FLIPFLUX_DETAIL_NAME(id, T, name, ...)                                                  \
+    case real_kind::id:                                                                         \
         return has_variable_precision_v<T> ? std::string(name) + ":" + std::to_string(p.digits) \
                                            : std::string(name);
         FLIPFLUX_REAL_TYPES(FLIPFLUX_DETAIL_NAME)
@@ -100,25 +107,24 @@ precision parse_precision(std::string_view text, std::string_view option) {
     const std::string bad = std::string(option) + ": '" + std::string(text) + "' ";
     const std::size_t colon = text.find(':');
     const std::string_view kind = text.substr(0, colon);
-#define FLIPFLUX_DETAIL_PARSE(id, T, name, ...)                                               \
-    if (kind == name) {                                                                       \
-        if constexpr (!has_variable_precision_v<T>) {                                         \
-            if (colon == std::string_view::npos) return {real_kind::id, 0};                   \
-        } else if (colon != std::string_view::npos) {                                         \
-            const std::string_view digits = text.substr(colon + 1);                           \
-            int n = 0;                                                                        \
-            const auto [end, ec] =                                                            \
-                std::from_chars(digits.data(), digits.data() + digits.size(), n);             \
-            if (digits.empty() || ec == std::errc::invalid_argument ||                        \
-                end != digits.data() + digits.size())                                         \
-                throw input_error(bad + "is not a precision (" name                           \
-                                        ":DIGITS needs an integer DIGITS)");                  \
-            if (ec != std::errc() || n < 1 || n > max_mp_digits)                              \
-                throw input_error(bad + "is out of range (" name                              \
-                                        ":DIGITS takes 1 <= DIGITS <= " +                     \
-                                  std::to_string(max_mp_digits) + ")");                       \
-            return {real_kind::id, n};                                                        \
-        }                                                                                     \
+#define FLIPFLUX_DETAIL_PARSE(id, T, name, ...)                                                    \
+    if (kind == name) {                                                                            \
+        if constexpr (!has_variable_precision_v<T>) {                                              \
+            if (colon == std::string_view::npos) return {real_kind::id, 0};                        \
+        } else if (colon != std::string_view::npos) {                                              \
+            const std::string_view digits = text.substr(colon + 1);                                \
+            int n = 0;                                                                             \
+            const auto [end, ec] =                                                                 \
+                std::from_chars(digits.data(), digits.data() + digits.size(), n);                  \
+            if (digits.empty() || ec == std::errc::invalid_argument ||                             \
+                end != digits.data() + digits.size())                                              \
+                throw input_error(bad + "is not a precision (" name                                \
+                                        ":DIGITS needs an integer DIGITS)");                       \
+            if (ec != std::errc() || n < 1 || n > max_mp_digits)                                   \
+                throw input_error(bad + "is out of range (" name ":DIGITS takes 1 <= DIGITS <= " + \
+                                  std::to_string(max_mp_digits) + ")");                            \
+            return {real_kind::id, n};                                                             \
+        }                                                                                          \
     }
     FLIPFLUX_REAL_TYPES(FLIPFLUX_DETAIL_PARSE)
 #undef FLIPFLUX_DETAIL_PARSE
@@ -138,8 +144,7 @@ std::vector<precision> parse_precision_list(std::string_view text, std::string_v
         start = comma + 1;
     }
     if (list.empty())
-        throw input_error(std::string(option) + ": '" + std::string(text) +
-                          "' names no precision");
+        throw input_error(std::string(option) + ": '" + std::string(text) + "' names no precision");
     std::stable_sort(list.begin(), list.end(), [](const precision& a, const precision& b) {
         return decimal_digits(a) < decimal_digits(b);
     });

@@ -153,8 +153,7 @@ const gauss_legendre_tableau<Real>& gauss_legendre_tableau_of(int s) {
         (void)make_gauss_legendre_tableau<Real>(s);  // throws
     // NOTE: keyed by the working precision too (mp's changes at run time)
     static std::mutex mutex;
-    static std::map<std::pair<int, int>, std::unique_ptr<const gauss_legendre_tableau<Real>>>
-        cache;
+    static std::map<std::pair<int, int>, std::unique_ptr<const gauss_legendre_tableau<Real>>> cache;
     std::lock_guard<std::mutex> lock(mutex);
     auto& slot = cache[{s, binary_digits<Real>()}];
     if (!slot)

@@ -22,7 +22,8 @@ template <class Real>
 int curve_degree() {
     // NOTE: 16 at double (53 bits), 28 at quad (113), 40 at 50 digits (168), 64 at 100 (334),
     // measured; beyond, in proportion to the digits
-    return scaled_with_precision(binary_digits<Real>(), {{53, 16}, {113, 28}, {168, 40}, {334, 64}}, 1.0);
+    return scaled_with_precision(binary_digits<Real>(), {{53, 16}, {113, 28}, {168, 40}, {334, 64}},
+                                 1.0);
 }
 
 template <class Real>

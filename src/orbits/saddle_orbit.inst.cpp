@@ -20,7 +20,8 @@ template <class Real>
 int default_stages() {
     // NOTE: 6 stages at double (53 bits), 10 at quad (113), 14 at 50 digits (168), 20 at 100
     // (334), measured; beyond, as the square root of the digits, capped by the tableau's limit
-    const int s = scaled_with_precision(binary_digits<Real>(), {{53, 6}, {113, 10}, {168, 14}, {334, 20}}, 0.5);
+    const int s = scaled_with_precision(binary_digits<Real>(),
+                                        {{53, 6}, {113, 10}, {168, 14}, {334, 20}}, 0.5);
     return s < max_gauss_legendre_stages ? s : max_gauss_legendre_stages;
 }
 

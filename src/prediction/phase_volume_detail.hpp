@@ -10,9 +10,9 @@ template <class Real>
 prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& model,
                                                    const Real& energy);
 
-#define FLIPFLUX_PHASE_VOLUME_2D_EXTERN(R)                                   \
-    extern template prediction_result<R> phase_volume_quadrature_2d<R>( \
-        const double_pendulum<R>&, const R&);
+#define FLIPFLUX_PHASE_VOLUME_2D_EXTERN(R)                                                        \
+    extern template prediction_result<R> phase_volume_quadrature_2d<R>(const double_pendulum<R>&, \
+                                                                       const R&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_PHASE_VOLUME_2D_EXTERN)
 #undef FLIPFLUX_PHASE_VOLUME_2D_EXTERN
 

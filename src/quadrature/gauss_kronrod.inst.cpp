@@ -76,7 +76,8 @@ gauss_kronrod_rule<Real> computed_rule() {
             const Real dp = legendre_p_prime(gauss_order, x);
             const Real gauss_weight = 2 / ((1 - x * x) * dp * dp);
             r.gauss_weights.push_back(gauss_weight);
-            r.kronrod_weights[i] = gauss_weight + Real(2) / (Real(gauss_order + 1) * dp * stieltjes(x));
+            r.kronrod_weights[i] =
+                gauss_weight + Real(2) / (Real(gauss_order + 1) * dp * stieltjes(x));
         } else {
             r.kronrod_weights[i] =
                 Real(2) / (Real(gauss_order + 1) * legendre_p(gauss_order, x) * stieltjes.prime(x));
@@ -122,16 +123,16 @@ Real adaptive(const gauss_kronrod_rule<Real>& rule, F& f, const Real& tolerance,
     const Real mean = (b + a) / 2, scale = (b - a) / 2;
     Real local_error;
     Real estimate =
-        scale * kronrod_on_unit(rule, [&](const Real& x) { return f(scale * x + mean); },
-                                local_error, l1);
+        scale * kronrod_on_unit(
+                    rule, [&](const Real& x) { return f(scale * x + mean); }, local_error, l1);
     const Real abs_tol1 = abs(Real(estimate * tolerance));
     if (abs_tol == 0) abs_tol = abs_tol1;
     if (levels > 0 && abs_tol1 < local_error && abs_tol < local_error) {
         const Real mid = (a + b) / 2;
         Real right_error, right_l1;
         estimate = adaptive(rule, f, tolerance, a, mid, levels - 1, abs_tol / 2, error, l1);
-        estimate += adaptive(rule, f, tolerance, mid, b, levels - 1, abs_tol / 2, right_error,
-                             right_l1);
+        estimate +=
+            adaptive(rule, f, tolerance, mid, b, levels - 1, abs_tol / 2, right_error, right_l1);
         error += right_error;
         l1 += right_l1;
         return estimate;

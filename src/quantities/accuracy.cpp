@@ -131,9 +131,8 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
                 if (options.progress) {
                     char line[240];
                     std::snprintf(line, sizeof line, "%s %s %s: %.1f digits, %.3g s (%d energies)",
-                                  q.name.c_str(), q.methods[m].c_str(),
-                                  precision_name(p).c_str(), cell.digits, cell.seconds,
-                                  cell.energies);
+                                  q.name.c_str(), q.methods[m].c_str(), precision_name(p).c_str(),
+                                  cell.digits, cell.seconds, cell.energies);
                     options.progress(line);
                 }
             }
@@ -193,8 +192,7 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         precision_name(accuracy_reference_precision(columns)) +
         " (so the default method is checked against a higher precision, every other method "
         "against an independent route). Capped at the digits each precision prints (" +
-        caps +
-        " for " + names +
+        caps + " for " + names +
         "; mp:N computes with N + 10 digits, at least 30). **Time** is the mean wall time of one "
         "evaluation at the first test energy (repeated for at least 0.2 s), on one core; methods "
         "slower than 3 s per evaluation are checked at their first energy only (the number of "

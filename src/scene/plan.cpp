@@ -126,7 +126,7 @@ plan make_plan(const scene& s) {
     }
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
-        plan_step step{plan_step::kind::ensemble, x.arm, {}, {}, x.criteria, i, {},
+        plan_step step{plan_step::kind::ensemble,    x.arm, {}, {}, x.criteria, i, {},
                        precision{real_kind::double_}};
         for (const auto& e : ensemble_energies[i])
             step.energies.push_back(e.text);

@@ -105,7 +105,8 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
     const std::vector<golden_reference> golden = read_golden(golden_dir);
     for (const auto& g : golden)
         if (!is_decimal_number(g.energy))
-            throw input_error(g.file + ": energy '" + g.energy + "' is not a finite decimal number");
+            throw input_error(g.file + ": energy '" + g.energy +
+                              "' is not a finite decimal number");
 
     const csv_table t = read_csv(candidate);
     const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
@@ -164,7 +165,8 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
         used.insert(match);
         first_line[match] = row.line;
         x.relative_error = decimal_relative_error(x.candidate, g.value, g.file);
-        x.matched_digits = std::min<double>(g.digits, decimal_agreement(x.candidate, g.value, g.file));
+        x.matched_digits =
+            std::min<double>(g.digits, decimal_agreement(x.candidate, g.value, g.file));
         const double tol = std::max(rtol, std::pow(10.0, -g.digits));
         x.what = x.relative_error <= tol ? status::ok : status::fail;
         report.entries.push_back(x);

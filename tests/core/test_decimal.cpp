@@ -131,7 +131,7 @@ TEST(Precision, DecimalComparisonsUseEveryDigit) {
     EXPECT_NEAR(decimal_relative_error("1.5", "1"), 0.5, 1e-15);
     EXPECT_NEAR(decimal_agreement("0.001", "0"), 3, 1e-12);  // absolute when the reference is 0
     EXPECT_EQ(round_decimal("3.14159", 3), "3.14");
-    EXPECT_EQ(round_decimal("0.25", 1), "0.2");  // ties to even, as MPFR rounds
+    EXPECT_EQ(round_decimal("0.25", 1), "0.2");           // ties to even, as MPFR rounds
     EXPECT_EQ(round_decimal("-2.5e-300", 1), "-3e-300");  // 2.5e-300 is not a tie in binary
     EXPECT_EQ(round_decimal("1." + std::string(60, '9'), 5), "2");
     EXPECT_THROW(decimal_agreement("1", "abc"), input_error);

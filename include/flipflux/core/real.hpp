@@ -22,8 +22,8 @@
 #include <boost/multiprecision/float128.hpp>
 #include <boost/multiprecision/mpfr.hpp>
 #include <climits>
-#include <compare>
 #include <cmath>
+#include <compare>
 #include <initializer_list>
 #include <limits>
 #include <stdexcept>
@@ -196,9 +196,9 @@ int decimal_digits(const precision& p);
 template <class F>
 decltype(auto) dispatch(const precision& p, F&& f) {
 #define FLIPFLUX_DETAIL_DISPATCH(id, T, name, ...) \
-    if (p.kind == real_kind::id) {               \
-        const precision_scope scope(p);          \
-        return f.template operator()<T>();       \
+    if (p.kind == real_kind::id) {                 \
+        const precision_scope scope(p);            \
+        return f.template operator()<T>();         \
     }
     FLIPFLUX_REAL_TYPES(FLIPFLUX_DETAIL_DISPATCH)
 #undef FLIPFLUX_DETAIL_DISPATCH
@@ -238,9 +238,9 @@ inline int scaled_with_precision(int bits, std::initializer_list<std::pair<int, 
     if (bits <= prev->first) return prev->second;
     for (const std::pair<int, int>* p = table.begin() + 1; p != table.end(); prev = p++) {
         if (bits <= p->first)
-            return prev->second + static_cast<int>(std::lround(
-                                      static_cast<double>(p->second - prev->second) *
-                                      (bits - prev->first) / (p->first - prev->first)));
+            return prev->second +
+                   static_cast<int>(std::lround(static_cast<double>(p->second - prev->second) *
+                                                (bits - prev->first) / (p->first - prev->first)));
     }
     return static_cast<int>(
         std::lround(prev->second * std::pow(static_cast<double>(bits) / prev->first, power)));

@@ -7,7 +7,8 @@
 //                            b - x, to full relative accuracy even where x itself has rounded
 //                            onto the endpoint: integrands like sqrt(K(x)) with K(a) = 0 evaluate
 //                            K from the distance without cancellation.
-//   gauss_kronrod_integrate  adaptive 61-point Gauss-Kronrod (Boost.Math's rule and recursion), for smooth
+//   gauss_kronrod_integrate  adaptive 61-point Gauss-Kronrod (Boost.Math's rule and recursion), for
+//   smooth
 //                            integrands; an independent rule for cross-checks.
 //   nested_integrate         the outer integral (tanh-sinh) of inner integrals supplied as
 //                            quadrature_results; inner error estimates are propagated.
@@ -180,7 +181,7 @@ quadrature_result<Real> nested_integrate(
     extern template quadrature_result<R> tanh_sinh_integrate_graded<R>(                           \
         endpoint_integrand<R>, const R&, const R&, const R&, const R&,                            \
         const quadrature_options<R>&);                                                            \
-    extern template const gauss_kronrod_rule<R>& gauss_kronrod_61<R>();                          \
+    extern template const gauss_kronrod_rule<R>& gauss_kronrod_61<R>();                           \
     extern template quadrature_result<R> gauss_kronrod_integrate<R>(                              \
         function_ref<R(const R&)>, const R&, const R&, const quadrature_options<R>&);             \
     extern template quadrature_result<R> gauss_kronrod_fixed<R>(function_ref<R(const R&)>,        \

@@ -37,11 +37,11 @@ struct accuracy_options {
 precision accuracy_reference_precision(const std::vector<precision>& columns);
 
 struct accuracy_cell {
-    bool applies = false;   ///< false when the method has no test energy in its domain
-    bool skipped = false;   ///< not measured: too slow in a lower precision
-    double digits = 0;      ///< significant digits achieved (minimum over energies)
-    double seconds = 0;     ///< mean time per evaluation
-    int energies = 0;       ///< energies (and arms) checked
+    bool applies = false;  ///< false when the method has no test energy in its domain
+    bool skipped = false;  ///< not measured: too slow in a lower precision
+    double digits = 0;     ///< significant digits achieved (minimum over energies)
+    double seconds = 0;    ///< mean time per evaluation
+    int energies = 0;      ///< energies (and arms) checked
 };
 
 struct accuracy_entry {

@@ -42,10 +42,10 @@ std::vector<std::string> golden_energies(double start, double maximum);
 std::vector<std::string> golden_orbit_energies(double start, double maximum);
 
 struct golden_options {
-    std::vector<std::string> quantities;  ///< empty: every registered quantity
+    std::vector<std::string> quantities;            ///< empty: every registered quantity
     precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
-    int jobs = 1;                         ///< OpenMP threads
-    std::size_t max_rows = 0;             ///< 0: all (for quick runs and tests)
+    int jobs = 1;                                   ///< OpenMP threads
+    std::size_t max_rows = 0;                       ///< 0: all (for quick runs and tests)
     /// called after each row (from one thread at a time), for progress reports
     std::function<void(const golden_row&, std::size_t done, std::size_t total)> progress;
     /// called for each task that gives no row ("QUANTITY arm A E ENERGY: reason"), one thread at

@@ -68,7 +68,7 @@ struct ensemble_spec {
 
 struct golden_spec {
     std::string dir = "data/golden";
-    std::vector<std::string> quantities;  ///< empty: every registered quantity
+    std::vector<std::string> quantities;            ///< empty: every registered quantity
     precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
     int line = 0;
 };
