@@ -4,8 +4,8 @@
 // one right-hand side (fast flow vs the templated model), one microcanonical sample.
 #include <benchmark/benchmark.h>
 
-#include "flipflux/ensemble/criteria.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/study/criteria.hpp"
 
 namespace {
 

@@ -26,12 +26,12 @@
 #include <functional>
 #include <numbers>
 
-#include "flipflux/ensemble/criteria.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/ensemble/sampler.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
+#include "flipflux/study/criteria.hpp"
 
 namespace {
 

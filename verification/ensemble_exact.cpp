@@ -22,8 +22,9 @@
 #include <vector>
 
 #include "ensemble_reference.hpp"
-#include "flipflux/ensemble/criteria.hpp"
 #include "flipflux/ensemble/statistics.hpp"
+#include "flipflux/study/criteria.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux::verification {
 namespace {
@@ -32,20 +33,6 @@ std::uint64_t scale() {
     const char* s = std::getenv("FLIPFLUX_EXACT_SCALE");
     const long k = s ? std::atol(s) : 1;
     return k > 0 ? static_cast<std::uint64_t>(k) : 1;
-}
-
-physical_parameters<double> lopsided() {
-    physical_parameters<double> p;
-    p.m1 = 0.7;
-    p.m2 = 1.3;
-    p.L1 = 0.8;
-    p.L2 = 1.2;
-    p.a1 = 0.5;
-    p.a2 = 0.65;
-    p.I1 = 0.04;
-    p.I2 = 0.09;
-    p.g = 1.5;
-    return p;
 }
 
 struct named_criterion {
@@ -122,7 +109,7 @@ TEST(ExactCheck, EgalitarianBothArms) {
 }
 
 TEST(ExactCheck, LopsidedBothArms) {
-    const double_pendulum<double> m(lopsided());
+    const double_pendulum<double> m(test::lopsided_parameters());
     exact_check("lopsided", m, 3.5, arm2, 2400, 10, 104);
     exact_check("lopsided", m, 5.8, both, 2400, 10, 105);
 }

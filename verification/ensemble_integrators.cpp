@@ -16,6 +16,7 @@
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/ensemble/sampler.hpp"
 #include "flipflux/integrators/explicit_rk.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux::verification {
 namespace {
@@ -75,24 +76,6 @@ std::vector<state50> reference(const double_pendulum<mp>& m, const state50& y0,
     return out;
 }
 
-physical_parameters<double> lopsided() {
-    physical_parameters<double> p;
-    p.m1 = 0.7;
-    p.m2 = 1.3;
-    p.L1 = 0.8;
-    p.L2 = 1.2;
-    p.a1 = 0.5;
-    p.a2 = 0.65;
-    p.I1 = 0.04;
-    p.I2 = 0.09;
-    p.g = 1.5;
-    return p;
-}
-
-physical_parameters<mp> to_mp(const physical_parameters<double>& p) {
-    return {mp(p.m1), mp(p.m2), mp(p.L1), mp(p.L2), mp(p.a1),
-            mp(p.a2), mp(p.I1), mp(p.I2), mp(p.g)};
-}
 
 template <class Method>
 double max_error(const double_pendulum<double>& m, const phase_point<double>& x0, double T,
@@ -122,7 +105,7 @@ double max_error(const double_pendulum<double>& m, const phase_point<double>& x0
 void check_pendulum(const char* label, const physical_parameters<double>& p, double fraction) {
     const precision_scope scope(mp_precision(50));  // the reference in mp:50
     const double_pendulum<double> m(p);
-    const double_pendulum<mp> mq(to_mp(p));
+    const double_pendulum<mp> mq(convert_parameters<mp>(p));
     const double E = fraction * m.maximum_energy();
     const phase_point<double> x0 = microcanonical_sampler(m, E).sample(77, 0);
     const state50 y0{mp(x0[0]), mp(x0[1]), mp(x0[2]), mp(x0[3])};
@@ -158,7 +141,7 @@ TEST(IntegratorsAgainstReference, Egalitarian) {
 }
 
 TEST(IntegratorsAgainstReference, Lopsided) {
-    check_pendulum("lopsided", lopsided(), 0.6);
+    check_pendulum("lopsided", test::lopsided_parameters(), 0.6);
 }
 
 }  // namespace

@@ -5,13 +5,8 @@
 // the expensive part; they run on a few points (their cost per precision: docs/accuracy.md).
 #include <gtest/gtest.h>
 
-// NOTE: the shared test support (tests/support.hpp) runs the CLI from FLIPFLUX_EXE, which
-// verification executables do not define; nothing here runs the CLI.
-#ifndef FLIPFLUX_EXE
-#define FLIPFLUX_EXE "flipflux"
-#endif
-#include "../tests/prediction/models.hpp"
 #include "flipflux/prediction/prediction.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux {
 namespace {

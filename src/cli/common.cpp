@@ -61,4 +61,14 @@ arm parse_arm(const std::string& text, std::string_view option) {
     throw input_error(std::string(option) + ": '" + text + "' is not an arm (expected 1 or 2)");
 }
 
+std::string error_text(const input_error& e) {
+    const std::string& field = e.field();
+    if (field.empty() || field.front() == '-' || field.find_first_of(".:/ '") != std::string::npos)
+        return e.what();
+    std::string option = "--" + field;
+    for (char& c : option)
+        if (c == '_') c = '-';
+    return option + ": " + e.detail();
+}
+
 }  // namespace flipflux::cli

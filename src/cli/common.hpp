@@ -49,6 +49,11 @@ struct register_command {
 /// `validate` sets 1 when a row fails); bad input is reported by throwing input_error (status 2).
 int& exit_status();
 
+/// The one-line message of bad input as the command line names it: a library field becomes its
+/// option (`energy: ...` -> `--energy: ...`, `sample_interval` -> `--sample-interval`); names
+/// given in full (an option, a scene's file and key) are kept.
+std::string error_text(const input_error& e);
+
 /// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
 void print(const std::string& text);
 

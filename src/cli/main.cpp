@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "flipflux: error: %s\n", e.what());
         return 2;
     } catch (const input_error& e) {
-        std::fprintf(stderr, "flipflux: error: %s\n", e.what());
+        std::fprintf(stderr, "flipflux: error: %s\n", cli::error_text(e).c_str());
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "flipflux: internal error: %s\n", e.what());

@@ -41,7 +41,7 @@ std::string orbit_csv(const orbit_state_options& o) {
     const double_pendulum<Real> model(parse_parameters<Real>(o.model));
     const Real energy = parse_real<Real>(o.energy, "--energy");
     orbit_options<Real> options;
-    options.method = parse_orbit_method(o.method, "--method");
+    options.method = parse_name<orbit_method>(o.method, "--method");
     check_orbit_energy(model, a, energy);
     const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
     if (orbit.status == orbit_status::not_converged)

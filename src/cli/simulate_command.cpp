@@ -1,5 +1,5 @@
 // flipflux simulate: Monte Carlo ensembles (paper Sec. 5-6), a thin layer over
-// ensemble/simulation.hpp: parses the options and prints the study's JSON report (with the model).
+// study/simulation.hpp: parses the options and prints the study's JSON report (with the model).
 // Also the run-time machinery of long runs:
 //   - MPI: when launched by mpirun (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_RANK in the
 //     environment) MPI is initialised and the ranks share the trajectories (simulation.hpp's
@@ -18,7 +18,7 @@
 #include <cstdlib>
 
 #include "common.hpp"
-#include "flipflux/ensemble/simulation.hpp"
+#include "flipflux/study/simulation.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -222,7 +222,7 @@ simulation_request make_request(const simulate_state& s) {
     o.rtol = parse_positive(s.rtol, "--rtol");
     o.threads = static_cast<int>(
         std::min<std::uint64_t>(parse_unsigned(s.threads, "--threads", false), 4096));
-    o.method = parse_integration_method(s.method, "--method");
+    o.method = parse_name<integration_method>(s.method, "--method");
     o.chaos = !s.no_chaos;
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
     o.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
@@ -231,7 +231,7 @@ simulation_request make_request(const simulate_state& s) {
     q.csv_dir = s.csv_dir;
     q.checkpoint = s.checkpoint;
     q.checkpoint_interval = parse_real<double>(s.checkpoint_interval, "--checkpoint-interval");
-    q.estimator = parse_rate_estimator(s.estimator, "--estimator");
+    q.estimator = parse_name<rate_estimator>(s.estimator, "--estimator");
     q.short_time = parse_positive(s.short_time, "--short-time");
     q.timing = !s.no_timing;
     return q;
@@ -266,10 +266,10 @@ void run(const simulate_state& s) {
     } catch (const std::exception& e) {
         if (!mpi || mpi->size() == 1) throw;
         // another rank may wait in a collective: report and end the whole job
-        const bool bad_input = dynamic_cast<const input_error*>(&e) != nullptr;
-        if (root || !bad_input)
-            std::fprintf(stderr, "flipflux: %s%s\n",
-                         bad_input ? "error: " : "internal error: ", e.what());
+        const auto* bad_input = dynamic_cast<const input_error*>(&e);
+        if (root || bad_input == nullptr)
+            std::fprintf(stderr, "flipflux: %s%s\n", bad_input ? "error: " : "internal error: ",
+                         bad_input ? error_text(*bad_input).c_str() : e.what());
         std::fflush(stderr);
         mpi->abort(bad_input ? 2 : 1);
     }

@@ -30,8 +30,8 @@ class mpfr_value {
 
 void set_decimal(mpfr_value& x, std::string_view text, std::string_view what) {
     if (!is_decimal_number(text))
-        throw input_error(std::string(what) + ": '" + std::string(text) +
-                          "' is not a finite decimal number");
+        throw input_error::about(std::string(what),
+                                 "'" + std::string(text) + "' is not a finite decimal number");
     const std::string s(text);
     mpfr_set_str(x.get(), s.c_str(), 10, MPFR_RNDN);
 }

@@ -13,8 +13,8 @@ namespace flipflux {
 template <class Real>
 Real parse_real(std::string_view text, std::string_view what) {
     if (!is_decimal_number(text)) {
-        throw input_error(std::string(what) + ": '" + std::string(text) +
-                          "' is not a finite decimal number");
+        throw input_error::about(std::string(what),
+                                 "'" + std::string(text) + "' is not a finite decimal number");
     }
     const std::string s(text);
     Real value;
@@ -28,7 +28,8 @@ Real parse_real(std::string_view text, std::string_view what) {
     using boost::multiprecision::isfinite;
     using std::isfinite;
     if (!isfinite(value)) {
-        throw input_error(std::string(what) + ": '" + s + "' overflows " + precision_name<Real>());
+        throw input_error::about(std::string(what),
+                                 "'" + s + "' overflows " + precision_name<Real>());
     }
     return value;
 }

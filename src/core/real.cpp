@@ -1,4 +1,4 @@
-// The names of the real types, parsing "--precision", and the working precision of mp
+// The names of the real types, parsing precisions ("mp:300"), and the working precision of mp
 // (core/real.hpp): one mp precision active in the process at a time, scopes of one precision
 // running concurrently, scopes of another waiting.
 #include "flipflux/core/real.hpp"
@@ -104,31 +104,35 @@ std::string precision_name(const precision& p) {
 }
 
 precision parse_precision(std::string_view text, std::string_view option) {
-    const std::string bad = std::string(option) + ": '" + std::string(text) + "' ";
+    const std::string bad = "'" + std::string(text) + "' ";
     const std::size_t colon = text.find(':');
     const std::string_view kind = text.substr(0, colon);
-#define FLIPFLUX_DETAIL_PARSE(id, T, name, ...)                                                    \
-    if (kind == name) {                                                                            \
-        if constexpr (!has_variable_precision_v<T>) {                                              \
-            if (colon == std::string_view::npos) return {real_kind::id, 0};                        \
-        } else if (colon != std::string_view::npos) {                                              \
-            const std::string_view digits = text.substr(colon + 1);                                \
-            int n = 0;                                                                             \
-            const auto [end, ec] =                                                                 \
-                std::from_chars(digits.data(), digits.data() + digits.size(), n);                  \
-            if (digits.empty() || ec == std::errc::invalid_argument ||                             \
-                end != digits.data() + digits.size())                                              \
-                throw input_error(bad + "is not a precision (" name                                \
-                                        ":DIGITS needs an integer DIGITS)");                       \
-            if (ec != std::errc() || n < 1 || n > max_mp_digits)                                   \
-                throw input_error(bad + "is out of range (" name ":DIGITS takes 1 <= DIGITS <= " + \
-                                  std::to_string(max_mp_digits) + ")");                            \
-            return {real_kind::id, n};                                                             \
-        }                                                                                          \
+#define FLIPFLUX_DETAIL_PARSE(id, T, name, ...)                                            \
+    if (kind == name) {                                                                    \
+        if constexpr (!has_variable_precision_v<T>) {                                      \
+            if (colon == std::string_view::npos) return {real_kind::id, 0};                \
+        } else if (colon != std::string_view::npos) {                                      \
+            const std::string_view digits = text.substr(colon + 1);                        \
+            int n = 0;                                                                     \
+            const auto [end, ec] =                                                         \
+                std::from_chars(digits.data(), digits.data() + digits.size(), n);          \
+            if (digits.empty() || ec == std::errc::invalid_argument ||                     \
+                end != digits.data() + digits.size())                                      \
+                throw input_error::about(                                                  \
+                    std::string(option),                                                   \
+                    bad + "is not a precision (" name ":DIGITS needs an integer DIGITS)"); \
+            if (ec != std::errc() || n < 1 || n > max_mp_digits)                           \
+                throw input_error::about(                                                  \
+                    std::string(option),                                                   \
+                    bad + "is out of range (" name ":DIGITS takes 1 <= DIGITS <= " +       \
+                        std::to_string(max_mp_digits) + ")");                              \
+            return {real_kind::id, n};                                                     \
+        }                                                                                  \
     }
     FLIPFLUX_REAL_TYPES(FLIPFLUX_DETAIL_PARSE)
 #undef FLIPFLUX_DETAIL_PARSE
-    throw input_error(bad + "is not a precision (expected double, quad or mp:DIGITS)");
+    throw input_error::about(std::string(option),
+                             bad + "is not a precision (expected double, quad or mp:DIGITS)");
 }
 
 std::vector<precision> parse_precision_list(std::string_view text, std::string_view option) {
@@ -144,7 +148,8 @@ std::vector<precision> parse_precision_list(std::string_view text, std::string_v
         start = comma + 1;
     }
     if (list.empty())
-        throw input_error(std::string(option) + ": '" + std::string(text) + "' names no precision");
+        throw input_error::about(std::string(option),
+                                 "'" + std::string(text) + "' names no precision");
     std::stable_sort(list.begin(), list.end(), [](const precision& a, const precision& b) {
         return decimal_digits(a) < decimal_digits(b);
     });

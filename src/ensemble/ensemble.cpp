@@ -18,39 +18,33 @@
 
 namespace flipflux {
 
-std::string to_string(integration_method m) {
-    return m == integration_method::dop853 ? "dop853" : "dopri5";
-}
-
-integration_method parse_integration_method(const std::string& text, const std::string& option) {
-    if (text == "dop853") return integration_method::dop853;
-    if (text == "dopri5") return integration_method::dopri5;
-    throw input_error(option + ": '" + text + "' is not a method (dop853, dopri5)");
-}
-
 void validate(const ensemble_options& o) {
     if (o.trajectories == 0)
-        throw input_error(
-            "--trajectories: '0' is invalid (the number of trajectories must be > 0)");
+        throw input_error::about("trajectories",
+                                 "'0' is invalid (the number of trajectories must be > 0)");
     if (!std::isfinite(o.time) || !(o.time > 0))
-        throw input_error("--time: '" + to_decimal(o.time) +
-                          "' is invalid (the integration time must be finite and > 0)");
+        throw input_error::about("time",
+                                 "'" + to_decimal(o.time) +
+                                     "' is invalid (the integration time must be finite and > 0)");
     if (!(o.rtol > 0) || !(o.rtol <= 0.1))
-        throw input_error("--rtol: '" + to_decimal(o.rtol) + "' is invalid (must be in (0, 0.1])");
+        throw input_error::about("rtol",
+                                 "'" + to_decimal(o.rtol) + "' is invalid (must be in (0, 0.1])");
     if (o.atol < 0 || !std::isfinite(o.atol))
-        throw input_error("--atol: '" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
+        throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))
-        throw input_error("--energy: '" + to_decimal(o.energy) + "' is invalid (must be > 0)");
+        throw input_error::about("energy",
+                                 "'" + to_decimal(o.energy) + "' is invalid (must be > 0)");
     if (o.threads < 0)
-        throw input_error("--threads: '" + std::to_string(o.threads) + "' is invalid (>= 0)");
+        throw input_error::about("threads",
+                                 "'" + std::to_string(o.threads) + "' is invalid (>= 0)");
     if (!std::isfinite(o.sample_interval) || o.sample_interval < 0)
-        throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
-                          "' is invalid (must be >= 0)");
+        throw input_error::about(
+            "sample_interval", "'" + to_decimal(o.sample_interval) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.chaos_threshold) || !(o.chaos_threshold > 0))
-        throw input_error("--chaos-threshold: '" + to_decimal(o.chaos_threshold) +
-                          "' is invalid (must be > 0)");
+        throw input_error::about(
+            "chaos_threshold", "'" + to_decimal(o.chaos_threshold) + "' is invalid (must be > 0)");
     if (o.first_index > std::numeric_limits<std::uint64_t>::max() - o.trajectories)
-        throw input_error("--first-index: the index range overflows");
+        throw input_error::about("first_index", "the index range overflows");
 }
 
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold) {

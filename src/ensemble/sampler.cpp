@@ -26,7 +26,8 @@ double half_width(double energy, double k) {
 microcanonical_sampler::microcanonical_sampler(const double_pendulum<double>& model, double energy)
     : model_(model), energy_(energy) {
     if (!std::isfinite(energy) || !(energy > 0))
-        throw input_error("--energy: '" + to_decimal(energy) +
+        throw input_error::about(
+            "energy", "'" + to_decimal(energy) +
                           "' is invalid (the microcanonical ensemble needs a finite E > 0)");
     const auto& k = model.coefficients();
     box_ = {half_width(energy, k.alpha), half_width(energy, k.beta)};

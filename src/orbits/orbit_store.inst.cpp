@@ -259,7 +259,7 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
             }
         }
         if (!known) throw input_error(where + ": status '" + status + "' is unknown");
-        o.method = parse_orbit_method(j.at("method").get<std::string>(), where + ": method");
+        o.method = parse_name<orbit_method>(j.at("method").get<std::string>(), where + ": method");
         o.stages = j.at("stages").get<int>();
         o.steps = j.at("steps").get<long>();
         o.tolerance = r("tolerance");

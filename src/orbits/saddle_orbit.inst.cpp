@@ -2,6 +2,7 @@
 // in Real, the final quarter orbit, action, turning points, monodromy and Floquet multipliers
 // (see orbits/saddle_orbit.hpp and docs/theory.md#saddle-orbits).
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "flipflux/core/constants.hpp"
@@ -31,9 +32,10 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& e
     using std::isfinite;
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
     if (!isfinite(energy) || !(energy > lo) || !(energy < hi)) {
-        throw input_error("--energy: '" + to_decimal(energy) + "' is outside the arm-" +
-                          to_string(a) + " saddle-orbit family's range (" + to_decimal(lo) + ", " +
-                          to_decimal(hi) + "), open at both ends");
+        throw input_error::about("energy", "'" + to_decimal(energy) + "' is outside the arm-" +
+                                               to_string(a) + " saddle-orbit family's range (" +
+                                               to_decimal(lo) + ", " + to_decimal(hi) +
+                                               "), open at both ends");
     }
 }
 
@@ -56,18 +58,7 @@ namespace {
 
 template <class Real>
 double_pendulum<double> to_double(const double_pendulum<Real>& model) {
-    const auto& p = model.parameters();
-    physical_parameters<double> q;
-    q.m1 = static_cast<double>(p.m1);
-    q.m2 = static_cast<double>(p.m2);
-    q.L1 = static_cast<double>(p.L1);
-    q.L2 = static_cast<double>(p.L2);
-    q.a1 = static_cast<double>(p.a1);
-    q.a2 = static_cast<double>(p.a2);
-    q.I1 = static_cast<double>(p.I1);
-    q.I2 = static_cast<double>(p.I2);
-    q.g = static_cast<double>(p.g);
-    return double_pendulum<double>(q);
+    return double_pendulum<double>(convert_parameters<double>(model.parameters()));
 }
 
 template <class Real>
@@ -90,122 +81,103 @@ std::array<Real, 5> orbit_scales(const detail::shooting_setup<Real>& setup, cons
     return {dscale, dscale, lscale, lscale, setup.excess * period};
 }
 
-}  // namespace
+/// The double stage: (beta, T) solved at double from the guess (Ceres or Newton); `ok` false
+/// when it did not converge, the guess then being returned unchanged.
+template <class Real>
+struct double_solution {
+    Real beta, period;
+    bool ok = true;
+    std::string report;
+};
 
 template <class Real>
-saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                       const Real& energy, const orbit_guess<Real>& guess,
-                                       const orbit_options<Real>& options) {
-    using std::abs;
-    using std::max;
-    check_orbit_energy(model, a, energy);
-    const bool periodic = options.method == orbit_method::periodic;
-    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
-    const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
-    const Real excess = energy - model.saddle_energy(a);
-    const Real eps = std::numeric_limits<Real>::epsilon();
-
-    saddle_orbit<Real> orbit;
-    orbit.flip_arm = a;
-    orbit.energy = energy;
-    orbit.excess = excess;
-    orbit.method = options.method;
-    orbit.stages = stages;
-    orbit.tolerance = tol;
-
-    // ---- double stage ---------------------------------------------------------------------
-    Real beta = guess.beta, period = guess.period;
-    bool double_ok = true;
-    {
-        const double_pendulum<double> md = to_double(model);
-        const double ed = static_cast<double>(excess);
-        const int sd = default_stages<double>();
-        const detail::shooting_setup<double> sdset(md, a, ed, sd);
-        const double bd = static_cast<double>(beta), pd = static_cast<double>(period);
-        const auto sc = orbit_scales(sdset, bd, pd);
-        const auto x0 = sdset.start(bd);
-        const std::array<double, 5> y0{x0[0], x0[1], x0[2], x0[3], 0.0};
-        // NOTE: steps are chosen on the quarter orbit for both methods: the endpoint error of a
-        // full period is amplified by the multiplier, which says nothing about the local accuracy
-        const auto est = steps_for_tolerance<double, 5>(orbit_flow<double>{&sdset.frame}, y0,
-                                                        pd / 4, 1e-13, sd, sc, 4);
-        const long n = periodic ? 4 * est.steps : est.steps;
-        const auto r = periodic ? detail::ceres_periodic_shooting(md, a, ed, bd, pd, n, sd)
-                                : detail::newton_symmetric_shooting(md, a, ed, bd, pd, n, sd);
-        orbit.double_stage = r.report;
-        if (r.converged) {
-            beta = Real(std::remainder(r.beta, 2 * M_PI));
-            period = Real(r.period);
-        } else if constexpr (std::is_same_v<Real, double>) {
-            orbit.status = orbit_status::not_converged;
-            return orbit;
-        } else {
-            double_ok = false;
-            // NOTE: near E_max the periodic residual's rounding floor at double, eps |mu|, can
-            // exceed the orbit's scale (|mu| ~ 1e27 at E_max - 1e-6), while in Real it does not:
-            // the polish then starts from the guess itself
-            orbit.double_stage +=
-                "; not converged at double, polishing the guess in " + precision_name<Real>();
-        }
+double_solution<Real> solve_at_double(const double_pendulum<Real>& model, arm a, const Real& excess,
+                                      const orbit_guess<Real>& guess, bool periodic) {
+    double_solution<Real> out{guess.beta, guess.period};
+    const double_pendulum<double> md = to_double(model);
+    const double ed = static_cast<double>(excess);
+    const int sd = default_stages<double>();
+    const detail::shooting_setup<double> sdset(md, a, ed, sd);
+    const double bd = static_cast<double>(out.beta), pd = static_cast<double>(out.period);
+    const auto sc = orbit_scales(sdset, bd, pd);
+    const auto x0 = sdset.start(bd);
+    const std::array<double, 5> y0{x0[0], x0[1], x0[2], x0[3], 0.0};
+    // NOTE: steps are chosen on the quarter orbit for both methods: the endpoint error of a
+    // full period is amplified by the multiplier, which says nothing about the local accuracy
+    const auto est = steps_for_tolerance<double, 5>(orbit_flow<double>{&sdset.frame}, y0, pd / 4,
+                                                    1e-13, sd, sc, 4);
+    const long n = periodic ? 4 * est.steps : est.steps;
+    const auto r = periodic ? detail::ceres_periodic_shooting(md, a, ed, bd, pd, n, sd)
+                            : detail::newton_symmetric_shooting(md, a, ed, bd, pd, n, sd);
+    out.report = r.report;
+    if (r.converged) {
+        out.beta = Real(std::remainder(r.beta, 2 * M_PI));
+        out.period = Real(r.period);
+    } else {
+        out.ok = false;
     }
+    return out;
+}
 
-    // ---- polish in Real ----------------------------------------------------------------------
-    const detail::shooting_setup<Real> setup(model, a, excess, stages);
-    const auto scale = orbit_scales(setup, beta, period);
-    long quarter_steps;
-    Real integration_error;
-    {
-        const auto x0 = setup.start(beta);
-        const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
-        const auto est = steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
-                                                      period / 4, tol, stages, scale, 4);
-        quarter_steps = est.steps;
-        integration_error = est.error_estimate;
-    }
-    const long steps = periodic ? 4 * quarter_steps : quarter_steps;
-    orbit.steps = steps;
+/// The polish in Real: Newton (symmetric) or Gauss-Newton (periodic) on (beta, T), keeping the
+/// last monodromy and Jacobian for the monodromy and dT/dE.
+template <class Real>
+struct polish {
+    const detail::shooting_setup<Real>& setup;
+    const orbit_options<Real>& options;
+    const Real tol;
+    const long quarter_steps;
+    saddle_orbit<Real>& orbit;
+    Real beta, period;
     std::array<std::array<Real, 4>, 4> phi{};
     std::array<std::array<Real, 2>, 4> jac4{};  // last Jacobian (periodic)
     std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
     Real beta_at_jacobian = beta;
     bool converged = false, stalled = false, failed = false;
-    // Newton / Gauss-Newton on one formulation from (beta, period), updating them
-    auto newton = [&](bool per) {
+
+    /// One shot at (beta, T): residual norm, monodromy and Jacobian recorded; the Newton update
+    /// (dbeta, dT), or nullopt if the integration failed.
+    std::optional<std::array<Real, 2>> shoot(bool per, long n) {
+        using std::sqrt;
+        if (per) {
+            const auto pr = detail::periodic_shooting(setup, beta, period, n);
+            if (!pr.end.success) return std::nullopt;
+            Real rn = 0;
+            for (const Real& v : pr.r)
+                rn += v * v;
+            orbit.residual = sqrt(rn);
+            phi = pr.end.phi;
+            jac4 = pr.jacobian;
+            beta_at_jacobian = beta;
+            return detail::least_squares_4x2(pr.jacobian, pr.r);
+        }
+        const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n);
+        if (!sr.end.success) return std::nullopt;
+        orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
+        phi = sr.end.phi;
+        jac2 = sr.jacobian;
+        beta_at_jacobian = beta;
+        auto d = detail::solve_2x2(sr.jacobian, sr.r);
+        d[1] *= 4;  // tau -> T
+        return d;
+    }
+
+    /// Newton / Gauss-Newton on one formulation from (beta, period), updating them.
+    void newton(bool per) {
+        using std::abs;
+        using std::max;
+        using std::sqrt;
         Real last = std::numeric_limits<Real>::max();
         converged = stalled = failed = false;
         const long n = per ? 4 * quarter_steps : quarter_steps;
         int it = 0;
         for (it = 1; it <= options.max_newton_iterations; ++it) {
-            std::array<Real, 2> d;
-            if (per) {
-                const auto pr = detail::periodic_shooting(setup, beta, period, n);
-                if (!pr.end.success) {
-                    failed = true;
-                    break;
-                }
-                Real rn = 0;
-                for (const Real& v : pr.r)
-                    rn += v * v;
-                using std::sqrt;
-                orbit.residual = sqrt(rn);
-                phi = pr.end.phi;
-                jac4 = pr.jacobian;
-                beta_at_jacobian = beta;
-                d = detail::least_squares_4x2(pr.jacobian, pr.r);
-            } else {
-                const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n);
-                if (!sr.end.success) {
-                    failed = true;
-                    break;
-                }
-                using std::sqrt;
-                orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
-                phi = sr.end.phi;
-                jac2 = sr.jacobian;
-                beta_at_jacobian = beta;
-                d = detail::solve_2x2(sr.jacobian, sr.r);
-                d[1] *= 4;  // tau -> T
+            const auto step = shoot(per, n);
+            if (!step) {
+                failed = true;
+                break;
             }
+            const std::array<Real, 2>& d = *step;
             using boost::multiprecision::isfinite;
             using std::isfinite;
             if (!isfinite(d[0]) || !isfinite(d[1])) {
@@ -239,55 +211,17 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
             last = size;
         }
         orbit.newton_iterations += it;
-    };
-    if (periodic && !double_ok) {
-        // NOTE: where double cannot resolve the periodic residual (eps |mu| too large), the
-        // periodic shooting's Newton basin (~ 1 / |mu| in beta) is narrower than the guess's
-        // accuracy: the symmetric formulation brings the guess to the working precision first;
-        // the periodic residual then decides the orbit.
-        newton(false);
-        orbit.double_stage += failed ? "; the symmetric pre-polish failed too"
-                                     : "; guess pre-polished by the symmetric formulation";
     }
-    if (!failed) newton(periodic);
-    if (failed || (!converged && !stalled)) {
-        orbit.status = orbit_status::not_converged;
-        return orbit;
-    }
-    orbit.status = converged ? orbit_status::converged : orbit_status::stalled;
-    // NOTE: the monodromy, the Jacobian (for dT/dE) and the residual are re-evaluated at the
-    // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
-    // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
-    {
-        using std::sqrt;
-        if (periodic) {
-            const auto pr = detail::periodic_shooting(setup, beta, period, 4 * quarter_steps);
-            if (pr.end.success) {
-                Real rn = 0;
-                for (const Real& v : pr.r)
-                    rn += v * v;
-                orbit.residual = sqrt(rn);
-                phi = pr.end.phi;
-                jac4 = pr.jacobian;
-                beta_at_jacobian = beta;
-            }
-        } else {
-            const auto sr = detail::symmetric_shooting(setup, beta, period / 4, quarter_steps);
-            if (sr.end.success) {
-                orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
-                phi = sr.end.phi;
-                jac2 = sr.jacobian;
-                beta_at_jacobian = beta;
-            }
-        }
-    }
-    using std::remainder;
-    orbit.beta = beta;
-    orbit.period = period;
+};
 
-    // ---- the final orbit: quarter grid, action, turning points ------------------------------
-    const auto x0 = setup.start(beta);
-    orbit.quarter_step = period / 4 / quarter_steps;
+/// The final orbit at (beta, T): the quarter grid, the action F, the strip check, the energy
+/// drift and the turning points. False if the integration failed or the orbit left its strip.
+template <class Real>
+bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps, int stages,
+                 saddle_orbit<Real>& orbit) {
+    using std::abs;
+    const auto x0 = setup.start(orbit.beta);
+    orbit.quarter_step = orbit.period / 4 / quarter_steps;
     orbit.quarter.reserve(static_cast<std::size_t>(quarter_steps + 1));
     orbit.quarter.push_back(x0);
     {
@@ -297,10 +231,7 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
                                     quarter_steps, [&](long, const std::array<Real, 5>& z) {
                                         orbit.quarter.push_back({z[0], z[1], z[2], z[3]});
                                     });
-        if (!r.success) {
-            orbit.status = orbit_status::not_converged;
-            return orbit;
-        }
+        if (!r.success) return false;
         // NOTE: F = 4 x the quarter's action (time reversal and reflection map the quarter onto
         // the other three). Integrating the whole period instead would follow the unstable orbit
         // for four times longer, with rounding errors amplified by |mu| instead of |mu|^(1/4).
@@ -309,14 +240,13 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     // the saddle orbit stays in its saddle's strip |delta| < pi (see detail::quarter_extent)
     for (const auto& z : orbit.quarter) {
         if (!(abs(z[0]) < pi<Real>()) || !(abs(z[1]) < pi<Real>())) {
-            orbit.status = orbit_status::not_converged;
             orbit.double_stage += "; the refined solution left the saddle's strip |delta| < pi";
-            return orbit;
+            return false;
         }
     }
     Real energy_error = 0;
     for (const auto& z : orbit.quarter) {
-        const Real e = abs(setup.frame.excess_energy(z) - excess) / excess;
+        const Real e = abs(setup.frame.excess_energy(z) - orbit.excess) / orbit.excess;
         if (e > energy_error) energy_error = e;
     }
     orbit.energy_error = energy_error;
@@ -326,60 +256,145 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     const auto& tp = orbit.quarter.back();
     orbit.turning_points = {std::array<Real, 2>{q[0] + tp[0], q[1] + tp[1]},
                             std::array<Real, 2>{q[0] - tp[0], q[1] - tp[1]}};
+    return true;
+}
 
-    // ---- monodromy -----------------------------------------------------------------------------
-    if (periodic) {
-        orbit.monodromy = phi;
-    } else {
-        // M = (R Phi_q^-1 R Phi_q)^2 with Phi_q^-1 = -J Phi_q^T J (symplectic), R = diag(1,1,-1,-1)
-        std::array<std::array<Real, 4>, 4> inv{}, half{};
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j) {
-                // (-J Phi^T J)_ij: J = [[0, I], [-I, 0]]; (Phi^-1)_ij = s_ij Phi_{j', i'}
-                const int ii = (i + 2) % 4, jj = (j + 2) % 4;
-                const int sgn = ((i < 2) == (j < 2)) ? 1 : -1;
-                inv[i][j] = sgn * phi[jj][ii];
-            }
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j) {
-                Real v = 0;
-                for (int k = 0; k < 4; ++k) {
-                    const int ri = i < 2 ? 1 : -1, rk = k < 2 ? 1 : -1;
-                    v += ri * inv[i][k] * rk * phi[k][j];
-                }
-                half[i][j] = v;
-            }
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j) {
-                Real v = 0;
-                for (int k = 0; k < 4; ++k)
-                    v += half[i][k] * half[k][j];
-                orbit.monodromy[i][j] = v;
-            }
-    }
-    orbit.floquet = floquet_analysis(orbit.monodromy);
-
-    // ---- dT/dE from the last Jacobian: J (dbeta, dT)/dE = -dr/dE, where x0 depends on E through
-    // l0 = sqrt(2 (E - E_s)) S u(beta), dl0/dE = l0 / (2 (E - E_s)) ------------------------------
-    {
-        const auto l0 = setup.momentum(beta_at_jacobian);
-        const Real inv = 1 / (2 * excess * setup.momentum_scale);  // scaled residuals
-        const std::array<Real, 2> dl{l0[0] * inv, l0[1] * inv};
-        if (periodic) {
-            std::array<Real, 4> dr;
-            for (int i = 0; i < 4; ++i) {
-                Real v = phi[i][2] * dl[0] + phi[i][3] * dl[1];
-                if (i >= 2) v -= dl[i - 2];
-                dr[i] = -v;
-            }
-            orbit.period_derivative = detail::least_squares_4x2(jac4, dr)[1];
-        } else {
-            std::array<Real, 2> dr;
-            for (int i = 0; i < 2; ++i)
-                dr[i] = -(phi[2 + i][2] * dl[0] + phi[2 + i][3] * dl[1]);
-            orbit.period_derivative = 4 * detail::solve_2x2(jac2, dr)[1];
+/// The monodromy from the quarter orbit's: M = (R Phi_q^-1 R Phi_q)^2 with Phi_q^-1 = -J Phi_q^T J
+/// (symplectic), R = diag(1,1,-1,-1).
+template <class Real>
+std::array<std::array<Real, 4>, 4> monodromy_from_quarter(
+    const std::array<std::array<Real, 4>, 4>& phi) {
+    std::array<std::array<Real, 4>, 4> inv{}, half{}, m{};
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            // (-J Phi^T J)_ij: J = [[0, I], [-I, 0]]; (Phi^-1)_ij = s_ij Phi_{j', i'}
+            const int ii = (i + 2) % 4, jj = (j + 2) % 4;
+            const int sgn = ((i < 2) == (j < 2)) ? 1 : -1;
+            inv[i][j] = sgn * phi[jj][ii];
         }
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            Real v = 0;
+            for (int k = 0; k < 4; ++k) {
+                const int ri = i < 2 ? 1 : -1, rk = k < 2 ? 1 : -1;
+                v += ri * inv[i][k] * rk * phi[k][j];
+            }
+            half[i][j] = v;
+        }
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            Real v = 0;
+            for (int k = 0; k < 4; ++k)
+                v += half[i][k] * half[k][j];
+            m[i][j] = v;
+        }
+    return m;
+}
+
+/// dT/dE from the last Jacobian: J (dbeta, dT)/dE = -dr/dE, where x0 depends on E through
+/// l0 = sqrt(2 (E - E_s)) S u(beta), dl0/dE = l0 / (2 (E - E_s)).
+template <class Real>
+Real period_derivative(const detail::shooting_setup<Real>& setup, const polish<Real>& p,
+                       bool periodic) {
+    const auto l0 = setup.momentum(p.beta_at_jacobian);
+    const Real inv = 1 / (2 * p.orbit.excess * setup.momentum_scale);  // scaled residuals
+    const std::array<Real, 2> dl{l0[0] * inv, l0[1] * inv};
+    if (periodic) {
+        std::array<Real, 4> dr;
+        for (int i = 0; i < 4; ++i) {
+            Real v = p.phi[i][2] * dl[0] + p.phi[i][3] * dl[1];
+            if (i >= 2) v -= dl[i - 2];
+            dr[i] = -v;
+        }
+        return detail::least_squares_4x2(p.jac4, dr)[1];
     }
+    std::array<Real, 2> dr;
+    for (int i = 0; i < 2; ++i)
+        dr[i] = -(p.phi[2 + i][2] * dl[0] + p.phi[2 + i][3] * dl[1]);
+    return 4 * detail::solve_2x2(p.jac2, dr)[1];
+}
+
+}  // namespace
+
+template <class Real>
+saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                       const Real& energy, const orbit_guess<Real>& guess,
+                                       const orbit_options<Real>& options) {
+    using std::abs;
+    using std::max;
+    check_orbit_energy(model, a, energy);
+    const bool periodic = options.method == orbit_method::periodic;
+    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
+    const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
+    const Real excess = energy - model.saddle_energy(a);
+    const Real eps = std::numeric_limits<Real>::epsilon();
+
+    saddle_orbit<Real> orbit;
+    orbit.flip_arm = a;
+    orbit.energy = energy;
+    orbit.excess = excess;
+    orbit.method = options.method;
+    orbit.stages = stages;
+    orbit.tolerance = tol;
+
+    const double_solution<Real> start = solve_at_double(model, a, excess, guess, periodic);
+    orbit.double_stage = start.report;
+    if (!start.ok) {
+        if constexpr (std::is_same_v<Real, double>) {
+            orbit.status = orbit_status::not_converged;
+            return orbit;
+        }
+        // NOTE: near E_max the periodic residual's rounding floor at double, eps |mu|, can
+        // exceed the orbit's scale (|mu| ~ 1e27 at E_max - 1e-6), while in Real it does not:
+        // the polish then starts from the guess itself
+        orbit.double_stage +=
+            "; not converged at double, polishing the guess in " + precision_name<Real>();
+    }
+
+    // ---- polish in Real ----------------------------------------------------------------------
+    const detail::shooting_setup<Real> setup(model, a, excess, stages);
+    long quarter_steps;
+    Real integration_error;
+    {
+        const auto scale = orbit_scales(setup, start.beta, start.period);
+        const auto x0 = setup.start(start.beta);
+        const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
+        const auto est = steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
+                                                      start.period / 4, tol, stages, scale, 4);
+        quarter_steps = est.steps;
+        integration_error = est.error_estimate;
+    }
+    orbit.steps = periodic ? 4 * quarter_steps : quarter_steps;
+    polish<Real> p{setup, options, tol, quarter_steps, orbit, start.beta, start.period};
+    if (periodic && !start.ok) {
+        // NOTE: where double cannot resolve the periodic residual (eps |mu| too large), the
+        // periodic shooting's Newton basin (~ 1 / |mu| in beta) is narrower than the guess's
+        // accuracy: the symmetric formulation brings the guess to the working precision first;
+        // the periodic residual then decides the orbit.
+        p.newton(false);
+        orbit.double_stage += p.failed ? "; the symmetric pre-polish failed too"
+                                       : "; guess pre-polished by the symmetric formulation";
+    }
+    if (!p.failed) p.newton(periodic);
+    if (p.failed || (!p.converged && !p.stalled)) {
+        orbit.status = orbit_status::not_converged;
+        return orbit;
+    }
+    orbit.status = p.converged ? orbit_status::converged : orbit_status::stalled;
+    // NOTE: the monodromy, the Jacobian (for dT/dE) and the residual are re-evaluated at the
+    // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
+    // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
+    (void)p.shoot(periodic, periodic ? 4 * quarter_steps : quarter_steps);
+    orbit.beta = p.beta;
+    orbit.period = p.period;
+
+    if (!final_orbit(setup, quarter_steps, stages, orbit)) {
+        orbit.status = orbit_status::not_converged;
+        return orbit;
+    }
+    orbit.monodromy = periodic ? p.phi : monodromy_from_quarter(p.phi);
+    orbit.floquet = floquet_analysis(orbit.monodromy);
+    orbit.period_derivative = period_derivative(setup, p, periodic);
 
     // ---- error estimates ---------------------------------------------------------------------
     // NOTE: besides the integration and Newton errors, rounding perturbs the orbit's energy by
@@ -388,9 +403,9 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     // T ~ log(1 / (E_max - E)), this dominates the period's error (the action is well conditioned,
     // dF/dE = T).
     const Real rel = max({integration_error, orbit.last_update, 16 * eps});
-    const Real denergy = (4 * eps + energy_error) * excess;
-    orbit.error_estimate_period = rel * period + abs(orbit.period_derivative) * denergy;
-    orbit.error_estimate_action = rel * orbit.action + period * denergy;
+    const Real denergy = (4 * eps + orbit.energy_error) * excess;
+    orbit.error_estimate_period = rel * orbit.period + abs(orbit.period_derivative) * denergy;
+    orbit.error_estimate_action = rel * orbit.action + orbit.period * denergy;
     return orbit;
 }
 
@@ -432,11 +447,13 @@ saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, a
     for (std::size_t i = 0; i < energies.size(); ++i) {
         check_orbit_energy(model, a, energies[i]);
         if (i > 0 && !(energies[i] > energies[i - 1]))
-            throw input_error("--energy: the energies must increase ('" + to_decimal(energies[i]) +
-                              "' follows '" + to_decimal(energies[i - 1]) + "')");
+            throw input_error::about("energy", "the energies must increase ('" +
+                                                   to_decimal(energies[i]) + "' follows '" +
+                                                   to_decimal(energies[i - 1]) + "')");
         targets.push_back(static_cast<double>(energies[i] - model.saddle_energy(a)));
         if (i > 0 && !(targets[i] > targets[i - 1]))
-            throw input_error("--energy: '" + to_decimal(energies[i]) +
+            throw input_error::about(
+                "energy", "'" + to_decimal(energies[i]) +
                               "' is not distinguishable from the previous energy at double");
     }
     const orbit_guess<Real> lin = linear_guess(model, a);

@@ -60,7 +60,7 @@ template <class Real>
 evaluation evaluate_text(const golden_task& t, const std::string& method) {
     try {
         const double_pendulum<Real> model;
-        const Real energy = parse_real<Real>(t.energy, "--energy");
+        const Real energy = parse_real<Real>(t.energy, "energy");
         const quantity_value<Real> v = t.q->evaluate(model, t.a, energy, method);
         return {to_decimal(v.value), v.method, ""};
     } catch (const input_error& e) {
@@ -151,9 +151,11 @@ precision golden_check_precision(const precision& value_precision) {
     if (value_precision.kind == real_kind::mp && value_precision.digits >= 2)
         return mp_precision(value_precision.digits / 2);
     if (value_precision.kind == real_kind::quad) return precision{real_kind::double_};
-    throw input_error("--precision: '" + precision_name(value_precision) +
-                      "' is too low for golden data (a lower precision certifies it: use quad or "
-                      "mp:DIGITS with DIGITS >= 2)");
+    throw input_error::about(
+        "precision",
+        "'" + precision_name(value_precision) +
+            "' is too low for golden data (a lower precision certifies it: use quad or "
+            "mp:DIGITS with DIGITS >= 2)");
 }
 
 std::vector<golden_row> generate_golden(const golden_options& options) {

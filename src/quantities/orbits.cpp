@@ -16,13 +16,14 @@
 namespace flipflux {
 namespace {
 
-const std::vector<std::string> orbit_methods{"periodic", "symmetric"};
+const std::vector<std::string> orbit_methods = names_of<orbit_method>();
 
 template <class Real>
 saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a, const Real& energy,
                              const std::string& method) {
     orbit_options<Real> options;
-    options.method = parse_orbit_method(method.empty() ? "periodic" : method, "--method");
+    options.method =
+        method.empty() ? orbit_method::periodic : parse_name<orbit_method>(method, "method");
     check_orbit_energy(model, a, energy);
     saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy, options);
     if (orbit.status == orbit_status::not_converged) {

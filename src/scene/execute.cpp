@@ -8,7 +8,6 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/version.hpp"
-#include "flipflux/ensemble/simulation.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/model/model_json.hpp"
@@ -18,6 +17,7 @@
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/scene/plan.hpp"
+#include "flipflux/study/simulation.hpp"
 
 #ifndef FLIPFLUX_SOURCE_DIR
 #define FLIPFLUX_SOURCE_DIR "."
@@ -240,10 +240,10 @@ void run_ensemble(context& ctx, const plan_step& step) {
     o.time = parse_real<double>(x.time, where + ": time");
     o.seed = x.seed;
     o.rtol = parse_real<double>(x.rtol, where + ": rtol");
-    o.method = parse_integration_method(x.integrator, where + ": integrator");
+    o.method = parse_name<integration_method>(x.integrator, where + ": integrator");
     o.chaos = x.chaos;
     o.threads = ctx.options.threads;
-    request.estimator = parse_rate_estimator(x.estimator, where + ": estimator");
+    request.estimator = parse_name<rate_estimator>(x.estimator, where + ": estimator");
     const std::string base = "ensemble-" + x.name;
     request.csv_dir = ctx.s.output / base;  // per-trajectory CSVs always (the report reads them)
     // an interrupted run resumes where it stopped (finished trajectories are not integrated

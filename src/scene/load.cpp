@@ -8,6 +8,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/scene/scene.hpp"
+#include "flipflux/study/criteria.hpp"
 
 namespace flipflux {
 namespace {
@@ -196,6 +197,144 @@ void read_model(table_reader& r, model_spec& m) {
 
 }  // namespace
 
+namespace {
+
+void read_head(table_reader& top, const std::filesystem::path& file, scene& s) {
+    const toml::table* head = top.subtable("scene");
+    if (head == nullptr) top.fail(nullptr, "scene", "the [scene] table is required");
+    table_reader r(*head, file.string(), "scene");
+    s.name = r.string("name").value_or(file.stem().string());
+    s.description = r.string("description").value_or("");
+    const auto out = r.string("output");
+    if (!out || out->empty()) r.fail(nullptr, "output", "is required (an output directory)");
+    s.output = *out;
+    if (auto p = r.string("precision")) {
+        s.precision_text = *p;
+        try {
+            s.prec = parse_precision(*p, "precision");
+        } catch (const input_error& e) {
+            r.fail(r.get("precision"), "precision", e.what());
+        }
+    }
+    r.finish();
+}
+
+predictions_spec read_predictions(table_reader& r) {
+    predictions_spec p;
+    p.line = r.line();
+    p.quantities = r.strings("quantities").value_or(std::vector<std::string>{});
+    if (p.quantities.empty()) r.fail(nullptr, "quantities", "needs at least one quantity");
+    p.arms = r.arms("arms").value_or(p.arms);
+    p.energies = r.energies("energies", true);
+    r.finish();
+    return p;
+}
+
+orbits_spec read_orbits(table_reader& r) {
+    orbits_spec o;
+    o.line = r.line();
+    o.arms = r.arms("arms").value_or(o.arms);
+    o.energies = r.energies("energies", true);
+    o.curve_samples = static_cast<int>(r.integer("curve_samples", 0, 1000000).value_or(0));
+    r.finish();
+    return o;
+}
+
+/// One [[ensemble]] table; `index` counts from 1 (the default name).
+ensemble_spec read_ensemble(table_reader& r, int index) {
+    ensemble_spec x;
+    x.line = r.line();
+    x.name = r.string("name").value_or("ensemble" + std::to_string(index));
+    x.arm = r.arms("arm").value_or(std::vector<int>{2}).front();
+    if (auto c = r.strings("criteria")) {
+        if (c->empty()) r.fail(r.get("criteria"), "criteria", "needs at least one criterion");
+        for (const auto& name : *c) {
+            try {
+                check_criterion_name(name);
+            } catch (const input_error& e) {
+                r.fail(r.get("criteria"), "criteria", e.detail());
+            }
+        }
+        x.criteria = *c;
+    }
+    x.energies = r.energies("energies", true);
+    x.trajectories = r.integer("trajectories", 1, 1000000000LL).value_or(x.trajectories);
+    x.time = r.number("time").value_or(x.time);
+    x.seed = static_cast<unsigned long long>(
+        r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(1));
+    x.rtol = r.number("rtol").value_or(x.rtol);
+    x.integrator = r.string("integrator").value_or(x.integrator);
+    if (x.integrator != "dop853" && x.integrator != "dopri5") {
+        r.fail(r.get("integrator"), "integrator",
+               "'" + x.integrator + "' is not an integrator (dop853, dopri5)");
+    }
+    x.estimator = r.string("estimator").value_or(x.estimator);
+    if (x.estimator != "long" && x.estimator != "short") {
+        r.fail(r.get("estimator"), "estimator",
+               "'" + x.estimator + "' is not an estimator (long, short)");
+    }
+    x.chaos = r.boolean("chaos").value_or(false);
+    x.residence_times = r.boolean("residence_times").value_or(false);
+    x.histogram = r.boolean("histogram").value_or(false);
+    const std::string time_text = x.time;
+    if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
+        r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
+    }
+    const double rtol = parse_real<double>(x.rtol, "rtol");
+    if (!(rtol > 0 && rtol < 1)) {
+        r.fail(r.get("rtol"), "rtol", "'" + x.rtol + "' must be in (0, 1)");
+    }
+    r.finish();
+    return x;
+}
+
+golden_spec read_golden(table_reader& r) {
+    golden_spec g;
+    g.line = r.line();
+    g.dir = r.string("dir").value_or(g.dir);
+    g.quantities = r.strings("quantities").value_or(g.quantities);
+    if (auto p = r.string("precision")) {
+        try {
+            g.value_precision = parse_precision(*p, "precision");
+            (void)golden_check_precision(g.value_precision);
+        } catch (const input_error& e) {
+            r.fail(r.get("precision"), "precision", e.what());
+        }
+    }
+    r.finish();
+    return g;
+}
+
+accuracy_spec read_accuracy(table_reader& r) {
+    accuracy_spec a;
+    a.line = r.line();
+    a.out = r.string("out").value_or(a.out);
+    a.quantities = r.strings("quantities").value_or(a.quantities);
+    a.appendices = r.strings("appendices").value_or(a.appendices);
+    if (auto list = r.strings("precisions")) {
+        std::string text;
+        for (const std::string& item : *list)
+            text += (text.empty() ? "" : ",") + item;
+        try {
+            a.precisions = parse_precision_list(text, "precisions");
+        } catch (const input_error& e) {
+            r.fail(r.get("precisions"), "precisions", e.what());
+        }
+    }
+    r.finish();
+    return a;
+}
+
+report_spec read_report(table_reader& r) {
+    report_spec rep;
+    rep.line = r.line();
+    rep.dir = r.string("dir").value_or(rep.dir);
+    r.finish();
+    return rep;
+}
+
+}  // namespace
+
 scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     const std::string fname = file.string();
     toml::table root;
@@ -208,25 +347,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     scene s;
     s.file = file;
     table_reader top(root, fname, "");
-    const toml::table* head = top.subtable("scene");
-    if (head == nullptr) top.fail(nullptr, "scene", "the [scene] table is required");
-    {
-        table_reader r(*head, fname, "scene");
-        s.name = r.string("name").value_or(file.stem().string());
-        s.description = r.string("description").value_or("");
-        const auto out = r.string("output");
-        if (!out || out->empty()) r.fail(nullptr, "output", "is required (an output directory)");
-        s.output = *out;
-        if (auto p = r.string("precision")) {
-            s.precision_text = *p;
-            try {
-                s.prec = parse_precision(*p, "precision");
-            } catch (const input_error& e) {
-                r.fail(r.get("precision"), "precision", e.what());
-            }
-        }
-        r.finish();
-    }
+    read_head(top, file, s);
     if (const toml::table* t = top.subtable("model")) {
         table_reader r(*t, fname, "model");
         read_model(r, s.model);
@@ -239,24 +360,11 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     }
     if (const toml::table* t = top.subtable("predictions")) {
         table_reader r(*t, fname, "predictions");
-        predictions_spec p;
-        p.line = r.line();
-        p.quantities = r.strings("quantities").value_or(std::vector<std::string>{});
-        if (p.quantities.empty()) r.fail(nullptr, "quantities", "needs at least one quantity");
-        p.arms = r.arms("arms").value_or(p.arms);
-        p.energies = r.energies("energies", true);
-        r.finish();
-        s.predictions = p;
+        s.predictions = read_predictions(r);
     }
     if (const toml::table* t = top.subtable("orbits")) {
         table_reader r(*t, fname, "orbits");
-        orbits_spec o;
-        o.line = r.line();
-        o.arms = r.arms("arms").value_or(o.arms);
-        o.energies = r.energies("energies", true);
-        o.curve_samples = static_cast<int>(r.integer("curve_samples", 0, 1000000).value_or(0));
-        r.finish();
-        s.orbits = o;
+        s.orbits = read_orbits(r);
     }
     if (const toml::node* n = top.get("ensemble")) {
         const toml::array* list = n->as_array();
@@ -266,96 +374,20 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         int index = 0;
         for (const toml::node& e : *list) {
             table_reader r(*e.as_table(), fname, "ensemble[" + std::to_string(index++) + "]");
-            ensemble_spec x;
-            x.line = r.line();
-            x.name = r.string("name").value_or("ensemble" + std::to_string(index));
-            x.arm = r.arms("arm").value_or(std::vector<int>{2}).front();
-            if (auto c = r.strings("criteria")) {
-                if (c->empty())
-                    r.fail(r.get("criteria"), "criteria", "needs at least one criterion");
-                for (const auto& name : *c) {
-                    if (name != "upright" && name != "approx" && name != "saddle") {
-                        r.fail(r.get("criteria"), "criteria",
-                               "'" + name + "' is not a criterion (upright, approx, saddle)");
-                    }
-                }
-                x.criteria = *c;
-            }
-            x.energies = r.energies("energies", true);
-            x.trajectories = r.integer("trajectories", 1, 1000000000LL).value_or(x.trajectories);
-            x.time = r.number("time").value_or(x.time);
-            x.seed = static_cast<unsigned long long>(
-                r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(1));
-            x.rtol = r.number("rtol").value_or(x.rtol);
-            x.integrator = r.string("integrator").value_or(x.integrator);
-            if (x.integrator != "dop853" && x.integrator != "dopri5") {
-                r.fail(r.get("integrator"), "integrator",
-                       "'" + x.integrator + "' is not an integrator (dop853, dopri5)");
-            }
-            x.estimator = r.string("estimator").value_or(x.estimator);
-            if (x.estimator != "long" && x.estimator != "short") {
-                r.fail(r.get("estimator"), "estimator",
-                       "'" + x.estimator + "' is not an estimator (long, short)");
-            }
-            x.chaos = r.boolean("chaos").value_or(false);
-            x.residence_times = r.boolean("residence_times").value_or(false);
-            x.histogram = r.boolean("histogram").value_or(false);
-            const std::string time_text = x.time;
-            if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
-                r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
-            }
-            const double rtol = parse_real<double>(x.rtol, "rtol");
-            if (!(rtol > 0 && rtol < 1)) {
-                r.fail(r.get("rtol"), "rtol", "'" + x.rtol + "' must be in (0, 1)");
-            }
-            r.finish();
-            s.ensembles.push_back(x);
+            s.ensembles.push_back(read_ensemble(r, index));
         }
     }
     if (const toml::table* t = top.subtable("golden")) {
         table_reader r(*t, fname, "golden");
-        golden_spec g;
-        g.line = r.line();
-        g.dir = r.string("dir").value_or(g.dir);
-        g.quantities = r.strings("quantities").value_or(g.quantities);
-        if (auto p = r.string("precision")) {
-            try {
-                g.value_precision = parse_precision(*p, "precision");
-                (void)golden_check_precision(g.value_precision);
-            } catch (const input_error& e) {
-                r.fail(r.get("precision"), "precision", e.what());
-            }
-        }
-        r.finish();
-        s.golden = g;
+        s.golden = read_golden(r);
     }
     if (const toml::table* t = top.subtable("accuracy")) {
         table_reader r(*t, fname, "accuracy");
-        accuracy_spec a;
-        a.line = r.line();
-        a.out = r.string("out").value_or(a.out);
-        a.quantities = r.strings("quantities").value_or(a.quantities);
-        a.appendices = r.strings("appendices").value_or(a.appendices);
-        if (auto list = r.strings("precisions")) {
-            std::string text;
-            for (const std::string& item : *list)
-                text += (text.empty() ? "" : ",") + item;
-            try {
-                a.precisions = parse_precision_list(text, "precisions");
-            } catch (const input_error& e) {
-                r.fail(r.get("precisions"), "precisions", e.what());
-            }
-        }
-        r.finish();
-        s.accuracy = a;
+        s.accuracy = read_accuracy(r);
     }
     if (const toml::table* t = top.subtable("report")) {
         table_reader r(*t, fname, "report");
-        report_spec rep;
-        rep.line = r.line();
-        rep.dir = r.string("dir").value_or(rep.dir);
-        r.finish();
-        s.report = rep;
+        s.report = read_report(r);
     }
     top.finish();
     return s;

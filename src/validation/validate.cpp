@@ -35,28 +35,10 @@ bool same_energy(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-std::string to_string(validation_entry::status s) {
-    switch (s) {
-        case validation_entry::status::ok:
-            return "ok";
-        case validation_entry::status::fail:
-            return "FAIL";
-        case validation_entry::status::unmatched:
-            return "unmatched";
-        case validation_entry::status::duplicate:
-            return "duplicate";
-        case validation_entry::status::malformed:
-            return "malformed";
-        case validation_entry::status::missing:
-            break;
-    }
-    return "missing";
-}
-
 std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
     namespace fs = std::filesystem;
     if (!fs::is_directory(dir)) {
-        throw input_error("--golden: '" + dir.string() + "' is not a directory");
+        throw input_error::about("golden", "'" + dir.string() + "' is not a directory");
     }
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(dir)) {
@@ -85,7 +67,8 @@ std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
             rows.push_back(g);
         }
     }
-    if (rows.empty()) throw input_error("--golden: no golden rows under '" + dir.string() + "'");
+    if (rows.empty())
+        throw input_error::about("golden", "no golden rows under '" + dir.string() + "'");
     return rows;
 }
 

@@ -163,10 +163,10 @@ TEST(Ensemble, ValidatesOptions) {
     o = small_run(1);
     o.first_index = ~std::uint64_t{0};
     expect_error(o, "--first-index");
-    EXPECT_EQ(parse_integration_method("dopri5"), integration_method::dopri5);
-    EXPECT_EQ(parse_integration_method("dop853"), integration_method::dop853);
+    EXPECT_EQ(parse_name<integration_method>("dopri5", "method"), integration_method::dopri5);
+    EXPECT_EQ(parse_name<integration_method>("dop853", "method"), integration_method::dop853);
     EXPECT_EQ(to_string(integration_method::dopri5), "dopri5");
-    EXPECT_THROW(parse_integration_method("rk4"), input_error);
+    EXPECT_THROW(parse_name<integration_method>("rk4", "method"), input_error);
     EXPECT_THROW(run_ensemble(m, small_run(1), {{"none", nullptr}}), std::invalid_argument);
 }
 

@@ -6,6 +6,7 @@
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "pendulums.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
@@ -14,22 +15,6 @@ namespace {
 template <class Real>
 class Model : public test::real_test<Real> {};
 TYPED_TEST_SUITE(Model, real_types, real_name);
-
-/// Random admissible parameters: point masses (inertia 0, a = L) or rigid links.
-template <class Real>
-physical_parameters<Real> random_parameters(random_reals& rnd, bool rigid) {
-    physical_parameters<Real> p;
-    p.m1 = Real(rnd(0.2, 3));
-    p.m2 = Real(rnd(0.2, 3));
-    p.L1 = Real(rnd(0.3, 2));
-    p.L2 = Real(rnd(0.3, 2));
-    p.a1 = rigid ? Real(rnd(0.1, 1.5)) : p.L1;
-    p.a2 = rigid ? Real(rnd(0.1, 1.5)) : p.L2;
-    p.I1 = rigid ? Real(rnd(0, 0.5)) : Real(0);
-    p.I2 = rigid ? Real(rnd(0, 0.5)) : Real(0);
-    p.g = Real(rnd(0.5, 10));
-    return p;
-}
 
 /// Kinetic energy of the two links from their centre-of-mass velocities and spins.
 template <class Real>

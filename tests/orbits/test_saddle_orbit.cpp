@@ -293,8 +293,8 @@ TEST(SaddleOrbit, BadEnergiesAreInputErrors) {
     }
     EXPECT_THROW(continue_saddle_family(model, arm::two, std::vector<double>{3, 2.5}), input_error);
     EXPECT_THROW(continue_saddle_family(model, arm::two, std::vector<double>{3, 6.5}), input_error);
-    EXPECT_THROW(parse_orbit_method("ceres"), input_error);
-    EXPECT_EQ(parse_orbit_method("symmetric"), orbit_method::symmetric);
+    EXPECT_THROW(parse_name<orbit_method>("ceres", "method"), input_error);
+    EXPECT_EQ(parse_name<orbit_method>("symmetric", "method"), orbit_method::symmetric);
     EXPECT_EQ(to_string(orbit_method::periodic), "periodic");
     EXPECT_EQ(to_string(orbit_status::stalled), "stalled");
     EXPECT_EQ(to_string(orbit_status::not_converged), "not converged");

@@ -9,7 +9,7 @@
 #include "flipflux/model/critical_points.hpp"
 #include "flipflux/prediction/curve_flux.hpp"
 #include "flipflux/prediction/upright_flux.hpp"
-#include "models.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux {
 namespace {

@@ -7,7 +7,7 @@
 #include "flipflux/core/constants.hpp"
 #include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
-#include "models.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux {
 namespace {

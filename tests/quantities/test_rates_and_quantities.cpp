@@ -6,7 +6,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/prediction/prediction.hpp"
 #include "flipflux/quantities/registry.hpp"
-#include "prediction/models.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux {
 namespace {
@@ -104,12 +104,12 @@ TEST(Quantities, DomainErrorsNameTheOptionAndTheThreshold) {
     for (const char* name :
          {"omega", "flux-upright", "flux-approx", "rate-upright", "rate-approx"}) {
         const std::string m = message(name, 0, "");
-        EXPECT_NE(m.find("--energy: '0'"), std::string::npos) << m;
+        EXPECT_NE(m.find("energy: '0'"), std::string::npos) << m;
         EXPECT_NE(m.find("E > 0"), std::string::npos) << m;
-        EXPECT_NE(message(name, 3, "nonsense").find("--method: 'nonsense'"), std::string::npos);
+        EXPECT_NE(message(name, 3, "nonsense").find("method: 'nonsense'"), std::string::npos);
     }
     const std::string closed = message("omega", 5, "closed-form");
-    EXPECT_NE(closed.find("--energy: '5'"), std::string::npos) << closed;
+    EXPECT_NE(closed.find("energy: '5'"), std::string::npos) << closed;
     EXPECT_NE(closed.find("E_max = 6"), std::string::npos) << closed;
     // below the saddle the fluxes and rates are zero, not errors
     EXPECT_EQ(find_quantity("flux-upright").evaluate(model, arm::two, 1.5, "").value, 0.0);

@@ -8,10 +8,32 @@
 namespace flipflux {
 
 /// Bad input: a value outside its domain, a malformed number, an unknown name. The message is one
-/// line and names the offending option or key and its value. The CLI maps it to exit status 2.
+/// line and names the offending input and its value. The CLI maps it to exit status 2.
+///
+/// The library names inputs by their field (`energy`, `sample_interval`, `precision`), never by a
+/// command-line option: `input_error::about("energy", "'7' is outside ...")` has what() =
+/// "energy: '7' is outside ...", and the CLI prints the field as its option (`--energy: ...`,
+/// cli::error_text), a scene as its file, line and key.
 class input_error : public std::runtime_error {
   public:
     using std::runtime_error::runtime_error;
+
+    /// An error about one named input; `field` may also be a caller's full name for it (an option
+    /// "--energy" or a scene key "predictions.energies"), which is then kept as given.
+    static input_error about(const std::string& field, const std::string& detail) {
+        input_error e(field + ": " + detail);
+        e.field_ = field;
+        e.detail_ = detail;
+        return e;
+    }
+
+    /// The input's field ("" when the message is free-form) and the message without it.
+    const std::string& field() const noexcept { return field_; }
+    const std::string& detail() const noexcept { return detail_; }
+
+  private:
+    std::string field_;
+    std::string detail_;
 };
 
 }  // namespace flipflux

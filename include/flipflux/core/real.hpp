@@ -182,7 +182,7 @@ std::string precision_name() {
 
 /// Parses "double", "quad" or "mp:N" (1 <= N <= max_mp_digits). Throws input_error naming
 /// `option` and the offending text.
-precision parse_precision(std::string_view text, std::string_view option = "--precision");
+precision parse_precision(std::string_view text, std::string_view option = "precision");
 
 /// Parses a comma-separated list of precisions ("double,quad,mp:50"), ordered by increasing
 /// decimal digits, without repeats. Throws input_error naming `option` (an empty list too).

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/ensemble/flip_detector.hpp"
 #include "flipflux/ensemble/sampler.hpp"
 #include "flipflux/integrators/explicit_rk.hpp"
@@ -38,10 +39,12 @@
 namespace flipflux {
 
 enum class integration_method { dop853, dopri5 };
-std::string to_string(integration_method m);
-/// "dop853" or "dopri5"; throws input_error naming `option` otherwise.
-integration_method parse_integration_method(const std::string& text,
-                                            const std::string& option = "--method");
+template <>
+struct enum_table<integration_method> {
+    static constexpr std::string_view noun = "an integration method";
+    static constexpr std::array<std::pair<integration_method, std::string_view>, 2> entries{
+        {{integration_method::dop853, "dop853"}, {integration_method::dopri5, "dopri5"}}};
+};
 
 /// An accepted step may change H by at most this times (atol + rtol |E|); otherwise it is retried
 /// with half the size (the error estimate passed a bad step). See docs/theory.md#ensembles.

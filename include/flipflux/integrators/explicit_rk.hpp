@@ -40,6 +40,8 @@
 #include <string>
 #include <utility>
 
+#include "flipflux/core/names.hpp"
+
 namespace flipflux {
 
 /// Options of an explicit Runge-Kutta integration.
@@ -59,17 +61,14 @@ enum class rk_status {
     non_finite,           ///< the right-hand side produced NaN or infinity
 };
 
-inline std::string to_string(rk_status s) {
-    switch (s) {
-        case rk_status::ok:
-            return "ok";
-        case rk_status::step_size_underflow:
-            return "step size underflow";
-        case rk_status::non_finite:
-            return "non-finite right-hand side";
-    }
-    return "unknown";
-}
+template <>
+struct enum_table<rk_status> {
+    static constexpr std::string_view noun = "an integration status";
+    static constexpr std::array<std::pair<rk_status, std::string_view>, 3> entries{
+        {{rk_status::ok, "ok"},
+         {rk_status::step_size_underflow, "step size underflow"},
+         {rk_status::non_finite, "non-finite right-hand side"}}};
+};
 
 /// Dormand-Prince 5(4) with Shampine's 4th-order dense output.
 struct dormand_prince_5 {

@@ -18,12 +18,20 @@
 #include <complex>
 #include <string>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 
 namespace flipflux {
 
 enum class critical_kind { minimum, saddle, maximum };
-std::string to_string(critical_kind k);
+template <>
+struct enum_table<critical_kind> {
+    static constexpr std::string_view noun = "a kind of critical point";
+    static constexpr std::array<std::pair<critical_kind, std::string_view>, 3> entries{
+        {{critical_kind::minimum, "minimum"},
+         {critical_kind::saddle, "index-one saddle"},
+         {critical_kind::maximum, "maximum"}}};
+};
 
 template <class Real>
 struct normal_mode {

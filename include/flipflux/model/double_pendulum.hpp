@@ -59,6 +59,14 @@ struct physical_parameters {
     Real g{1};   ///< gravitational acceleration (> 0)
 };
 
+/// The parameters in another real type, each converted by To's conversion from From (correctly
+/// rounded between binary types; exact when To is at least as precise).
+template <class To, class From>
+physical_parameters<To> convert_parameters(const physical_parameters<From>& p) {
+    auto c = [](const From& x) { return static_cast<To>(x); };
+    return {c(p.m1), c(p.m2), c(p.L1), c(p.L2), c(p.a1), c(p.a2), c(p.I1), c(p.I2), c(p.g)};
+}
+
 /// The Lagrangian's coefficients: T = A/2 th1'^2 + B/2 th2'^2 + C c th1' th2',
 /// V = alpha (1 - cos th1) + beta (1 - cos th2); D0 = A B - C^2 (computed without cancellation).
 template <class Real>
@@ -73,8 +81,7 @@ lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p
     using std::isfinite;
     auto require = [](const Real& v, bool ok, const char* name, const char* rule) {
         if (!isfinite(v) || !ok) {
-            throw input_error(std::string("--") + name + ": '" + to_decimal(v) + "' is invalid (" +
-                              rule + ")");
+            throw input_error::about(name, "'" + to_decimal(v) + "' is invalid (" + rule + ")");
         }
     };
     require(p.m1, p.m1 > 0, "m1", "a mass must be > 0");

@@ -19,9 +19,9 @@ struct model_text {
     }
 };
 
-/// Parses every parameter in Real; errors name "<prefix><parameter>" (e.g. "--m1").
+/// Parses every parameter in Real; errors name the field "<prefix><parameter>" (e.g. "m1").
 template <class Real>
-physical_parameters<Real> parse_parameters(const model_text& t, std::string_view prefix = "--") {
+physical_parameters<Real> parse_parameters(const model_text& t, std::string_view prefix = "") {
     const std::string p(prefix);
     physical_parameters<Real> out;
     out.m1 = parse_real<Real>(t.m1, p + "m1");

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 
 namespace flipflux {
@@ -32,16 +33,26 @@ enum class orbit_method {
     periodic,   ///< the paper's: unknowns (beta, T), residual x(T) - x(0); Ceres then Gauss-Newton
     symmetric,  ///< time reversal: unknowns (beta, T/4), residual l(T/4) = 0; Newton
 };
-std::string to_string(orbit_method m);
-/// Parses "periodic" or "symmetric"; throws input_error naming `option`.
-orbit_method parse_orbit_method(const std::string& text, const std::string& option = "--method");
+template <>
+struct enum_table<orbit_method> {
+    static constexpr std::string_view noun = "a saddle-orbit method";
+    static constexpr std::array<std::pair<orbit_method, std::string_view>, 2> entries{
+        {{orbit_method::periodic, "periodic"}, {orbit_method::symmetric, "symmetric"}}};
+};
 
 enum class orbit_status {
     converged,      ///< Newton converged to the working precision
     stalled,        ///< Newton stopped improving above the working precision (see residual)
     not_converged,  ///< no solution found from the guess
 };
-std::string to_string(orbit_status s);
+template <>
+struct enum_table<orbit_status> {
+    static constexpr std::string_view noun = "an orbit status";
+    static constexpr std::array<std::pair<orbit_status, std::string_view>, 3> entries{
+        {{orbit_status::converged, "converged"},
+         {orbit_status::stalled, "stalled"},
+         {orbit_status::not_converged, "not converged"}}};
+};
 
 template <class Real>
 struct orbit_options {

@@ -46,6 +46,7 @@
 #include <array>
 #include <vector>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/prediction/result.hpp"
@@ -56,7 +57,12 @@ namespace flipflux {
 enum class curve_flux_method { kinetic, momentum };
 
 /// "kinetic", "momentum".
-std::string to_string(curve_flux_method m);
+template <>
+struct enum_table<curve_flux_method> {
+    static constexpr std::string_view noun = "a curve-flux method";
+    static constexpr std::array<std::pair<curve_flux_method, std::string_view>, 2> entries{
+        {{curve_flux_method::kinetic, "kinetic"}, {curve_flux_method::momentum, "momentum"}}};
+};
 
 /// A dividing curve seen through references (valid while the referenced callables live): what the
 /// compiled flux routines take. Build it with make_curve_view or pass the curve to curve_flux.

@@ -30,6 +30,7 @@
 #include <string>
 #include <string_view>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/prediction/result.hpp"
 
@@ -38,7 +39,14 @@ namespace flipflux {
 enum class phase_volume_method { elliptic, quadrature_2d, closed_form };
 
 /// "elliptic", "quadrature-2d", "closed-form".
-std::string to_string(phase_volume_method m);
+template <>
+struct enum_table<phase_volume_method> {
+    static constexpr std::string_view noun = "a phase-volume method";
+    static constexpr std::array<std::pair<phase_volume_method, std::string_view>, 3> entries{
+        {{phase_volume_method::elliptic, "elliptic"},
+         {phase_volume_method::quadrature_2d, "quadrature-2d"},
+         {phase_volume_method::closed_form, "closed-form"}}};
+};
 
 /// Omega(E) by the chosen route.
 template <class Real>

@@ -10,6 +10,7 @@
 
 #include <string>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/prediction/result.hpp"
 
@@ -19,8 +20,18 @@ enum class flip_criterion { upright, approximate_saddle };
 enum class rate_route { closed_form, quadrature };
 
 /// "upright", "approximate-saddle"; "closed-form", "quadrature".
-std::string to_string(flip_criterion c);
-std::string to_string(rate_route r);
+template <>
+struct enum_table<flip_criterion> {
+    static constexpr std::string_view noun = "a predicted criterion";
+    static constexpr std::array<std::pair<flip_criterion, std::string_view>, 2> entries{
+        {{flip_criterion::upright, "upright"}, {flip_criterion::approximate_saddle, "approx"}}};
+};
+template <>
+struct enum_table<rate_route> {
+    static constexpr std::string_view noun = "a rate route";
+    static constexpr std::array<std::pair<rate_route, std::string_view>, 2> entries{
+        {{rate_route::closed_form, "closed-form"}, {rate_route::quadrature, "quadrature"}}};
+};
 
 template <class Real>
 prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a,

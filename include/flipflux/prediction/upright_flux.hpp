@@ -23,6 +23,7 @@
 
 #include <string>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/prediction/result.hpp"
 
@@ -31,7 +32,15 @@ namespace flipflux {
 enum class upright_flux_method { elliptic, integral, curve, momentum };
 
 /// "elliptic", "integral", "curve", "momentum".
-std::string to_string(upright_flux_method m);
+template <>
+struct enum_table<upright_flux_method> {
+    static constexpr std::string_view noun = "an upright-flux method";
+    static constexpr std::array<std::pair<upright_flux_method, std::string_view>, 4> entries{
+        {{upright_flux_method::elliptic, "elliptic"},
+         {upright_flux_method::integral, "integral"},
+         {upright_flux_method::curve, "curve"},
+         {upright_flux_method::momentum, "momentum"}}};
+};
 
 template <class Real>
 prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a, const Real& energy,

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/core/names.hpp"
+
 namespace flipflux {
 
 struct golden_reference {
@@ -50,6 +52,16 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
 /// The report as an aligned text table with a summary line.
 std::string format_report(const validation_report& r, double rtol);
 
-std::string to_string(validation_entry::status s);
+template <>
+struct enum_table<validation_entry::status> {
+    static constexpr std::string_view noun = "a validation status";
+    static constexpr std::array<std::pair<validation_entry::status, std::string_view>, 6> entries{
+        {{validation_entry::status::ok, "ok"},
+         {validation_entry::status::fail, "FAIL"},
+         {validation_entry::status::unmatched, "unmatched"},
+         {validation_entry::status::duplicate, "duplicate"},
+         {validation_entry::status::malformed, "malformed"},
+         {validation_entry::status::missing, "missing"}}};
+};
 
 }  // namespace flipflux

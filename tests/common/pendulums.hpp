@@ -1,16 +1,50 @@
-// Pendulums the prediction tests run on: the paper's egalitarian one and non-egalitarian sets
-// (unequal point masses, rigid links with moments of inertia, a light first link that makes the
-// mass matrix nearly singular). Every parameter is exactly representable in binary, so all four
-// precisions see the same pendulum.
+// Pendulums the tests and verifications run on, written once: the prediction set (the paper's
+// egalitarian one and non-egalitarian sets: unequal point masses, rigid links with moments of
+// inertia, a light first link that makes the mass matrix nearly singular; every parameter exactly
+// representable in binary, so all precisions see the same pendulum), the lopsided pendulum of the
+// ensemble tests, and random admissible pendulums.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "../support.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "support.hpp"
 
 namespace flipflux::test {
+
+/// Random admissible parameters: point masses (inertia 0, a = L) or rigid links. The draws are
+/// made in double, in a fixed order, so every Real sees the same pendulum.
+template <class Real = double>
+physical_parameters<Real> random_parameters(random_reals& rnd, bool rigid) {
+    physical_parameters<Real> p;
+    p.m1 = Real(rnd(0.2, 3));
+    p.m2 = Real(rnd(0.2, 3));
+    p.L1 = Real(rnd(0.3, 2));
+    p.L2 = Real(rnd(0.3, 2));
+    p.a1 = rigid ? Real(rnd(0.1, 1.5)) : p.L1;
+    p.a2 = rigid ? Real(rnd(0.1, 1.5)) : p.L2;
+    p.I1 = rigid ? Real(rnd(0, 0.5)) : Real(0);
+    p.I2 = rigid ? Real(rnd(0, 0.5)) : Real(0);
+    p.g = Real(rnd(0.5, 10));
+    return p;
+}
+
+/// The lopsided pendulum of the ensemble tests and verifications: rigid links, unequal masses
+/// and lengths, g != 1.
+inline physical_parameters<double> lopsided_parameters() {
+    physical_parameters<double> p;
+    p.m1 = 0.7;
+    p.m2 = 1.3;
+    p.L1 = 0.8;
+    p.L2 = 1.2;
+    p.a1 = 0.5;
+    p.a2 = 0.65;
+    p.I1 = 0.04;
+    p.I2 = 0.09;
+    p.g = 1.5;
+    return p;
+}
 
 struct model_spec {
     std::string name;
@@ -44,7 +78,7 @@ double_pendulum<Real> make_model(const model_spec& s) {
 }
 
 /// x converted exactly to a type of at least its precision (through 140 significant digits;
-/// tests/support.hpp's convert keeps only the digits that round-trip, which is not exact and
+/// tests/common/support.hpp's convert keeps only the digits that round-trip, which is not exact and
 /// matters where a quantity depends on E - E_s ~ 1e-12).
 template <class To, class From>
 To exactly(const From& x) {

@@ -1,7 +1,6 @@
-// Helpers shared by the ensemble tests: random admissible pendulums, the non-egalitarian
-// pendulum used throughout, and the configuration density integrated over parts of the
+// Helpers shared by the ensemble tests: the configuration density integrated over parts of the
 // configuration space (for the sampler's marginals), built on the independent quadrature of
-// verification/ensemble_reference.hpp (independent of prediction/).
+// ensemble_reference.hpp (independent of prediction/).
 #pragma once
 
 #include <array>
@@ -10,42 +9,13 @@
 #include <functional>
 #include <numbers>
 
-#include "../../verification/ensemble_reference.hpp"
+#include "ensemble_reference.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "pendulums.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
-
-/// Random admissible parameters: point masses or rigid links.
-inline physical_parameters<double> random_parameters(random_reals& rnd, bool rigid) {
-    physical_parameters<double> p;
-    p.m1 = rnd(0.2, 3);
-    p.m2 = rnd(0.2, 3);
-    p.L1 = rnd(0.3, 2);
-    p.L2 = rnd(0.3, 2);
-    p.a1 = rigid ? rnd(0.1, 1.5) : p.L1;
-    p.a2 = rigid ? rnd(0.1, 1.5) : p.L2;
-    p.I1 = rigid ? rnd(0, 0.5) : 0.0;
-    p.I2 = rigid ? rnd(0, 0.5) : 0.0;
-    p.g = rnd(0.5, 10);
-    return p;
-}
-
-/// A non-egalitarian pendulum (rigid links, unequal masses and lengths, g != 1).
-inline physical_parameters<double> lopsided_parameters() {
-    physical_parameters<double> p;
-    p.m1 = 0.7;
-    p.m2 = 1.3;
-    p.L1 = 0.8;
-    p.L2 = 1.2;
-    p.a1 = 0.5;
-    p.a2 = 0.65;
-    p.I1 = 0.04;
-    p.I2 = 0.09;
-    p.g = 1.5;
-    return p;
-}
 
 using verification::integrate;
 

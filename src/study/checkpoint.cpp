@@ -1,5 +1,5 @@
-// Checkpoints of Monte Carlo studies (include/flipflux/ensemble/checkpoint.hpp).
-#include "flipflux/ensemble/checkpoint.hpp"
+// Checkpoints of Monte Carlo studies (include/flipflux/study/checkpoint.hpp).
+#include "flipflux/study/checkpoint.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -180,7 +180,7 @@ std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists
     if (!exists) return {};
     std::ifstream in(file, std::ios::binary);
     if (!in || std::filesystem::is_directory(file, ec))
-        throw input_error("--checkpoint: '" + file.string() + "' cannot be read");
+        throw input_error::about("checkpoint", "'" + file.string() + "' cannot be read");
     std::ostringstream ss;
     ss << in.rdbuf();
     return ss.str();
@@ -190,7 +190,7 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
                                     std::size_t criteria, const std::filesystem::path& file) {
     checkpoint_content c;
     c.exists = true;
-    const std::string name = "--checkpoint: '" + file.string() + "'";
+    const std::string name = "'" + file.string() + "'";
     // split into lines; a last line without newline is torn
     std::vector<std::string_view> lines;
     std::size_t pos = 0;
@@ -205,25 +205,30 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
     }
     std::string_view content;
     if (lines.empty() || !verified(lines[0], content) || !content.starts_with(header_tag))
-        throw input_error(name + " is not a flipflux checkpoint (no valid header line)");
+        throw input_error::about("checkpoint",
+                                 name + " is not a flipflux checkpoint (no valid header line)");
     json found;
     try {
         found = json::parse(content.substr(header_tag.size()));
     } catch (const json::exception&) {
-        throw input_error(name + " is not a flipflux checkpoint (unreadable header)");
+        throw input_error::about("checkpoint",
+                                 name + " is not a flipflux checkpoint (unreadable header)");
     }
-    if (!found.is_object()) throw input_error(name + " is not a flipflux checkpoint");
+    if (!found.is_object())
+        throw input_error::about("checkpoint", name + " is not a flipflux checkpoint");
     for (const auto& [key, value] : header.items()) {
         const auto it = found.find(key);
         const std::string theirs = it == found.end() ? "(absent)" : it->dump();
         if (it == found.end() || *it != value)
-            throw input_error(name + " belongs to another run: its " + key + " is " +
-                              shorten(theirs) + ", this run's is " + shorten(value.dump()));
+            throw input_error::about("checkpoint", name + " belongs to another run: its " + key +
+                                                       " is " + shorten(theirs) +
+                                                       ", this run's is " + shorten(value.dump()));
     }
     for (const auto& [key, value] : found.items())
         if (!header.contains(key))
-            throw input_error(name + " belongs to another run: it has a field " + key +
-                              " this run does not have");
+            throw input_error::about("checkpoint", name +
+                                                       " belongs to another run: it has a field " +
+                                                       key + " this run does not have");
     const std::size_t energies = header.at("energies").size();
     for (std::size_t i = 1; i < lines.size(); ++i) {
         const bool last = i + 1 == lines.size();
@@ -251,8 +256,9 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
                 c.torn = true;
                 break;
             }
-            throw input_error(name + " is damaged (line " + std::to_string(i + 1) + ": " +
-                              e.what() + ")");
+            throw input_error::about(
+                "checkpoint",
+                name + " is damaged (line " + std::to_string(i + 1) + ": " + e.what() + ")");
         }
     }
     for (const auto& [k, done] : c.completed)
@@ -291,14 +297,15 @@ void checkpoint_writer::rewrite(const std::string& tail) {
     try {
         write_file_atomically(file_, header_line_ + completed_lines_ + tail);
     } catch (const std::runtime_error&) {
-        throw input_error("--checkpoint: cannot write '" + file_.string() + "'");
+        throw input_error::about("checkpoint", "cannot write '" + file_.string() + "'");
     }
     open_for_append();
 }
 
 void checkpoint_writer::open_for_append() {
     fd_ = ::open(file_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-    if (fd_ < 0) throw input_error("--checkpoint: cannot append to '" + file_.string() + "'");
+    if (fd_ < 0)
+        throw input_error::about("checkpoint", "cannot append to '" + file_.string() + "'");
 }
 
 void checkpoint_writer::add(std::string line) {
@@ -316,7 +323,7 @@ void checkpoint_writer::flush() {
         const ssize_t n = ::write(fd_, pending_.data() + done, pending_.size() - done);
         if (n < 0) {
             if (errno == EINTR) continue;
-            throw std::runtime_error("--checkpoint: cannot append to '" + file_.string() +
+            throw std::runtime_error("checkpoint: cannot append to '" + file_.string() +
                                      "': " + std::strerror(errno));
         }
         done += static_cast<std::size_t>(n);

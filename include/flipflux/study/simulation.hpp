@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "flipflux/core/names.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 
 namespace flipflux {
@@ -52,9 +53,13 @@ class process_group {
 /// ceil(trajectories * time / short_time) trajectories of length short_time. The crossing count
 /// of the invariant ensemble is exact for any length, so both are unbiased.
 enum class rate_estimator { long_trajectories, short_trajectories };
-std::string to_string(rate_estimator e);
-rate_estimator parse_rate_estimator(const std::string& text,
-                                    const std::string& option = "--estimator");
+template <>
+struct enum_table<rate_estimator> {
+    static constexpr std::string_view noun = "an estimator";
+    static constexpr std::array<std::pair<rate_estimator, std::string_view>, 2> entries{
+        {{rate_estimator::long_trajectories, "long"},
+         {rate_estimator::short_trajectories, "short"}}};
+};
 
 /// Progress of a study: trajectories finished (including those read from a checkpoint) of the
 /// total over all energies.
@@ -84,7 +89,7 @@ struct simulation_request {
     ensemble_options options;       ///< options.energy is set per energy
     std::size_t bins = 0;           ///< histogram bins (0: square-root rule)
     std::filesystem::path csv_dir;  ///< empty: no CSV output
-    /// Non-empty: resume from / save to this checkpoint (ensemble/checkpoint.hpp).
+    /// Non-empty: resume from / save to this checkpoint (study/checkpoint.hpp).
     std::filesystem::path checkpoint;
     double checkpoint_interval = 2;  ///< seconds between appends of finished trajectories
     bool timing = true;              ///< report "seconds" and "threads" (they vary run to run)
@@ -103,12 +108,12 @@ nlohmann::ordered_json simulate(const double_pendulum<double>& model,
 
 /// "5", "2.5,3,3.5" or "FROM:TO:STEP" items (inclusive range, values rounded to 15 digits), in
 /// order; throws input_error naming `option`.
-std::vector<std::pair<std::string, double>> parse_energy_list(
-    const std::string& text, const std::string& option = "--energy");
+std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
+                                                              const std::string& option = "energy");
 
 /// Comma-separated criterion names, each known and at most once; throws input_error naming
 /// `option`.
 std::vector<std::string> parse_criterion_list(const std::string& text,
-                                              const std::string& option = "--criteria");
+                                              const std::string& option = "criteria");
 
 }  // namespace flipflux

@@ -1,8 +1,8 @@
-// The study driver behind `flipflux simulate` and scenes (ensemble/simulation.hpp), called
+// The study driver behind `flipflux simulate` and scenes (study/simulation.hpp), called
 // directly: energy and criterion lists, refusal of incomplete requests, and a report whose
 // statistics are consistent with the per-trajectory results it was built from.
 #include "flipflux/core/error.hpp"
-#include "flipflux/ensemble/simulation.hpp"
+#include "flipflux/study/simulation.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {

@@ -17,7 +17,7 @@ namespace flipflux {
 const std::vector<std::string>& criterion_names();
 
 /// Throws input_error naming `option` unless `name` is a known criterion.
-void check_criterion_name(const std::string& name, const std::string& option = "--criteria");
+void check_criterion_name(const std::string& name, const std::string& option = "criteria");
 
 /// The lowest energy at which the criterion's curve is accessible: the saddle energy of `a`
 /// (below it no flip of `a` is possible and the predicted rate vanishes).

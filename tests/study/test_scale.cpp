@@ -19,10 +19,10 @@
 #include <thread>
 
 #include "flipflux/core/error.hpp"
-#include "flipflux/ensemble/checkpoint.hpp"
 #include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
-#include "flipflux/ensemble/simulation.hpp"
+#include "flipflux/study/checkpoint.hpp"
+#include "flipflux/study/simulation.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
@@ -531,8 +531,8 @@ TEST(ShortEstimator, SpendsTheBudgetOnShortTrajectories) {
     q.short_time = 0;
     EXPECT_THROW(simulate(m, q), input_error);
     EXPECT_EQ(to_string(rate_estimator::long_trajectories), "long");
-    EXPECT_EQ(parse_rate_estimator("short"), rate_estimator::short_trajectories);
-    EXPECT_THROW(parse_rate_estimator("x"), input_error);
+    EXPECT_EQ(parse_name<rate_estimator>("short", "estimator"), rate_estimator::short_trajectories);
+    EXPECT_THROW(parse_name<rate_estimator>("x", "estimator"), input_error);
 }
 
 // A stop request before the run: nothing is integrated, simulate() reports the interruption.

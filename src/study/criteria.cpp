@@ -1,5 +1,5 @@
-// Flip criteria by name (include/flipflux/ensemble/criteria.hpp).
-#include "flipflux/ensemble/criteria.hpp"
+// Flip criteria by name (include/flipflux/study/criteria.hpp).
+#include "flipflux/study/criteria.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -22,7 +22,7 @@ const std::vector<std::string>& criterion_names() {
 void check_criterion_name(const std::string& name, const std::string& option) {
     for (const std::string& n : criterion_names())
         if (n == name) return;
-    throw input_error(option + ": '" + name + "' is not a criterion (upright, approx, saddle)");
+    throw input_error::about(option, "'" + name + "' is not a criterion (upright, approx, saddle)");
 }
 
 double criterion_threshold(const double_pendulum<double>& model, arm a, const std::string& name) {
@@ -34,7 +34,8 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
                                   const std::string& name, double energy) {
     const double threshold = criterion_threshold(model, a, name);
     if (!(energy > threshold))
-        throw input_error("--energy: '" + to_decimal(energy) + "' is at or below the threshold " +
+        throw input_error::about(
+            "energy", "'" + to_decimal(energy) + "' is at or below the threshold " +
                           to_decimal(threshold) + " of criterion '" + name + "' for arm " +
                           to_string(a) + " (the saddle energy: no flips are possible)");
     const pendulum_flow flow(model);

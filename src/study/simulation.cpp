@@ -1,5 +1,5 @@
-// A Monte Carlo study: ensembles, statistics, JSON report and CSVs (ensemble/simulation.hpp).
-#include "flipflux/ensemble/simulation.hpp"
+// A Monte Carlo study: ensembles, statistics, JSON report and CSVs (study/simulation.hpp).
+#include "flipflux/study/simulation.hpp"
 
 #include <charconv>
 #include <chrono>
@@ -13,10 +13,10 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
-#include "flipflux/ensemble/checkpoint.hpp"
-#include "flipflux/ensemble/criteria.hpp"
 #include "flipflux/ensemble/statistics.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/study/checkpoint.hpp"
+#include "flipflux/study/criteria.hpp"
 
 namespace flipflux {
 namespace {
@@ -49,7 +49,7 @@ void write_atomically(const std::filesystem::path& path, const std::string& cont
     try {
         write_file_atomically(path, content);
     } catch (const std::runtime_error&) {
-        throw input_error("--csv-dir: cannot write '" + path.string() + "'");
+        throw input_error::about("csv_dir", "cannot write '" + path.string() + "'");
     }
 }
 
@@ -129,13 +129,14 @@ std::vector<std::pair<std::string, double>> parse_energy_list(const std::string&
         } else {
             const std::size_t c2 = item.find(':', c1 + 1);
             if (c2 == std::string::npos)
-                throw input_error(option + ": '" + item + "' is not a range (FROM:TO:STEP)");
+                throw input_error::about(option, "'" + item + "' is not a range (FROM:TO:STEP)");
             const double a = parse_real<double>(item.substr(0, c1), option);
             const double b = parse_real<double>(item.substr(c1 + 1, c2 - c1 - 1), option);
             const double h = parse_real<double>(item.substr(c2 + 1), option);
             if (!(h > 0) || !(b >= a) || (b - a) / h > 100000)
-                throw input_error(option + ": '" + item +
-                                  "' is not a range (FROM <= TO, STEP > 0, at most 1e5 values)");
+                throw input_error::about(
+                    option,
+                    "'" + item + "' is not a range (FROM <= TO, STEP > 0, at most 1e5 values)");
             const auto n = static_cast<long>(std::floor((b - a) / h * (1 + 1e-12) + 1e-9));
             for (long i = 0; i <= n; ++i) {
                 const std::string e = to_decimal(a + static_cast<double>(i) * h, 15);
@@ -155,21 +156,11 @@ std::vector<std::string> parse_criterion_list(const std::string& text, const std
         const std::string name = text.substr(pos, comma - pos);
         check_criterion_name(name, option);
         for (const std::string& seen : out)
-            if (seen == name) throw input_error(option + ": '" + name + "' is given twice");
+            if (seen == name) throw input_error::about(option, "'" + name + "' is given twice");
         out.push_back(name);
         pos = comma + 1;
     }
     return out;
-}
-
-std::string to_string(rate_estimator e) {
-    return e == rate_estimator::long_trajectories ? "long" : "short";
-}
-
-rate_estimator parse_rate_estimator(const std::string& text, const std::string& option) {
-    if (text == "long") return rate_estimator::long_trajectories;
-    if (text == "short") return rate_estimator::short_trajectories;
-    throw input_error(option + ": '" + text + "' is not an estimator (long, short)");
 }
 
 namespace {
@@ -236,89 +227,114 @@ json checkpoint_header(const double_pendulum<double>& model, const simulation_re
 
 }  // namespace
 
-json simulate(const double_pendulum<double>& model, const simulation_request& request) {
-    const arm a = request.flip_arm;
-    const auto& energies = request.energies;
-    const std::vector<std::string>& names = request.criteria;
+namespace {
+
+/// The request checked (every option, the short estimator's budget turned into trajectories) and
+/// the CSV directory created: the ensemble options every energy runs with (energy set per energy).
+ensemble_options checked_options(const simulation_request& request, const process_group& group) {
     ensemble_options o = request.options;
-    const std::size_t bins = request.bins;
-    single_process alone;
-    process_group& group = request.group ? *request.group : alone;
-    const bool root = group.rank() == 0;
-    if (energies.empty()) throw input_error("--energy: no energy given");
-    if (names.empty()) throw input_error("--criteria: no criterion given");
+    if (request.energies.empty()) throw input_error::about("energy", "no energy given");
+    if (request.criteria.empty()) throw input_error::about("criteria", "no criterion given");
     if (o.sample_interval != 0 && request.csv_dir.empty())
-        throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
-                          "' needs --csv-dir (the sampled trajectories are written there)");
+        throw input_error::about(
+            "sample_interval",
+            "'" + to_decimal(o.sample_interval) +
+                "' needs a CSV directory, csv_dir (the sampled trajectories are written there)");
     if (o.sample_interval != 0 && (!request.checkpoint.empty() || group.size() > 1))
-        throw input_error("--sample-interval: '" + to_decimal(o.sample_interval) +
-                          "' cannot be combined with --checkpoint or MPI (samples are not "
-                          "checkpointed or gathered)");
+        throw input_error::about(
+            "sample_interval", "'" + to_decimal(o.sample_interval) +
+                                   "' cannot be combined with a checkpoint or MPI (samples are not "
+                                   "checkpointed or gathered)");
     if (!(request.checkpoint_interval >= 0))
-        throw input_error("--checkpoint-interval: '" + to_decimal(request.checkpoint_interval) +
-                          "' is invalid (must be >= 0)");
+        throw input_error::about(
+            "checkpoint_interval",
+            "'" + to_decimal(request.checkpoint_interval) + "' is invalid (must be >= 0)");
     if (request.estimator == rate_estimator::short_trajectories) {
         if (!std::isfinite(request.short_time) || !(request.short_time > 0))
-            throw input_error("--short-time: '" + to_decimal(request.short_time) +
-                              "' is invalid (must be finite and > 0)");
+            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
+                                                       "' is invalid (must be finite and > 0)");
         if (!(o.time > 0) || o.trajectories == 0) validate(o);
         const double n = std::ceil(static_cast<double>(o.trajectories) * o.time /
                                    request.short_time * (1 - 1e-15));
         if (!(n <= 1e12))
-            throw input_error("--short-time: '" + to_decimal(request.short_time) +
-                              "' gives too many trajectories");
+            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
+                                                       "' gives too many trajectories");
         o.trajectories = static_cast<std::uint64_t>(std::max(1.0, n));
         o.time = request.short_time;
     }
     o.atol = o.atol > 0 ? o.atol : o.rtol;
     const std::filesystem::path& dir = request.csv_dir;
-    if (!dir.empty() && root) {
+    if (!dir.empty() && group.rank() == 0) {
         std::error_code ec;
         std::filesystem::create_directories(dir, ec);
         if (!std::filesystem::is_directory(dir))
-            throw input_error("--csv-dir: '" + dir.string() + "' is not a writable directory");
+            throw input_error::about("csv_dir",
+                                     "'" + dir.string() + "' is not a writable directory");
     }
-    // every input is checked, and every curve built, before anything is simulated
+    return o;
+}
+
+/// Per energy and criterion: the flip criterion and its predicted rate (if any), all built
+/// before anything is simulated.
+struct study_criteria {
     std::vector<std::vector<ensemble_criterion>> criteria;
     std::vector<std::vector<std::optional<quantity_value<double>>>> predictions;
-    for (const auto& [label, e] : energies) {
+};
+
+study_criteria build_criteria(const double_pendulum<double>& model,
+                              const simulation_request& request, ensemble_options o) {
+    study_criteria s;
+    for (const auto& [label, e] : request.energies) {
         o.energy = e;
         validate(o);
-        criteria.emplace_back();
-        predictions.emplace_back();
-        for (const std::string& n : names) {
-            criteria.back().push_back(make_criterion(model, a, n, e));
-            predictions.back().push_back(criterion_prediction(model, a, n, e));
+        s.criteria.emplace_back();
+        s.predictions.emplace_back();
+        for (const std::string& n : request.criteria) {
+            s.criteria.back().push_back(make_criterion(model, request.flip_arm, n, e));
+            s.predictions.back().push_back(criterion_prediction(model, request.flip_arm, n, e));
         }
     }
+    return s;
+}
 
-    // the checkpoint: read on rank 0, its text shared, parsed (and checked) on every rank
-    const json header = checkpoint_header(model, request, o);
+/// What a checkpoint holds, and the writer that extends it (rank 0): read on rank 0, its text
+/// shared, parsed (and checked against the run's header) on every rank.
+struct resumption {
     checkpoint_content saved;
     std::unique_ptr<checkpoint_writer> writer;
-    if (!request.checkpoint.empty()) {
-        bool exists = false;
-        std::string text, status = "ok";
-        if (root) {
-            try {
-                text = read_checkpoint_text(request.checkpoint, exists);
-            } catch (const input_error& e) {
-                status = e.what();
-            }
-        }
-        if (group.size() > 1) {
-            status = group.broadcast(status);
-            exists = group.broadcast(exists ? "1" : "0") == "1";
-            if (exists && status == "ok") text = group.broadcast(text);
-        }
-        if (status != "ok") throw input_error(status);
-        if (exists) saved = parse_checkpoint(text, header, names.size(), request.checkpoint);
-        if (root)
-            writer = std::make_unique<checkpoint_writer>(request.checkpoint, header, saved,
-                                                         request.checkpoint_interval);
-    }
+};
 
-    json out{{"command", "simulate"},          {"arm", to_string(a)},
+resumption resume(const simulation_request& request, const json& header, process_group& group) {
+    resumption r;
+    if (request.checkpoint.empty()) return r;
+    const bool root = group.rank() == 0;
+    bool exists = false;
+    std::string text, status = "ok";
+    if (root) {
+        try {
+            text = read_checkpoint_text(request.checkpoint, exists);
+        } catch (const input_error& e) {
+            status = e.what();
+        }
+    }
+    if (group.size() > 1) {
+        status = group.broadcast(status);
+        exists = group.broadcast(exists ? "1" : "0") == "1";
+        if (exists && status == "ok") text = group.broadcast(text);
+    }
+    if (status != "ok") throw input_error(status);
+    if (exists)
+        r.saved = parse_checkpoint(text, header, request.criteria.size(), request.checkpoint);
+    if (root)
+        r.writer = std::make_unique<checkpoint_writer>(request.checkpoint, header, r.saved,
+                                                       request.checkpoint_interval);
+    return r;
+}
+
+/// The report's head: the run's settings and the chaos indicator.
+json report_head(const double_pendulum<double>& model, const simulation_request& request,
+                 const ensemble_options& o) {
+    json out{{"command", "simulate"},          {"arm", to_string(request.flip_arm)},
              {"trajectories", o.trajectories}, {"first_index", o.first_index},
              {"time", to_decimal(o.time)},     {"seed", o.seed},
              {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
@@ -333,6 +349,185 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
              {"threshold_rate", to_decimal(chaos_threshold_rate(model, o.chaos_threshold))},
              {"classification_reliable",
               o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time)}};
+    return out;
+}
+
+/// Rank 0: the other ranks' finished trajectories (checkpoint records, one per line) into
+/// `have` and the checkpoint.
+void receive_trajectories(const std::vector<std::string>& incoming, std::size_t criteria,
+                          std::map<std::uint64_t, trajectory_result>& have,
+                          checkpoint_writer* writer) {
+    for (const std::string& text : incoming) {
+        std::size_t pos = 0;
+        while (pos < text.size()) {
+            const std::size_t nl = text.find('\n', pos);
+            const std::string_view line(text.data() + pos, nl - pos);
+            std::size_t kk = 0;
+            trajectory_result r = parse_trajectory_record(line, criteria, kk);
+            if (writer) writer->add(std::string(line) + "\n");
+            const std::uint64_t index = r.index;
+            have.emplace(index, std::move(r));
+            pos = nl + 1;
+        }
+    }
+}
+
+/// The quality samples of one energy, per criterion: over all trajectories and over the chaotic
+/// ones (null where there is no prediction or no chaotic trajectory).
+struct energy_quality {
+    std::vector<std::optional<quality_sample>> all, chaotic;
+};
+
+/// One energy's report entry from its finished ensemble: drift and step counts, per criterion the
+/// statistics against the prediction, and the quality samples.
+json energy_report(const ensemble_result& r, const std::string& label,
+                   const simulation_request& request, const process_group& group,
+                   const std::vector<std::optional<quantity_value<double>>>& predictions,
+                   std::vector<criterion_statistics>& stats, energy_quality& quality) {
+    const std::vector<std::string>& names = request.criteria;
+    double drift = 0;
+    long steps = 0;
+    std::size_t failed = 0;
+    long energy_rejections = 0;
+    for (const trajectory_result& t : r.trajectories) {
+        drift = std::max(drift, t.max_energy_drift);
+        steps += t.steps;
+        failed += t.status != rk_status::ok;
+        energy_rejections += t.energy_check_rejections;
+    }
+    json e{{"energy", label}};
+    if (request.timing) {
+        e["seconds"] = r.seconds;
+        e["threads"] = r.threads;
+        e["processes"] = group.size();
+    }
+    e["steps_per_trajectory"] =
+        static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
+    e["failed_trajectories"] = failed;
+    e["energy_check_rejections"] = energy_rejections;
+    e["max_energy_drift"] = to_decimal(drift);
+    json per_criterion = json::object();
+    for (std::size_t c = 0; c < names.size(); ++c) {
+        const auto& p = predictions[c];
+        const double predicted = p ? p->value : nan;
+        stats.push_back(analyze(r, c, predicted, request.bins, request.bins));
+        const criterion_statistics& st = stats.back();
+        json j{{"predicted_rate", number(predicted)},
+               {"prediction_method", p ? json(p->method) : json(nullptr)},
+               {"mean_rate", number(st.rates.mean)},
+               {"std", number(st.rates.standard_deviation)},
+               {"standard_error", number(st.rates.standard_error)},
+               {"z_score", number(st.z_score)},
+               {"flips", st.flips},
+               {"chaotic_fraction", number(st.chaotic_fraction)},
+               {"max_energy_drift", to_decimal(drift)}};
+        j["chaotic"] = summary_json(st.chaotic_rates, predicted);
+        j["residence_times"] = json{
+            {"count", st.residence.summary.count},   {"min", number(st.residence.summary.minimum)},
+            {"q0.001", number(st.residence.q001)},   {"q0.01", number(st.residence.q01)},
+            {"median", number(st.residence.median)}, {"mean", number(st.residence.summary.mean)}};
+        j["rate_histogram"] = histogram_json(st.rate_distribution);
+        per_criterion[names[c]] = j;
+        std::optional<quality_sample> qa, qc;
+        if (p) {
+            qa = quality_sample{r.energy, st.rates.mean, predicted, st.rates.standard_deviation};
+            if (st.chaotic > 0)
+                qc = quality_sample{r.energy, st.chaotic_rates.mean, predicted,
+                                    st.chaotic_rates.standard_deviation};
+        }
+        quality.all.push_back(qa);
+        quality.chaotic.push_back(qc);
+    }
+    e["criteria"] = per_criterion;
+    return e;
+}
+
+/// The quality indices (paper Sec. 5.6): IQI over all trajectories, PQI also over the chaotic
+/// sub-ensemble (the paper's PQI tables use the chaotic trajectories), and the regimes.
+void add_quality(json& out, const double_pendulum<double>& model, arm a,
+                 const std::vector<std::string>& names,
+                 const std::vector<std::vector<quality_sample>>& all,
+                 const std::vector<std::vector<quality_sample>>& chaotic) {
+    const std::vector<energy_regime> regimes = paper_regimes(model, a);
+    auto quality_table = [&](const std::vector<quality_sample>& samples) {
+        json arr = json::array();
+        for (const quality_indices& q : quality(samples, regimes))
+            if (q.energies > 0)
+                arr.push_back(json{{"regime", q.regime},
+                                   {"energies", q.energies},
+                                   {"IQI", number(q.iqi)},
+                                   {"PQI", number(q.pqi)}});
+        return arr;
+    };
+    json qual = json::object();
+    for (std::size_t c = 0; c < names.size(); ++c)
+        qual[names[c]] = json{{"all_trajectories", quality_table(all[c])},
+                              {"chaotic_trajectories", quality_table(chaotic[c])}};
+    out["quality"] = qual;
+    json reg = json::array();
+    for (const energy_regime& g : regimes)
+        if (std::isfinite(g.lower))
+            reg.push_back(json{{"regime", g.name},
+                               {"lower", to_decimal(g.lower)},
+                               {"upper", to_decimal(g.upper)}});
+    out["regimes"] = reg;
+}
+
+/// The ensemble of one energy from its trajectories, in index order (moved out of `have`).
+ensemble_result collect(const ensemble_options& o, const std::vector<std::string>& names,
+                        int threads, std::map<std::uint64_t, trajectory_result>& have) {
+    ensemble_result r;
+    r.energy = o.energy;
+    r.time = o.time;
+    r.rtol = o.rtol;
+    r.atol = o.atol;
+    r.chaos_threshold = o.chaos_threshold;
+    r.seed = o.seed;
+    r.first_index = o.first_index;
+    r.method = o.method;
+    r.chaos = o.chaos;
+    r.criteria = names;
+    r.threads = threads;
+    r.trajectories.reserve(have.size());
+    for (auto& [index, t] : have)
+        r.trajectories.push_back(std::move(t));
+    return r;
+}
+
+simulation_interrupted interruption(const simulation_request& request, std::size_t k,
+                                    const ensemble_options& o, checkpoint_writer* writer) {
+    std::uint64_t kept = 0;
+    if (writer) {
+        writer->flush();
+        kept = writer->saved_trajectories();
+    }
+    const int signal = o.stop ? o.stop->load() : 0;
+    return simulation_interrupted(
+        request.checkpoint.empty()
+            ? "interrupted (without a checkpoint: the finished trajectories are lost)"
+            : "interrupted: " + std::to_string(k) + " energies complete and " +
+                  std::to_string(kept) + " trajectories of E = " + request.energies[k].first +
+                  " saved in '" + request.checkpoint.string() +
+                  "'; rerun the same command to resume",
+        signal, kept);
+}
+
+}  // namespace
+
+json simulate(const double_pendulum<double>& model, const simulation_request& request) {
+    const auto& energies = request.energies;
+    const std::vector<std::string>& names = request.criteria;
+    single_process alone;
+    process_group& group = request.group ? *request.group : alone;
+    const bool root = group.rank() == 0;
+    ensemble_options o = checked_options(request, group);
+    // every input is checked, and every curve built, before anything is simulated
+    const study_criteria setup = build_criteria(model, request, o);
+    resumption resumed = resume(request, checkpoint_header(model, request, o), group);
+    checkpoint_content& saved = resumed.saved;
+    checkpoint_writer* writer = resumed.writer.get();
+
+    json out = report_head(model, request, o);
     json per_energy = json::array();
     std::vector<std::vector<quality_sample>> all(names.size()), chaotic(names.size());
 
@@ -373,7 +568,7 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
         progress.energy = k;
         std::string outgoing;
         const batch_outcome b =
-            run_trajectories(model, o, criteria[k], mine, [&](trajectory_result&& r) {
+            run_trajectories(model, o, setup.criteria[k], mine, [&](trajectory_result&& r) {
                 if (root) {
                     if (writer) writer->add(trajectory_record(k, r));
                     const std::uint64_t index = r.index;
@@ -385,157 +580,37 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
                 }
             });
         const bool interrupted = group.size() > 1 ? group.any(b.interrupted) : b.interrupted;
-        if (group.size() > 1) {
-            const std::vector<std::string> incoming = group.gather(outgoing);
-            for (const std::string& text : incoming) {
-                std::size_t pos = 0;
-                while (pos < text.size()) {
-                    const std::size_t nl = text.find('\n', pos);
-                    const std::string_view line(text.data() + pos, nl - pos);
-                    std::size_t kk = 0;
-                    trajectory_result r = parse_trajectory_record(line, names.size(), kk);
-                    if (writer) writer->add(std::string(line) + "\n");
-                    const std::uint64_t index = r.index;
-                    have.emplace(index, std::move(r));
-                    pos = nl + 1;
-                }
-            }
-        }
-        if (interrupted) {
-            std::uint64_t kept = 0;
-            if (writer) {
-                writer->flush();
-                kept = writer->saved_trajectories();
-            }
-            const int signal = o.stop ? o.stop->load() : 0;
-            throw simulation_interrupted(
-                request.checkpoint.empty()
-                    ? "interrupted (without --checkpoint: the finished trajectories are lost)"
-                    : "interrupted: " + std::to_string(k) + " energies complete and " +
-                          std::to_string(kept) + " trajectories of E = " + energies[k].first +
-                          " saved in '" + request.checkpoint.string() +
-                          "'; rerun the same command to resume",
-                signal, kept);
-        }
+        if (group.size() > 1)
+            receive_trajectories(group.gather(outgoing), names.size(), have, writer);
+        if (interrupted) throw interruption(request, k, o, writer);
         if (!root) {
             saved.trajectories.erase(k);
             continue;
         }
         if (have.size() != o.trajectories)
             throw std::logic_error("simulate: trajectories missing after the gather");
-        ensemble_result r;
-        r.energy = o.energy;
-        r.time = o.time;
-        r.rtol = o.rtol;
-        r.atol = o.atol;
-        r.chaos_threshold = o.chaos_threshold;
-        r.seed = o.seed;
-        r.first_index = o.first_index;
-        r.method = o.method;
-        r.chaos = o.chaos;
-        r.criteria = names;
-        r.threads = b.threads;
-        r.trajectories.reserve(have.size());
-        for (auto& [index, t] : have)
-            r.trajectories.push_back(std::move(t));
+        ensemble_result r = collect(o, names, b.threads, have);
         saved.trajectories.erase(k);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-        double drift = 0;
-        long steps = 0;
-        std::size_t failed = 0;
-        long energy_rejections = 0;
-        for (const trajectory_result& t : r.trajectories) {
-            drift = std::max(drift, t.max_energy_drift);
-            steps += t.steps;
-            failed += t.status != rk_status::ok;
-            energy_rejections += t.energy_check_rejections;
-        }
-        json e{{"energy", energies[k].first}};
-        if (request.timing) {
-            e["seconds"] = r.seconds;
-            e["threads"] = r.threads;
-            e["processes"] = group.size();
-        }
-        e["steps_per_trajectory"] =
-            static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
-        e["failed_trajectories"] = failed;
-        e["energy_check_rejections"] = energy_rejections;
-        e["max_energy_drift"] = to_decimal(drift);
-        json per_criterion = json::object();
         std::vector<criterion_statistics> stats;
+        energy_quality q;
+        json e =
+            energy_report(r, energies[k].first, request, group, setup.predictions[k], stats, q);
         json q_all = json::array(), q_chaotic = json::array();
         for (std::size_t c = 0; c < names.size(); ++c) {
-            const auto& p = predictions[k][c];
-            const double predicted = p ? p->value : nan;
-            stats.push_back(analyze(r, c, predicted, bins, bins));
-            const criterion_statistics& st = stats.back();
-            json j{{"predicted_rate", number(predicted)},
-                   {"prediction_method", p ? json(p->method) : json(nullptr)},
-                   {"mean_rate", number(st.rates.mean)},
-                   {"std", number(st.rates.standard_deviation)},
-                   {"standard_error", number(st.rates.standard_error)},
-                   {"z_score", number(st.z_score)},
-                   {"flips", st.flips},
-                   {"chaotic_fraction", number(st.chaotic_fraction)},
-                   {"max_energy_drift", to_decimal(drift)}};
-            j["chaotic"] = summary_json(st.chaotic_rates, predicted);
-            j["residence_times"] = json{{"count", st.residence.summary.count},
-                                        {"min", number(st.residence.summary.minimum)},
-                                        {"q0.001", number(st.residence.q001)},
-                                        {"q0.01", number(st.residence.q01)},
-                                        {"median", number(st.residence.median)},
-                                        {"mean", number(st.residence.summary.mean)}};
-            j["rate_histogram"] = histogram_json(st.rate_distribution);
-            per_criterion[names[c]] = j;
-            json qa = nullptr, qc = nullptr;
-            if (p) {
-                const quality_sample sa{o.energy, st.rates.mean, predicted,
-                                        st.rates.standard_deviation};
-                all[c].push_back(sa);
-                qa = quality_json(sa);
-                if (st.chaotic > 0) {
-                    const quality_sample sc{o.energy, st.chaotic_rates.mean, predicted,
-                                            st.chaotic_rates.standard_deviation};
-                    chaotic[c].push_back(sc);
-                    qc = quality_json(sc);
-                }
-            }
-            q_all.push_back(qa);
-            q_chaotic.push_back(qc);
+            q_all.push_back(q.all[c] ? quality_json(*q.all[c]) : json(nullptr));
+            q_chaotic.push_back(q.chaotic[c] ? quality_json(*q.chaotic[c]) : json(nullptr));
+            if (q.all[c]) all[c].push_back(*q.all[c]);
+            if (q.chaotic[c]) chaotic[c].push_back(*q.chaotic[c]);
         }
-        e["criteria"] = per_criterion;
-        if (!dir.empty()) write_csvs(dir, energies[k].first, r, stats);
+        if (!request.csv_dir.empty()) write_csvs(request.csv_dir, energies[k].first, r, stats);
         if (writer) writer->complete(k, {e, json::array({q_all, q_chaotic})});
         per_energy.push_back(std::move(e));
     }
     if (!root) return nullptr;
     out["energies"] = per_energy;
-    // quality indices (paper Sec. 5.6): IQI over all trajectories, PQI also over the chaotic
-    // sub-ensemble (the paper's PQI tables use the chaotic trajectories)
-    const std::vector<energy_regime> regimes = paper_regimes(model, a);
-    auto quality_table = [&](const std::vector<quality_sample>& samples) {
-        json arr = json::array();
-        for (const quality_indices& q : quality(samples, regimes))
-            if (q.energies > 0)
-                arr.push_back(json{{"regime", q.regime},
-                                   {"energies", q.energies},
-                                   {"IQI", number(q.iqi)},
-                                   {"PQI", number(q.pqi)}});
-        return arr;
-    };
-    json qual = json::object();
-    for (std::size_t c = 0; c < names.size(); ++c)
-        qual[names[c]] = json{{"all_trajectories", quality_table(all[c])},
-                              {"chaotic_trajectories", quality_table(chaotic[c])}};
-    out["quality"] = qual;
-    json reg = json::array();
-    for (const energy_regime& g : regimes)
-        if (std::isfinite(g.lower))
-            reg.push_back(json{{"regime", g.name},
-                               {"lower", to_decimal(g.lower)},
-                               {"upper", to_decimal(g.upper)}});
-    out["regimes"] = reg;
+    add_quality(out, model, request.flip_arm, names, all, chaotic);
     return out;
 }
 
