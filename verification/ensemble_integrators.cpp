@@ -76,7 +76,6 @@ std::vector<state50> reference(const double_pendulum<mp>& m, const state50& y0,
     return out;
 }
 
-
 template <class Method>
 double max_error(const double_pendulum<double>& m, const phase_point<double>& x0, double T,
                  double tol, const state50& ref, const std::vector<double>& mids,

@@ -62,7 +62,7 @@ arm parse_arm(const std::string& text, std::string_view option) {
 }
 
 std::string error_text(const input_error& e) {
-    const std::string& field = e.field();
+    const std::string field = e.field();
     if (field.empty() || field.front() == '-' || field.find_first_of(".:/ '") != std::string::npos)
         return e.what();
     std::string option = "--" + field;

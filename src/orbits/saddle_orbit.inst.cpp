@@ -93,7 +93,9 @@ struct double_solution {
 template <class Real>
 double_solution<Real> solve_at_double(const double_pendulum<Real>& model, arm a, const Real& excess,
                                       const orbit_guess<Real>& guess, bool periodic) {
-    double_solution<Real> out{guess.beta, guess.period};
+    double_solution<Real> out;
+    out.beta = guess.beta;
+    out.period = guess.period;
     const double_pendulum<double> md = to_double(model);
     const double ed = static_cast<double>(excess);
     const int sd = default_stages<double>();
@@ -132,8 +134,19 @@ struct polish {
     std::array<std::array<Real, 4>, 4> phi{};
     std::array<std::array<Real, 2>, 4> jac4{};  // last Jacobian (periodic)
     std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
-    Real beta_at_jacobian = beta;
+    Real beta_at_jacobian;
     bool converged = false, stalled = false, failed = false;
+
+    polish(const detail::shooting_setup<Real>& s, const orbit_options<Real>& o, const Real& t,
+           long q, saddle_orbit<Real>& out, const Real& b, const Real& T)
+        : setup(s),
+          options(o),
+          tol(t),
+          quarter_steps(q),
+          orbit(out),
+          beta(b),
+          period(T),
+          beta_at_jacobian(b) {}
 
     /// One shot at (beta, T): residual norm, monodromy and Jacobian recorded; the Newton update
     /// (dbeta, dT), or nullopt if the integration failed.

@@ -9,7 +9,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
-#include "flipflux/model/model_text.hpp"
+#include "flipflux/model/double_pendulum.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
@@ -43,9 +43,9 @@ TEST(InputError, LibraryErrorsNameFieldsNotOptions) {
         {[] { (void)parse_precision("mp:0"); }, "precision", "'mp:0'"},
         {[] { (void)parse_real<double>("1x", "energy"); }, "energy", "'1x'"},
         {[] {
-             model_text t;
-             t.m2 = "-1";
-             (void)make_model<double>(t);
+             physical_parameters<double> p;
+             p.m2 = -1;
+             (void)double_pendulum<double>(p);
          },
          "m2", "'-1'"},
         {[] {

@@ -288,7 +288,7 @@ TEST(SaddleOrbit, BadEnergiesAreInputErrors) {
         solve_saddle_orbit(model, arm::one, 3.5);
         FAIL();
     } catch (const input_error& e) {
-        EXPECT_NE(std::string(e.what()).find("--energy"), std::string::npos);
+        EXPECT_EQ(e.field(), "energy") << e.what();
         EXPECT_NE(std::string(e.what()).find("arm-1"), std::string::npos);
     }
     EXPECT_THROW(continue_saddle_family(model, arm::two, std::vector<double>{3, 2.5}), input_error);

@@ -61,7 +61,7 @@ TYPED_TEST(Rates, RateIsFluxOverPhaseVolumeForEveryRoute) {
         1e-3);
     EXPECT_EQ(r.evaluations, 15u);
     EXPECT_EQ(to_string(flip_criterion::upright), "upright");
-    EXPECT_EQ(to_string(flip_criterion::approximate_saddle), "approximate-saddle");
+    EXPECT_EQ(to_string(flip_criterion::approximate_saddle), "approx");
     EXPECT_EQ(to_string(rate_route::closed_form), "closed-form");
     EXPECT_EQ(to_string(rate_route::quadrature), "quadrature");
 }

@@ -40,7 +40,7 @@ TEST(Scene, ErrorsNameFileLineAndKey) {
         {"[scene]\noutput = \"o\"\nprecision = \"mp:5000000\"\n", "s.toml:3: scene.precision:"},
         {"[scene]\nname = \"t\"\n", "s.toml:1: scene.output: is required"},
         {"[scene]\noutput = \"o\"\n[model]\nm1 = \"abc\"\n", "s.toml:4: model.m1: 'abc' is not"},
-        {"[scene]\noutput = \"o\"\n[model]\nm1 = -1\n", "s.toml:3: model: --m1: '-1' is invalid"},
+        {"[scene]\noutput = \"o\"\n[model]\nm1 = -1\n", "s.toml:3: model: m1: '-1' is invalid"},
         {"[scene]\noutput = \"o\"\n[predictions]\nquantities = [\"omega\"]\narms = [3]\n"
          "energies = [3]\n",
          "s.toml:5: predictions.arms: an arm is 1 or 2"},

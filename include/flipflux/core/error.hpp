@@ -2,6 +2,7 @@
 // can fail (convergence) are returned as data, see result.hpp.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -22,18 +23,18 @@ class input_error : public std::runtime_error {
     /// "--energy" or a scene key "predictions.energies"), which is then kept as given.
     static input_error about(const std::string& field, const std::string& detail) {
         input_error e(field + ": " + detail);
-        e.field_ = field;
-        e.detail_ = detail;
+        e.field_length_ = field.size() + 1;
         return e;
     }
 
     /// The input's field ("" when the message is free-form) and the message without it.
-    const std::string& field() const noexcept { return field_; }
-    const std::string& detail() const noexcept { return detail_; }
+    std::string field() const {
+        return field_length_ == 0 ? std::string() : std::string(what(), field_length_ - 1);
+    }
+    std::string detail() const { return field_length_ == 0 ? what() : what() + field_length_ + 1; }
 
   private:
-    std::string field_;
-    std::string detail_;
+    std::size_t field_length_ = 0;  ///< 1 + the field's length; 0: no field
 };
 
 }  // namespace flipflux
