@@ -47,9 +47,9 @@ run_main() {
   ./build/release/flipflux run data/scenes/default.toml
 }
 
-run_ctest() {  # run_ctest PRESET [ctest args]: full log to the build tree, summary and failures here
-  local preset=$1; shift
-  local log=build/$preset/ctest.log
+run_ctest() {  # run_ctest PRESET DIR [ctest args]: full log to DIR, summary and failures here
+  local preset=$1 dir=$2; shift 2
+  local log=$dir/ctest-$preset.log
   if ctest --preset "$preset" -j "$JOBS" "$@" >"$log" 2>&1; then
     grep -E "tests passed|Total Test time" "$log"
   else
@@ -72,7 +72,7 @@ ci_tests() {
   find "$dir" -name '*.gcda' -delete
   lcov --quiet --capture --initial --directory "$dir" --output-file "$dir/base.info" \
     --rc lcov_branch_coverage=0 2>/dev/null
-  run_ctest ci --timeout 1800
+  run_ctest ci "$dir" --timeout 1800
   lcov --quiet --capture --directory "$dir" --output-file "$dir/run.info" \
     --rc lcov_branch_coverage=0 2>/dev/null
   lcov --quiet -a "$dir/base.info" -a "$dir/run.info" -o "$dir/total.info" 2>/dev/null
@@ -98,7 +98,7 @@ run_verify() {
   local dir=build/release/verification-results
   rm -rf "$dir" && mkdir -p "$dir"
   local status=0
-  run_ctest verify --timeout 7200 \
+  run_ctest verify build/release --timeout 7200 \
     --output-junit "$PWD/$dir/ctest.xml" || status=1
   python3 tools/verification_report.py --results "$dir" --out docs/verification.md
   return $status

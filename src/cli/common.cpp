@@ -1,3 +1,5 @@
+// The command-line layer's shared pieces (common.hpp): the model and precision options, the
+// subcommand registry, printing, and the mapping of the library's input fields to option names.
 #include "common.hpp"
 
 #include <cstdio>

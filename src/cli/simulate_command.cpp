@@ -283,7 +283,8 @@ const register_command registration([](CLI::App& app) {
         "trajectories (DOP853 or DOPRI5 at double), flips of each criterion, statistics as JSON "
         "(and CSV with --csv-dir).");
     sub->add_option("--energy", s->energy,
-                    "energy E, a list E1,E2,... or a range FROM:TO:STEP (inclusive)")
+                    "energy E, a list E1,E2,... or a range FROM:TO:STEP (inclusive; TO - FROM a "
+                    "multiple of STEP)")
         ->required();
     sub->add_option("--arm", s->arm_text, "the arm whose flips are counted: 1 or 2")
         ->capture_default_str();

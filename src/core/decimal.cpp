@@ -3,11 +3,14 @@
 #include <mpfr.h>
 
 #include <boost/multiprecision/mpfr.hpp>
+#include <iomanip>
 #include <ios>
+#include <sstream>
 
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
@@ -96,6 +99,55 @@ double decimal_agreement(std::string_view a, std::string_view b, std::string_vie
 
 double decimal_relative_error(std::string_view a, std::string_view b, std::string_view what) {
     return std::pow(10.0, log10_relative_difference(a, b, what));
+}
+
+namespace {
+
+// NOTE: grid arithmetic in a fixed 100-digit MPFR type, independent of the working precision (and
+// of mp's process-wide default precision)
+using grid_decimal = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<100>,
+                                                   boost::multiprecision::et_off>;
+
+std::string grid_text(const grid_decimal& x, int digits) {
+    std::ostringstream out;
+    out << std::setprecision(digits) << x;
+    return out.str();
+}
+
+}  // namespace
+
+std::vector<std::string> decimal_grid(std::string_view from_text, std::string_view to_text,
+                                      std::string_view step_text, const std::string& field,
+                                      long max_points) {
+    const auto number = [&](std::string_view text, const char* name) {
+        if (!is_decimal_number(text))
+            throw input_error::about(field, std::string(name) + " '" + std::string(text) +
+                                                "' is not a finite decimal number");
+        return grid_decimal(std::string(text));
+    };
+    const grid_decimal from = number(from_text, "from");
+    const grid_decimal to = number(to_text, "to");
+    const grid_decimal step = number(step_text, "step");
+    using std::abs;
+    using std::round;
+    if (!(step > 0))
+        throw input_error::about(field, "step '" + std::string(step_text) + "' must be > 0");
+    if (to < from)
+        throw input_error::about(field, "to '" + std::string(to_text) + "' is below from '" +
+                                            std::string(from_text) + "'");
+    const grid_decimal count = round((to - from) / step);
+    if (count + 1 > max_points)
+        throw input_error::about(field, "more than " + std::to_string(max_points) + " values");
+    if (abs(from + count * step - to) > step / 1000000000)
+        throw input_error::about(field,
+                                 "to - from = " + grid_text(to - from, 10) +
+                                     " is not a multiple of step = " + std::string(step_text));
+    // from + i step in 100 digits, written with 40: the decimal the user meant
+    const long n = static_cast<long>(count);
+    std::vector<std::string> out;
+    for (long i = 0; i <= n; ++i)
+        out.push_back(i == n ? std::string(to_text) : grid_text(from + i * step, 40));
+    return out;
 }
 
 }  // namespace flipflux

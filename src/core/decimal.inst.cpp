@@ -1,3 +1,6 @@
+// Decimal text <-> Real in the working precision (core/decimal.hpp): parse_real rounds the
+// decimal correctly (strtod, strtoflt128, mpfr_set_str), to_decimal prints the digits of the
+// type's output precision.
 #include "flipflux/core/decimal.hpp"
 
 #include <cstdlib>

@@ -1,3 +1,5 @@
+// Files written whole or not at all (io/atomic_file.hpp): a temporary name in the same directory,
+// fsync, then rename, so an interrupted run leaves no half-written output.
 #include "flipflux/io/atomic_file.hpp"
 
 #include <unistd.h>

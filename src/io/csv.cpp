@@ -1,3 +1,4 @@
+// CSV lines split into trimmed fields (io/csv.hpp), for the golden data and candidate files.
 #include "flipflux/io/csv.hpp"
 
 #include <fstream>

@@ -1,3 +1,6 @@
+// The four critical points of V (down-down minimum, the two index-one saddles, up-up maximum) with
+// their energies and normal modes: the eigenproblem K v = omega^2 M v of the linearisation at
+// each (paper Sec. 2, docs/theory.md#critical-points).
 #include "flipflux/model/critical_points.hpp"
 
 #include "flipflux/core/constants.hpp"

@@ -11,7 +11,7 @@
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/model/critical_points.hpp"
 #include "flipflux/model/dividing_curve.hpp"
-#include "flipflux/orbits/double_stage.hpp"
+#include "flipflux/orbits/ceres_shooting.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/orbits/shooting.hpp"
 

@@ -4,13 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "allowed_region.hpp"
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
 #include "flipflux/special/elliptic.hpp"
 #include "phase_volume_detail.hpp"
-#include "support.hpp"
 
 namespace flipflux {
 namespace {

@@ -8,11 +8,11 @@
 // integrals.
 #include <cmath>
 
+#include "allowed_region.hpp"
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
 #include "phase_volume_detail.hpp"
-#include "support.hpp"
 
 namespace flipflux::detail {
 

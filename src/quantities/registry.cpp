@@ -1,3 +1,5 @@
+// The registry of named quantities (quantities/registry.hpp): the prediction quantities and the
+// saddle-orbit quantities, found by name, each with its methods and a per-real-type table.
 #include "flipflux/quantities/registry.hpp"
 
 #include "flipflux/core/error.hpp"

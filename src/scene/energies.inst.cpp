@@ -1,3 +1,5 @@
+// A scene's energy grid in Real (scene/scene.hpp): the grid's decimal texts, each parsed in the
+// working precision.
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/scene/scene.hpp"

@@ -115,7 +115,7 @@ void write_csvs(const std::filesystem::path& dir, const std::string& label,
 
 }  // namespace
 
-/// "5", "2.5,3,3.5" or "2.1:5.9:0.1" (inclusive range; values rounded to 15 digits).
+/// "5", "2.5,3,3.5" or "2.1:5.9:0.1" (a grid by decimal_grid's rule, core/decimal.hpp).
 std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
                                                               const std::string& option) {
     std::vector<std::pair<std::string, double>> out;
@@ -128,20 +128,12 @@ std::vector<std::pair<std::string, double>> parse_energy_list(const std::string&
             out.emplace_back(item, parse_real<double>(item, option));
         } else {
             const std::size_t c2 = item.find(':', c1 + 1);
-            if (c2 == std::string::npos)
+            if (c2 == std::string::npos || item.find(':', c2 + 1) != std::string::npos)
                 throw input_error::about(option, "'" + item + "' is not a range (FROM:TO:STEP)");
-            const double a = parse_real<double>(item.substr(0, c1), option);
-            const double b = parse_real<double>(item.substr(c1 + 1, c2 - c1 - 1), option);
-            const double h = parse_real<double>(item.substr(c2 + 1), option);
-            if (!(h > 0) || !(b >= a) || (b - a) / h > 100000)
-                throw input_error::about(
-                    option,
-                    "'" + item + "' is not a range (FROM <= TO, STEP > 0, at most 1e5 values)");
-            const auto n = static_cast<long>(std::floor((b - a) / h * (1 + 1e-12) + 1e-9));
-            for (long i = 0; i <= n; ++i) {
-                const std::string e = to_decimal(a + static_cast<double>(i) * h, 15);
+            const std::string_view v(item);
+            for (const std::string& e : decimal_grid(v.substr(0, c1), v.substr(c1 + 1, c2 - c1 - 1),
+                                                     v.substr(c2 + 1), option, 100000))
                 out.emplace_back(e, parse_real<double>(e, option));
-            }
         }
         pos = comma + 1;
     }

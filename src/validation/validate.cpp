@@ -1,3 +1,5 @@
+// Validating another implementation (validation/validate.hpp, docs/validating.md): its values,
+// row by row, against the golden data, in decimal digits of agreement.
 #include "flipflux/validation/validate.hpp"
 
 #include <algorithm>

@@ -137,5 +137,41 @@ TEST(Precision, DecimalComparisonsUseEveryDigit) {
     EXPECT_THROW(decimal_agreement("1", "abc"), input_error);
 }
 
+// The one grid rule (CLI --energy FROM:TO:STEP and scene {from, to, step}): the decimals the user
+// meant, whatever the binary value of FROM + i STEP; TO exactly as given.
+TEST(DecimalGrid, GivesTheDecimalsMeant) {
+    const std::vector<std::string> g = decimal_grid("2.1", "5.9", "0.1", "energy");
+    ASSERT_EQ(g.size(), 39u);
+    EXPECT_EQ(g[0], "2.1");
+    EXPECT_EQ(g[1], "2.2");  // 2.1 + 0.1 in binary is 2.2000000000000002
+    EXPECT_EQ(g[8], "2.9");
+    EXPECT_EQ(g[38], "5.9");
+    const std::vector<std::string> fine =
+        decimal_grid("1", "1.000000000000000000000000000002", "1e-30", "energy");
+    ASSERT_EQ(fine.size(), 3u);
+    EXPECT_EQ(fine[1], "1.000000000000000000000000000001");
+    EXPECT_EQ(decimal_grid("4", "4", "0.5", "energy"), std::vector<std::string>{"4"});
+}
+
+TEST(DecimalGrid, RefusesWhatIsNotAGrid) {
+    const auto field_of = [](const char* from, const char* to, const char* step, long max) {
+        try {
+            (void)decimal_grid(from, to, step, "energy", max);
+        } catch (const input_error& e) {
+            EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+            return e.field() + ": " + e.detail();
+        }
+        return std::string("accepted");
+    };
+    EXPECT_NE(field_of("2", "5", "0.7", 100).find("not a multiple"), std::string::npos);
+    EXPECT_NE(field_of("2", "5", "0", 100).find("step '0' must be > 0"), std::string::npos);
+    EXPECT_NE(field_of("2", "5", "-1", 100).find("must be > 0"), std::string::npos);
+    EXPECT_NE(field_of("5", "4", "0.1", 100).find("below from"), std::string::npos);
+    EXPECT_NE(field_of("2", "x", "0.1", 100).find("to 'x' is not a finite"), std::string::npos);
+    EXPECT_NE(field_of("0", "1", "0.001", 1000).find("more than 1000 values"), std::string::npos);
+    EXPECT_EQ(field_of("0", "1", "0.001", 1001), "accepted");
+    EXPECT_EQ(field_of("2", "5", "0", 100).rfind("energy: ", 0), 0u);
+}
+
 }  // namespace
 }  // namespace flipflux::test

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "flipflux/core/real.hpp"
 
@@ -76,6 +77,16 @@ double decimal_relative_error(std::string_view a, std::string_view b,
 /// digit of the text, in the form to_decimal writes.
 std::string round_decimal(std::string_view text, int significant_digits,
                           std::string_view what = "value");
+
+/// The grid FROM, FROM + STEP, ..., TO of decimal numbers, as decimal texts: the decimals the user
+/// meant ("2.1", not 2.1000000000000000888), computed in a fixed 100-digit arithmetic whatever the
+/// working precision, each to be parsed later in the working precision; TO is returned as given.
+/// The one grid rule of flipflux (CLI `--energy FROM:TO:STEP` and scene `{from, to, step}`):
+/// STEP > 0, TO >= FROM, TO - FROM a whole multiple of STEP (to 1e-9 STEP), at most max_points
+/// values. Throws input_error about `field` otherwise.
+std::vector<std::string> decimal_grid(std::string_view from, std::string_view to,
+                                      std::string_view step, const std::string& field,
+                                      long max_points = 1000000);
 
 #define FLIPFLUX_DECIMAL_EXTERN(R)                                       \
     extern template R parse_real<R>(std::string_view, std::string_view); \

@@ -1,3 +1,6 @@
+// The project's version and the git commit the binary was built from (generated at build time:
+// cmake/version.cmake writes build/<preset>/generated/version.cpp); recorded in every output's
+// provenance.
 #pragma once
 
 namespace flipflux {

@@ -3,10 +3,10 @@
 // Memo: `find_or_solve_saddle_orbit` returns a remembered orbit of the same pendulum (its
 // Lagrangian coefficients, compared exactly), arm, energy (exactly) and shooting method, or
 // solves it (solve_saddle_orbit) and remembers it. The registry's saddle quantities
-// (src/quantities/orbits.cpp) and the Monte Carlo saddle criterion (src/study/criteria.cpp)
-// both go through it, so a scene that continues a family once never solves its orbits again.
-// Thread-safe (one mutex per Real); threads asking for an orbit another thread is solving wait
-// for that solve instead of repeating it.
+// (src/quantities/orbit_quantities.cpp) and the Monte Carlo saddle criterion
+// (src/study/criteria.cpp) both go through it, so a scene that continues a family once never solves
+// its orbits again. Thread-safe (one mutex per Real); threads asking for an orbit another thread is
+// solving wait for that solve instead of repeating it.
 //
 // Disk: `orbit_to_json` / `orbit_from_json` serialise every field of a saddle_orbit, the reals as
 // decimal strings with all digits of Real, so that an orbit read back is bit-identical to the one

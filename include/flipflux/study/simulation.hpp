@@ -106,8 +106,9 @@ struct simulation_request {
 nlohmann::ordered_json simulate(const double_pendulum<double>& model,
                                 const simulation_request& request);
 
-/// "5", "2.5,3,3.5" or "FROM:TO:STEP" items (inclusive range, values rounded to 15 digits), in
-/// order; throws input_error naming `option`.
+/// "5", "2.5,3,3.5" or "FROM:TO:STEP" items (a grid by the one grid rule, core/decimal.hpp's
+/// decimal_grid: TO - FROM a multiple of STEP, at most 1e5 values), in order, each with its decimal
+/// text as label; throws input_error naming `option`.
 std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
                                                               const std::string& option = "energy");
 

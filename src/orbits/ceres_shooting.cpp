@@ -1,6 +1,6 @@
-// The double-precision stage of the saddle-orbit solver (see orbits/double_stage.hpp): Ceres for
+// The double-precision stage of the saddle-orbit solver (see orbits/ceres_shooting.hpp): Ceres for
 // the paper's periodic shooting, a damped Newton iteration for the symmetric formulation.
-#include "flipflux/orbits/double_stage.hpp"
+#include "flipflux/orbits/ceres_shooting.hpp"
 
 #include <ceres/ceres.h>
 
