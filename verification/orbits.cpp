@@ -11,6 +11,7 @@
 #include "flipflux/integrators/gauss_legendre.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux {
 namespace {
@@ -95,17 +96,7 @@ std::vector<physical_parameters<double>> other_pendulums() {
     p.L1 = 0.4;
     p.L2 = 1.3;
     v.push_back(p);
-    p = {};
-    p.m1 = 1;
-    p.m2 = 0.7;
-    p.L1 = 1;
-    p.L2 = 0.7;
-    p.a1 = 0.5;
-    p.a2 = 0.35;
-    p.I1 = 1.0 / 12;
-    p.I2 = 0.7 * 0.49 / 12;
-    p.g = 9.81;
-    v.push_back(p);
+    v.push_back(test::uniform_rods_parameters());
     p = {};
     p.m1 = 0.3;
     p.m2 = 2;

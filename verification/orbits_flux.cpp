@@ -23,6 +23,7 @@
 #include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/prediction/rates.hpp"
 #include "flipflux/prediction/upright_flux.hpp"
+#include "pendulums.hpp"
 
 namespace flipflux {
 namespace {
@@ -62,14 +63,7 @@ TEST(OrbitsFlux, CurveFluxThroughTheSaddleCurveIsTwiceTheActionAtDouble) {
     const double_pendulum<double> heavy(p);
     EXPECT_LE(flux_equivalence(heavy, arm::two, 3.0 + 0.4 * 3, curve_flux_method::kinetic), 1e-12);
     EXPECT_LE(flux_equivalence(heavy, arm::one, 8.0 + 0.4 * 3, curve_flux_method::kinetic), 1e-12);
-    physical_parameters<double> rods;
-    rods.m2 = 0.7;
-    rods.L2 = 0.7;
-    rods.a1 = 0.5;
-    rods.a2 = 0.35;
-    rods.I1 = 1.0 / 12;
-    rods.I2 = 0.7 * 0.49 / 12;
-    const double_pendulum<double> rod(rods);
+    const double_pendulum<double> rod(test::uniform_rods_parameters(1));
     const double lo = rod.saddle_energy(arm::two), hi = rod.maximum_energy();
     EXPECT_LE(flux_equivalence(rod, arm::two, lo + 0.6 * (hi - lo), curve_flux_method::kinetic),
               1e-12);

@@ -30,6 +30,22 @@ physical_parameters<Real> random_parameters(random_reals& rnd, bool rigid) {
     return p;
 }
 
+/// Two uniform rods of lengths 1 and 0.7 (masses 1 and 0.7, centres of mass at the middles,
+/// moments of inertia m L^2 / 12) under gravity g: the rigid-link pendulum of the orbit tests.
+inline physical_parameters<double> uniform_rods_parameters(double g = 9.81) {
+    physical_parameters<double> p;
+    p.m1 = 1;
+    p.m2 = 0.7;
+    p.L1 = 1;
+    p.L2 = 0.7;
+    p.a1 = 0.5;
+    p.a2 = 0.35;
+    p.I1 = 1.0 / 12;
+    p.I2 = 0.7 * 0.49 / 12;
+    p.g = g;
+    return p;
+}
+
 /// The lopsided pendulum of the ensemble tests and verifications: rigid links, unequal masses
 /// and lengths, g != 1.
 inline physical_parameters<double> lopsided_parameters() {

@@ -11,21 +11,6 @@
 namespace flipflux::test {
 namespace {
 
-template <class To>
-physical_parameters<To> convert_parameters(const physical_parameters<double>& p) {
-    physical_parameters<To> q;
-    q.m1 = To(p.m1);
-    q.m2 = To(p.m2);
-    q.L1 = To(p.L1);
-    q.L2 = To(p.L2);
-    q.a1 = To(p.a1);
-    q.a2 = To(p.a2);
-    q.I1 = To(p.I1);
-    q.I2 = To(p.I2);
-    q.g = To(p.g);
-    return q;
-}
-
 TEST(PendulumFlow, MatchesTheModelInHighPrecision) {
     random_reals rnd(21);
     double worst = 0;

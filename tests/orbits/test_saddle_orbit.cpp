@@ -9,6 +9,7 @@
 #include "flipflux/integrators/gauss_legendre.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/orbits/shooting.hpp"
+#include "pendulums.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
@@ -82,16 +83,7 @@ std::vector<physical_parameters<double>> parameter_sets() {
     heavy_top.m2 = 3;
     heavy_top.L2 = 0.5;
     heavy_top.a2 = 0.5;
-    physical_parameters<double> rods;  // two uniform rods of lengths 1 and 0.7
-    rods.m1 = 1;
-    rods.m2 = 0.7;
-    rods.L1 = 1;
-    rods.L2 = 0.7;
-    rods.a1 = 0.5;
-    rods.a2 = 0.35;
-    rods.I1 = 1.0 / 12;
-    rods.I2 = 0.7 * 0.49 / 12;
-    rods.g = 9.81;
+    const physical_parameters<double> rods = uniform_rods_parameters();
     return {physical_parameters<double>{}, heavy_top, rods};
 }
 
