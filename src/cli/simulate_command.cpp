@@ -19,6 +19,7 @@
 
 #include "common.hpp"
 #include "flipflux/study/simulation.hpp"
+#include "flipflux/study/study_files.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -249,9 +250,9 @@ void run(const simulate_state& s) {
         if (root && (s.progress || isatty(2)))
             q.progress = [&bar](const simulation_progress& p) { bar.update(p); };
         const signal_guard guard;
-        json out;
+        std::optional<study_result> result;
         try {
-            out = simulate(model, q);
+            result = simulate(model, q);
         } catch (const simulation_interrupted& e) {
             bar.finish();
             if (root) std::fprintf(stderr, "flipflux: %s\n", e.what());
@@ -259,7 +260,8 @@ void run(const simulate_state& s) {
             return;
         }
         bar.finish();
-        if (root) {
+        if (result) {
+            json out = study_json(*result);
             out["model"] = parameters_json(model);
             print(out.dump(2) + "\n");
         }

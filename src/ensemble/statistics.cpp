@@ -108,6 +108,7 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
     s.chaotic_fraction =
         r.chaos ? static_cast<double>(s.chaotic) / static_cast<double>(rates.size()) : nan;
     s.chaotic_rates = summarize(chaotic_rates);
+    s.chaotic_z_score = (s.chaotic_rates.mean - predicted) / s.chaotic_rates.standard_error;
     s.residence.summary = summarize(residence);
     s.residence.q001 = quantile(residence, 0.001);
     s.residence.q01 = quantile(residence, 0.01);

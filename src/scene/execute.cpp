@@ -18,6 +18,7 @@
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/study/simulation.hpp"
+#include "flipflux/study/study_files.hpp"
 
 #ifndef FLIPFLUX_SOURCE_DIR
 #define FLIPFLUX_SOURCE_DIR "."
@@ -250,17 +251,15 @@ void run_ensemble(context& ctx, const plan_step& step) {
     // again); the checkpoint is removed once the ensemble is complete
     request.checkpoint = ctx.s.output / (base + ".checkpoint");
     request.checkpoint_interval = ctx.options.checkpoint_interval;
-    const json result = simulate(model, request);
+    const study_result result = *simulate(model, request);
     std::filesystem::remove(request.checkpoint);
-    // what was integrated and detected, read back from the result
-    for (const json& e : result.at("energies")) {
-        ctx.counters.trajectories += result.at("trajectories").get<std::uint64_t>();
-        for (const auto& [name, value] : e.at("criteria").items()) {
-            (void)value;
-            if (name != "upright") ++ctx.counters.curve_criteria;
-        }
+    // what was integrated and detected
+    for (const energy_result& e : result.energies) {
+        ctx.counters.trajectories += result.options.trajectories;
+        for (const criterion_result& c : e.criteria)
+            if (c.statistics.criterion != "upright") ++ctx.counters.curve_criteria;
     }
-    ctx.write(base + ".json", result.dump(2) + "\n");
+    ctx.write(base + ".json", study_json(result).dump(2) + "\n");
     ctx.summary["ensembles"].push_back(
         {{"name", x.name}, {"file", base + ".json"}, {"csv_dir", request.csv_dir.string()}});
 }

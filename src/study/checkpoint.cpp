@@ -174,6 +174,126 @@ trajectory_result parse_trajectory_record(std::string_view line, std::size_t cri
     return r;
 }
 
+namespace {
+
+void put_summary(std::string& s, const summary_statistics& x) {
+    put_int(s, x.count);
+    put(s, x.mean);
+    put(s, x.standard_deviation);
+    put(s, x.standard_error);
+    put(s, x.minimum);
+    put(s, x.maximum);
+}
+
+summary_statistics get_summary(tokens& t) {
+    summary_statistics x;
+    x.count = t.integer<std::size_t>();
+    x.mean = t.real();
+    x.standard_deviation = t.real();
+    x.standard_error = t.real();
+    x.minimum = t.real();
+    x.maximum = t.real();
+    return x;
+}
+
+void put_histogram(std::string& s, const histogram& h) {
+    put(s, h.lower);
+    put(s, h.upper);
+    put_int(s, h.underflow);
+    put_int(s, h.overflow);
+    put_int(s, h.counts.size());
+    for (std::uint64_t n : h.counts)
+        put_int(s, n);
+}
+
+histogram get_histogram(tokens& t, std::size_t limit) {
+    histogram h;
+    h.lower = t.real();
+    h.upper = t.real();
+    h.underflow = t.integer<std::uint64_t>();
+    h.overflow = t.integer<std::uint64_t>();
+    const auto n = t.integer<std::size_t>();
+    if (n > limit) throw std::runtime_error("bad bin count");
+    h.counts.resize(n);
+    for (std::uint64_t& c : h.counts)
+        c = t.integer<std::uint64_t>();
+    return h;
+}
+
+}  // namespace
+
+std::string energy_record(std::size_t energy, const energy_result& e) {
+    std::string s = "E";
+    put_int(s, energy);
+    put(s, e.seconds);
+    put_int(s, e.threads);
+    put_int(s, e.processes);
+    put(s, e.steps_per_trajectory);
+    put_int(s, e.failed_trajectories);
+    put_int(s, e.energy_check_rejections);
+    put(s, e.max_energy_drift);
+    put_int(s, e.criteria.size());
+    for (const criterion_result& c : e.criteria) {
+        const criterion_statistics& x = c.statistics;
+        put(s, x.predicted_rate);
+        put_int(s, x.flips);
+        put_summary(s, x.rates);
+        put(s, x.z_score);
+        put_int(s, x.chaotic);
+        put(s, x.chaotic_fraction);
+        put_summary(s, x.chaotic_rates);
+        put(s, x.chaotic_z_score);
+        put_summary(s, x.residence.summary);
+        put(s, x.residence.q001);
+        put(s, x.residence.q01);
+        put(s, x.residence.median);
+        put_histogram(s, x.residence.distribution);
+        put_histogram(s, x.rate_distribution);
+    }
+    return hashed_line(s);
+}
+
+energy_result parse_energy_record(std::string_view line, std::size_t criteria,
+                                  std::size_t& energy) {
+    std::string_view content;
+    if (!verified(line, content)) throw std::runtime_error("damaged record (hash mismatch)");
+    tokens t(content);
+    if (t.next() != "E") throw std::runtime_error("not an energy record");
+    energy_result e;
+    energy = t.integer<std::size_t>();
+    e.seconds = t.real();
+    e.threads = t.integer<int>();
+    e.processes = t.integer<int>();
+    e.steps_per_trajectory = t.real();
+    e.failed_trajectories = t.integer<std::uint64_t>();
+    e.energy_check_rejections = t.integer<std::int64_t>();
+    e.max_energy_drift = t.real();
+    const auto nc = t.integer<std::size_t>();
+    if (nc != criteria)
+        throw std::runtime_error("the record has " + std::to_string(nc) + " criteria, not " +
+                                 std::to_string(criteria));
+    e.criteria.resize(nc);
+    for (criterion_result& c : e.criteria) {
+        criterion_statistics& x = c.statistics;
+        x.predicted_rate = t.real();
+        x.flips = t.integer<std::uint64_t>();
+        x.rates = get_summary(t);
+        x.z_score = t.real();
+        x.chaotic = t.integer<std::size_t>();
+        x.chaotic_fraction = t.real();
+        x.chaotic_rates = get_summary(t);
+        x.chaotic_z_score = t.real();
+        x.residence.summary = get_summary(t);
+        x.residence.q001 = t.real();
+        x.residence.q01 = t.real();
+        x.residence.median = t.real();
+        x.residence.distribution = get_histogram(t, content.size());
+        x.rate_distribution = get_histogram(t, content.size());
+    }
+    if (!t.done()) throw std::runtime_error("trailing fields");
+    return e;
+}
+
 std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists) {
     std::error_code ec;
     exists = std::filesystem::exists(file, ec);
@@ -240,16 +360,10 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
                 const std::uint64_t index = r.index;
                 c.trajectories[k][index] = std::move(r);
             } else {
-                if (!verified(lines[i], content) || !content.starts_with("E "))
-                    throw std::runtime_error("damaged line");
-                tokens t(content);
-                t.next();
-                const auto k = t.integer<std::size_t>();
+                std::size_t k = 0;
+                energy_result e = parse_energy_record(lines[i], criteria, k);
                 if (k >= energies) throw std::runtime_error("energy index out of range");
-                const std::size_t brace = content.find('{');
-                if (brace == std::string_view::npos) throw std::runtime_error("no record");
-                const json j = json::parse(content.substr(brace));
-                c.completed[k] = {j.at("entry"), j.at("quality")};
+                c.completed[k] = std::move(e);
             }
         } catch (const std::exception& e) {
             if (last) {  // a torn or damaged last line: the run was killed while writing it
@@ -273,9 +387,7 @@ checkpoint_writer::checkpoint_writer(std::filesystem::path file, const json& hea
       interval_(interval_seconds),
       last_flush_(std::chrono::steady_clock::now()) {
     for (const auto& [k, done] : content.completed)
-        completed_lines_ +=
-            hashed_line("E " + std::to_string(k) + " " +
-                        json{{"entry", done.entry}, {"quality", done.quality}}.dump());
+        completed_lines_ += energy_record(k, done);
     std::string tail;
     for (const auto& [k, trajectories] : content.trajectories)
         for (const auto& [index, r] : trajectories) {
@@ -332,10 +444,9 @@ void checkpoint_writer::flush() {
     ::fdatasync(fd_);
 }
 
-void checkpoint_writer::complete(std::size_t energy, const completed_energy& done) {
+void checkpoint_writer::complete(std::size_t energy, const energy_result& done) {
     flush();
-    completed_lines_ += hashed_line("E " + std::to_string(energy) + " " +
-                                    json{{"entry", done.entry}, {"quality", done.quality}}.dump());
+    completed_lines_ += energy_record(energy, done);
     saved_ = 0;
     rewrite("");
 }

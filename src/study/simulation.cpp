@@ -17,101 +17,13 @@
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/study/checkpoint.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/study/study_files.hpp"
 
 namespace flipflux {
 namespace {
 
 using json = nlohmann::ordered_json;
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-
-json number(double x) {
-    return std::isfinite(x) ? json(to_decimal(x)) : json(nullptr);
-}
-
-json summary_json(const summary_statistics& s, double predicted) {
-    return json{{"trajectories", s.count},
-                {"mean_rate", number(s.mean)},
-                {"std", number(s.standard_deviation)},
-                {"standard_error", number(s.standard_error)},
-                {"z_score", number((s.mean - predicted) / s.standard_error)}};
-}
-
-json histogram_json(const histogram& h) {
-    return json{{"lower", to_decimal(h.lower)},
-                {"upper", to_decimal(h.upper)},
-                {"bin_width", to_decimal(h.bin_width())},
-                {"counts", h.counts}};
-}
-
-// ---- CSV output ---------------------------------------------------------------------------
-
-void write_atomically(const std::filesystem::path& path, const std::string& content) {
-    try {
-        write_file_atomically(path, content);
-    } catch (const std::runtime_error&) {
-        throw input_error::about("csv_dir", "cannot write '" + path.string() + "'");
-    }
-}
-
-std::string histogram_csv(const histogram& h, std::uint64_t total) {
-    std::string s = "bin_lower,bin_upper,count,density\n";
-    for (std::size_t i = 0; i < h.counts.size(); ++i) {
-        const double lo = h.lower + h.bin_width() * static_cast<double>(i);
-        const double density =
-            total ? static_cast<double>(h.counts[i]) / (static_cast<double>(total) * h.bin_width())
-                  : 0.0;
-        s += to_decimal(lo) + "," + to_decimal(lo + h.bin_width()) + "," +
-             std::to_string(h.counts[i]) + "," + to_decimal(density) + "\n";
-    }
-    return s;
-}
-
-void write_csvs(const std::filesystem::path& dir, const std::string& label,
-                const ensemble_result& r, const std::vector<criterion_statistics>& stats) {
-    std::string t = "index,lyapunov,chaotic,max_energy_drift,steps,energy_check_rejections,status";
-    for (const std::string& c : r.criteria)
-        t += ",flips_" + c + ",rate_" + c;
-    t += "\n";
-    for (const trajectory_result& x : r.trajectories) {
-        t += std::to_string(x.index) + "," +
-             (std::isnan(x.lyapunov) ? "" : to_decimal(x.lyapunov)) + "," +
-             (x.chaotic ? "1" : "0") + "," + to_decimal(x.max_energy_drift) + "," +
-             std::to_string(x.steps) + "," + std::to_string(x.energy_check_rejections) + "," +
-             to_string(x.status);
-        for (std::size_t c = 0; c < r.criteria.size(); ++c)
-            t += "," + std::to_string(x.flips(c)) + "," +
-                 to_decimal(static_cast<double>(x.flips(c)) / r.time);
-        t += "\n";
-    }
-    write_atomically(dir / ("trajectories_E" + label + ".csv"), t);
-    if (!r.trajectories.empty() && !r.trajectories.front().samples.empty()) {
-        std::string smp = "trajectory,t,theta1,theta2,l1,l2\n";
-        for (const trajectory_result& x : r.trajectories)
-            for (const auto& v : x.samples) {
-                smp += std::to_string(x.index);
-                for (double c : v)
-                    smp += "," + to_decimal(c);
-                smp += "\n";
-            }
-        write_atomically(dir / ("samples_E" + label + ".csv"), smp);
-    }
-    for (std::size_t c = 0; c < r.criteria.size(); ++c) {
-        const std::string& name = r.criteria[c];
-        std::string res = "trajectory,crossing_time,residence_time\n";
-        for (const trajectory_result& x : r.trajectories) {
-            const auto& times = x.crossing_times[c];
-            for (std::size_t i = 1; i < times.size(); ++i)
-                res += std::to_string(x.index) + "," + to_decimal(times[i]) + "," +
-                       to_decimal(times[i] - times[i - 1]) + "\n";
-        }
-        write_atomically(dir / ("residence_E" + label + "_" + name + ".csv"), res);
-        write_atomically(dir / ("rate_histogram_E" + label + "_" + name + ".csv"),
-                         histogram_csv(stats[c].rate_distribution, stats[c].rates.count));
-        write_atomically(
-            dir / ("residence_histogram_E" + label + "_" + name + ".csv"),
-            histogram_csv(stats[c].residence.distribution, stats[c].residence.summary.count));
-    }
-}
 
 }  // namespace
 
@@ -165,29 +77,6 @@ class single_process final : public process_group {
     std::vector<std::string> gather(const std::string& text) override { return {text}; }
     bool any(bool flag) override { return flag; }
 };
-
-// exact (shortest round-trip) text of a double, and back
-std::string exact(double x) {
-    char buf[40];
-    return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
-}
-
-double from_exact(const json& j) {
-    const std::string t = j.get<std::string>();
-    double v = 0;
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-        throw std::runtime_error("checkpoint: '" + t + "' is not a number");
-    return v;
-}
-
-json quality_json(const quality_sample& q) {
-    return json::array({exact(q.energy), exact(q.simulated), exact(q.predicted), exact(q.spread)});
-}
-
-quality_sample quality_from_json(const json& j) {
-    return {from_exact(j.at(0)), from_exact(j.at(1)), from_exact(j.at(2)), from_exact(j.at(3))};
-}
 
 // The run's identity, as recorded in (and compared with) a checkpoint header.
 json checkpoint_header(const double_pendulum<double>& model, const simulation_request& q,
@@ -323,24 +212,20 @@ resumption resume(const simulation_request& request, const json& header, process
     return r;
 }
 
-/// The report's head: the run's settings and the chaos indicator.
-json report_head(const double_pendulum<double>& model, const simulation_request& request,
-                 const ensemble_options& o) {
-    json out{{"command", "simulate"},          {"arm", to_string(request.flip_arm)},
-             {"trajectories", o.trajectories}, {"first_index", o.first_index},
-             {"time", to_decimal(o.time)},     {"seed", o.seed},
-             {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
-             {"atol", to_decimal(o.atol)},     {"estimator", to_string(request.estimator)}};
-    if (request.estimator == rate_estimator::short_trajectories)
-        out["budget"] = json{{"trajectories", request.options.trajectories},
-                             {"time", to_decimal(request.options.time)}};
-    out["chaos"] =
-        json{{"indicator",
-              o.chaos ? "finite-time maximal Lyapunov exponent (variational equations)" : "none"},
-             {"threshold", to_decimal(o.chaos_threshold)},
-             {"threshold_rate", to_decimal(chaos_threshold_rate(model, o.chaos_threshold))},
-             {"classification_reliable",
-              o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time)}};
+/// The result's head: the run's settings and the chaos indicator; no energy yet.
+study_result result_head(const double_pendulum<double>& model, const simulation_request& request,
+                         const ensemble_options& o) {
+    study_result out;
+    out.flip_arm = request.flip_arm;
+    out.criteria = request.criteria;
+    out.options = o;
+    out.estimator = request.estimator;
+    out.budget_trajectories = request.options.trajectories;
+    out.budget_time = request.options.time;
+    out.chaos_threshold_rate = chaos_threshold_rate(model, o.chaos_threshold);
+    out.classification_reliable =
+        o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time);
+    out.timing = request.timing;
     return out;
 }
 
@@ -364,105 +249,51 @@ void receive_trajectories(const std::vector<std::string>& incoming, std::size_t 
     }
 }
 
-/// The quality samples of one energy, per criterion: over all trajectories and over the chaotic
-/// ones (null where there is no prediction or no chaotic trajectory).
-struct energy_quality {
-    std::vector<std::optional<quality_sample>> all, chaotic;
-};
-
-/// One energy's report entry from its finished ensemble: drift and step counts, per criterion the
-/// statistics against the prediction, and the quality samples.
-json energy_report(const ensemble_result& r, const std::string& label,
-                   const simulation_request& request, const process_group& group,
-                   const std::vector<std::optional<quantity_value<double>>>& predictions,
-                   std::vector<criterion_statistics>& stats, energy_quality& quality) {
-    const std::vector<std::string>& names = request.criteria;
-    double drift = 0;
+/// One energy's result from its finished ensemble: drift and step counts, and per criterion the
+/// statistics against the prediction.
+energy_result summarise_energy(const ensemble_result& r, const std::string& label,
+                               const simulation_request& request, const process_group& group,
+                               const std::vector<std::optional<quantity_value<double>>>& predictions) {
+    energy_result e;
+    e.label = label;
+    e.energy = r.energy;
+    e.seconds = r.seconds;
+    e.threads = r.threads;
+    e.processes = group.size();
     long steps = 0;
-    std::size_t failed = 0;
-    long energy_rejections = 0;
     for (const trajectory_result& t : r.trajectories) {
-        drift = std::max(drift, t.max_energy_drift);
+        e.max_energy_drift = std::max(e.max_energy_drift, t.max_energy_drift);
         steps += t.steps;
-        failed += t.status != rk_status::ok;
-        energy_rejections += t.energy_check_rejections;
+        e.failed_trajectories += t.status != rk_status::ok;
+        e.energy_check_rejections += t.energy_check_rejections;
     }
-    json e{{"energy", label}};
-    if (request.timing) {
-        e["seconds"] = r.seconds;
-        e["threads"] = r.threads;
-        e["processes"] = group.size();
-    }
-    e["steps_per_trajectory"] =
-        static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
-    e["failed_trajectories"] = failed;
-    e["energy_check_rejections"] = energy_rejections;
-    e["max_energy_drift"] = to_decimal(drift);
-    json per_criterion = json::object();
-    for (std::size_t c = 0; c < names.size(); ++c) {
+    e.steps_per_trajectory = static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
+    for (std::size_t c = 0; c < request.criteria.size(); ++c) {
         const auto& p = predictions[c];
-        const double predicted = p ? p->value : nan;
-        stats.push_back(analyze(r, c, predicted, request.bins, request.bins));
-        const criterion_statistics& st = stats.back();
-        json j{{"predicted_rate", number(predicted)},
-               {"prediction_method", p ? json(p->method) : json(nullptr)},
-               {"mean_rate", number(st.rates.mean)},
-               {"std", number(st.rates.standard_deviation)},
-               {"standard_error", number(st.rates.standard_error)},
-               {"z_score", number(st.z_score)},
-               {"flips", st.flips},
-               {"chaotic_fraction", number(st.chaotic_fraction)},
-               {"max_energy_drift", to_decimal(drift)}};
-        j["chaotic"] = summary_json(st.chaotic_rates, predicted);
-        j["residence_times"] = json{
-            {"count", st.residence.summary.count},   {"min", number(st.residence.summary.minimum)},
-            {"q0.001", number(st.residence.q001)},   {"q0.01", number(st.residence.q01)},
-            {"median", number(st.residence.median)}, {"mean", number(st.residence.summary.mean)}};
-        j["rate_histogram"] = histogram_json(st.rate_distribution);
-        per_criterion[names[c]] = j;
-        std::optional<quality_sample> qa, qc;
-        if (p) {
-            qa = quality_sample{r.energy, st.rates.mean, predicted, st.rates.standard_deviation};
-            if (st.chaotic > 0)
-                qc = quality_sample{r.energy, st.chaotic_rates.mean, predicted,
-                                    st.chaotic_rates.standard_deviation};
-        }
-        quality.all.push_back(qa);
-        quality.chaotic.push_back(qc);
+        e.criteria.push_back({p, analyze(r, c, p ? p->value : nan, request.bins, request.bins)});
     }
-    e["criteria"] = per_criterion;
     return e;
 }
 
-/// The quality indices (paper Sec. 5.6): IQI over all trajectories, PQI also over the chaotic
-/// sub-ensemble (the paper's PQI tables use the chaotic trajectories), and the regimes.
-void add_quality(json& out, const double_pendulum<double>& model, arm a,
-                 const std::vector<std::string>& names,
-                 const std::vector<std::vector<quality_sample>>& all,
-                 const std::vector<std::vector<quality_sample>>& chaotic) {
-    const std::vector<energy_regime> regimes = paper_regimes(model, a);
-    auto quality_table = [&](const std::vector<quality_sample>& samples) {
-        json arr = json::array();
-        for (const quality_indices& q : quality(samples, regimes))
-            if (q.energies > 0)
-                arr.push_back(json{{"regime", q.regime},
-                                   {"energies", q.energies},
-                                   {"IQI", number(q.iqi)},
-                                   {"PQI", number(q.pqi)}});
-        return arr;
-    };
-    json qual = json::object();
-    for (std::size_t c = 0; c < names.size(); ++c)
-        qual[names[c]] = json{{"all_trajectories", quality_table(all[c])},
-                              {"chaotic_trajectories", quality_table(chaotic[c])}};
-    out["quality"] = qual;
-    json reg = json::array();
-    for (const energy_regime& g : regimes)
-        if (std::isfinite(g.lower))
-            reg.push_back(json{{"regime", g.name},
-                               {"lower", to_decimal(g.lower)},
-                               {"upper", to_decimal(g.upper)}});
-    out["regimes"] = reg;
+/// The quality indices (paper Sec. 5.6) of each criterion over the energies, per regime: IQI
+/// over all trajectories, PQI also over the chaotic sub-ensemble. An energy enters where its
+/// criterion has a prediction (and, for the chaotic table, chaotic trajectories).
+void add_quality(study_result& out, const double_pendulum<double>& model) {
+    out.regimes = paper_regimes(model, out.flip_arm);
+    for (std::size_t c = 0; c < out.criteria.size(); ++c) {
+        std::vector<quality_sample> all, chaotic;
+        for (const energy_result& e : out.energies) {
+            const criterion_result& x = e.criteria[c];
+            if (!x.prediction) continue;
+            const criterion_statistics& st = x.statistics;
+            all.push_back({e.energy, st.rates.mean, x.prediction->value,
+                           st.rates.standard_deviation});
+            if (st.chaotic > 0)
+                chaotic.push_back({e.energy, st.chaotic_rates.mean, x.prediction->value,
+                                   st.chaotic_rates.standard_deviation});
+        }
+        out.quality.push_back({quality(all, out.regimes), quality(chaotic, out.regimes)});
+    }
 }
 
 /// The ensemble of one energy from its trajectories, in index order (moved out of `have`).
@@ -506,7 +337,8 @@ simulation_interrupted interruption(const simulation_request& request, std::size
 
 }  // namespace
 
-json simulate(const double_pendulum<double>& model, const simulation_request& request) {
+std::optional<study_result> simulate(const double_pendulum<double>& model,
+                                     const simulation_request& request) {
     const auto& energies = request.energies;
     const std::vector<std::string>& names = request.criteria;
     single_process alone;
@@ -519,10 +351,7 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
     checkpoint_content& saved = resumed.saved;
     checkpoint_writer* writer = resumed.writer.get();
 
-    json out = report_head(model, request, o);
-    json per_energy = json::array();
-    std::vector<std::vector<quality_sample>> all(names.size()), chaotic(names.size());
-
+    study_result out = result_head(model, request, o);
     simulation_progress progress;
     progress.energies = energies.size();
     progress.total = o.trajectories * energies.size();
@@ -535,15 +364,16 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
     for (std::size_t k = 0; k < energies.size(); ++k) {
         o.energy = energies[k].second;
         if (const auto it = saved.completed.find(k); it != saved.completed.end()) {
-            if (root) {
-                per_energy.push_back(it->second.entry);
-                const json& qj = it->second.quality;
-                for (std::size_t c = 0; c < names.size(); ++c) {
-                    if (!qj.at(0).at(c).is_null()) all[c].push_back(quality_from_json(qj[0][c]));
-                    if (!qj.at(1).at(c).is_null())
-                        chaotic[c].push_back(quality_from_json(qj[1][c]));
-                }
+            // the checkpoint stores the statistics; the label, energy and predictions are this
+            // run's (the header guarantees they are the same)
+            energy_result e = std::move(it->second);
+            e.label = energies[k].first;
+            e.energy = o.energy;
+            for (std::size_t c = 0; c < names.size(); ++c) {
+                e.criteria[c].prediction = setup.predictions[k][c];
+                e.criteria[c].statistics.criterion = names[c];
             }
+            if (root) out.energies.push_back(std::move(e));
             continue;
         }
         const auto start = std::chrono::steady_clock::now();
@@ -584,25 +414,13 @@ json simulate(const double_pendulum<double>& model, const simulation_request& re
         ensemble_result r = collect(o, names, b.threads, have);
         saved.trajectories.erase(k);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-        std::vector<criterion_statistics> stats;
-        energy_quality q;
-        json e =
-            energy_report(r, energies[k].first, request, group, setup.predictions[k], stats, q);
-        json q_all = json::array(), q_chaotic = json::array();
-        for (std::size_t c = 0; c < names.size(); ++c) {
-            q_all.push_back(q.all[c] ? quality_json(*q.all[c]) : json(nullptr));
-            q_chaotic.push_back(q.chaotic[c] ? quality_json(*q.chaotic[c]) : json(nullptr));
-            if (q.all[c]) all[c].push_back(*q.all[c]);
-            if (q.chaotic[c]) chaotic[c].push_back(*q.chaotic[c]);
-        }
-        if (!request.csv_dir.empty()) write_csvs(request.csv_dir, energies[k].first, r, stats);
-        if (writer) writer->complete(k, {e, json::array({q_all, q_chaotic})});
-        per_energy.push_back(std::move(e));
+        energy_result e = summarise_energy(r, energies[k].first, request, group, setup.predictions[k]);
+        if (!request.csv_dir.empty()) write_energy_csvs(request.csv_dir, r, e);
+        if (writer) writer->complete(k, e);
+        out.energies.push_back(std::move(e));
     }
-    if (!root) return nullptr;
-    out["energies"] = per_energy;
-    add_quality(out, model, request.flip_arm, names, all, chaotic);
+    if (!root) return std::nullopt;
+    add_quality(out, model);
     return out;
 }
 

@@ -23,6 +23,7 @@
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/study/checkpoint.hpp"
 #include "flipflux/study/simulation.hpp"
+#include "flipflux/study/study_files.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
@@ -78,6 +79,90 @@ TEST(Checkpoint, TrajectoryRecordsReadBackBitForBit) {
         for (std::size_t i = 0; i < r.crossing_times[c].size(); ++i)
             EXPECT_TRUE(same_bits(b.crossing_times[c][i], r.crossing_times[c][i]));
     }
+}
+
+// A completed energy's record: every statistic (NaN, signed zero, subnormal, histograms) reads
+// back with the same bits, so a resumed study reports exactly what an uninterrupted one does.
+TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    energy_result e;
+    e.seconds = 0.1 + 0.7;
+    e.threads = 2;
+    e.processes = 3;
+    e.steps_per_trajectory = 1234.0 / 7;
+    e.failed_trajectories = 1;
+    e.energy_check_rejections = 9000000000LL;
+    e.max_energy_drift = 5e-324;
+    for (int c = 0; c < 2; ++c) {
+        criterion_statistics x;
+        x.predicted_rate = c == 0 ? 1.0 / 3 : nan;
+        x.flips = 77 + c;
+        x.rates = {40, 0.1 + 0.2, 1e-300, -0.0, 0, std::nextafter(1.0, 2.0)};
+        x.z_score = c == 0 ? -1.5 : nan;
+        x.chaotic = 39;
+        x.chaotic_fraction = 39.0 / 40;
+        x.chaotic_rates = {39, 2.0 / 3, 0.25, 0.125, 0.5, 1};
+        x.chaotic_z_score = std::nextafter(-2.0, 0.0);
+        x.residence.summary = {0, nan, nan, nan, nan, nan};
+        x.residence.q001 = 1e-17;
+        x.residence.q01 = 2.5;
+        x.residence.median = 7.0 / 9;
+        x.residence.distribution = {0, 1.0 / 3, {1, 0, 5}, 2, 3};
+        x.rate_distribution = {-1, 10, {}, 0, 0};
+        e.criteria.push_back({std::nullopt, x});
+    }
+    const std::string line = energy_record(4, e);
+    ASSERT_EQ(line.back(), '\n');
+    std::size_t k = 0;
+    const energy_result b =
+        parse_energy_record(std::string_view(line).substr(0, line.size() - 1), 2, k);
+    EXPECT_EQ(k, 4u);
+    EXPECT_TRUE(same_bits(b.seconds, e.seconds));
+    EXPECT_EQ(b.threads, 2);
+    EXPECT_EQ(b.processes, 3);
+    EXPECT_TRUE(same_bits(b.steps_per_trajectory, e.steps_per_trajectory));
+    EXPECT_EQ(b.failed_trajectories, 1u);
+    EXPECT_EQ(b.energy_check_rejections, 9000000000LL);
+    EXPECT_TRUE(same_bits(b.max_energy_drift, e.max_energy_drift));
+    ASSERT_EQ(b.criteria.size(), 2u);
+    auto same_summary = [](const summary_statistics& p, const summary_statistics& q) {
+        return p.count == q.count && same_bits(p.mean, q.mean) &&
+               same_bits(p.standard_deviation, q.standard_deviation) &&
+               same_bits(p.standard_error, q.standard_error) && same_bits(p.minimum, q.minimum) &&
+               same_bits(p.maximum, q.maximum);
+    };
+    auto same_histogram = [](const histogram& p, const histogram& q) {
+        return same_bits(p.lower, q.lower) && same_bits(p.upper, q.upper) &&
+               p.counts == q.counts && p.underflow == q.underflow && p.overflow == q.overflow;
+    };
+    for (std::size_t c = 0; c < 2; ++c) {
+        const criterion_statistics &x = e.criteria[c].statistics, &y = b.criteria[c].statistics;
+        EXPECT_FALSE(b.criteria[c].prediction.has_value());  // this run's, not stored
+        EXPECT_EQ(std::isnan(y.predicted_rate), std::isnan(x.predicted_rate));
+        if (!std::isnan(x.predicted_rate)) {
+            EXPECT_TRUE(same_bits(y.predicted_rate, x.predicted_rate));
+        }
+        EXPECT_EQ(y.flips, x.flips);
+        EXPECT_TRUE(same_summary(y.rates, x.rates)) << c;
+        EXPECT_EQ(std::isnan(y.z_score), std::isnan(x.z_score));
+        EXPECT_EQ(y.chaotic, x.chaotic);
+        EXPECT_TRUE(same_bits(y.chaotic_fraction, x.chaotic_fraction));
+        EXPECT_TRUE(same_summary(y.chaotic_rates, x.chaotic_rates));
+        EXPECT_TRUE(same_bits(y.chaotic_z_score, x.chaotic_z_score));
+        EXPECT_EQ(y.residence.summary.count, 0u);
+        EXPECT_TRUE(std::isnan(y.residence.summary.mean));
+        EXPECT_TRUE(same_bits(y.residence.q001, x.residence.q001));
+        EXPECT_TRUE(same_bits(y.residence.median, x.residence.median));
+        EXPECT_TRUE(same_histogram(y.residence.distribution, x.residence.distribution));
+        EXPECT_TRUE(same_histogram(y.rate_distribution, x.rate_distribution));
+    }
+    // another criterion count, a damaged hash, a truncated record
+    const std::string body = line.substr(0, line.size() - 1);
+    EXPECT_THROW(parse_energy_record(body, 3, k), std::runtime_error);
+    std::string flipped = body;
+    flipped[8] = flipped[8] == '1' ? '2' : '1';
+    EXPECT_THROW(parse_energy_record(flipped, 2, k), std::runtime_error);
+    EXPECT_THROW(parse_energy_record(body.substr(0, 40), 2, k), std::runtime_error);
 }
 
 TEST(Checkpoint, DamagedRecordsAreRecognised) {
@@ -145,14 +230,18 @@ TEST(Checkpoint, ParsingChecksTheHeaderAndDropsATornLastLine) {
     // completing an energy compacts the file to the header and the E lines
     {
         checkpoint_writer w(file, header_for(1), c, 10);
-        w.complete(0, {json{{"energy", "5"}}, json::array({json::array(), json::array()})});
+        energy_result e;
+        e.seconds = 1.25;
+        e.criteria.resize(3);
+        w.complete(0, e);
         EXPECT_EQ(w.saved_trajectories(), 0u);
     }
     text = read_checkpoint_text(file, exists);
     const checkpoint_content done = parse_checkpoint(text, header_for(1), 3, file);
     EXPECT_TRUE(done.trajectories.empty());
     ASSERT_EQ(done.completed.size(), 1u);
-    EXPECT_EQ(done.completed.at(0).entry.at("energy"), "5");
+    EXPECT_EQ(done.completed.at(0).seconds, 1.25);
+    EXPECT_EQ(done.completed.at(0).criteria.size(), 3u);
     // unreadable
     EXPECT_THROW(read_checkpoint_text(fs::path(::testing::TempDir()), exists), input_error);
     fs::remove(file);
@@ -521,7 +610,7 @@ TEST(ShortEstimator, SpendsTheBudgetOnShortTrajectories) {
     q.options.chaos = false;
     q.estimator = rate_estimator::short_trajectories;
     q.short_time = 3;  // 4000 / 3 -> 1334 trajectories
-    const json j = simulate(m, q);
+    const json j = study_json(*simulate(m, q));
     EXPECT_EQ(j.at("trajectories").get<std::uint64_t>(), 1334u);
     EXPECT_EQ(j.at("time").get<std::string>(), "3");
     EXPECT_EQ(j.at("estimator"), "short");

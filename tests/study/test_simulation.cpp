@@ -3,6 +3,7 @@
 // statistics are consistent with the per-trajectory results it was built from.
 #include "flipflux/core/error.hpp"
 #include "flipflux/study/simulation.hpp"
+#include "flipflux/study/study_files.hpp"
 #include "support.hpp"
 
 namespace flipflux::test {
@@ -52,7 +53,8 @@ TEST(Simulation, ReportMatchesTheEnsemble) {
     q.options.seed = 4;
     q.options.rtol = 1e-8;
     q.options.threads = 2;
-    const auto j = simulate(m, q);
+    const study_result result = *simulate(m, q);
+    const auto j = study_json(result);
     ensemble_options o = q.options;
     o.energy = 4.5;
     const pendulum_flow flow(m);
@@ -64,11 +66,20 @@ TEST(Simulation, ReportMatchesTheEnsemble) {
         std::uint64_t flips = 0;
         for (const auto& t : r.trajectories)
             flips += t.flips(c);
+        const criterion_result& x = result.energies.at(0).criteria.at(c);
+        EXPECT_EQ(x.statistics.criterion, q.criteria[c]);
+        EXPECT_EQ(x.statistics.flips, flips);
+        EXPECT_NEAR(x.statistics.rates.mean, flips / (16.0 * 20), 1e-15);
+        ASSERT_TRUE(x.prediction.has_value());
+        EXPECT_EQ(x.statistics.predicted_rate, x.prediction->value);
+        // the JSON report carries the same numbers as decimal strings
         const auto& s = j["energies"][0]["criteria"][q.criteria[c]];
         EXPECT_EQ(s["flips"].get<std::uint64_t>(), flips);
-        EXPECT_NEAR(std::stod(s["mean_rate"].get<std::string>()), flips / (16.0 * 20), 1e-15);
-        EXPECT_FALSE(s["predicted_rate"].is_null());
+        EXPECT_EQ(std::stod(s["mean_rate"].get<std::string>()), x.statistics.rates.mean);
+        EXPECT_EQ(s["prediction_method"].get<std::string>(), x.prediction->method);
     }
+    ASSERT_EQ(result.quality.size(), 2u);
+    EXPECT_EQ(result.quality[0].all_trajectories.at(0).regime, "full");
     EXPECT_EQ(j["quality"]["upright"]["all_trajectories"][0]["regime"], "full");
 }
 

@@ -62,6 +62,7 @@ struct criterion_statistics {
     std::size_t chaotic = 0;    ///< trajectories classified chaotic
     double chaotic_fraction = 0;
     summary_statistics chaotic_rates;
+    double chaotic_z_score = 0;  ///< z of the chaotic sub-ensemble's mean
     residence_statistics residence;
     histogram rate_distribution;
 };

@@ -6,7 +6,7 @@
 //   line 1   "flipflux-checkpoint <json>"  the run's identity: format, flipflux version, model,
 //            arm, criteria, energies, trajectories, first index, time, seed, method, tolerances,
 //            chaos options, bins, estimator (everything the results depend on);
-//   "E <k> <json>"  energy k completed: its report entry and quality samples;
+//   "E <k> <fields>"  energy k completed: its statistics (energy_record);
 //   "T <k> <fields>"  one finished trajectory of energy k (trajectory_record).
 // Real numbers are written by std::to_chars in the shortest form that reads back to the same
 // double (std::from_chars), so a resumed run reproduces every bit of an uninterrupted one.
@@ -27,10 +27,11 @@
 #include <vector>
 
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/study/study_result.hpp"
 
 namespace flipflux {
 
-inline constexpr int checkpoint_format_version = 1;
+inline constexpr int checkpoint_format_version = 2;
 
 /// FNV-1a, 64 bits.
 std::uint64_t fnv1a64(std::string_view text);
@@ -43,17 +44,19 @@ std::string trajectory_record(std::size_t energy, const trajectory_result& r);
 trajectory_result parse_trajectory_record(std::string_view line, std::size_t criteria,
                                           std::size_t& energy);
 
-/// A completed energy as stored: its report entry and, per criterion, the quality samples
-/// (energy, simulated, predicted, spread) over all and over chaotic trajectories (null: none).
-struct completed_energy {
-    nlohmann::ordered_json entry;
-    nlohmann::ordered_json quality;
-};
+/// One line (with its hash and the newline) holding completed energy k: its timing, counts and
+/// every criterion's statistics, exactly; and back. The label, energy and predictions are not
+/// stored (the run's request and setup give them): parsing leaves them empty.
+std::string energy_record(std::size_t energy, const energy_result& e);
+/// Parses a line written by energy_record (without the newline; the hash is checked). Throws
+/// std::runtime_error describing the defect.
+energy_result parse_energy_record(std::string_view line, std::size_t criteria,
+                                  std::size_t& energy);
 
 /// What a checkpoint holds.
 struct checkpoint_content {
     bool exists = false;
-    std::map<std::size_t, completed_energy> completed;
+    std::map<std::size_t, energy_result> completed;
     /// energy -> (index -> result)
     std::map<std::size_t, std::map<std::uint64_t, trajectory_result>> trajectories;
     bool torn = false;  ///< the last line was incomplete or damaged and was dropped
@@ -84,7 +87,7 @@ class checkpoint_writer {
     /// Writes the queued lines now.
     void flush();
     /// Energy k is complete: rewrites the file atomically as the header plus the E lines.
-    void complete(std::size_t energy, const completed_energy& done);
+    void complete(std::size_t energy, const energy_result& done);
     std::uint64_t saved_trajectories() const { return saved_; }
 
   private:

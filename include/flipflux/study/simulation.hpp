@@ -1,34 +1,21 @@
 // A complete Monte Carlo study as `flipflux simulate` and scenes run it: for each energy an
-// ensemble with every requested criterion, its statistics (ensemble/statistics.hpp) as a JSON
-// report, optional CSVs, and over the energies the IQI and PQI per regime. Every input is checked
-// and every curve (saddle orbits included) built before any trajectory is integrated.
-//
-// JSON: {"command", "arm", "trajectories", "first_index", "time", "seed", "method", "rtol",
-// "atol", "chaos": {indicator, threshold, threshold_rate, classification_reliable},
-// "energies": [{energy, seconds, threads, steps_per_trajectory, failed_trajectories,
-// max_energy_drift, criteria: {name: {predicted_rate, prediction_method, mean_rate, std,
-// standard_error, z_score, flips, chaotic_fraction, max_energy_drift, chaotic: {...},
-// residence_times: {...}, rate_histogram: {...}}}}], "quality": {name: {all_trajectories,
-// chaotic_trajectories}}, "regimes"}; every real number a decimal string with all digits of
-// double (null where undefined, e.g. a z-score without prediction).
-// CSV (in csv_dir, each file written atomically), per energy label L and criterion C:
-// trajectories_EL.csv (index, lyapunov, chaotic, max_energy_drift, steps, status, flips_C,
-// rate_C...), residence_EL_C.csv (trajectory, crossing_time, residence_time),
-// rate_histogram_EL_C.csv and residence_histogram_EL_C.csv (bin_lower, bin_upper, count,
-// density), samples_EL.csv with options.sample_interval > 0 (trajectory, t, theta1, theta2, l1,
-// l2).
+// ensemble with every requested criterion and its statistics against the prediction
+// (ensemble/statistics.hpp), and over the energies the IQI and PQI per regime; the result is data
+// (study/study_result.hpp), written as JSON and CSV by study/study_files.hpp. Every input is
+// checked and every curve (saddle orbits included) built before any trajectory is integrated;
+// runs resume from checkpoints (study/checkpoint.hpp) and spread over MPI processes.
 #pragma once
 
 #include <filesystem>
 #include <functional>
-#include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "flipflux/core/names.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/study/study_result.hpp"
 
 namespace flipflux {
 
@@ -46,19 +33,6 @@ class process_group {
     virtual std::vector<std::string> gather(const std::string& text) = 0;
     /// Whether `flag` is true on any rank (on every rank).
     virtual bool any(bool flag) = 0;
-};
-
-/// Estimators of the mean rate (docs/scale.md): `long` integrates `trajectories` trajectories
-/// of length `time` (the paper's); `short` spends the same budget (trajectories x time units) on
-/// ceil(trajectories * time / short_time) trajectories of length short_time. The crossing count
-/// of the invariant ensemble is exact for any length, so both are unbiased.
-enum class rate_estimator { long_trajectories, short_trajectories };
-template <>
-struct enum_table<rate_estimator> {
-    static constexpr std::string_view noun = "an estimator";
-    static constexpr std::array<std::pair<rate_estimator, std::string_view>, 2> entries{
-        {{rate_estimator::long_trajectories, "long"},
-         {rate_estimator::short_trajectories, "short"}}};
 };
 
 /// Progress of a study: trajectories finished (including those read from a checkpoint) of the
@@ -100,11 +74,12 @@ struct simulation_request {
     std::function<void(const simulation_progress&)> progress;
 };
 
-/// Runs the study. Throws input_error for bad input (naming the option) before integrating, and
+/// Runs the study. Throws input_error for bad input (naming the field) before integrating, and
 /// simulation_interrupted when options.stop is set during the run. With a process group, only
-/// rank 0 returns the report (the others return null).
-nlohmann::ordered_json simulate(const double_pendulum<double>& model,
-                                const simulation_request& request);
+/// rank 0 returns the result (the others return nothing). The per-energy CSVs are written to
+/// request.csv_dir as each energy completes (study/study_files.hpp).
+std::optional<study_result> simulate(const double_pendulum<double>& model,
+                                     const simulation_request& request);
 
 /// "5", "2.5,3,3.5" or "FROM:TO:STEP" items (a grid by the one grid rule, core/decimal.hpp's
 /// decimal_grid: TO - FROM a multiple of STEP, at most 1e5 values), in order, each with its decimal

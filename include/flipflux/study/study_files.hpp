@@ -1,0 +1,40 @@
+// The formats of a study's results (study/study_result.hpp): its JSON report and the per-energy
+// CSV files. Every real number is a decimal string with all the digits of double (null where
+// undefined, e.g. a z-score without prediction).
+//
+// JSON: {"command": "simulate", "arm", "trajectories", "first_index", "time", "seed", "method",
+// "rtol", "atol", "estimator", ["budget": {trajectories, time}], "chaos": {indicator, threshold,
+// threshold_rate, classification_reliable}, "energies": [{energy, [seconds, threads,
+// processes], steps_per_trajectory, failed_trajectories, energy_check_rejections,
+// max_energy_drift, criteria: {name: {predicted_rate, prediction_method, mean_rate, std,
+// standard_error, z_score, flips, chaotic_fraction, max_energy_drift, chaotic: {trajectories,
+// mean_rate, std, standard_error, z_score}, residence_times: {count, min, q0.001, q0.01, median,
+// mean}, rate_histogram: {lower, upper, bin_width, counts}}}}], "quality": {name:
+// {all_trajectories, chaotic_trajectories: [{regime, energies, IQI, PQI}]}}, "regimes": [{regime,
+// lower, upper}]}.
+//
+// CSV (in a directory, each file written atomically), per energy label L and criterion C:
+// trajectories_EL.csv (index, lyapunov, chaotic, max_energy_drift, steps,
+// energy_check_rejections, status, flips_C, rate_C...), residence_EL_C.csv (trajectory,
+// crossing_time, residence_time), rate_histogram_EL_C.csv and residence_histogram_EL_C.csv
+// (bin_lower, bin_upper, count, density), samples_EL.csv when trajectories were sampled
+// (trajectory, t, theta1, theta2, l1, l2).
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/study/study_result.hpp"
+
+namespace flipflux {
+
+/// The JSON report of a study.
+nlohmann::ordered_json study_json(const study_result& result);
+
+/// The CSV files of one energy: its trajectories (the ensemble) and its statistics (`summary`).
+/// Throws input_error naming csv_dir when a file cannot be written.
+void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& ensemble,
+                       const energy_result& summary);
+
+}  // namespace flipflux

@@ -1,0 +1,80 @@
+// What a Monte Carlo study (study/simulation.hpp) finds, as data: per energy and criterion the
+// prediction and the ensemble's statistics against it (ensemble/statistics.hpp), and over the
+// energies the quality indices per regime (paper Sec. 5.6). Formats live at the edge:
+// study/study_files.hpp writes it as JSON and the per-energy CSVs, study/checkpoint.hpp stores
+// completed energies exactly.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "flipflux/core/names.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/ensemble/statistics.hpp"
+#include "flipflux/quantities/registry.hpp"
+
+namespace flipflux {
+
+/// Estimators of the mean rate (docs/scale.md): `long` integrates `trajectories` trajectories
+/// of length `time` (the paper's); `short` spends the same budget (trajectories x time units) on
+/// ceil(trajectories * time / short_time) trajectories of length short_time. The crossing count
+/// of the invariant ensemble is exact for any length, so both are unbiased.
+enum class rate_estimator { long_trajectories, short_trajectories };
+template <>
+struct enum_table<rate_estimator> {
+    static constexpr std::string_view noun = "an estimator";
+    static constexpr std::array<std::pair<rate_estimator, std::string_view>, 2> entries{
+        {{rate_estimator::long_trajectories, "long"},
+         {rate_estimator::short_trajectories, "short"}}};
+};
+
+/// One criterion at one energy: its predicted rate (none for a criterion without one) and the
+/// ensemble's statistics against it (statistics.criterion names the criterion).
+struct criterion_result {
+    std::optional<quantity_value<double>> prediction;
+    criterion_statistics statistics;
+};
+
+/// One energy of a study.
+struct energy_result {
+    std::string label;  ///< the energy's decimal text, as requested
+    double energy = 0;
+    double seconds = 0;          ///< wall time of the energy (this run's, or the checkpoint's)
+    int threads = 0;             ///< threads of rank 0
+    int processes = 1;           ///< MPI processes
+    double steps_per_trajectory = 0;
+    std::uint64_t failed_trajectories = 0;     ///< status not ok (ensemble/ensemble.hpp)
+    std::int64_t energy_check_rejections = 0;  ///< steps rejected by the energy check, in total
+    double max_energy_drift = 0;               ///< over all trajectories
+    std::vector<criterion_result> criteria;    ///< in the order of the request
+};
+
+/// The quality indices of one criterion per regime, over all trajectories and over the chaotic
+/// sub-ensemble (the paper's PQI tables use the chaotic trajectories).
+struct criterion_quality {
+    std::vector<quality_indices> all_trajectories, chaotic_trajectories;
+};
+
+/// A completed study.
+struct study_result {
+    arm flip_arm = arm::two;
+    std::vector<std::string> criteria;
+    /// As integrated: the short estimator's trajectories and time; atol resolved; energy unset.
+    ensemble_options options;
+    rate_estimator estimator = rate_estimator::long_trajectories;
+    std::uint64_t budget_trajectories = 0;  ///< the request's trajectories and time (the budget
+    double budget_time = 0;                 ///< the short estimator spends)
+    double chaos_threshold_rate = 0;        ///< the threshold as a rate (statistics.hpp)
+    bool classification_reliable = false;  ///< whether T resolves the threshold
+    bool timing = true;                     ///< whether seconds/threads/processes are reported
+    std::vector<energy_result> energies;
+    std::vector<criterion_quality> quality;  ///< per criterion, in the order of `criteria`
+    std::vector<energy_regime> regimes;      ///< the regimes of `quality` (paper_regimes)
+};
+
+}  // namespace flipflux

@@ -1,0 +1,200 @@
+// A study's results as JSON and CSV (include/flipflux/study/study_files.hpp).
+#include "flipflux/study/study_files.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/io/atomic_file.hpp"
+
+namespace flipflux {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+json number(double x) {
+    return std::isfinite(x) ? json(to_decimal(x)) : json(nullptr);
+}
+
+json histogram_json(const histogram& h) {
+    return json{{"lower", to_decimal(h.lower)},
+                {"upper", to_decimal(h.upper)},
+                {"bin_width", to_decimal(h.bin_width())},
+                {"counts", h.counts}};
+}
+
+json criterion_json(const criterion_result& c, double max_energy_drift) {
+    const criterion_statistics& st = c.statistics;
+    const auto& p = c.prediction;
+    json j{{"predicted_rate", number(st.predicted_rate)},
+           {"prediction_method", p ? json(p->method) : json(nullptr)},
+           {"mean_rate", number(st.rates.mean)},
+           {"std", number(st.rates.standard_deviation)},
+           {"standard_error", number(st.rates.standard_error)},
+           {"z_score", number(st.z_score)},
+           {"flips", st.flips},
+           {"chaotic_fraction", number(st.chaotic_fraction)},
+           {"max_energy_drift", to_decimal(max_energy_drift)}};
+    j["chaotic"] = json{{"trajectories", st.chaotic_rates.count},
+                        {"mean_rate", number(st.chaotic_rates.mean)},
+                        {"std", number(st.chaotic_rates.standard_deviation)},
+                        {"standard_error", number(st.chaotic_rates.standard_error)},
+                        {"z_score", number(st.chaotic_z_score)}};
+    const residence_statistics& r = st.residence;
+    j["residence_times"] = json{{"count", r.summary.count},   {"min", number(r.summary.minimum)},
+                                {"q0.001", number(r.q001)},   {"q0.01", number(r.q01)},
+                                {"median", number(r.median)}, {"mean", number(r.summary.mean)}};
+    j["rate_histogram"] = histogram_json(st.rate_distribution);
+    return j;
+}
+
+json energy_json(const energy_result& e, bool timing) {
+    json j{{"energy", e.label}};
+    if (timing) {
+        j["seconds"] = e.seconds;
+        j["threads"] = e.threads;
+        j["processes"] = e.processes;
+    }
+    j["steps_per_trajectory"] = e.steps_per_trajectory;
+    j["failed_trajectories"] = e.failed_trajectories;
+    j["energy_check_rejections"] = e.energy_check_rejections;
+    j["max_energy_drift"] = to_decimal(e.max_energy_drift);
+    json per_criterion = json::object();
+    for (const criterion_result& c : e.criteria)
+        per_criterion[c.statistics.criterion] = criterion_json(c, e.max_energy_drift);
+    j["criteria"] = per_criterion;
+    return j;
+}
+
+json quality_table(const std::vector<quality_indices>& table) {
+    json arr = json::array();
+    for (const quality_indices& q : table)
+        if (q.energies > 0)
+            arr.push_back(json{{"regime", q.regime},
+                               {"energies", q.energies},
+                               {"IQI", number(q.iqi)},
+                               {"PQI", number(q.pqi)}});
+    return arr;
+}
+
+void write_atomically(const std::filesystem::path& path, const std::string& content) {
+    try {
+        write_file_atomically(path, content);
+    } catch (const std::runtime_error&) {
+        throw input_error::about("csv_dir", "cannot write '" + path.string() + "'");
+    }
+}
+
+std::string histogram_csv(const histogram& h, std::uint64_t total) {
+    std::string s = "bin_lower,bin_upper,count,density\n";
+    for (std::size_t i = 0; i < h.counts.size(); ++i) {
+        const double lo = h.lower + h.bin_width() * static_cast<double>(i);
+        const double density =
+            total ? static_cast<double>(h.counts[i]) / (static_cast<double>(total) * h.bin_width())
+                  : 0.0;
+        s += to_decimal(lo) + "," + to_decimal(lo + h.bin_width()) + "," +
+             std::to_string(h.counts[i]) + "," + to_decimal(density) + "\n";
+    }
+    return s;
+}
+
+std::string trajectories_csv(const ensemble_result& r) {
+    std::string t = "index,lyapunov,chaotic,max_energy_drift,steps,energy_check_rejections,status";
+    for (const std::string& c : r.criteria)
+        t += ",flips_" + c + ",rate_" + c;
+    t += "\n";
+    for (const trajectory_result& x : r.trajectories) {
+        t += std::to_string(x.index) + "," +
+             (std::isnan(x.lyapunov) ? "" : to_decimal(x.lyapunov)) + "," +
+             (x.chaotic ? "1" : "0") + "," + to_decimal(x.max_energy_drift) + "," +
+             std::to_string(x.steps) + "," + std::to_string(x.energy_check_rejections) + "," +
+             to_string(x.status);
+        for (std::size_t c = 0; c < r.criteria.size(); ++c)
+            t += "," + std::to_string(x.flips(c)) + "," +
+                 to_decimal(static_cast<double>(x.flips(c)) / r.time);
+        t += "\n";
+    }
+    return t;
+}
+
+std::string samples_csv(const ensemble_result& r) {
+    std::string smp = "trajectory,t,theta1,theta2,l1,l2\n";
+    for (const trajectory_result& x : r.trajectories)
+        for (const auto& v : x.samples) {
+            smp += std::to_string(x.index);
+            for (double c : v)
+                smp += "," + to_decimal(c);
+            smp += "\n";
+        }
+    return smp;
+}
+
+std::string residence_csv(const ensemble_result& r, std::size_t c) {
+    std::string res = "trajectory,crossing_time,residence_time\n";
+    for (const trajectory_result& x : r.trajectories) {
+        const auto& times = x.crossing_times[c];
+        for (std::size_t i = 1; i < times.size(); ++i)
+            res += std::to_string(x.index) + "," + to_decimal(times[i]) + "," +
+                   to_decimal(times[i] - times[i - 1]) + "\n";
+    }
+    return res;
+}
+
+}  // namespace
+
+json study_json(const study_result& s) {
+    const ensemble_options& o = s.options;
+    json out{{"command", "simulate"},          {"arm", to_string(s.flip_arm)},
+             {"trajectories", o.trajectories}, {"first_index", o.first_index},
+             {"time", to_decimal(o.time)},     {"seed", o.seed},
+             {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
+             {"atol", to_decimal(o.atol)},     {"estimator", to_string(s.estimator)}};
+    if (s.estimator == rate_estimator::short_trajectories)
+        out["budget"] =
+            json{{"trajectories", s.budget_trajectories}, {"time", to_decimal(s.budget_time)}};
+    out["chaos"] =
+        json{{"indicator",
+              o.chaos ? "finite-time maximal Lyapunov exponent (variational equations)" : "none"},
+             {"threshold", to_decimal(o.chaos_threshold)},
+             {"threshold_rate", to_decimal(s.chaos_threshold_rate)},
+             {"classification_reliable", s.classification_reliable}};
+    json energies = json::array();
+    for (const energy_result& e : s.energies)
+        energies.push_back(energy_json(e, s.timing));
+    out["energies"] = energies;
+    json quality = json::object();
+    for (std::size_t c = 0; c < s.criteria.size() && c < s.quality.size(); ++c)
+        quality[s.criteria[c]] = json{{"all_trajectories", quality_table(s.quality[c].all_trajectories)},
+                                      {"chaotic_trajectories",
+                                       quality_table(s.quality[c].chaotic_trajectories)}};
+    out["quality"] = quality;
+    json regimes = json::array();
+    for (const energy_regime& g : s.regimes)
+        if (std::isfinite(g.lower))
+            regimes.push_back(json{{"regime", g.name},
+                                   {"lower", to_decimal(g.lower)},
+                                   {"upper", to_decimal(g.upper)}});
+    out["regimes"] = regimes;
+    return out;
+}
+
+void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& r,
+                       const energy_result& summary) {
+    const std::string& label = summary.label;
+    write_atomically(dir / ("trajectories_E" + label + ".csv"), trajectories_csv(r));
+    if (!r.trajectories.empty() && !r.trajectories.front().samples.empty())
+        write_atomically(dir / ("samples_E" + label + ".csv"), samples_csv(r));
+    for (std::size_t c = 0; c < r.criteria.size(); ++c) {
+        const std::string& name = r.criteria[c];
+        const criterion_statistics& st = summary.criteria.at(c).statistics;
+        write_atomically(dir / ("residence_E" + label + "_" + name + ".csv"), residence_csv(r, c));
+        write_atomically(dir / ("rate_histogram_E" + label + "_" + name + ".csv"),
+                         histogram_csv(st.rate_distribution, st.rates.count));
+        write_atomically(dir / ("residence_histogram_E" + label + "_" + name + ".csv"),
+                         histogram_csv(st.residence.distribution, st.residence.summary.count));
+    }
+}
+
+}  // namespace flipflux
