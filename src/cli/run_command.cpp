@@ -1,5 +1,7 @@
 // flipflux run [--dry-run] SCENE: compute what a scene file asks for, and nothing else.
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "common.hpp"
@@ -8,6 +10,19 @@
 
 namespace flipflux::cli {
 namespace {
+
+/// The report generator: $FLIPFLUX_REPORT_SCRIPT, else share/flipflux/report/make_report.py
+/// beside the executable (build tree) or in ../share (installed); empty when none exists.
+std::filesystem::path find_report_script() {
+    if (const char* env = std::getenv("FLIPFLUX_REPORT_SCRIPT"); env && *env) return env;
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return {};
+    const std::filesystem::path relative = "share/flipflux/report/make_report.py";
+    for (const std::filesystem::path& root : {exe.parent_path(), exe.parent_path().parent_path()})
+        if (std::filesystem::is_regular_file(root / relative, ec)) return root / relative;
+    return {};
+}
 
 struct run_state {
     std::string file;
@@ -46,6 +61,14 @@ const register_command registration([](CLI::App& app) {
         run_options options;
         options.threads = s->threads;
         options.checkpoint_interval = s->checkpoint_interval;
+        if (sc.report) {  // refused now rather than after the computation
+            options.report_script = find_report_script();
+            if (options.report_script.empty())
+                throw input_error(
+                    "the scene has a [report] but the report generator make_report.py is not "
+                    "installed beside this executable (share/flipflux/report/) and "
+                    "FLIPFLUX_REPORT_SCRIPT is not set");
+        }
         if (!s->no_cache)
             options.cache_dir =
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);

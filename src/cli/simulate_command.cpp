@@ -189,7 +189,7 @@ struct simulate_state {
                         seed = "0", rtol = "1e-10", threads = "0", csv_dir, method = "dop853",
                         chaos_threshold = "0.05", first_index = "0", bins = "0",
                         sample_interval = "0", checkpoint, checkpoint_interval = "2",
-                        estimator = "long", short_time = "20";
+                        estimator = "long", short_time = "20", reference_time = "0";
     bool no_chaos = false, progress = false, no_timing = false;
     model_options model;
 };
@@ -234,6 +234,7 @@ simulation_request make_request(const simulate_state& s) {
     q.checkpoint_interval = parse_real<double>(s.checkpoint_interval, "--checkpoint-interval");
     q.estimator = parse_name<rate_estimator>(s.estimator, "--estimator");
     q.short_time = parse_positive(s.short_time, "--short-time");
+    q.reference_time = parse_real<double>(s.reference_time, "--reference-time");
     q.timing = !s.no_timing;
     return q;
 }
@@ -327,6 +328,10 @@ const register_command registration([](CLI::App& app) {
                     "trajectories of length --short-time")
         ->capture_default_str();
     sub->add_option("--short-time", s->short_time, "trajectory length of --estimator short")
+        ->capture_default_str();
+    sub->add_option("--reference-time", s->reference_time,
+                    "also estimate the PQI for trajectories of this length (S scaled by "
+                    "sqrt(time / reference); 0: not)")
         ->capture_default_str();
     sub->add_flag("--progress", s->progress,
                   "progress bar on stderr (default: only when stderr is a terminal)");

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <stdexcept>
 
 namespace flipflux {
@@ -135,24 +136,74 @@ std::vector<energy_regime> paper_regimes(const double_pendulum<double>& model, a
     return r;
 }
 
+namespace {
+
+/// Root mean squares of R and S over the samples, S^2 scaled by `scale`.
+double rms_index(const std::vector<double>& R, const std::vector<double>& S, double scale) {
+    double sum = 0;
+    for (std::size_t i = 0; i < R.size(); ++i)
+        sum += R[i] * R[i] + scale * S[i] * S[i];
+    return std::sqrt(sum / static_cast<double>(R.size()));
+}
+
+double sample_sd(const std::vector<double>& v) {
+    return summarize(v).standard_deviation;
+}
+
+}  // namespace
+
 std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
-                                     const std::vector<energy_regime>& regimes) {
+                                     const std::vector<energy_regime>& regimes,
+                                     double spread_scale) {
+    constexpr int resamples = 2000;
     std::vector<quality_indices> out;
     for (const energy_regime& g : regimes) {
+        const std::uint64_t seed = 0x51a7157ULL + out.size();  // fixed per regime
         quality_indices q;
         q.regime = g.name;
-        double r2 = 0, s2 = 0;
+        std::vector<const quality_sample*> in;
+        double r2 = 0, s2 = 0, floor2 = 0;
         for (const quality_sample& x : samples) {
             if (!(x.energy >= g.lower && x.energy < g.upper)) continue;
+            if (!(x.predicted > 0) || !std::isfinite(x.predicted) || !std::isfinite(x.simulated))
+                continue;
             const double R = std::abs(x.simulated / x.predicted - 1);
             const double S = x.spread / x.predicted;
             r2 += R * R;
             s2 += S * S;
+            floor2 += (x.standard_error / x.predicted) * (x.standard_error / x.predicted);
+            in.push_back(&x);
             ++q.energies;
         }
         const double n = static_cast<double>(q.energies);
         q.iqi = q.energies ? std::sqrt(r2 / n) : nan;
         q.pqi = q.energies ? std::sqrt((r2 + s2) / n) : nan;
+        q.noise_floor = q.energies ? std::sqrt(floor2 / n) : nan;
+        q.rms_spread = q.energies ? std::sqrt(s2 / n) : nan;
+        q.pqi_reference =
+            q.energies && spread_scale > 0 ? std::sqrt((r2 + spread_scale * s2) / n) : nan;
+        q.iqi_sd = q.pqi_sd = q.pqi_reference_sd = nan;
+        if (q.energies) {
+            // the parametric bootstrap, seeded per regime: the same numbers every run
+            std::mt19937_64 engine(seed);
+            std::normal_distribution<double> normal;
+            std::vector<double> iqi(resamples), pqi(resamples), ref(resamples), R(in.size()),
+                S(in.size());
+            for (int b = 0; b < resamples; ++b) {
+                for (std::size_t i = 0; i < in.size(); ++i) {
+                    const quality_sample& x = *in[i];
+                    const double dof = std::max(1.0, static_cast<double>(x.trajectories) - 1);
+                    R[i] = (x.simulated + x.standard_error * normal(engine)) / x.predicted - 1;
+                    S[i] = x.spread * (1 + normal(engine) / std::sqrt(2 * dof)) / x.predicted;
+                }
+                iqi[static_cast<std::size_t>(b)] = rms_index(R, S, 0);
+                pqi[static_cast<std::size_t>(b)] = rms_index(R, S, 1);
+                ref[static_cast<std::size_t>(b)] = rms_index(R, S, spread_scale);
+            }
+            q.iqi_sd = sample_sd(iqi);
+            q.pqi_sd = sample_sd(pqi);
+            if (spread_scale > 0) q.pqi_reference_sd = sample_sd(ref);
+        }
         out.push_back(q);
     }
     return out;

@@ -245,6 +245,7 @@ void run_ensemble(context& ctx, const plan_step& step) {
     o.chaos = x.chaos;
     o.threads = ctx.options.threads;
     request.estimator = parse_name<rate_estimator>(x.estimator, where + ": estimator");
+    request.reference_time = parse_real<double>(x.reference_time, where + ": reference_time");
     const std::string base = "ensemble-" + x.name;
     request.csv_dir = ctx.s.output / base;  // per-trajectory CSVs always (the report reads them)
     // an interrupted run resumes where it stopped (finished trajectories are not integrated
@@ -329,10 +330,12 @@ void run_report(context& ctx, double seconds_so_far) {
     // run.json first: the report reads it
     ctx.summary["seconds"] = seconds_so_far;
     ctx.write("run.json", ctx.summary.dump(2) + "\n");
-    const std::filesystem::path script =
-        std::filesystem::path(FLIPFLUX_SOURCE_DIR) / "src" / "report" / "make_report.py";
-    if (!std::filesystem::exists(script))
-        throw std::runtime_error("report: the report generator " + script.string() + " is missing");
+    const std::filesystem::path& script = ctx.options.report_script;
+    if (script.empty() || !std::filesystem::is_regular_file(script))
+        throw std::runtime_error(
+            "report: the report generator make_report.py was not found" +
+            (script.empty() ? std::string() : " at '" + script.string() + "'") +
+            " (it is installed beside the executable: share/flipflux/report/)");
     const std::string command = "python3 '" + script.string() + "' --run-dir '" +
                                 ctx.s.output.string() + "' --out '" + r.dir + "'";
     ctx.log << "  " << command << "\n";

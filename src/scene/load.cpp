@@ -274,6 +274,12 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
                "'" + x.estimator + "' is not an estimator (long, short)");
     }
     x.chaos = r.boolean("chaos").value_or(false);
+    x.reference_time = r.number("reference_time").value_or(x.reference_time);
+    if (x.reference_time.front() == '-' ||
+        !(parse_real<double>(x.reference_time, "reference_time") >= 0)) {
+        r.fail(r.get("reference_time"), "reference_time",
+               "'" + x.reference_time + "' must be >= 0");
+    }
     x.residence_times = r.boolean("residence_times").value_or(false);
     x.histogram = r.boolean("histogram").value_or(false);
     const std::string time_text = x.time;

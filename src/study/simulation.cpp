@@ -126,6 +126,9 @@ ensemble_options checked_options(const simulation_request& request, const proces
             "sample_interval", "'" + to_decimal(o.sample_interval) +
                                    "' cannot be combined with a checkpoint or MPI (samples are not "
                                    "checkpointed or gathered)");
+    if (!(request.reference_time >= 0) || !std::isfinite(request.reference_time))
+        throw input_error::about("reference_time", "'" + to_decimal(request.reference_time) +
+                                                       "' is invalid (must be finite and >= 0)");
     if (!(request.checkpoint_interval >= 0))
         throw input_error::about(
             "checkpoint_interval",
@@ -226,6 +229,7 @@ study_result result_head(const double_pendulum<double>& model, const simulation_
     out.classification_reliable =
         o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time);
     out.timing = request.timing;
+    out.reference_time = request.reference_time;
     return out;
 }
 
@@ -251,9 +255,10 @@ void receive_trajectories(const std::vector<std::string>& incoming, std::size_t 
 
 /// One energy's result from its finished ensemble: drift and step counts, and per criterion the
 /// statistics against the prediction.
-energy_result summarise_energy(const ensemble_result& r, const std::string& label,
-                               const simulation_request& request, const process_group& group,
-                               const std::vector<std::optional<quantity_value<double>>>& predictions) {
+energy_result summarise_energy(
+    const ensemble_result& r, const std::string& label, const simulation_request& request,
+    const process_group& group,
+    const std::vector<std::optional<quantity_value<double>>>& predictions) {
     energy_result e;
     e.label = label;
     e.energy = r.energy;
@@ -267,7 +272,8 @@ energy_result summarise_energy(const ensemble_result& r, const std::string& labe
         e.failed_trajectories += t.status != rk_status::ok;
         e.energy_check_rejections += t.energy_check_rejections;
     }
-    e.steps_per_trajectory = static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
+    e.steps_per_trajectory =
+        static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
     for (std::size_t c = 0; c < request.criteria.size(); ++c) {
         const auto& p = predictions[c];
         e.criteria.push_back({p, analyze(r, c, p ? p->value : nan, request.bins, request.bins)});
@@ -287,12 +293,15 @@ void add_quality(study_result& out, const double_pendulum<double>& model) {
             if (!x.prediction) continue;
             const criterion_statistics& st = x.statistics;
             all.push_back({e.energy, st.rates.mean, x.prediction->value,
-                           st.rates.standard_deviation});
+                           st.rates.standard_deviation, st.rates.standard_error, st.rates.count});
             if (st.chaotic > 0)
                 chaotic.push_back({e.energy, st.chaotic_rates.mean, x.prediction->value,
-                                   st.chaotic_rates.standard_deviation});
+                                   st.chaotic_rates.standard_deviation,
+                                   st.chaotic_rates.standard_error, st.chaotic_rates.count});
         }
-        out.quality.push_back({quality(all, out.regimes), quality(chaotic, out.regimes)});
+        const double scale = out.reference_time > 0 ? out.options.time / out.reference_time : 0;
+        out.quality.push_back(
+            {quality(all, out.regimes, scale), quality(chaotic, out.regimes, scale)});
     }
 }
 
@@ -414,7 +423,8 @@ std::optional<study_result> simulate(const double_pendulum<double>& model,
         ensemble_result r = collect(o, names, b.threads, have);
         saved.trajectories.erase(k);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        energy_result e = summarise_energy(r, energies[k].first, request, group, setup.predictions[k]);
+        energy_result e =
+            summarise_energy(r, energies[k].first, request, group, setup.predictions[k]);
         if (!request.csv_dir.empty()) write_energy_csvs(request.csv_dir, r, e);
         if (writer) writer->complete(k, e);
         out.energies.push_back(std::move(e));

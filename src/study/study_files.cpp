@@ -68,14 +68,24 @@ json energy_json(const energy_result& e, bool timing) {
     return j;
 }
 
-json quality_table(const std::vector<quality_indices>& table) {
+json quality_table(const std::vector<quality_indices>& table, double reference_time) {
     json arr = json::array();
-    for (const quality_indices& q : table)
-        if (q.energies > 0)
-            arr.push_back(json{{"regime", q.regime},
-                               {"energies", q.energies},
-                               {"IQI", number(q.iqi)},
-                               {"PQI", number(q.pqi)}});
+    for (const quality_indices& q : table) {
+        if (q.energies == 0) continue;
+        json j{{"regime", q.regime},
+               {"energies", q.energies},
+               {"IQI", number(q.iqi)},
+               {"PQI", number(q.pqi)},
+               {"IQI_sd", number(q.iqi_sd)},
+               {"PQI_sd", number(q.pqi_sd)},
+               {"noise_floor", number(q.noise_floor)},
+               {"rms_S", number(q.rms_spread)}};
+        if (reference_time > 0)
+            j["reference"] = json{{"time", to_decimal(reference_time)},
+                                  {"PQI", number(q.pqi_reference)},
+                                  {"PQI_sd", number(q.pqi_reference_sd)}};
+        arr.push_back(j);
+    }
     return arr;
 }
 
@@ -166,9 +176,10 @@ json study_json(const study_result& s) {
     out["energies"] = energies;
     json quality = json::object();
     for (std::size_t c = 0; c < s.criteria.size() && c < s.quality.size(); ++c)
-        quality[s.criteria[c]] = json{{"all_trajectories", quality_table(s.quality[c].all_trajectories)},
-                                      {"chaotic_trajectories",
-                                       quality_table(s.quality[c].chaotic_trajectories)}};
+        quality[s.criteria[c]] = json{
+            {"all_trajectories", quality_table(s.quality[c].all_trajectories, s.reference_time)},
+            {"chaotic_trajectories",
+             quality_table(s.quality[c].chaotic_trajectories, s.reference_time)}};
     out["quality"] = quality;
     json regimes = json::array();
     for (const energy_regime& g : s.regimes)

@@ -119,6 +119,40 @@ TEST(Statistics, QualityIndicesPerRegime) {
     EXPECT_NEAR(q[4].iqi, std::sqrt((0.01 + 0.0009 + 0.25) / 4), 1e-15);
     const auto none = quality({}, g1);
     EXPECT_TRUE(std::isnan(none[0].iqi));
+    EXPECT_TRUE(std::isnan(none[0].iqi_sd));
+}
+
+// The statistical errors of the quality indices. One energy, R = 0.1 >> SE / R_pred = 1e-3: the
+// IQI is |R|, whose bootstrap sd is SE / R_pred (to the bootstrap's own ~1.6 % for 2000
+// resamples: 5 % is 3 sigma); the spread's sd / sqrt(2 (n - 1)) enters the PQI's. Noise floor, RMS
+// S and the PQI at a reference length are exact functions of the samples.
+TEST(Statistics, QualityIndicesCarryTheirStatisticalErrors) {
+    const double_pendulum<double> m;
+    const auto regimes = paper_regimes(m, arm::two);
+    const double p = 0.2, se = 2e-4, spread = 0.04;  // SE / p = 1e-3, S = 0.2
+    const std::size_t n = 201;                       // sd(S) = S / sqrt(400) = 0.01
+    const std::vector<quality_sample> one{{3.0, 1.1 * p, p, spread, se, n}};
+    const auto q = quality(one, regimes, 0.25);
+    const quality_indices& full = q[0];
+    ASSERT_EQ(full.energies, 1u);
+    EXPECT_NEAR(full.iqi, 0.1, 1e-15);
+    EXPECT_NEAR(full.iqi_sd, 1e-3, 0.05e-3);
+    EXPECT_NEAR(full.noise_floor, 1e-3, 1e-15);
+    EXPECT_NEAR(full.rms_spread, 0.2, 1e-15);
+    // PQI = sqrt(R^2 + S^2): sd = sqrt((R sd_R)^2 + (S sd_S)^2) / PQI to first order
+    const double pqi = std::sqrt(0.01 + 0.04);
+    EXPECT_NEAR(full.pqi, pqi, 1e-15);
+    EXPECT_NEAR(full.pqi_sd, std::hypot(0.1 * 1e-3, 0.2 * 0.01) / pqi, 0.05 * full.pqi_sd);
+    EXPECT_NEAR(full.pqi_reference, std::sqrt(0.01 + 0.25 * 0.04), 1e-15);
+    EXPECT_GT(full.pqi_reference_sd, 0);
+    // the same numbers every run (fixed seeds), and no reference without a scale
+    const auto again = quality(one, regimes, 0.25);
+    EXPECT_EQ(again[0].iqi_sd, full.iqi_sd);
+    EXPECT_EQ(again[0].pqi_sd, full.pqi_sd);
+    EXPECT_TRUE(std::isnan(quality(one, regimes)[0].pqi_reference));
+    // a sample without a positive prediction is left out
+    const std::vector<quality_sample> bad{{3.0, 1.0, 0.0, 0.1, 0.01, 10}};
+    EXPECT_EQ(quality(bad, regimes)[0].energies, 0u);
 }
 
 }  // namespace

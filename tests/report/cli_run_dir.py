@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Builds a scene output directory (the run-dir contract of src/report/make_report.py) from the
+"""Builds a scene output directory (the run-dir contract of tools/report/make_report.py) from the
 single-purpose CLI commands (`flipflux model`, `eval`, `orbit`, `simulate`) instead of
 `flipflux run`: an independent stand-in for the scene executor, used to develop the report and to
 cross-check the executor's output.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks of the reproduction report (src/report/make_report.py).
+"""Checks of the reproduction report (tools/report/make_report.py).
 
     test_report.py                                   self-contained: a synthetic run directory
     test_report.py --flipflux BIN --scene SCENE      runs `BIN run SCENE` in a temporary working
@@ -25,7 +25,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
-GENERATOR = os.path.join(REPO, "src", "report", "make_report.py")
+GENERATOR = os.path.join(REPO, "tools", "report", "make_report.py")
 
 # Every figure and table of the paper the report must contain (egalitarian pendulum: the residence
 # times at E = 5 and the rate histogram at E = 5.3).
@@ -86,6 +86,17 @@ def ensemble_json(arm, energies, criteria, deviation, n, t):
                                    "standard_error": repr(0.05 * p / math.sqrt(0.9 * n)),
                                    "z_score": "0"}}
         out["energies"].append({"energy": "%.10g" % e, "seconds": 0.1, "criteria": crit})
+    # flipflux's quality indices as the C++ writes them (the report draws them, computes none):
+    # all trajectories R = deviation, S = 0.1; chaotic R = 0, S = 0.05
+    names = ("full", "low", "central", "high") if arm == 2 else ("full", "low", "high")
+    def table(r, spread):
+        return [{"regime": g, "energies": len(energies), "IQI": repr(abs(r)),
+                 "PQI": repr(math.sqrt(r * r + spread * spread)), "IQI_sd": "0.001",
+                 "PQI_sd": "0.002", "noise_floor": repr(spread / math.sqrt(n)),
+                 "rms_S": repr(spread)} for g in names]
+    for c in criteria:
+        out["quality"][c] = {"all_trajectories": table(deviation, 0.1),
+                             "chaotic_trajectories": table(0.0, 0.05)}
     return out
 
 
@@ -198,7 +209,8 @@ def check_synthetic_values(report):
     full = [r for k, r in iqi.items() if k.startswith("full")][0]
     check(abs(float(full[2]) - 1.0) < 1e-9, "IQI arm 2 = 1 %% (simulated means 1 %% high): %s"
           % full[2])
-    check(full[5] == "1.05", "IQI arm 2 beside the paper's 1.05: %s" % full[5])
+    check(full[4] == "1.05", "IQI arm 2 beside the paper's 1.05: %s" % full[4])
+    check(full[3] == "0.10", "its bootstrap sd from the JSON (0.001 = 0.10 %%): %s" % full[3])
     iqi1 = read_table(report, "iqi-arm1")[1]
     check(abs(float(iqi1[2]) - 2.0) < 1e-9, "IQI arm 1 = 2 %%: %s" % iqi1[2])
     pqi = read_table(report, "pqi-arm2-saddle")[1]  # chaotic: mean = predicted, sd = 5 %

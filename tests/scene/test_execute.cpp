@@ -1,5 +1,8 @@
 // Scene execution: outputs are written, unrequested work is skipped (counted), saddle orbits are
 // continued once and then read back bit-identically from the disk cache.
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -173,6 +176,50 @@ TEST(Execute, DryRunComputesNothingAndErrorsNameTheKey) {
     const auto bad = run_flipflux("run " + (dir / "bad.toml").string());
     EXPECT_EQ(bad.status, 2);
     EXPECT_NE(bad.err.find("bad.toml:5: ensemble[0].trajectories"), std::string::npos) << bad.err;
+    fs::remove_all(dir);
+}
+
+// The report generator is found at run time beside the executable (share/flipflux/report/, as
+// the build tree and `cmake --install` lay it out) or through $FLIPFLUX_REPORT_SCRIPT, never at a
+// source path compiled in: an executable without one refuses a scene with a report before
+// computing anything.
+TEST(Execute, ReportGeneratorIsFoundBesideTheExecutable) {
+    const fs::path dir = fresh_dir("report_lookup");
+    fs::create_directories(dir / "bin");
+    const fs::path exe = dir / "bin" / "flipflux";
+    fs::copy_file(FLIPFLUX_EXE, exe);
+    const fs::path out = dir / "out";
+    {
+        std::ofstream f(dir / "s.toml");
+        f << "[scene]\noutput = \"" << out.string()
+          << "\"\n[predictions]\nquantities = [\"omega\"]\nenergies = [3]\n[report]\ndir = \""
+          << (dir / "report").string() << "\"\n";
+    }
+    const std::string scene = (dir / "s.toml").string();
+    const std::string err = (dir / "err.txt").string();
+    // alone: refused, exit status 2, nothing computed
+    int status = std::system(("env -u FLIPFLUX_REPORT_SCRIPT " + exe.string() + " run --no-cache " +
+                              scene + " >/dev/null 2>" + err)
+                                 .c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    EXPECT_NE(read_text(err).find("report generator make_report.py is not installed"),
+              std::string::npos)
+        << read_text(err);
+    EXPECT_FALSE(fs::exists(out / "predictions.csv"));
+    // beside it, as installed (bin/../share/flipflux/report/): found and run
+    const fs::path script = dir / "share" / "flipflux" / "report" / "make_report.py";
+    fs::create_directories(script.parent_path());
+    {
+        std::ofstream f(script);
+        f << "import sys, os\nout = sys.argv[sys.argv.index('--out') + 1]\n"
+             "os.makedirs(out, exist_ok=True)\nopen(os.path.join(out, 'ran'), 'w').write('yes')\n";
+    }
+    status = std::system(("env -u FLIPFLUX_REPORT_SCRIPT " + exe.string() + " run --no-cache " +
+                          scene + " >/dev/null 2>" + err)
+                             .c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 0) << read_text(err);
+    EXPECT_EQ(read_text(dir / "report" / "ran"), "yes");
+    EXPECT_TRUE(fs::exists(out / "predictions.csv"));
     fs::remove_all(dir);
 }
 

@@ -132,8 +132,8 @@ TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
                same_bits(p.maximum, q.maximum);
     };
     auto same_histogram = [](const histogram& p, const histogram& q) {
-        return same_bits(p.lower, q.lower) && same_bits(p.upper, q.upper) &&
-               p.counts == q.counts && p.underflow == q.underflow && p.overflow == q.overflow;
+        return same_bits(p.lower, q.lower) && same_bits(p.upper, q.upper) && p.counts == q.counts &&
+               p.underflow == q.underflow && p.overflow == q.overflow;
     };
     for (std::size_t c = 0; c < 2; ++c) {
         const criterion_statistics &x = e.criteria[c].statistics, &y = b.criteria[c].statistics;

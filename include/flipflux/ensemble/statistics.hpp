@@ -75,6 +75,8 @@ criterion_statistics analyze(const ensemble_result& result, std::size_t c, doubl
 
 struct quality_sample {
     double energy, simulated, predicted, spread;  ///< spread: trajectory-to-trajectory sd
+    double standard_error = 0;     ///< of `simulated` (the bootstrap's and the noise floor's)
+    std::size_t trajectories = 0;  ///< behind `simulated` (the bootstrap of `spread`)
 };
 
 /// An energy interval [lower, upper).
@@ -92,11 +94,26 @@ std::vector<energy_regime> paper_regimes(const double_pendulum<double>& model, a
 
 struct quality_indices {
     std::string regime;
-    std::size_t energies = 0;  ///< samples in the regime (IQI, PQI are NaN when 0)
+    std::size_t energies = 0;  ///< samples in the regime (the rest is NaN when 0)
     double iqi = 0, pqi = 0;
+    /// Statistical errors: standard deviations over a parametric bootstrap (per energy the
+    /// simulated mean ~ N(mean, standard_error), the spread ~ N(spread, spread / sqrt(2 (n - 1))),
+    /// 2000 resamples, a fixed seed: the same numbers every run).
+    double iqi_sd = 0, pqi_sd = 0;
+    /// sqrt(mean_E (standard_error / R_pred)^2): the IQI of an exact prediction, pure noise.
+    double noise_floor = 0;
+    double rms_spread = 0;  ///< sqrt(mean_E S(E)^2), the spread's share of the PQI
+    /// With a reference length T_ref: the PQI expected for trajectories of that length, S^2
+    /// scaled by T / T_ref (S of time averages falls as 1/sqrt(T) for mixing trajectories; an
+    /// estimate), and its bootstrap sd. NaN without a reference.
+    double pqi_reference = 0, pqi_reference_sd = 0;
 };
 
+/// The quality indices of `samples` per regime (samples without a positive, finite prediction
+/// and a finite simulated rate are left out). `spread_scale` = T / T_ref for pqi_reference
+/// (0: none).
 std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
-                                     const std::vector<energy_regime>& regimes);
+                                     const std::vector<energy_regime>& regimes,
+                                     double spread_scale = 0);
 
 }  // namespace flipflux

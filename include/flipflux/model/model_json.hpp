@@ -1,6 +1,7 @@
 // The model as JSON, every number a decimal string with all the digits of its precision: the
 // nine physical parameters and the Lagrangian coefficients. One layout for the CLI's JSON output
-// (`flipflux model`, `eval`, `simulate`) and the scene's run.json (src/report reads it).
+// (`flipflux model`, `eval`, `simulate`) and the scene's run.json (tools/report/make_report.py
+// reads it).
 #pragma once
 
 #include <nlohmann/json.hpp>

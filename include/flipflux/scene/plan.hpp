@@ -70,6 +70,9 @@ struct run_options {
     /// seconds between appends of finished trajectories to an ensemble's checkpoint (0: after
     /// every trajectory)
     double checkpoint_interval = 2;
+    /// The report generator (tools/report/make_report.py) a [report] table runs; the command
+    /// line finds it beside its executable (empty: a scene with a report is refused).
+    std::filesystem::path report_script;
 };
 
 /// The default cache directory: $FLIPFLUX_CACHE_DIR, else $XDG_CACHE_HOME/flipflux, else

@@ -59,8 +59,9 @@ struct ensemble_spec {
     unsigned long long seed = 1;
     std::string rtol = "1e-10";
     std::string integrator = "dop853";
-    std::string estimator = "long";  ///< "long" (the paper's) or "short"
-    bool chaos = false;              ///< classify trajectories (finite-time Lyapunov exponent)
+    std::string estimator = "long";    ///< "long" (the paper's) or "short"
+    std::string reference_time = "0";  ///< > 0: the PQI also estimated at this length
+    bool chaos = false;                ///< classify trajectories (finite-time Lyapunov exponent)
     bool residence_times = false;
     bool histogram = false;
     int line = 0;

@@ -50,8 +50,7 @@ trajectory_result parse_trajectory_record(std::string_view line, std::size_t cri
 std::string energy_record(std::size_t energy, const energy_result& e);
 /// Parses a line written by energy_record (without the newline; the hash is checked). Throws
 /// std::runtime_error describing the defect.
-energy_result parse_energy_record(std::string_view line, std::size_t criteria,
-                                  std::size_t& energy);
+energy_result parse_energy_record(std::string_view line, std::size_t criteria, std::size_t& energy);
 
 /// What a checkpoint holds.
 struct checkpoint_content {

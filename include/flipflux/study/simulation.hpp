@@ -68,7 +68,10 @@ struct simulation_request {
     double checkpoint_interval = 2;  ///< seconds between appends of finished trajectories
     bool timing = true;              ///< report "seconds" and "threads" (they vary run to run)
     rate_estimator estimator = rate_estimator::long_trajectories;
-    double short_time = 20;          ///< trajectory length of the short estimator
+    double short_time = 20;  ///< trajectory length of the short estimator
+    /// > 0: the quality indices also give the PQI expected at this trajectory length
+    /// (quality_indices::pqi_reference), e.g. the paper's T = 10000 for a shorter run.
+    double reference_time = 0;
     process_group* group = nullptr;  ///< null: a single process
     /// Called (serialised, on rank 0) after each finished trajectory.
     std::function<void(const simulation_progress&)> progress;

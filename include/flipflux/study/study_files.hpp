@@ -10,8 +10,9 @@
 // standard_error, z_score, flips, chaotic_fraction, max_energy_drift, chaotic: {trajectories,
 // mean_rate, std, standard_error, z_score}, residence_times: {count, min, q0.001, q0.01, median,
 // mean}, rate_histogram: {lower, upper, bin_width, counts}}}}], "quality": {name:
-// {all_trajectories, chaotic_trajectories: [{regime, energies, IQI, PQI}]}}, "regimes": [{regime,
-// lower, upper}]}.
+// {all_trajectories, chaotic_trajectories: [{regime, energies, IQI, PQI, IQI_sd, PQI_sd,
+// noise_floor, rms_S, ["reference": {time, PQI, PQI_sd}]}]}}, "regimes": [{regime, lower,
+// upper}]} (quality fields as in ensemble/statistics.hpp's quality_indices, as fractions).
 //
 // CSV (in a directory, each file written atomically), per energy label L and criterion C:
 // trajectories_EL.csv (index, lyapunov, chaotic, max_energy_drift, steps,

@@ -44,9 +44,9 @@ struct criterion_result {
 struct energy_result {
     std::string label;  ///< the energy's decimal text, as requested
     double energy = 0;
-    double seconds = 0;          ///< wall time of the energy (this run's, or the checkpoint's)
-    int threads = 0;             ///< threads of rank 0
-    int processes = 1;           ///< MPI processes
+    double seconds = 0;  ///< wall time of the energy (this run's, or the checkpoint's)
+    int threads = 0;     ///< threads of rank 0
+    int processes = 1;   ///< MPI processes
     double steps_per_trajectory = 0;
     std::uint64_t failed_trajectories = 0;     ///< status not ok (ensemble/ensemble.hpp)
     std::int64_t energy_check_rejections = 0;  ///< steps rejected by the energy check, in total
@@ -70,8 +70,9 @@ struct study_result {
     std::uint64_t budget_trajectories = 0;  ///< the request's trajectories and time (the budget
     double budget_time = 0;                 ///< the short estimator spends)
     double chaos_threshold_rate = 0;        ///< the threshold as a rate (statistics.hpp)
-    bool classification_reliable = false;  ///< whether T resolves the threshold
+    bool classification_reliable = false;   ///< whether T resolves the threshold
     bool timing = true;                     ///< whether seconds/threads/processes are reported
+    double reference_time = 0;  ///< > 0: the PQI at this trajectory length is estimated too
     std::vector<energy_result> energies;
     std::vector<criterion_quality> quality;  ///< per criterion, in the order of `criteria`
     std::vector<energy_regime> regimes;      ///< the regimes of `quality` (paper_regimes)

@@ -82,7 +82,6 @@ REGIME_LABELS = {
 }
 CRITERIA = ("upright", "approx", "saddle")
 COLORS = {"upright": "tab:blue", "approx": "tab:green", "saddle": "tab:red"}
-BOOTSTRAP = 2000
 
 
 class InputError(Exception):
@@ -389,42 +388,13 @@ def regimes(model, a):
     return [("full", es, em), ("low", es, es + 0.3 * d), ("high", es + 0.3 * d, em)]
 
 
-def in_regime(energy, lo, hi):
-    tol = 1e-9
-    return (energy >= lo - tol) & (energy < hi - tol)
-
-
-def quality_indices(series, mask, rng, t_scale=1.0):
-    """IQI and PQI (in %) over the masked energies, with their bootstrap standard deviations
-    (simulated mean ~ N(mean, se), std ~ N(std, std / sqrt(2 (n - 1))) per energy) and the
-    pure-noise IQI floor sqrt(mean (se / R_pred)^2)."""
-    pred, mean, std, se, n = (series[k][mask] for k in ("predicted", "mean", "std", "se", "n"))
-    ok = np.isfinite(pred) & (pred > 0) & np.isfinite(mean)
-    pred, mean, std, se, n = pred[ok], mean[ok], std[ok], se[ok], n[ok]
-    if len(pred) == 0:
-        return None
-    r = mean / pred - 1
-    s = std / pred
-    iqi = 100 * math.sqrt(np.mean(r ** 2))
-    pqi = 100 * math.sqrt(np.mean(r ** 2 + s ** 2))
-    sim_mean = mean + se * rng.standard_normal((BOOTSTRAP, len(mean)))
-    sim_std = std * (1 + rng.standard_normal((BOOTSTRAP, len(std))) / np.sqrt(2 * np.maximum(n - 1, 1)))
-    rb = sim_mean / pred - 1
-    iqi_b = 100 * np.sqrt(np.mean(rb ** 2, axis=1))
-    pqi_b = 100 * np.sqrt(np.mean(rb ** 2 + (sim_std / pred) ** 2, axis=1))
-    pqi_t = 100 * math.sqrt(np.mean(r ** 2 + t_scale * s ** 2))
-    pqi_tb = 100 * np.sqrt(np.mean(rb ** 2 + t_scale * (sim_std / pred) ** 2, axis=1))
-    return {"energies": int(len(pred)), "iqi": iqi, "pqi": pqi, "iqi_sd": float(np.std(iqi_b)),
-            "pqi_t": pqi_t, "pqi_t_sd": float(np.std(pqi_tb)),
-            "pqi_sd": float(np.std(pqi_b)), "floor": 100 * math.sqrt(np.mean((se / pred) ** 2)),
-            "r_rms": 100 * math.sqrt(np.mean(r ** 2)), "s_rms": 100 * math.sqrt(np.mean(s ** 2))}
-
-
 def json_quality(ensemble, criterion, subset, regime):
+    """flipflux's quality entry (IQI, PQI, their bootstrap sd, noise floor, RMS S, reference) of a
+    regime, or None."""
     try:
         for q in ensemble["quality"][criterion][subset]:
             if q["regime"] == regime:
-                return 100 * num(q["IQI"]), 100 * num(q["PQI"])
+                return q
     except (KeyError, TypeError):
         pass
     return None
@@ -776,49 +746,50 @@ def is_egalitarian(model):
                                                   ("beta", 1)))
 
 
-def quality_table(data, out, name, a, criterion, kind, paper_values, rng):
-    """Rows: regime, energies, ours ± bootstrap sd, the executor's value (JSON), paper, verdict."""
+def quality_table(data, out, name, a, criterion, kind, paper_values):
+    """Rows: regime, energies, flipflux's value ± its bootstrap sd, paper, verdict, noise floor,
+    RMS R and S (every number from the ensemble JSON: the report computes no statistic)."""
     ens = data["main"][a]
-    chaotic = kind == "PQI"
-    s = rate_series(ens, criterion, chaotic=chaotic)
-    if chaotic and len(s["energy"]) == 0:
-        s = rate_series(ens, criterion)
-    t_scale = ens["time"] / PAPER["T"]
-    rescale = kind == "PQI" and abs(t_scale - 1) > 1e-12
-    header = ["regime", "energies", "%s ours [%%]" % kind, "± (bootstrap)", "flipflux JSON [%]",
-              "paper [%]", "comparison", "noise floor [%]", "RMS R(E) [%]", "RMS S(E) [%]"]
+    subset = "chaotic_trajectories" if kind == "PQI" else "all_trajectories"
+    if kind == "PQI" and not any(json_quality(ens, criterion, subset, reg)
+                                 for reg, _, _ in regimes(data["model"], a)):
+        subset = "all_trajectories"  # no chaos indicator: the whole ensemble
+    entries = {reg: json_quality(ens, criterion, subset, reg)
+               for reg, _, _ in regimes(data["model"], a)}
+    reference = [q["reference"] for q in entries.values() if q and "reference" in q]
+    rescale = kind == "PQI" and bool(reference) and \
+        abs(float(reference[0]["time"]) - ens["time"]) > 1e-12 * ens["time"]
+    header = ["regime", "energies", "%s [%%]" % kind, "± (bootstrap)", "paper [%]", "comparison",
+              "noise floor [%]", "RMS R(E) [%]", "RMS S(E) [%]"]
     if rescale:
-        header.append("PQI with S rescaled to T = %d [%%]" % PAPER["T"])
-    rows, notes = [], []
+        header.append("PQI with S rescaled to T = %s [%%]" % reference[0]["time"])
+    rows = []
     for reg, lo, hi in regimes(data["model"], a):
         if reg not in paper_values:
             continue
-        q = quality_indices(s, in_regime(s["energy"], lo, hi), rng, t_scale)
+        q = entries[reg]
         label = REGIME_LABELS[a][reg] if is_egalitarian(data["model"]) else \
             "%s (%.4g ≤ E < %.4g)" % (reg, lo, hi)
         if q is None:
-            rows.append([label, 0, "—", "—", "—", paper_values[reg], "no energies", "", "", ""] +
+            rows.append([label, 0, "—", "—", paper_values[reg], "no energies", "", "", ""] +
                         (["—"] if rescale else []))
             continue
-        ours, sd = (q["iqi"], q["iqi_sd"]) if kind == "IQI" else (q["pqi"], q["pqi_sd"])
-        jq = json_quality(ens, criterion, "chaotic_trajectories" if chaotic else "all_trajectories",
-                          reg)
-        jv = jq[0 if kind == "IQI" else 1] if jq else float("nan")
-        if jq and abs(jv - ours) > 1e-6 * max(1, ours):
-            notes.append("%s %s: the report's %.6g %% and flipflux's %.6g %% differ (energy grid "
-                         "or regime boundaries)" % (kind, reg, ours, jv))
+        ours, sd = 100 * num(q[kind]), 100 * num(q[kind + "_sd"])
         if rescale:
             # S = sd / R_pred of time averages falls as 1/sqrt(T) for mixing trajectories: compare
-            # the paper's value with ours at its T (an estimate, marked as such)
-            z, verdict = compare(q["pqi_t"], q["pqi_t_sd"], paper_values[reg], ens, kind)
+            # the paper's value with flipflux's estimate at the paper's T (marked as such)
+            ref = q["reference"]
+            z, verdict = compare(100 * num(ref["PQI"]), 100 * num(ref["PQI_sd"]),
+                                 paper_values[reg], ens, kind)
             verdict = "T-rescaled: " + verdict
         else:
             z, verdict = compare(ours, sd, paper_values[reg], ens, kind)
-        rows.append([label, q["energies"], "%.2f" % ours, "%.2f" % sd,
-                     "%.2f" % jv if jq else "—", "%.2f" % paper_values[reg], verdict,
-                     "%.2f" % q["floor"], "%.2f" % q["r_rms"], "%.2f" % q["s_rms"]] +
-                    (["%.2f ± %.2f" % (q["pqi_t"], q["pqi_t_sd"])] if rescale else []))
-    return write_table(out, name, header, rows), header, rows, notes
+        rows.append([label, q["energies"], "%.2f" % ours, "%.2f" % sd, "%.2f" % paper_values[reg],
+                     verdict, "%.2f" % (100 * num(q["noise_floor"])),
+                     "%.2f" % (100 * num(q["IQI"])), "%.2f" % (100 * num(q["rms_S"]))] +
+                    (["%.2f ± %.2f" % (100 * num(q["reference"]["PQI"]),
+                                       100 * num(q["reference"]["PQI_sd"]))] if rescale else []))
+    return write_table(out, name, header, rows), header, rows
 
 
 def table_rms(data, out):
@@ -878,14 +849,14 @@ def figure_md(paths, caption):
 
 def explain_quality(rows, kind, ens, which):
     """A paragraph on the rows that differ from the paper by more than their statistical error."""
-    bad = [r for r in rows if "differs" in str(r[6])]
+    bad = [r for r in rows if "differs" in str(r[5])]
     if not bad:
         return "All %s values of %s agree with the paper's within 2σ of the combined statistical " \
                "error (ours by bootstrap, the paper's scaled from ours to N = %d, T = %d).\n" % \
                (kind, which, PAPER["N"], PAPER["T"])
     n, t = ens["trajectories"], ens["time"]
     lines = ["**Where %s of %s differs from the paper** (%s): " %
-             (kind, which, "; ".join("%s: ours %s %%, paper %s %%" % (r[0], r[2], r[5])
+             (kind, which, "; ".join("%s: ours %s %%, paper %s %%" % (r[0], r[2], r[4])
                                      for r in bad))]
     if kind == "IQI":
         lines.append("the IQI of a correct implementation is its noise floor sqrt(mean (SE/R)²) "
@@ -918,11 +889,10 @@ def build_report(data, out):
     t0 = time.time()
     for sub in ("", "figures", "tables"):
         os.makedirs(os.path.join(out, sub), exist_ok=True)
-    rng = np.random.default_rng(20240601)
     run, model = data["run"], data["model"]
     md = []
     md.append("# Reproduction of the paper's figures and tables\n")
-    md.append("Generated by `src/report/make_report.py` from the run directory of scene "
+    md.append("Generated by `tools/report/make_report.py` from the run directory of scene "
               "**%s** (`%s`), commit `%s`, precision %s; the run took **%.1f s** of wall time.\n"
               % (run.get("scene", "?"), run.get("scene_file", "?"), run.get("git_commit", "?"),
                  run.get("precision", "?"), float(run.get("seconds", float("nan")))))
@@ -1039,7 +1009,6 @@ def build_report(data, out):
               "implementation/prediction quality index). Regimes are the paper's (arm 2: "
               "2/2.8/5/6, arm 1: 4/4.6/6, scaled with the model's saddle and maximum energies); a "
               "regime is [lower, upper).\n")
-    all_notes = []
     specs = (("iqi-arm2", 2, "saddle", "IQI", "iqi_arm2", "Table implementation quality (arm 2)"),
              ("pqi-arm2-saddle", 2, "saddle", "PQI", "pqi_arm2_saddle",
               "Table prediction quality, saddle criterion, arm 2"),
@@ -1051,8 +1020,7 @@ def build_report(data, out):
              ("pqi-arm2-upright", 2, "upright", "PQI", "pqi_arm2_upright",
               "Table prediction quality, upright criterion, arm 2"))
     for name, a, crit, kind, key, title in specs:
-        path, header, rows, notes = quality_table(data, out, name, a, crit, kind, PAPER[key], rng)
-        all_notes += notes
+        path, header, rows = quality_table(data, out, name, a, crit, kind, PAPER[key])
         md.append("### %s\n\n[CSV](%s)\n\n%s\n" % (title, path, markdown_table(header, rows)))
         md.append(explain_quality(rows, kind, data["main"][a], "%s, arm %d" % (crit, a)))
     path, header, rows = table_rms(data, out)
@@ -1063,13 +1031,11 @@ def build_report(data, out):
               "our two grids) and from the accuracy of the paper's saddle orbits and quadratures. "
               "Both the prediction table and the ensemble's predicted rates come from the same "
               "quantity registry.\n")
-    if all_notes:
-        md.append("### Consistency notes\n\n" + "\n".join("- " + n for n in all_notes) + "\n")
     md.append("## Inputs\n\nRead from the run directory `%s`: run.json, predictions.csv, "
               "orbits-arm1.csv, orbits-arm2.csv, orbit-curves-arm1.csv, orbit-curves-arm2.csv, %s; "
               "residence times from %s; per-trajectory rates from %s. The report's own checks: "
               "the approximate curve's slope from the saddle's centre mode, dF/dE = T by "
-              "quadrature, flux = 2 F, IQI/PQI recomputed and compared with flipflux's.\n" %
+              "quadrature, flux = 2 F.\n" %
               (data["run_dir"], ", ".join("ensemble-%s.json" % e["name"] for e in data["ensembles"]),
                ", ".join(os.path.relpath(v[2], data["run_dir"]) for v in data["residence"].values()),
                os.path.relpath(data["histogram"][3], data["run_dir"])))
