@@ -630,15 +630,14 @@ def fig_rates_criteria(data, out):
 def fig_residence(data, out):
     fig, axes = plt.subplots(1, 2, figsize=(12, 4))
     stats = {}
-    for c in ("upright", "saddle"):
-        cols, ens, _ = data["residence"][c]
-        r = cols["residence_time"]
-        r = r[np.isfinite(r)]
-        stats[c] = {"count": int(len(r)), "min": float(np.min(r)) if len(r) else float("nan"),
-                    "q001": float(np.quantile(r, 0.001)) if len(r) else float("nan"),
-                    "mean": float(np.mean(r)) if len(r) else float("nan")}
-        if len(r) == 0:
-            continue
+    for c in ("upright", "saddle"):  # the statistics flipflux computed (the ensemble JSON)
+        _, ens, _ = data["residence"][c]
+        rt = {}
+        for en in ens["energies"]:
+            if abs(en["energy"] - data["e_res"]) < 1e-9 * max(1.0, abs(data["e_res"])):
+                rt = (en["criteria"].get(c) or {}).get("residence_times") or {}
+        stats[c] = {"count": int(rt.get("count", 0)), "min": num(rt.get("min")),
+                    "q001": num(rt.get("q0.001")), "mean": num(rt.get("mean"))}
     short = max(stats["saddle"]["min"] * 2, 1.0) if np.isfinite(stats["saddle"]["min"]) else 1.0
     for c in ("upright", "saddle"):
         r = data["residence"][c][0]["residence_time"]
