@@ -250,6 +250,12 @@ std::string energy_record(std::size_t energy, const energy_result& e) {
         put_histogram(s, x.residence.distribution);
         put_histogram(s, x.rate_distribution);
     }
+    put_int(s, e.paired.size());
+    for (const paired_difference& d : e.paired) {
+        put_int(s, d.first);
+        put_int(s, d.second);
+        put_summary(s, d.difference);
+    }
     return hashed_line(s);
 }
 
@@ -289,6 +295,16 @@ energy_result parse_energy_record(std::string_view line, std::size_t criteria,
         x.residence.median = t.real();
         x.residence.distribution = get_histogram(t, content.size());
         x.rate_distribution = get_histogram(t, content.size());
+    }
+    const auto pairs = t.integer<std::size_t>();
+    if (pairs != criteria * (criteria - 1) / 2) throw std::runtime_error("bad pair count");
+    e.paired.resize(pairs);
+    for (paired_difference& d : e.paired) {
+        d.first = t.integer<std::size_t>();
+        d.second = t.integer<std::size_t>();
+        if (!(d.first < d.second && d.second < criteria))
+            throw std::runtime_error("bad criterion pair");
+        d.difference = get_summary(t);
     }
     if (!t.done()) throw std::runtime_error("trailing fields");
     return e;

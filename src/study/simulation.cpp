@@ -278,6 +278,14 @@ energy_result summarise_energy(
         const auto& p = predictions[c];
         e.criteria.push_back({p, analyze(r, c, p ? p->value : nan, request.bins, request.bins)});
     }
+    std::vector<double> d(r.trajectories.size());
+    for (std::size_t i = 0; i < request.criteria.size(); ++i)
+        for (std::size_t j = i + 1; j < request.criteria.size(); ++j) {
+            for (std::size_t t = 0; t < d.size(); ++t)
+                d[t] = static_cast<double>(r.trajectories[t].flips(i)) / r.time -
+                       static_cast<double>(r.trajectories[t].flips(j)) / r.time;
+            e.paired.push_back({i, j, summarize(d)});
+        }
     return e;
 }
 
@@ -303,6 +311,48 @@ void add_quality(study_result& out, const double_pendulum<double>& model) {
         out.quality.push_back(
             {quality(all, out.regimes, scale), quality(chaotic, out.regimes, scale)});
     }
+}
+
+/// z-scores over the energies (paper Sec. 5.5): their chi^2, the worst, the largest relative
+/// deviation, for one criterion over all or over the chaotic trajectories.
+criterion_agreement agreement(const std::vector<energy_result>& energies, std::size_t c,
+                              bool chaotic) {
+    criterion_agreement a;
+    a.worst_z = a.max_relative_deviation = nan;
+    for (const energy_result& e : energies) {
+        const criterion_statistics& st = e.criteria[c].statistics;
+        const summary_statistics& s = chaotic ? st.chaotic_rates : st.rates;
+        const double p = st.predicted_rate;
+        if (!(p > 0) || !std::isfinite(s.mean) || !(s.standard_error > 0)) continue;
+        const double z = (s.mean - p) / s.standard_error, rel = std::abs(s.mean / p - 1);
+        a.chi2 += z * z;
+        if (!(std::abs(z) <= std::abs(a.worst_z))) a.worst_z = z;
+        if (!(rel <= a.max_relative_deviation)) a.max_relative_deviation = rel;
+        ++a.energies;
+    }
+    return a;
+}
+
+/// The agreement of every criterion and the differences between the criteria's predictions.
+void add_comparisons(study_result& out) {
+    const std::size_t n = out.criteria.size();
+    for (std::size_t c = 0; c < n; ++c)
+        out.agreement.push_back(
+            {agreement(out.energies, c, false), agreement(out.energies, c, true)});
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            prediction_difference d{i, j, 0, 0};
+            double sum = 0;
+            for (const energy_result& e : out.energies) {
+                const auto &p = e.criteria[i].prediction, &q = e.criteria[j].prediction;
+                if (!p || !q || !(q->value > 0)) continue;
+                const double rel = p->value / q->value - 1;
+                sum += rel * rel;
+                ++d.energies;
+            }
+            d.rms_relative = d.energies ? std::sqrt(sum / static_cast<double>(d.energies)) : nan;
+            out.prediction_differences.push_back(d);
+        }
 }
 
 /// The ensemble of one energy from its trajectories, in index order (moved out of `have`).
@@ -431,6 +481,7 @@ std::optional<study_result> simulate(const double_pendulum<double>& model,
     }
     if (!root) return std::nullopt;
     add_quality(out, model);
+    add_comparisons(out);
     return out;
 }
 

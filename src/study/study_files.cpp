@@ -47,10 +47,11 @@ json criterion_json(const criterion_result& c, double max_energy_drift) {
                                 {"q0.001", number(r.q001)},   {"q0.01", number(r.q01)},
                                 {"median", number(r.median)}, {"mean", number(r.summary.mean)}};
     j["rate_histogram"] = histogram_json(st.rate_distribution);
+    j["max_rate"] = number(st.rates.maximum);
     return j;
 }
 
-json energy_json(const energy_result& e, bool timing) {
+json energy_json(const energy_result& e, const std::vector<std::string>& names, bool timing) {
     json j{{"energy", e.label}};
     if (timing) {
         j["seconds"] = e.seconds;
@@ -65,6 +66,13 @@ json energy_json(const energy_result& e, bool timing) {
     for (const criterion_result& c : e.criteria)
         per_criterion[c.statistics.criterion] = criterion_json(c, e.max_energy_drift);
     j["criteria"] = per_criterion;
+    json paired = json::array();
+    for (const paired_difference& d : e.paired)
+        paired.push_back(json{{"criteria", json::array({names.at(d.first), names.at(d.second)})},
+                              {"mean", number(d.difference.mean)},
+                              {"std", number(d.difference.standard_deviation)},
+                              {"standard_error", number(d.difference.standard_error)}});
+    j["paired_differences"] = paired;
     return j;
 }
 
@@ -172,7 +180,7 @@ json study_json(const study_result& s) {
              {"classification_reliable", s.classification_reliable}};
     json energies = json::array();
     for (const energy_result& e : s.energies)
-        energies.push_back(energy_json(e, s.timing));
+        energies.push_back(energy_json(e, s.criteria, s.timing));
     out["energies"] = energies;
     json quality = json::object();
     for (std::size_t c = 0; c < s.criteria.size() && c < s.quality.size(); ++c)
@@ -188,6 +196,25 @@ json study_json(const study_result& s) {
                                    {"lower", to_decimal(g.lower)},
                                    {"upper", to_decimal(g.upper)}});
     out["regimes"] = regimes;
+    json agreement = json::object();
+    auto agreement_json = [](const criterion_agreement& a) {
+        return json{{"energies", a.energies},
+                    {"chi2", number(a.chi2)},
+                    {"worst_z", number(a.worst_z)},
+                    {"max_relative_deviation", number(a.max_relative_deviation)}};
+    };
+    for (std::size_t c = 0; c < s.criteria.size() && c < s.agreement.size(); ++c)
+        agreement[s.criteria[c]] =
+            json{{"all_trajectories", agreement_json(s.agreement[c].all_trajectories)},
+                 {"chaotic_trajectories", agreement_json(s.agreement[c].chaotic_trajectories)}};
+    out["agreement"] = agreement;
+    json differences = json::array();
+    for (const prediction_difference& d : s.prediction_differences)
+        differences.push_back(
+            json{{"criteria", json::array({s.criteria.at(d.first), s.criteria.at(d.second)})},
+                 {"energies", d.energies},
+                 {"rms_relative", number(d.rms_relative)}});
+    out["prediction_differences"] = differences;
     return out;
 }
 

@@ -79,13 +79,33 @@ def ensemble_json(arm, energies, criteria, deviation, n, t):
             m, sd = p * (1 + deviation), 0.1 * p
             crit[c] = {"predicted_rate": repr(p), "prediction_method": "synthetic",
                        "mean_rate": repr(m), "std": repr(sd),
-                       "standard_error": repr(sd / math.sqrt(n)), "z_score": "0",
+                       "standard_error": repr(sd / math.sqrt(n)),
+                       "z_score": repr(deviation * math.sqrt(n) / 0.1), "max_rate": repr(1.5 * m),
                        "flips": int(m * n * t), "chaotic_fraction": "0.9",
                        "chaotic": {"trajectories": int(0.9 * n), "mean_rate": repr(p),
                                    "std": repr(0.05 * p),
                                    "standard_error": repr(0.05 * p / math.sqrt(0.9 * n)),
                                    "z_score": "0"}}
-        out["energies"].append({"energy": "%.10g" % e, "seconds": 0.1, "criteria": crit})
+        paired = [{"criteria": [c, d], "mean": repr(rates(e)[c] - rates(e)[d]), "std": "0.001",
+                   "standard_error": repr(0.001 / math.sqrt(n))}
+                  for i, c in enumerate(criteria) for d in criteria[i + 1:]] if arm == 2 else []
+        out["energies"].append({"energy": "%.10g" % e, "seconds": 0.1, "criteria": crit,
+                                "paired_differences": paired})
+    # what flipflux computes over the energies: z = deviation sqrt(n) / 0.1 at every energy
+    z = deviation * math.sqrt(n) / 0.1
+    out["agreement"] = {c: {"all_trajectories": {"energies": len(energies),
+                                                 "chi2": repr(len(energies) * z * z),
+                                                 "worst_z": repr(z),
+                                                 "max_relative_deviation": repr(abs(deviation))},
+                            "chaotic_trajectories": {"energies": len(energies), "chi2": "0",
+                                                     "worst_z": "0",
+                                                     "max_relative_deviation": "0"}}
+                        for c in criteria}
+    out["prediction_differences"] = [
+        {"criteria": [c, d], "energies": len(energies),
+         "rms_relative": repr(math.sqrt(sum((rates(e)[c] / rates(e)[d] - 1) ** 2
+                                            for e in energies) / len(energies)))}
+        for i, c in enumerate(criteria) for d in criteria[i + 1:]] if arm == 2 else []
     # flipflux's quality indices as the C++ writes them (the report draws them, computes none):
     # all trajectories R = deviation, S = 0.1; chaotic R = 0, S = 0.05
     names = ("full", "low", "central", "high") if arm == 2 else ("full", "low", "high")
@@ -120,6 +140,13 @@ def make_synthetic_run(run_dir):
                      "approximate_curve": {"1": {"offset": "3.14159", "slope": "0.29289321881345"},
                                            "2": {"offset": "3.14159", "slope": "0.58578643762690"}}}}
     run["model"]["parameters"].update({"I1": "0", "I2": "0"})
+    # what the scene computes from its predictions (arm 2, 2 < E < 6)
+    inside = [e for e in grid(2.05, 5.95, 0.1) if 2 < e < 6]
+    run["predictions"] = {"file": "predictions.csv", "skipped": [], "rate_differences": [
+        {"arm": "2", "criteria": [c, "saddle"], "energies": len(inside),
+         "rms_relative": repr(math.sqrt(sum((rates(e)[c] / rates(e)["saddle"] - 1) ** 2
+                                            for e in inside) / len(inside)))}
+        for c in ("upright", "approx")]}
     with open(os.path.join(run_dir, "run.json"), "w") as f:
         json.dump(run, f, indent=1)
     rows = []

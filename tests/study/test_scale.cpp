@@ -111,6 +111,7 @@ TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
         x.rate_distribution = {-1, 10, {}, 0, 0};
         e.criteria.push_back({std::nullopt, x});
     }
+    e.paired = {{0, 1, {40, -1.0 / 3, 0.125, 0.125 / std::sqrt(40.0), -1, 0.5}}};
     const std::string line = energy_record(4, e);
     ASSERT_EQ(line.back(), '\n');
     std::size_t k = 0;
@@ -156,6 +157,10 @@ TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
         EXPECT_TRUE(same_histogram(y.residence.distribution, x.residence.distribution));
         EXPECT_TRUE(same_histogram(y.rate_distribution, x.rate_distribution));
     }
+    ASSERT_EQ(b.paired.size(), 1u);
+    EXPECT_EQ(b.paired[0].first, 0u);
+    EXPECT_EQ(b.paired[0].second, 1u);
+    EXPECT_TRUE(same_summary(b.paired[0].difference, e.paired[0].difference));
     // another criterion count, a damaged hash, a truncated record
     const std::string body = line.substr(0, line.size() - 1);
     EXPECT_THROW(parse_energy_record(body, 3, k), std::runtime_error);
@@ -233,6 +238,7 @@ TEST(Checkpoint, ParsingChecksTheHeaderAndDropsATornLastLine) {
         energy_result e;
         e.seconds = 1.25;
         e.criteria.resize(3);
+        e.paired = {{0, 1, {}}, {0, 2, {}}, {1, 2, {}}};
         w.complete(0, e);
         EXPECT_EQ(w.saved_trajectories(), 0u);
     }

@@ -78,6 +78,28 @@ TEST(Simulation, ReportMatchesTheEnsemble) {
         EXPECT_EQ(std::stod(s["mean_rate"].get<std::string>()), x.statistics.rates.mean);
         EXPECT_EQ(s["prediction_method"].get<std::string>(), x.prediction->method);
     }
+    // the paired difference upright - approx, trajectory by trajectory
+    ASSERT_EQ(result.energies[0].paired.size(), 1u);
+    std::vector<double> d;
+    for (const auto& t : r.trajectories)
+        d.push_back((static_cast<double>(t.flips(0)) - static_cast<double>(t.flips(1))) / 20);
+    double mean = 0;
+    for (double x : d)
+        mean += x / static_cast<double>(d.size());
+    EXPECT_NEAR(result.energies[0].paired[0].difference.mean, mean, 1e-15);
+    EXPECT_EQ(result.energies[0].paired[0].difference.count, 16u);
+    // agreement over the one energy: chi2 = z^2
+    for (std::size_t c = 0; c < 2; ++c) {
+        const criterion_statistics& st = result.energies[0].criteria[c].statistics;
+        const criterion_agreement& a = result.agreement.at(c).all_trajectories;
+        EXPECT_EQ(a.energies, 1u);
+        EXPECT_NEAR(a.chi2, st.z_score * st.z_score, 1e-12 * (1 + a.chi2));
+        EXPECT_NEAR(a.worst_z, st.z_score, 1e-12 * (1 + std::abs(st.z_score)));
+    }
+    ASSERT_EQ(result.prediction_differences.size(), 1u);
+    const double pu = result.energies[0].criteria[0].prediction->value,
+                 pa = result.energies[0].criteria[1].prediction->value;
+    EXPECT_NEAR(result.prediction_differences[0].rms_relative, std::abs(pu / pa - 1), 1e-15);
     ASSERT_EQ(result.quality.size(), 2u);
     EXPECT_EQ(result.quality[0].all_trajectories.at(0).regime, "full");
     EXPECT_EQ(j["quality"]["upright"]["all_trajectories"][0]["regime"], "full");

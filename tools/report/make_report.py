@@ -240,10 +240,12 @@ def load_ensembles(run_dir, problems):
                  "arm": int(d["arm"]), "trajectories": int(d["trajectories"]),
                  "time": float(d["time"]), "method": d.get("method", "?"),
                  "rtol": d.get("rtol", "?"), "chaos": d.get("chaos"),
-                 "quality": d.get("quality", {}), "energies": []}
+                 "quality": d.get("quality", {}), "agreement": d.get("agreement", {}),
+                 "prediction_differences": d.get("prediction_differences", []), "energies": []}
             for en in d["energies"]:
                 e["energies"].append({"energy": float(en["energy"]), "criteria": en["criteria"],
-                                      "seconds": en.get("seconds")})
+                                      "seconds": en.get("seconds"),
+                                      "paired_differences": en.get("paired_differences", [])})
         except (KeyError, TypeError, ValueError) as ex:
             problems.append("%s: missing or malformed entry %s" % (path, ex))
             continue
@@ -264,12 +266,13 @@ def rate_series(ensemble, criterion, chaotic=False):
             continue
         n = s.get("trajectories", ensemble["trajectories"]) if chaotic else ensemble["trajectories"]
         rows.append((en["energy"], num(c.get("predicted_rate")), num(s.get("mean_rate")),
-                     num(s.get("std")), num(s.get("standard_error")), float(n)))
-    a = np.array(rows, dtype=float).reshape(-1, 6)
+                     num(s.get("std")), num(s.get("standard_error")), float(n),
+                     num(s.get("z_score"))))
+    a = np.array(rows, dtype=float).reshape(-1, 7)
     order = np.argsort(a[:, 0])
     a = a[order]
     return {"energy": a[:, 0], "predicted": a[:, 1], "mean": a[:, 2], "std": a[:, 3],
-            "se": a[:, 4], "n": a[:, 5]}
+            "se": a[:, 4], "n": a[:, 5], "z": a[:, 6]}
 
 
 def energy_label_files(directory, prefix, suffix):
@@ -599,11 +602,10 @@ def fig_rates(data, out, a, subset):
     axes[2].set(xlabel="E", ylabel="R_sim / R_pred − 1 [%]", title="relative deviation ± SE")
     fig.suptitle("Saddle-orbit criterion, arm %d, %s trajectories (N = %d, T = %g)" %
                  (a, subset, ens["trajectories"], ens["time"]))
-    z = rel / (s["se"] / s["predicted"])
-    z = z[np.isfinite(z)]
-    stats = {"max_rel": float(np.nanmax(np.abs(rel))) * 100,
-             "chi2": float(np.sum(z ** 2)), "dof": int(len(z)),
-             "worst_z": float(z[np.argmax(np.abs(z))]) if len(z) else float("nan")}
+    g = ((ens.get("agreement") or {}).get("saddle") or {}).get(
+        "chaotic_trajectories" if subset == "chaotic" else "all_trajectories") or {}
+    stats = {"max_rel": 100 * num(g.get("max_relative_deviation")), "chi2": num(g.get("chi2")),
+             "dof": int(g.get("energies", 0)), "worst_z": num(g.get("worst_z"))}
     return save_figure(fig, out, "rates-arm%d-%s" % (a, subset)), stats
 
 
@@ -661,40 +663,41 @@ def fig_rate_histogram(data, out):
     cols, chaotic, ens, _ = data["histogram"]
     r = cols["rate_saddle"]
     r = r[np.isfinite(r)]
-    pred = None
+    pred, entry = None, {}
     for en in ens["energies"]:
         if abs(en["energy"] - data["e_hist"]) < 1e-9:
-            pred = num(en["criteria"]["saddle"].get("predicted_rate"))
+            entry = en["criteria"]["saddle"]
+            pred = num(entry.get("predicted_rate"))
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.hist(r, bins=max(10, min(200, int(math.sqrt(len(r))))), color="0.6", label="all trajectories")
     if chaotic is not None:
         rc = r[chaotic["chaotic"][:len(r)] > 0.5]
         ax.hist(rc, bins=max(10, min(200, int(math.sqrt(len(r))))), histtype="step", color="k",
                 label="chaotic trajectories")
-    ax.axvline(np.mean(r), color="k", ls="--", label="ensemble mean %.5g" % np.mean(r))
+    mean = num(entry.get("mean_rate"))
+    ax.axvline(mean, color="k", ls="--", label="ensemble mean %.5g" % mean)
     if pred is not None and np.isfinite(pred):
         ax.axvline(pred, color=COLORS["saddle"], label="prediction %.5g" % pred)
     ax.set(xlabel="per-trajectory flip rate N/T (saddle criterion, arm 2)", ylabel="trajectories",
            title="Per-trajectory rates at E = %g (N = %d, T = %g)" % (data["e_hist"], len(r),
                                                                       ens["time"]))
     ax.legend(fontsize=7)
-    stats = {"n": int(len(r)), "max_over_mean": float(np.max(r) / np.mean(r)),
-             "mean": float(np.mean(r)), "pred": pred}
+    stats = {"n": int(len(r)), "max_over_mean": num(entry.get("max_rate")) / mean,
+             "mean": mean, "pred": pred}
     return save_figure(fig, out, "rate-histogram-E%g" % data["e_hist"]), stats
 
 
 def paired_difference(ens, energy):
-    """Mean and standard error of the per-trajectory (approx - saddle) / saddle-mean difference
-    from trajectories_E<label>.csv (paired: same trajectories), or None."""
-    f = find_at_energy(energy_label_files(ens["csv_dir"], "trajectories_E", ".csv"), energy)
-    if f is None:
-        return None
-    rows = read_csv(f, [])
-    cols = columns(rows, f, ("rate_approx", "rate_saddle"), [])
-    if cols is None or len(cols["rate_saddle"]) < 2:
-        return None
-    d = cols["rate_approx"] - cols["rate_saddle"]
-    return np.std(d, ddof=1) / math.sqrt(len(d))
+    """The standard error of the per-trajectory (approx - saddle) rate difference (paired: same
+    trajectories) at an energy, from the ensemble JSON, or None."""
+    for en in ens["energies"]:
+        if abs(en["energy"] - energy) < 1e-9 * max(1.0, abs(energy)):
+            for d in en.get("paired_differences") or []:
+                if d["criteria"] == ["approx", "saddle"]:
+                    return num(d["standard_error"])
+                if d["criteria"] == ["saddle", "approx"]:
+                    return num(d["standard_error"])
+    return None
 
 
 def fig_approx_vs_saddle(data, out):
@@ -793,25 +796,23 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
 
 def table_rms(data, out):
     """RMS relative differences of the predicted rates over the arm-2 ensemble's energies (the
-    paper's grid) and over predictions.csv's grid."""
-    p = data["predictions"]
+    paper's grid; the ensemble JSON) and over predictions.csv's grid (run.json), as flipflux
+    computed them."""
     ens = data["main"][2]
     header = ["difference", "ours, ensemble grid [%]", "ours, predictions grid [%]", "paper [%]",
               "energies (ensemble / predictions)"]
+    grid = {tuple(d["criteria"]): d for d in ens.get("prediction_differences") or []}
+    run_grid = {tuple(d["criteria"]): d
+                for d in (data["run"].get("predictions") or {}).get("rate_differences") or []
+                if str(d.get("arm")) == "2"}
     rows = []
-    ss = rate_series(ens, "saddle")
-    es, em = data["model"]["saddle"][2], data["model"]["maximum"]
     for c, key in (("approx", "rms_approx_saddle"), ("upright", "rms_upright_saddle")):
-        sc = rate_series(ens, c)
-        ok = np.isfinite(sc["predicted"]) & np.isfinite(ss["predicted"])
-        rel = sc["predicted"][ok] / ss["predicted"][ok] - 1
-        rc, rs = p[("rate-" + c, 2)], p[("rate-saddle", 2)]
-        dc, ds = {round(e, 9): v for e, v in rc}, {round(e, 9): v for e, v in rs}
-        common = [e for e in sorted(ds) if e in dc and es < e < em]
-        relp = np.array([dc[e] / ds[e] - 1 for e in common])
-        rows.append(["%s vs saddle (theory)" % c, "%.2f" % (100 * math.sqrt(np.mean(rel ** 2))),
-                     "%.2f" % (100 * math.sqrt(np.mean(relp ** 2))) if len(relp) else "—",
-                     "%.2f" % PAPER[key], "%d / %d" % (len(rel), len(relp))])
+        d = grid.get((c, "saddle")) or grid.get(("saddle", c)) or {}
+        q = run_grid.get((c, "saddle")) or {}
+        rows.append(["%s vs saddle (theory)" % c,
+                     "%.2f" % (100 * num(d["rms_relative"])) if d else "—",
+                     "%.2f" % (100 * num(q["rms_relative"])) if q.get("rms_relative") else "—",
+                     "%.2f" % PAPER[key], "%d / %d" % (d.get("energies", 0), q.get("energies", 0))])
     return write_table(out, "rms-differences", header, rows), header, rows
 
 
@@ -831,7 +832,7 @@ def table_rates(data, out, a):
             s, sc = series[c]
             j = np.where(np.abs(sc["energy"] - e) < 1e-9)[0]
             cm, csd = (sc["mean"][j[0]], sc["std"][j[0]]) if len(j) else (np.nan, np.nan)
-            z = (s["mean"][i] - s["predicted"][i]) / s["se"][i] if s["se"][i] > 0 else np.nan
+            z = s["z"][i]
             row += ["%.17g" % s["predicted"][i], "%.17g" % s["mean"][i], "%.6g" % s["se"][i],
                     "%.6g" % s["std"][i], "%.17g" % cm, "%.6g" % csd, "%.3f" % z]
         rows.append(row)

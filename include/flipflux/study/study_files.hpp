@@ -9,10 +9,13 @@
 // max_energy_drift, criteria: {name: {predicted_rate, prediction_method, mean_rate, std,
 // standard_error, z_score, flips, chaotic_fraction, max_energy_drift, chaotic: {trajectories,
 // mean_rate, std, standard_error, z_score}, residence_times: {count, min, q0.001, q0.01, median,
-// mean}, rate_histogram: {lower, upper, bin_width, counts}}}}], "quality": {name:
+// mean}, rate_histogram: {lower, upper, bin_width, counts}, max_rate}}, paired_differences:
+// [{criteria: [first, second], mean, std, standard_error}]}], "quality": {name:
 // {all_trajectories, chaotic_trajectories: [{regime, energies, IQI, PQI, IQI_sd, PQI_sd,
 // noise_floor, rms_S, ["reference": {time, PQI, PQI_sd}]}]}}, "regimes": [{regime, lower,
-// upper}]} (quality fields as in ensemble/statistics.hpp's quality_indices, as fractions).
+// upper}], "agreement": {name: {all_trajectories, chaotic_trajectories: {energies, chi2, worst_z,
+// max_relative_deviation}}}, "prediction_differences": [{criteria: [first, second], energies,
+// rms_relative}]} (fields as in study_result.hpp and ensemble/statistics.hpp, fractions not %).
 //
 // CSV (in a directory, each file written atomically), per energy label L and criterion C:
 // trajectories_EL.csv (index, lyapunov, chaotic, max_energy_drift, steps,

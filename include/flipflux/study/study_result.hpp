@@ -40,6 +40,14 @@ struct criterion_result {
     criterion_statistics statistics;
 };
 
+/// The per-trajectory difference of the rates of two criteria at one energy (paired: the same
+/// trajectories), e.g. approx - saddle: its mean, sd and standard error resolve differences far
+/// below the standard error of either rate.
+struct paired_difference {
+    std::size_t first = 0, second = 0;  ///< criterion positions in the request, first < second
+    summary_statistics difference;      ///< of rate(first) - rate(second) over the trajectories
+};
+
 /// One energy of a study.
 struct energy_result {
     std::string label;  ///< the energy's decimal text, as requested
@@ -52,12 +60,30 @@ struct energy_result {
     std::int64_t energy_check_rejections = 0;  ///< steps rejected by the energy check, in total
     double max_energy_drift = 0;               ///< over all trajectories
     std::vector<criterion_result> criteria;    ///< in the order of the request
+    std::vector<paired_difference> paired;     ///< every pair of criteria, (0,1), (0,2), (1,2)...
 };
 
 /// The quality indices of one criterion per regime, over all trajectories and over the chaotic
 /// sub-ensemble (the paper's PQI tables use the chaotic trajectories).
 struct criterion_quality {
     std::vector<quality_indices> all_trajectories, chaotic_trajectories;
+};
+
+/// How the simulated rates of one criterion agree with its predictions over the energies (those
+/// with a prediction and a positive standard error): z = (mean - predicted) / standard error.
+struct criterion_agreement {
+    std::size_t energies = 0;
+    double chi2 = 0;                    ///< sum of z^2 (about `energies` for a correct chain)
+    double worst_z = 0;                 ///< the z of largest magnitude (NaN without energies)
+    double max_relative_deviation = 0;  ///< max |mean / predicted - 1| (NaN without energies)
+};
+
+/// The relative difference of two criteria's predicted rates over the study's energies (both
+/// predicted): sqrt(mean (predicted(first) / predicted(second) - 1)^2). Deterministic.
+struct prediction_difference {
+    std::size_t first = 0, second = 0;
+    std::size_t energies = 0;
+    double rms_relative = 0;  ///< NaN without energies
 };
 
 /// A completed study.
@@ -76,6 +102,12 @@ struct study_result {
     std::vector<energy_result> energies;
     std::vector<criterion_quality> quality;  ///< per criterion, in the order of `criteria`
     std::vector<energy_regime> regimes;      ///< the regimes of `quality` (paper_regimes)
+    /// per criterion: over all trajectories and over the chaotic sub-ensemble
+    struct agreement_of_criterion {
+        criterion_agreement all_trajectories, chaotic_trajectories;
+    };
+    std::vector<agreement_of_criterion> agreement;
+    std::vector<prediction_difference> prediction_differences;  ///< every pair of criteria
 };
 
 }  // namespace flipflux
