@@ -15,6 +15,14 @@ The report needs an arm-2 ensemble with the upright, approx and saddle criteria,
 with the saddle criterion, residence times of arm 2 (upright and saddle) at E = 5 and per-trajectory
 rates of arm 2 (saddle) at E = 5.3 (energies scaled with the model: see `special_energies`).
 
+The report draws; flipflux computes. Every statistic in it comes from the C++ results: the quality
+indices with their bootstrap errors, noise floors and reference-length PQI, chi^2 and worst z over
+the energies, paired criterion differences, residence-time statistics, RMS differences of the
+predicted rates (ensemble JSON; run.json for the prediction grid). What the report computes itself
+is the verdict against the paper's published numbers (`compare`, with the paper's N and T) and two
+independent consistency checks of the inputs (dF/dE = T by quadrature, the approximate curve's
+slope from the saddle's centre mode).
+
 Outputs (REPORT_DIR): README.md (the report), figures/<name>.png and .svg, tables/<name>.csv.
 Every file is written to a temporary name and renamed. A missing or malformed input is a one-line
 error per problem on stderr and exit status 2; nothing is written then.
