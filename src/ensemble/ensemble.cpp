@@ -227,7 +227,7 @@ class lane {
             const double ts = static_cast<double>(next_sample_) * o_.sample_interval;
             if (ts > t_end || ts > o_.time) break;
             const std::array<double, 4> x = ts == rk_.t() ? first4(rk_.x()) : dense_.state(ts);
-            r_.samples.push_back({ts, x[0], x[1], x[2], x[3]});
+            r_.samples.push_back({ts, x[0] - unwrap_[0], x[1] - unwrap_[1], x[2], x[3]});
             ++next_sample_;
         }
     }
@@ -250,6 +250,10 @@ class lane {
         h_start_ = h_end_;
         const double d1 = reduction(x1[0]), d2 = reduction(x1[1]);
         if (d1 != 0 || d2 != 0) {
+            if (o_.unwrapped_angles) {
+                unwrap_[0] += d1;
+                unwrap_[1] += d2;
+            }
             state delta{};
             delta[0] = d1;
             delta[1] = d2;
@@ -273,6 +277,7 @@ class lane {
     void finish() {
         done_ = true;
         r_.end_time = rk_.t();
+        r_.final_state = {rk_.x()[0] - unwrap_[0], rk_.x()[1] - unwrap_[1], rk_.x()[2], rk_.x()[3]};
         r_.steps = rk_.accepted_steps();
         r_.rejected_steps = rk_.rejected_steps();
         r_.evaluations = rk_.evaluations();
@@ -298,6 +303,7 @@ class lane {
     trajectory_result r_;
     std::vector<crossing> found_;
     std::uint64_t next_sample_ = 0;
+    std::array<double, 2> unwrap_{};  ///< the reductions applied so far (unwrapped_angles)
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0;
     bool done_ = false;
 };

@@ -71,6 +71,9 @@ struct ensemble_options {
     /// > 0: store the state every sample_interval (from the dense output; angles as integrated,
     /// reduced to [-pi, pi] at each step's start). 0: trajectories are not stored.
     double sample_interval = 0;
+    /// Samples and final_state with the angles as integrated from the initial state (the
+    /// reductions to [-pi, pi] undone), not reduced: one trajectory's record (study/trajectory).
+    bool unwrapped_angles = false;
     /// Called (serialised) after each finished trajectory with (finished, total).
     std::function<void(std::uint64_t, std::uint64_t)> progress;
     /// When non-null and nonzero (e.g. set by a signal handler): no further trajectory is
@@ -99,6 +102,7 @@ struct trajectory_result {
     std::vector<std::vector<double>> crossing_times;  ///< per criterion, in time order
     std::vector<std::vector<crossing>> crossings;     ///< per criterion, with keep_crossings
     std::vector<std::array<double, 5>> samples;       ///< (t, th1, th2, l1, l2), sample_interval
+    phase_point<double> final_state{};  ///< at end_time (angles reduced unless unwrapped_angles)
     std::size_t flips(std::size_t criterion) const { return crossing_times[criterion].size(); }
 };
 

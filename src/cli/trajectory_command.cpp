@@ -1,0 +1,132 @@
+// flipflux trajectory --state TH1,TH2,L1,L2 --time T [--criteria ...] [--arm 1|2|both]
+// [--events FILE] [--out FILE] [--sample-interval DT] [--rtol R] [--method M]: one trajectory
+// from a canonical state with its flip events (study/trajectory.hpp), for checking a simulator's
+// integrator and flip detector. Events CSV: time,arm,criterion,direction (on stdout without
+// --events); states CSV (--out): t,theta1,theta2,l1,l2,energy_drift at t = 0, every sample time
+// and t = T, angles unwrapped. Files are written atomically, after the whole computation.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common.hpp"
+#include "flipflux/io/atomic_file.hpp"
+#include "flipflux/study/simulation.hpp"
+#include "flipflux/study/trajectory.hpp"
+
+namespace flipflux::cli {
+namespace {
+
+struct trajectory_state {
+    std::string state, time, criteria = "upright,approx,saddle", arms = "both", events, out,
+                             sample_interval = "0", rtol = "1e-12", method = "dop853";
+    model_options model;
+    precision_option precision;
+};
+
+phase_point<double> parse_state(const std::string& text) {
+    phase_point<double> x{};
+    std::size_t pos = 0, i = 0;
+    while (pos <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', pos), text.size());
+        if (i == 4) break;
+        x[i++] = parse_real<double>(text.substr(pos, comma - pos), "--state");
+        pos = comma + 1;
+    }
+    if (i != 4 || pos <= text.size())
+        throw input_error("--state: '" + text + "' is not four numbers TH1,TH2,L1,L2");
+    return x;
+}
+
+std::vector<arm> parse_arms(const std::string& text) {
+    if (text == "both") return {arm::one, arm::two};
+    return {parse_arm(text, "--arm")};
+}
+
+std::string events_csv(const trajectory_record& r) {
+    std::string s = "time,arm,criterion,direction\n";
+    for (const flip_event& e : r.events)
+        s += to_decimal(e.time) + "," + to_string(e.flip_arm) + "," + e.criterion + "," +
+             (e.direction > 0 ? "1" : "-1") + "\n";
+    return s;
+}
+
+std::string states_csv(const trajectory_record& r) {
+    std::string s = "t,theta1,theta2,l1,l2,energy_drift\n";
+    for (const auto& x : r.states) {
+        for (std::size_t i = 0; i < x.size(); ++i)
+            s += (i ? "," : "") + to_decimal(x[i]);
+        s += "\n";
+    }
+    return s;
+}
+
+void write(const std::string& path, const std::string& option, const std::string& text) {
+    try {
+        write_file_atomically(path, text);
+    } catch (const std::runtime_error&) {
+        throw input_error(option + ": cannot write '" + path + "'");
+    }
+}
+
+void run(const trajectory_state& s) {
+    const precision p = parse_precision(s.precision.text);
+    if (precision_name(p) != "double")
+        throw input_error("--precision: '" + s.precision.text +
+                          "': trajectories are integrated in double so far (the ensemble's "
+                          "integrator and detectors); quad and mp:N are not implemented yet");
+    const double_pendulum<double> model(parse_parameters<double>(s.model));
+    trajectory_request q;
+    q.state = parse_state(s.state);
+    q.time = parse_real<double>(s.time, "--time");
+    q.criteria = parse_criterion_list(s.criteria, "--criteria");
+    q.arms = parse_arms(s.arms);
+    q.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
+    q.rtol = parse_real<double>(s.rtol, "--rtol");
+    q.method = parse_name<integration_method>(s.method, "--method");
+    const trajectory_record r = integrate_trajectory(model, q);
+    for (const std::string& why : r.skipped)
+        std::fprintf(stderr, "flipflux: note: no flips possible for %s\n", why.c_str());
+    const std::string events = events_csv(r);
+    if (!s.out.empty()) write(s.out, "--out", states_csv(r));
+    if (s.events.empty())
+        print(events);
+    else
+        write(s.events, "--events", events);
+}
+
+const register_command registration([](CLI::App& app) {
+    auto s = std::make_shared<trajectory_state>();
+    CLI::App* sub = app.add_subcommand(
+        "trajectory",
+        "Integrate one trajectory from a canonical state and list its flip events (time, arm, "
+        "criterion, direction): the ensemble's integrator and detectors, for checking a "
+        "simulator");
+    sub->add_option("--state", s->state,
+                    "initial state TH1,TH2,L1,L2: angles from the downward vertical, conjugate "
+                    "momenta l = dL/d(theta dot)")
+        ->required();
+    sub->add_option("--time", s->time, "integration time T (> 0)")->required();
+    sub->add_option("--criteria", s->criteria,
+                    "comma-separated flip criteria: upright, approx, saddle")
+        ->capture_default_str();
+    sub->add_option("--arm", s->arms, "the arm whose flips are detected: 1, 2 or both")
+        ->capture_default_str();
+    sub->add_option("--events", s->events,
+                    "write the events CSV (time,arm,criterion,direction) to FILE instead of "
+                    "stdout");
+    sub->add_option("--out", s->out,
+                    "write the states CSV (t,theta1,theta2,l1,l2,energy_drift; angles unwrapped) "
+                    "to FILE");
+    sub->add_option("--sample-interval", s->sample_interval,
+                    "state every DT in --out (0: only t = 0 and t = T)")
+        ->capture_default_str();
+    sub->add_option("--rtol", s->rtol, "relative (and absolute) tolerance of the integrator")
+        ->capture_default_str();
+    sub->add_option("--method", s->method, "integrator: dop853 or dopri5")->capture_default_str();
+    add_model_options(*sub, s->model);
+    add_precision_option(*sub, s->precision);
+    sub->callback([s] { run(*s); });
+});
+
+}  // namespace
+}  // namespace flipflux::cli

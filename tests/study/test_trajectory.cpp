@@ -1,0 +1,225 @@
+// One trajectory with its flip events (study/trajectory.hpp, `flipflux trajectory`): the events
+// lie on their criterion's curve and have the right direction, checked by an independent route
+// (the symplectic Gauss-Legendre integrator in quad precision); every crossing on a fine quad
+// grid is reported once; a grazing flip (two crossings close in time) is found as two events;
+// bad input is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/real.hpp"
+#include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/study/trajectory.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+struct quad_flow {
+    const double_pendulum<quad>* m;
+    void operator()(const std::array<quad, 4>& x, std::array<quad, 4>& dx) const { dx = m->rhs(x); }
+};
+
+/// The state at time t from x0 by 16-stage Gauss-Legendre (order 32) in quad with steps <= 1/32:
+/// 30 digits over the short times used here, independent of the double integrator under test.
+std::array<quad, 4> quad_state(const phase_point<double>& x0, double t) {
+    static const double_pendulum<quad> m;
+    std::array<quad, 4> x{x0[0], x0[1], x0[2], x0[3]};
+    const long n = std::max(1L, static_cast<long>(std::ceil(t * 32)));
+    gauss_legendre<quad, 4> gl(16);
+    gl.integrate(quad_flow{&m}, x, quad(t) / n, n);
+    return x;
+}
+
+/// Distance of an angle from pi modulo 2 pi.
+double from_upright(quad th) {
+    const quad k = boost::multiprecision::round((th - boost::math::constants::pi<quad>()) /
+                                                (2 * boost::math::constants::pi<quad>()));
+    return static_cast<double>(th - boost::math::constants::pi<quad>() -
+                               2 * k * boost::math::constants::pi<quad>());
+}
+
+// Every upright event of both arms: the flip angle is pi (mod 2 pi) there, to the accuracy the
+// double trajectory has at that time, and it moves in the event's direction. The tolerance is
+// derived, not chosen: e(t), the measured distance of the double trajectory's state at the event
+// from the quad one (it grows with the Lyapunov exponent), bounds the angle's error, and an event
+// time located to a few ulp adds |theta'| * 8 ulp(t).
+TEST(Trajectory, EventsLieOnTheCurveByAnIndependentRoute) {
+    const double_pendulum<double> m;
+    for (const phase_point<double> x0 :
+         {phase_point<double>{0.3, 2.9, 0.5, 0.8}, phase_point<double>{2.5, 3.0, 1.2, 1.0},
+          phase_point<double>{2.2, -2.5, 0.5, 1.1}}) {
+        trajectory_request q;
+        q.state = x0;
+        q.time = 12;
+        q.criteria = {"upright"};
+        q.arms = {arm::one, arm::two};
+        const trajectory_record r = integrate_trajectory(m, q);
+        ASSERT_GE(r.events.size(), 2u) << "E = " << r.energy;
+        for (std::size_t i = 1; i < r.events.size(); ++i)
+            EXPECT_LE(r.events[i - 1].time, r.events[i].time);
+        for (const flip_event& e : r.events) {
+            const std::array<quad, 4> exact = quad_state(x0, e.time);
+            trajectory_request to = q;
+            to.time = e.time;
+            const trajectory_record at = integrate_trajectory(m, to);
+            const auto& last = at.states.back();
+            double err = 0;
+            for (int k = 0; k < 4; ++k)
+                err = std::max(err, std::abs(last[1 + k] - static_cast<double>(exact[k])));
+            const int flip = e.flip_arm == arm::two ? 1 : 0;
+            const std::array<quad, 4> rate = double_pendulum<quad>().rhs(exact);
+            const double speed = std::abs(static_cast<double>(rate[flip]));
+            const double tol =
+                4 * err + speed * 8 * std::numeric_limits<double>::epsilon() * e.time + 1e-15;
+            std::printf("arm %s t = %.6f residual %.2e err %.2e tol %.2e\n",
+                        to_string(e.flip_arm).c_str(), e.time, std::abs(from_upright(exact[flip])),
+                        err, tol);
+            EXPECT_LE(std::abs(from_upright(exact[flip])), tol)
+                << "arm " << to_string(e.flip_arm) << " t = " << e.time << " err " << err;
+            EXPECT_EQ(e.direction, rate[flip] > 0 ? 1 : -1) << "t = " << e.time;
+        }
+    }
+}
+
+// Every upright crossing of arm 2 on a fine grid of the quad trajectory (the flip angle's
+// 2 pi-period level changes between grid points) is one event, none missing, none twice.
+TEST(Trajectory, EveryCrossingIsReportedOnce) {
+    const double_pendulum<double> m;
+    const phase_point<double> x0{0.0, 3.0, 0.0, 1.0};
+    trajectory_request q;
+    q.state = x0;
+    q.time = 10;
+    q.criteria = {"upright"};
+    q.arms = {arm::two};
+    const trajectory_record r = integrate_trajectory(m, q);
+    const double_pendulum<quad> mq;
+    std::array<quad, 4> x{x0[0], x0[1], x0[2], x0[3]};
+    gauss_legendre<quad, 4> gl(12);
+    auto level = [](quad th) {
+        return static_cast<long>(boost::multiprecision::floor(
+            (th - boost::math::constants::pi<quad>()) / (2 * boost::math::constants::pi<quad>())));
+    };
+    long crossings = 0, previous = level(x[1]);
+    const long n = 2000;  // h = 1/200: the angle moves < 0.05 per step, no double crossing
+    for (long k = 0; k < n; ++k) {
+        gl.integrate(quad_flow{&mq}, x, quad(q.time) / n, 1);
+        const long now = level(x[1]);
+        crossings += std::abs(now - previous);
+        previous = now;
+    }
+    EXPECT_GT(crossings, 0);
+    std::printf("%ld crossings on the quad grid, %zu events\n", crossings, r.events.size());
+    EXPECT_EQ(static_cast<long>(r.events.size()), crossings);
+}
+
+// A grazing flip: arm 2 rises towards upright and falls back. Bisection on the initial momentum
+// l2 finds where the number of upright events in a short time changes from 0 to 2; just beyond
+// it the two events are close in time, opposite in direction, and both on the curve.
+TEST(Trajectory, GrazingFlipIsTwoEvents) {
+    const double_pendulum<double> m;
+    auto events = [&](double l2) {
+        trajectory_request q;
+        q.state = {0.3, 2.6, 0.0, l2};
+        q.time = 2.5;
+        q.criteria = {"upright"};
+        q.arms = {arm::two};
+        return integrate_trajectory(m, q).events;
+    };
+    double lo = 0.0, hi = 1.5;  // lo: no flip; hi: at least one
+    ASSERT_TRUE(events(lo).empty());
+    ASSERT_FALSE(events(hi).empty());
+    for (int i = 0; i < 60 && hi - lo > 1e-12; ++i) {
+        const double mid = (lo + hi) / 2;
+        (events(mid).empty() ? lo : hi) = mid;
+    }
+    const auto e = events(hi);
+    ASSERT_EQ(e.size(), 2u) << "l2 = " << hi;
+    std::printf("grazing: l2 = %.17g, events at %.17g and %.17g (gap %.3g)\n", hi, e[0].time,
+                e[1].time, e[1].time - e[0].time);
+    EXPECT_EQ(e[0].direction, 1);
+    EXPECT_EQ(e[1].direction, -1);
+    EXPECT_LT(e[1].time - e[0].time, 0.05);
+    for (const flip_event& x : e) {
+        const std::array<quad, 4> exact = quad_state({0.3, 2.6, 0.0, hi}, x.time);
+        EXPECT_LE(std::abs(from_upright(exact[1])), 1e-9) << x.time;
+    }
+}
+
+// The states: t = 0 is the initial state, t = T is last, angles are unwrapped (continuous), the
+// drift column is small; a criterion that cannot flip at the energy is listed, not an error.
+TEST(Trajectory, StatesAreUnwrappedAndCriteriaBelowTheirThresholdAreSkipped) {
+    const double_pendulum<double> m;
+    trajectory_request q;
+    q.state = {0.3, 2.9, 0.5, 0.8};  // E ~ 2.94: arm 1 cannot flip
+    q.time = 10;
+    q.sample_interval = 0.01;
+    q.criteria = {"upright", "saddle"};
+    q.arms = {arm::one, arm::two};
+    const trajectory_record r = integrate_trajectory(m, q);
+    ASSERT_EQ(r.skipped.size(), 2u);
+    EXPECT_NE(r.skipped[0].find("arm 1 upright"), std::string::npos) << r.skipped[0];
+    EXPECT_EQ(r.states.front()[0], 0.0);
+    EXPECT_EQ(r.states.front()[2], 2.9);
+    EXPECT_EQ(r.states.back()[0], 10.0);
+    ASSERT_EQ(r.states.size(), 1001u);
+    for (std::size_t i = 1; i < r.states.size(); ++i) {
+        EXPECT_LT(std::abs(r.states[i][2] - r.states[i - 1][2]), 0.5) << r.states[i][0];
+        EXPECT_LT(std::abs(r.states[i][6]), 1e-9);
+    }
+    // arm 2 flips: its angle leaves [-pi, pi] unwrapped
+    double widest = 0;
+    for (const auto& s : r.states)
+        widest = std::max(widest, std::abs(s[2]));
+    EXPECT_GT(widest, pi);
+    EXPECT_GT(r.events.size(), 0u);
+    // bad input names the field
+    trajectory_request bad = q;
+    bad.state[2] = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(integrate_trajectory(m, bad), input_error);
+    bad = q;
+    bad.time = -1;
+    EXPECT_THROW(integrate_trajectory(m, bad), input_error);
+    bad = q;
+    bad.criteria = {"upright", "upright"};
+    EXPECT_THROW(integrate_trajectory(m, bad), input_error);
+}
+
+TEST(CliTrajectory, WritesEventsAndStatesAndRefusesBadInput) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(::testing::TempDir()) / "flipflux_trajectory_cli";
+    fs::create_directories(dir);
+    const auto ok = run_flipflux(
+        "trajectory --state 0.3,2.9,0.5,0.8 --time 10 --arm 2 "
+        "--criteria upright --sample-interval 1 --out " +
+        (dir / "s.csv").string());
+    ASSERT_EQ(ok.status, 0) << ok.err;
+    EXPECT_EQ(ok.out.rfind("time,arm,criterion,direction\n", 0), 0u) << ok.out;
+    const std::string states = read_text(dir / "s.csv");
+    EXPECT_EQ(
+        states.rfind("t,theta1,theta2,l1,l2,energy_drift\n0,0.29999999999999999,2.8999999999999999",
+                     0),
+        0u)
+        << states;
+    EXPECT_NE(ok.out.find(",2,upright,"), std::string::npos) << ok.out;
+    for (const std::string bad :
+         {"--state 0.4,2.8,0.9 --time 10", "--state 0.4,2.8,0.9,nan --time 10",
+          "--state 0.4,2.8,0.9,x --time 10", "--state 0.4,2.8,0.9,1,2 --time 10",
+          "--state 0.4,2.8,0.9,1 --time -1", "--state 0.4,2.8,0.9,1 --time 1 --arm 3",
+          "--state 0.4,2.8,0.9,1 --time 1 --precision quad"}) {
+        const auto r = run_flipflux("trajectory " + bad + " --events " + (dir / "e.csv").string());
+        EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "e.csv")) << bad;
+    }
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace flipflux::test
