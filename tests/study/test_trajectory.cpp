@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <sstream>
 
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
@@ -171,7 +172,7 @@ TEST(Trajectory, StatesAreUnwrappedAndCriteriaBelowTheirThresholdAreSkipped) {
     ASSERT_EQ(r.states.size(), 1001u);
     for (std::size_t i = 1; i < r.states.size(); ++i) {
         EXPECT_LT(std::abs(r.states[i][2] - r.states[i - 1][2]), 0.5) << r.states[i][0];
-        EXPECT_LT(std::abs(r.states[i][6]), 1e-9);
+        EXPECT_LT(std::abs(r.states[i][5]), 1e-9);
     }
     // arm 2 flips: its angle leaves [-pi, pi] unwrapped
     double widest = 0;
@@ -208,6 +209,14 @@ TEST(CliTrajectory, WritesEventsAndStatesAndRefusesBadInput) {
         0u)
         << states;
     EXPECT_NE(ok.out.find(",2,upright,"), std::string::npos) << ok.out;
+    std::istringstream lines(states);
+    std::string line;
+    int rows = 0;
+    while (std::getline(lines, line)) {
+        EXPECT_EQ(std::count(line.begin(), line.end(), ','), 5) << line;
+        ++rows;
+    }
+    EXPECT_EQ(rows, 12);  // header, t = 0, 1, ..., 10
     for (const std::string bad :
          {"--state 0.4,2.8,0.9 --time 10", "--state 0.4,2.8,0.9,nan --time 10",
           "--state 0.4,2.8,0.9,x --time 10", "--state 0.4,2.8,0.9,1,2 --time 10",

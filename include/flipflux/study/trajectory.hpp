@@ -41,7 +41,7 @@ struct trajectory_record {
     std::vector<flip_event>
         events;  ///< in time order (ties: arm 1 first, then the criteria's order)
     /// (t, th1, th2, l1, l2, H - H(x0)): t = 0, every sample time, and t = T; angles unwrapped
-    std::vector<std::array<double, 7>> states;
+    std::vector<std::array<double, 6>> states;
     double max_energy_drift = 0;  ///< over every step end
     long steps = 0, rejected_steps = 0;
     rk_status status = rk_status::ok;
