@@ -1,11 +1,13 @@
-// flipflux trajectory --state TH1,TH2,L1,L2 --time T [--criteria ...] [--arm 1|2|both]
-// [--events FILE] [--out FILE] [--sample-interval DT] [--rtol R] [--method M]: one trajectory
-// from a canonical state with its flip events (study/trajectory.hpp), for checking a simulator's
-// integrator and flip detector. Events CSV: time,arm,criterion,direction (on stdout without
+// flipflux trajectory --state TH1,TH2,L1,L2 --time T [--precision P] [--criteria ...]
+// [--arm 1|2|both] [--events FILE] [--out FILE] [--sample-interval DT] [--rtol R] [--method M]
+// [--route default|ensemble|reference]: one trajectory from a canonical state with its flip events
+// (study/trajectory.hpp), for checking a simulator's integrator and flip detector. Events CSV:
+// time,arm,criterion,direction (on stdout without
 // --events); states CSV (--out): t,theta1,theta2,l1,l2,energy_drift at t = 0, every sample time
 // and t = T, angles unwrapped. Files are written atomically, after the whole computation.
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "common.hpp"
@@ -18,18 +20,20 @@ namespace {
 
 struct trajectory_state {
     std::string state, time, criteria = "upright,approx,saddle", arms = "both", events, out,
-                             sample_interval = "0", rtol = "1e-12", method = "dop853";
+                             sample_interval = "0", rtol = "1e-12", method = "dop853",
+                             route = "default";
     model_options model;
     precision_option precision;
 };
 
-phase_point<double> parse_state(const std::string& text) {
-    phase_point<double> x{};
+template <class Real>
+phase_point<Real> parse_state(const std::string& text) {
+    phase_point<Real> x{};
     std::size_t pos = 0, i = 0;
     while (pos <= text.size()) {
         const std::size_t comma = std::min(text.find(',', pos), text.size());
         if (i == 4) break;
-        x[i++] = parse_real<double>(text.substr(pos, comma - pos), "--state");
+        x[i++] = parse_real<Real>(text.substr(pos, comma - pos), "--state");
         pos = comma + 1;
     }
     if (i != 4 || pos <= text.size())
@@ -42,15 +46,17 @@ std::vector<arm> parse_arms(const std::string& text) {
     return {parse_arm(text, "--arm")};
 }
 
-std::string events_csv(const trajectory_record& r) {
+template <class Real>
+std::string events_csv(const trajectory_record<Real>& r) {
     std::string s = "time,arm,criterion,direction\n";
-    for (const flip_event& e : r.events)
+    for (const flip_event<Real>& e : r.events)
         s += to_decimal(e.time) + "," + to_string(e.flip_arm) + "," + e.criterion + "," +
              (e.direction > 0 ? "1" : "-1") + "\n";
     return s;
 }
 
-std::string states_csv(const trajectory_record& r) {
+template <class Real>
+std::string states_csv(const trajectory_record<Real>& r) {
     std::string s = "t,theta1,theta2,l1,l2,energy_drift\n";
     for (const auto& x : r.states) {
         for (std::size_t i = 0; i < x.size(); ++i)
@@ -68,22 +74,24 @@ void write(const std::string& path, const std::string& option, const std::string
     }
 }
 
+template <class Real>
 void run(const trajectory_state& s) {
-    const precision p = parse_precision(s.precision.text);
-    if (precision_name(p) != "double")
-        throw input_error("--precision: '" + s.precision.text +
-                          "': trajectories are integrated in double so far (the ensemble's "
-                          "integrator and detectors); quad and mp:N are not implemented yet");
-    const double_pendulum<double> model(parse_parameters<double>(s.model));
-    trajectory_request q;
-    q.state = parse_state(s.state);
-    q.time = parse_real<double>(s.time, "--time");
+    const double_pendulum<Real> model(parse_parameters<Real>(s.model));
+    trajectory_request<Real> q;
+    q.state = parse_state<Real>(s.state);
+    q.time = parse_real<Real>(s.time, "--time");
     q.criteria = parse_criterion_list(s.criteria, "--criteria");
     q.arms = parse_arms(s.arms);
-    q.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
+    q.sample_interval = parse_real<Real>(s.sample_interval, "--sample-interval");
     q.rtol = parse_real<double>(s.rtol, "--rtol");
     q.method = parse_name<integration_method>(s.method, "--method");
-    const trajectory_record r = integrate_trajectory(model, q);
+    if (s.route != "default" && s.route != "ensemble" && s.route != "reference")
+        throw input_error("--route: '" + s.route +
+                          "' is not a route (default, ensemble, reference)");
+    if (s.route == "ensemble" && !std::is_same_v<Real, double>)
+        throw input_error("--route: 'ensemble' integrates in double only (--precision double)");
+    const trajectory_record<Real> r =
+        s.route == "reference" ? reference_trajectory(model, q) : integrate_trajectory(model, q);
     for (const std::string& why : r.skipped)
         std::fprintf(stderr, "flipflux: note: no flips possible for %s\n", why.c_str());
     const std::string events = events_csv(r);
@@ -125,7 +133,14 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--method", s->method, "integrator: dop853 or dopri5")->capture_default_str();
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
-    sub->callback([s] { run(*s); });
+    sub->add_option("--route", s->route,
+                    "default (double: the ensemble's; quad, mp:N: reference), ensemble, or "
+                    "reference (Gauss-Legendre, events polished to full precision)")
+        ->capture_default_str();
+    sub->callback([s] {
+        const precision p = parse_precision(s->precision.text);
+        dispatch(p, [&]<class Real>() { run<Real>(*s); });
+    });
 });
 
 }  // namespace

@@ -1,4 +1,5 @@
-// One trajectory with its flip events (include/flipflux/study/trajectory.hpp).
+// One trajectory with its flip events by the ensemble's route (include/flipflux/study/
+// trajectory.hpp).
 #include "flipflux/study/trajectory.hpp"
 
 #include <algorithm>
@@ -9,44 +10,16 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "trajectory_checks.hpp"
 
 namespace flipflux {
-namespace {
 
-void check(const trajectory_request& q) {
-    for (double x : q.state)
-        if (!std::isfinite(x))
-            throw input_error::about("state", "'" + to_decimal(x) + "' is not a finite number");
-    if (!std::isfinite(q.time) || !(q.time > 0))
-        throw input_error::about("time", "'" + to_decimal(q.time) + "' is invalid (must be > 0)");
-    if (!std::isfinite(q.sample_interval) || q.sample_interval < 0)
-        throw input_error::about(
-            "sample_interval", "'" + to_decimal(q.sample_interval) + "' is invalid (must be >= 0)");
-    if (q.sample_interval > 0 && q.time / q.sample_interval > 1e8)
-        throw input_error::about("sample_interval", "'" + to_decimal(q.sample_interval) +
-                                                        "' gives more than 1e8 samples");
-    if (!(q.rtol > 0) || !(q.rtol <= 0.1))
-        throw input_error::about("rtol",
-                                 "'" + to_decimal(q.rtol) + "' is invalid (must be in (0, 0.1])");
-    if (q.criteria.empty()) throw input_error::about("criteria", "no criterion given");
-    for (std::size_t i = 0; i < q.criteria.size(); ++i) {
-        check_criterion_name(q.criteria[i]);
-        for (std::size_t j = 0; j < i; ++j)
-            if (q.criteria[j] == q.criteria[i])
-                throw input_error::about("criteria", "'" + q.criteria[i] + "' is given twice");
-    }
-    if (q.arms.empty()) throw input_error::about("arms", "no arm given");
-    if (q.arms.size() == 2 && q.arms[0] == q.arms[1])
-        throw input_error::about("arms", "arm " + to_string(q.arms[0]) + " is given twice");
-}
-
-}  // namespace
-
-trajectory_record integrate_trajectory(const double_pendulum<double>& model,
-                                       const trajectory_request& q) {
-    check(q);
-    trajectory_record out;
+trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& model,
+                                              const trajectory_request<double>& q) {
+    detail::check_trajectory_request(q);
+    trajectory_record<double> out;
     out.energy = model.hamiltonian(q.state);
+    out.route = "ensemble (" + to_string(q.method) + ", rtol " + to_decimal(q.rtol) + ")";
     // the criteria, arm 1 first; those that cannot flip at this energy are skipped
     struct detected {
         arm flip_arm;
@@ -54,10 +27,7 @@ trajectory_record integrate_trajectory(const double_pendulum<double>& model,
         ensemble_criterion criterion;
     };
     std::vector<detected> list;
-    std::vector<arm> arms = q.arms;
-    std::sort(arms.begin(), arms.end(),
-              [](arm a, arm b) { return a == arm::one && b == arm::two; });
-    for (const arm a : arms)
+    for (const arm a : detail::ordered_arms(q.arms))
         for (const std::string& name : q.criteria) {
             const double threshold = criterion_threshold(model, a, name);
             if (!(out.energy > threshold)) {
@@ -90,9 +60,7 @@ trajectory_record integrate_trajectory(const double_pendulum<double>& model,
         detectors.push_back(owned.back().get());
     }
     const trajectory_result r = simulate_trajectory(model, q.state, o, 0, detectors);
-    out.status = r.status;
     out.steps = r.steps;
-    out.rejected_steps = r.rejected_steps;
     out.max_energy_drift = r.max_energy_drift;
     if (r.status != rk_status::ok)
         throw std::runtime_error("trajectory: the integration failed at t = " +
@@ -101,8 +69,9 @@ trajectory_record integrate_trajectory(const double_pendulum<double>& model,
     for (std::size_t c = 0; c < list.size(); ++c)
         for (const crossing& x : r.crossings[c])
             out.events.push_back({x.time, list[c].flip_arm, list[c].name, x.direction});
-    std::stable_sort(out.events.begin(), out.events.end(),
-                     [](const flip_event& a, const flip_event& b) { return a.time < b.time; });
+    std::stable_sort(
+        out.events.begin(), out.events.end(),
+        [](const flip_event<double>& a, const flip_event<double>& b) { return a.time < b.time; });
     // the states: the samples (t = 0 and every interval) and t = T unless it was sampled
     const pendulum_flow flow(model);
     const double h0 = flow.hamiltonian_absolute(q.state);

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
@@ -56,20 +57,20 @@ TEST(Trajectory, EventsLieOnTheCurveByAnIndependentRoute) {
     for (const phase_point<double> x0 :
          {phase_point<double>{0.3, 2.9, 0.5, 0.8}, phase_point<double>{2.5, 3.0, 1.2, 1.0},
           phase_point<double>{2.2, -2.5, 0.5, 1.1}}) {
-        trajectory_request q;
+        trajectory_request<double> q;
         q.state = x0;
         q.time = 12;
         q.criteria = {"upright"};
         q.arms = {arm::one, arm::two};
-        const trajectory_record r = integrate_trajectory(m, q);
+        const trajectory_record<double> r = integrate_trajectory(m, q);
         ASSERT_GE(r.events.size(), 2u) << "E = " << r.energy;
         for (std::size_t i = 1; i < r.events.size(); ++i)
             EXPECT_LE(r.events[i - 1].time, r.events[i].time);
-        for (const flip_event& e : r.events) {
+        for (const flip_event<double>& e : r.events) {
             const std::array<quad, 4> exact = quad_state(x0, e.time);
-            trajectory_request to = q;
+            trajectory_request<double> to = q;
             to.time = e.time;
-            const trajectory_record at = integrate_trajectory(m, to);
+            const trajectory_record<double> at = integrate_trajectory(m, to);
             const auto& last = at.states.back();
             double err = 0;
             for (int k = 0; k < 4; ++k)
@@ -94,12 +95,12 @@ TEST(Trajectory, EventsLieOnTheCurveByAnIndependentRoute) {
 TEST(Trajectory, EveryCrossingIsReportedOnce) {
     const double_pendulum<double> m;
     const phase_point<double> x0{0.0, 3.0, 0.0, 1.0};
-    trajectory_request q;
+    trajectory_request<double> q;
     q.state = x0;
     q.time = 10;
     q.criteria = {"upright"};
     q.arms = {arm::two};
-    const trajectory_record r = integrate_trajectory(m, q);
+    const trajectory_record<double> r = integrate_trajectory(m, q);
     const double_pendulum<quad> mq;
     std::array<quad, 4> x{x0[0], x0[1], x0[2], x0[3]};
     gauss_legendre<quad, 4> gl(12);
@@ -126,7 +127,7 @@ TEST(Trajectory, EveryCrossingIsReportedOnce) {
 TEST(Trajectory, GrazingFlipIsTwoEvents) {
     const double_pendulum<double> m;
     auto events = [&](double l2) {
-        trajectory_request q;
+        trajectory_request<double> q;
         q.state = {0.3, 2.6, 0.0, l2};
         q.time = 2.5;
         q.criteria = {"upright"};
@@ -147,7 +148,7 @@ TEST(Trajectory, GrazingFlipIsTwoEvents) {
     EXPECT_EQ(e[0].direction, 1);
     EXPECT_EQ(e[1].direction, -1);
     EXPECT_LT(e[1].time - e[0].time, 0.05);
-    for (const flip_event& x : e) {
+    for (const flip_event<double>& x : e) {
         const std::array<quad, 4> exact = quad_state({0.3, 2.6, 0.0, hi}, x.time);
         EXPECT_LE(std::abs(from_upright(exact[1])), 1e-9) << x.time;
     }
@@ -157,13 +158,13 @@ TEST(Trajectory, GrazingFlipIsTwoEvents) {
 // drift column is small; a criterion that cannot flip at the energy is listed, not an error.
 TEST(Trajectory, StatesAreUnwrappedAndCriteriaBelowTheirThresholdAreSkipped) {
     const double_pendulum<double> m;
-    trajectory_request q;
+    trajectory_request<double> q;
     q.state = {0.3, 2.9, 0.5, 0.8};  // E ~ 2.94: arm 1 cannot flip
     q.time = 10;
     q.sample_interval = 0.01;
     q.criteria = {"upright", "saddle"};
     q.arms = {arm::one, arm::two};
-    const trajectory_record r = integrate_trajectory(m, q);
+    const trajectory_record<double> r = integrate_trajectory(m, q);
     ASSERT_EQ(r.skipped.size(), 2u);
     EXPECT_NE(r.skipped[0].find("arm 1 upright"), std::string::npos) << r.skipped[0];
     EXPECT_EQ(r.states.front()[0], 0.0);
@@ -181,7 +182,7 @@ TEST(Trajectory, StatesAreUnwrappedAndCriteriaBelowTheirThresholdAreSkipped) {
     EXPECT_GT(widest, pi);
     EXPECT_GT(r.events.size(), 0u);
     // bad input names the field
-    trajectory_request bad = q;
+    trajectory_request<double> bad = q;
     bad.state[2] = std::numeric_limits<double>::infinity();
     EXPECT_THROW(integrate_trajectory(m, bad), input_error);
     bad = q;
@@ -190,6 +191,81 @@ TEST(Trajectory, StatesAreUnwrappedAndCriteriaBelowTheirThresholdAreSkipped) {
     bad = q;
     bad.criteria = {"upright", "upright"};
     EXPECT_THROW(integrate_trajectory(m, bad), input_error);
+}
+
+// The reference route (Gauss-Legendre, events polished by Newton with exact-length steps) in two
+// precisions: quad and mp:20 (about 30 working digits) give the same events, their times agreeing
+// to within the coarser one's epsilon times the growth of errors along the trajectory (bounded by
+// e^(lambda T) <= 1e3 for T = 5 and lambda <= 1.4, the largest finite-time exponent seen).
+TEST(Trajectory, ReferenceRouteAgreesAcrossPrecisions) {
+    const char* state[] = {"2.5", "3.0", "1.2", "1.0"};
+    auto run = [&](const precision& p) {
+        return dispatch(p, [&]<class Real>() {
+            trajectory_request<Real> q;
+            for (int i = 0; i < 4; ++i)
+                q.state[static_cast<std::size_t>(i)] = parse_real<Real>(state[i], "state");
+            q.time = 5;
+            q.criteria = {"upright", "approx"};
+            q.arms = {arm::one, arm::two};
+            const trajectory_record<Real> r = reference_trajectory(double_pendulum<Real>(), q);
+            std::vector<std::pair<std::string, std::string>> out;
+            for (const auto& e : r.events)
+                out.emplace_back(to_string(e.flip_arm) + e.criterion + std::to_string(e.direction),
+                                 to_decimal(e.time));
+            out.emplace_back("theta2(T)", to_decimal(r.states.back()[2]));
+            return out;
+        });
+    };
+    const auto a = run(parse_precision("quad")), b = run(parse_precision("mp:20"));
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GE(a.size(), 6u);  // 5 events and the final angle
+    const double eps20 =
+        std::pow(10.0, -static_cast<double>(decimal_digits(parse_precision("mp:20"))));
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].first, b[i].first) << i;
+        EXPECT_LE(decimal_relative_error(a[i].second, b[i].second, "t"), 1e3 * eps20)
+            << a[i].first << ": " << a[i].second << " vs " << b[i].second;
+    }
+}
+
+// The ensemble route (double) against the reference route (quad): the same events, each time
+// within what the double trajectory's own error allows there (its state error against the quad
+// one divided by the crossing speed, as in EventsLieOnTheCurveByAnIndependentRoute).
+TEST(Trajectory, EnsembleRouteAgreesWithTheReferenceRoute) {
+    const double_pendulum<double> m;
+    const double_pendulum<quad> mq;
+    trajectory_request<double> q;
+    q.state = {2.5, 3.0, 1.2, 1.0};
+    q.time = 8;
+    q.criteria = {"upright", "approx"};
+    q.arms = {arm::one, arm::two};
+    trajectory_request<quad> qq;
+    qq.state = {2.5, 3.0, 1.2, 1.0};
+    qq.time = 8;
+    qq.criteria = q.criteria;
+    qq.arms = q.arms;
+    const trajectory_record<double> r = ensemble_trajectory(m, q);
+    const trajectory_record<quad> ref = reference_trajectory(mq, qq);
+    ASSERT_EQ(r.events.size(), ref.events.size());
+    for (std::size_t i = 0; i < r.events.size(); ++i) {
+        const flip_event<double>& e = r.events[i];
+        EXPECT_EQ(e.flip_arm, ref.events[i].flip_arm) << i;
+        EXPECT_EQ(e.criterion, ref.events[i].criterion) << i;
+        EXPECT_EQ(e.direction, ref.events[i].direction) << i;
+        const std::array<quad, 4> exact = quad_state(q.state, e.time);
+        trajectory_request<double> to = q;
+        to.time = e.time;
+        const auto& last = ensemble_trajectory(m, to).states.back();
+        double err = 0;
+        for (int k = 0; k < 4; ++k)
+            err = std::max(err, std::abs(last[1 + k] - static_cast<double>(exact[k])));
+        const std::array<quad, 4> rate = mq.rhs(exact);
+        const int flip = e.flip_arm == arm::two ? 1 : 0;
+        const double speed = std::abs(static_cast<double>(rate[flip]));
+        EXPECT_LE(std::abs(e.time - static_cast<double>(ref.events[i].time)),
+                  8 * err / speed + 16 * std::numeric_limits<double>::epsilon() * e.time)
+            << e.criterion << " arm " << to_string(e.flip_arm) << " t = " << e.time;
+    }
 }
 
 TEST(CliTrajectory, WritesEventsAndStatesAndRefusesBadInput) {
@@ -221,7 +297,8 @@ TEST(CliTrajectory, WritesEventsAndStatesAndRefusesBadInput) {
          {"--state 0.4,2.8,0.9 --time 10", "--state 0.4,2.8,0.9,nan --time 10",
           "--state 0.4,2.8,0.9,x --time 10", "--state 0.4,2.8,0.9,1,2 --time 10",
           "--state 0.4,2.8,0.9,1 --time -1", "--state 0.4,2.8,0.9,1 --time 1 --arm 3",
-          "--state 0.4,2.8,0.9,1 --time 1 --precision quad"}) {
+          "--state 0.4,2.8,0.9,1 --time 1 --route ensemble --precision quad",
+          "--state 0.4,2.8,0.9,1 --time 1 --route fast"}) {
         const auto r = run_flipflux("trajectory " + bad + " --events " + (dir / "e.csv").string());
         EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -179,6 +179,22 @@ class gauss_legendre {
         return solve_and_update(f, x, h, s);
     }
 
+    /// The collocation polynomial of the last successful step at the fraction theta of it
+    /// (u(0) = x0, the step's initial state, which the caller passes): accurate to order s + 1,
+    /// enough to locate events; polish them with restep() from x0 (full order 2 s).
+    state collocation(const state& x0, const Real& theta) const {
+        const int ns = t_->stages;
+        state u = x0;
+        for (int j = 0; j < ns; ++j) {
+            Real l = theta / t_->c[j];
+            for (int m = 0; m < ns; ++m)
+                if (m != j) l *= (theta - t_->c[m]) / (t_->c[j] - t_->c[m]);
+            for (std::size_t k = 0; k < N; ++k)
+                u[k] += l * z_[static_cast<std::size_t>(j)][k];
+        }
+        return u;
+    }
+
     /// `steps` steps of size h from x (in place); observe(k, x) after step k = 1..steps (a step
     /// that had to be split is observed once, at its end). Each call starts afresh (forget()).
     template <class F, class Observer>

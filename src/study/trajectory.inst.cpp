@@ -1,0 +1,279 @@
+// One trajectory with its flip events by the reference route, Gauss-Legendre with events polished
+// to full precision, in any precision (include/flipflux/study/trajectory.hpp explains the method).
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+#include "flipflux/core/constants.hpp"
+#include "flipflux/core/instantiate.hpp"
+#include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/study/trajectory.hpp"
+#include "trajectory_checks.hpp"
+
+namespace flipflux {
+namespace {
+
+/// A criterion's curve at Real, type-erased: h(s), h'(s) on [lo, hi] (clamped outside).
+template <class Real>
+struct curve_at {
+    arm flip_arm;
+    std::string name;
+    std::function<Real(const Real&)> offset, slope;
+    Real lo, hi;
+};
+
+template <class Real, class Curve>
+curve_at<Real> erase(const std::string& name, const Curve& c) {
+    const auto d = c.domain();
+    return {c.flip_arm(),
+            name,
+            [c](const Real& s) { return Real(c.offset(s)); },
+            [c](const Real& s) { return Real(c.slope(s)); },
+            d[0],
+            d[1]};
+}
+
+/// The criteria's curves at the energy; the ones that cannot flip are listed in `skipped`.
+template <class Real>
+std::vector<curve_at<Real>> curves(const double_pendulum<Real>& model,
+                                   const trajectory_request<Real>& q, const Real& energy,
+                                   std::vector<std::string>& skipped) {
+    std::vector<curve_at<Real>> out;
+    for (const arm a : detail::ordered_arms(q.arms))
+        for (const std::string& name : q.criteria) {
+            const Real threshold = model.saddle_energy(a);
+            if (!(energy > threshold)) {
+                skipped.push_back(
+                    "arm " + to_string(a) + " " + name + ": E = " + to_decimal(energy) +
+                    " is at or below the arm's saddle energy " + to_decimal(threshold));
+                continue;
+            }
+            if (name == "upright") {
+                out.push_back(erase<Real>(name, upright_curve<Real>{a}));
+            } else if (name == "approx") {
+                out.push_back(erase<Real>(name, approximate_saddle_curve(model, a)));
+            } else {
+                try {
+                    check_orbit_energy(model, a, energy);
+                } catch (const input_error& e) {
+                    skipped.push_back("arm " + to_string(a) + " " + name + ": " + e.detail());
+                    continue;
+                }
+                const saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy);
+                if (orbit.status == orbit_status::not_converged)
+                    throw std::runtime_error("trajectory: the saddle orbit of arm " + to_string(a) +
+                                             " did not converge at E = " + to_decimal(energy));
+                out.push_back(erase<Real>(name, make_saddle_curve(model, orbit)));
+            }
+        }
+    return out;
+}
+
+/// The crossing function phi = f - pi - h(red(s)) of a curve at a state, its time derivative,
+/// and whether red(s) lies in the curve's domain (a crossing counts only there).
+template <class Real>
+struct crossing_value {
+    Real phi, rate;
+    bool inside;
+};
+
+template <class Real>
+crossing_value<Real> crossing_function(const double_pendulum<Real>& model, const curve_at<Real>& c,
+                                       const phase_point<Real>& x) {
+    using boost::multiprecision::round;
+    using std::round;
+    const Real two_pi = 2 * pi<Real>();
+    const auto sf = curve_coordinates(c.flip_arm, x[0], x[1]);
+    const Real centre = (c.lo + c.hi) / 2;
+    const Real red = sf[0] - two_pi * Real(round((sf[0] - centre) / two_pi));
+    const bool inside = red >= c.lo && red <= c.hi;
+    const Real s = inside ? red : (red < c.lo ? c.lo : c.hi);
+    const phase_point<Real> dx = model.rhs(x);
+    const auto rates = curve_coordinates(c.flip_arm, dx[0], dx[1]);
+    return {sf[1] - pi<Real>() - c.offset(s), rates[1] - (inside ? c.slope(s) * rates[0] : Real(0)),
+            inside};
+}
+
+/// floor(phi / 2 pi): the level below phi.
+template <class Real>
+long level_below(const Real& phi) {
+    using boost::multiprecision::floor;
+    using std::floor;
+    return static_cast<long>(floor(phi / (2 * pi<Real>())));
+}
+
+/// Stages and steps: the local error (s!)^4 / ((2s)!)^2 (h Lambda)^(2s+1) below eps / 1000 at
+/// h Lambda = 1/8, Lambda >= 1 + the largest angular velocity at the energy + the natural
+/// frequency.
+template <class Real>
+std::pair<int, long> stages_and_steps(const double_pendulum<Real>& model, const Real& energy,
+                                      const Real& time) {
+    const auto& k = model.coefficients();
+    const double A = static_cast<double>(k.A), B = static_cast<double>(k.B),
+                 C = static_cast<double>(k.C);
+    const double lambda_min = (A + B) / 2 - std::sqrt((A - B) * (A - B) / 4 + C * C);
+    const double e = std::max(0.0, static_cast<double>(energy));
+    const double Lambda =
+        1 + std::sqrt(2 * e / lambda_min) +
+        std::sqrt(static_cast<double>(k.alpha) / A + static_cast<double>(k.beta) / B);
+    const double digits = -std::log10(static_cast<double>(std::numeric_limits<Real>::epsilon()));
+    int s = 2;
+    auto log_error = [](int st) {
+        return (4 * std::lgamma(st + 1.0) - 2 * std::lgamma(2 * st + 1.0)) / std::log(10.0) +
+               (2 * st + 1) * std::log10(1.0 / 8);
+    };
+    while (s < max_gauss_legendre_stages && log_error(s) > -(digits + 3))
+        ++s;
+    const double n = std::ceil(static_cast<double>(time) * Lambda * 8);
+    if (!(n <= 1e9)) throw input_error::about("time", "'" + to_decimal(time) + "' is too long");
+    return {s, std::max(1L, static_cast<long>(n))};
+}
+
+/// One step's events: the crossing function on the collocation polynomial at 16 points and at
+/// its extrema, every level change in a monotone piece, each root polished by Newton on phi with
+/// Gauss-Legendre steps of the exact length from the step's start.
+template <class Real, class F>
+void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<Real>>& list,
+                 const F& f, const gauss_legendre<Real, 4>& gl, const phase_point<Real>& x0,
+                 const phase_point<Real>& x1, const Real& t0, const Real& h,
+                 std::vector<flip_event<Real>>& events) {
+    constexpr int samples = 16;
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    using std::abs;
+    auto state_at = [&](const Real& theta) {
+        if (theta == 0) return x0;
+        if (theta == 1) return x1;
+        return gl.collocation(x0, theta);
+    };
+    for (const curve_at<Real>& c : list) {
+        std::vector<Real> theta, phi, rate;
+        for (int k = 0; k <= samples; ++k) {
+            const Real th = Real(k) / samples;
+            const crossing_value<Real> v = crossing_function(model, c, state_at(th));
+            theta.push_back(th);
+            phi.push_back(v.phi);
+            rate.push_back(v.rate);
+        }
+        // the cheap exit: no level between the sampled values, phi' of one sign
+        // (then phi is monotone and stays between its end values)
+        bool one_sign = true;
+        for (int k = 1; k <= samples; ++k)
+            one_sign = one_sign && ((rate[k] > 0) == (rate[0] > 0)) && rate[k] != 0;
+        const long lmin = level_below(*std::min_element(phi.begin(), phi.end()));
+        const long lmax = level_below(*std::max_element(phi.begin(), phi.end()));
+        if (one_sign && lmin == lmax) continue;
+        // the extrema: where phi' changes sign, by bisection on the collocation polynomial
+        std::vector<std::pair<Real, Real>> points;  // (theta, phi), increasing theta
+        for (int k = 0; k <= samples; ++k) {
+            points.emplace_back(theta[k], phi[k]);
+            if (k == samples || (rate[k] > 0) == (rate[k + 1] > 0)) continue;
+            Real a = theta[k], b = theta[k + 1];
+            const bool rising = rate[k] > 0;
+            for (int it = 0; it < 200 && b - a > 64 * eps; ++it) {
+                const Real m = (a + b) / 2;
+                (crossing_function(model, c, state_at(m)).rate > 0) == rising ? a = m : b = m;
+            }
+            const Real m = (a + b) / 2;
+            points.emplace_back(m, crossing_function(model, c, state_at(m)).phi);
+        }
+        for (std::size_t p = 1; p < points.size(); ++p) {
+            const long la = level_below(points[p - 1].second), lb = level_below(points[p].second);
+            if (la == lb) continue;
+            const bool up = lb > la;
+            for (long level = up ? la + 1 : la; up ? level <= lb : level > lb;
+                 level += up ? 1 : -1) {
+                const Real target = 2 * pi<Real>() * Real(level);
+                // bracket on the collocation polynomial, then Newton with exact-length steps
+                Real a = points[p - 1].first, b = points[p].first;
+                for (int it = 0; it < 200 && b - a > 64 * eps; ++it) {
+                    const Real m = (a + b) / 2;
+                    ((crossing_function(model, c, state_at(m)).phi >= target) == up ? b : a) = m;
+                }
+                Real tau = h * (a + b) / 2;
+                gauss_legendre<Real, 4> refine = gl;
+                crossing_value<Real> v{};
+                for (int it = 0; it < 12; ++it) {
+                    phase_point<Real> y = x0;
+                    if (!refine.restep(f, y, tau))
+                        throw std::runtime_error("trajectory: a refining step did not converge");
+                    v = crossing_function(model, c, y);
+                    const Real delta = (v.phi - target) / v.rate;
+                    tau -= delta;
+                    if (abs(delta) <= 4 * eps * (abs(t0) + abs(tau))) break;
+                }
+                if (v.inside) events.push_back({t0 + tau, c.flip_arm, c.name, v.rate > 0 ? 1 : -1});
+            }
+        }
+    }
+}
+
+}  // namespace
+
+template <class Real>
+trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
+                                             const trajectory_request<Real>& q) {
+    detail::check_trajectory_request(q);
+    trajectory_record<Real> out;
+    out.energy = model.hamiltonian(q.state);
+    const std::vector<curve_at<Real>> list = curves(model, q, out.energy, out.skipped);
+    const auto [stages, steps] = stages_and_steps(model, out.energy, q.time);
+    out.route = "gauss-legendre (" + std::to_string(stages) + " stages, " + std::to_string(steps) +
+                " steps, events polished by Newton)";
+    const Real h = q.time / steps;
+    auto f = [&model](const phase_point<Real>& x, phase_point<Real>& dx) { dx = model.rhs(x); };
+    gauss_legendre<Real, 4> gl(stages);
+    using std::abs;
+    auto add_state = [&](const Real& t, const phase_point<Real>& x) {
+        out.states.push_back({t, x[0], x[1], x[2], x[3], model.hamiltonian(x) - out.energy});
+    };
+    add_state(Real(0), q.state);
+    long next_sample = 1;
+    phase_point<Real> x = q.state;
+    for (long k = 0; k < steps; ++k) {
+        const phase_point<Real> x0 = x;
+        const Real t0 = h * k, t1 = k + 1 == steps ? q.time : h * (k + 1);
+        if (!gl.step(f, x, h))
+            throw std::runtime_error("trajectory: a Gauss-Legendre step did not converge at t = " +
+                                     to_decimal(t0));
+        ++out.steps;
+        const Real drift = abs(model.hamiltonian(x) - out.energy);
+        if (drift > out.max_energy_drift) out.max_energy_drift = drift;
+        step_events(model, list, f, gl, x0, x, t0, h, out.events);
+        while (q.sample_interval > 0) {
+            const Real ts = q.sample_interval * next_sample;
+            if (ts > t1 || ts >= q.time) break;
+            gauss_legendre<Real, 4> refine = gl;
+            phase_point<Real> y = x0;
+            if (!refine.restep(f, y, ts - t0))
+                throw std::runtime_error("trajectory: a sampling step did not converge");
+            add_state(ts, y);
+            ++next_sample;
+        }
+    }
+    add_state(q.time, x);
+    std::stable_sort(
+        out.events.begin(), out.events.end(),
+        [](const flip_event<Real>& a, const flip_event<Real>& b) { return a.time < b.time; });
+    return out;
+}
+
+template <class Real>
+trajectory_record<Real> integrate_trajectory(const double_pendulum<Real>& model,
+                                             const trajectory_request<Real>& q) {
+    if constexpr (std::is_same_v<Real, double>)
+        return ensemble_trajectory(model, q);
+    else
+        return reference_trajectory(model, q);
+}
+
+template trajectory_record<inst_real> integrate_trajectory<inst_real>(
+    const double_pendulum<inst_real>&, const trajectory_request<inst_real>&);
+template trajectory_record<inst_real> reference_trajectory<inst_real>(
+    const double_pendulum<inst_real>&, const trajectory_request<inst_real>&);
+
+}  // namespace flipflux
