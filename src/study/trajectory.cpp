@@ -31,9 +31,7 @@ trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& mod
         for (const std::string& name : q.criteria) {
             const double threshold = criterion_threshold(model, a, name);
             if (!(out.energy > threshold)) {
-                out.skipped.push_back(
-                    "arm " + to_string(a) + " " + name + ": E = " + to_decimal(out.energy) +
-                    " is at or below the arm's saddle energy " + to_decimal(threshold));
+                out.skipped.push_back(detail::below_threshold(a, name, out.energy, threshold));
                 continue;
             }
             try {

@@ -48,9 +48,7 @@ std::vector<curve_at<Real>> curves(const double_pendulum<Real>& model,
         for (const std::string& name : q.criteria) {
             const Real threshold = model.saddle_energy(a);
             if (!(energy > threshold)) {
-                skipped.push_back(
-                    "arm " + to_string(a) + " " + name + ": E = " + to_decimal(energy) +
-                    " is at or below the arm's saddle energy " + to_decimal(threshold));
+                skipped.push_back(detail::below_threshold(a, name, energy, threshold));
                 continue;
             }
             if (name == "upright") {

@@ -40,6 +40,14 @@ void check_trajectory_request(const trajectory_request<Real>& q) {
         throw input_error::about("arms", "arm " + to_string(q.arms[0]) + " is given twice");
 }
 
+/// Why criterion `name` of arm `a` cannot flip at `energy` (at or below the arm's saddle energy).
+template <class Real>
+std::string below_threshold(arm a, const std::string& name, const Real& energy,
+                            const Real& threshold) {
+    return "arm " + to_string(a) + " " + name + ": E = " + to_decimal(energy) +
+           " is at or below the arm's saddle energy " + to_decimal(threshold);
+}
+
 /// The arms in the events' order: arm 1 first.
 inline std::vector<arm> ordered_arms(std::vector<arm> arms) {
     std::sort(arms.begin(), arms.end(),
