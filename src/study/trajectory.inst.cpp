@@ -192,9 +192,11 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
                     const Real m = (a + b) / 2;
                     ((crossing_function(model, c, state_at(m)).phi >= target) == up ? b : a) = m;
                 }
-                Real tau = h * (a + b) / 2;
+                const Real located = h * (a + b) / 2;
+                Real tau = located;
                 gauss_legendre<Real, 4> refine = gl;
                 crossing_value<Real> v{};
+                bool root = true;
                 for (int it = 0; it < 12; ++it) {
                     phase_point<Real> y = x0;
                     if (!refine.restep(f, y, tau))
@@ -202,9 +204,17 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
                     v = crossing_function(model, c, y);
                     const Real delta = (v.phi - target) / v.rate;
                     tau -= delta;
+                    // the polynomial's root is right to far better than 1e-6 h: Newton moving
+                    // further means no root here (phi jumps where red(s) passes the end of a
+                    // restricted curve's domain, outside it)
+                    if (abs(tau - located) > h / 1000000) {
+                        root = false;
+                        break;
+                    }
                     if (abs(delta) <= 4 * eps * (abs(t0) + abs(tau))) break;
                 }
-                if (v.inside) events.push_back({t0 + tau, c.flip_arm, c.name, v.rate > 0 ? 1 : -1});
+                if (root && v.inside)
+                    events.push_back({t0 + tau, c.flip_arm, c.name, v.rate > 0 ? 1 : -1});
             }
         }
     }
