@@ -255,7 +255,8 @@ TEST(Trajectory, EnsembleRouteAgreesWithTheReferenceRoute) {
         const std::array<quad, 4> exact = quad_state(q.state, e.time);
         trajectory_request<double> to = q;
         to.time = e.time;
-        const auto& last = ensemble_trajectory(m, to).states.back();
+        const trajectory_record<double> at = ensemble_trajectory(m, to);
+        const auto& last = at.states.back();
         double err = 0;
         for (int k = 0; k < 4; ++k)
             err = std::max(err, std::abs(last[1 + k] - static_cast<double>(exact[k])));
