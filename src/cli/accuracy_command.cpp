@@ -1,6 +1,7 @@
 // flipflux accuracy [--out FILE] [--quantities a,b]: digits achieved against time per evaluation
 // for every registered quantity, method and precision, as Markdown (docs/accuracy.md).
-#include <sstream>
+#include <charconv>
+#include <cmath>
 
 #include "common.hpp"
 #include "flipflux/quantities/accuracy.hpp"
@@ -10,11 +11,18 @@
 namespace flipflux::cli {
 namespace {
 
+/// A number as the user would have typed it (shortest round-trip form).
+std::string as_text(double x) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
+}
+
 struct accuracy_state {
     std::string out = "docs/accuracy.md";
     std::string quantities;
     std::string precisions = "double,quad,mp:50,mp:100";
     double min_seconds = 0.2;
+    double max_seconds = 120;
 };
 
 const register_command registration([](CLI::App& app) {
@@ -32,6 +40,10 @@ const register_command registration([](CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--min-seconds", s->min_seconds, "timing budget per cell")
         ->capture_default_str();
+    sub->add_option("--max-seconds", s->max_seconds,
+                    "a method whose evaluation takes longer in one precision (measured, or "
+                    "estimated from the lower precisions) is not measured in it or higher ones")
+        ->capture_default_str();
     sub->callback([s] {
         accuracy_options options;
         std::stringstream in(s->quantities);
@@ -42,10 +54,15 @@ const register_command registration([](CLI::App& app) {
             options.quantities.push_back(item);
         }
         options.precisions = parse_precision_list(s->precisions, "--precisions");
-        if (!(s->min_seconds >= 0)) {
-            throw input_error("--min-seconds: must be >= 0");
+        if (!(s->min_seconds >= 0 && std::isfinite(s->min_seconds))) {
+            throw input_error("--min-seconds: '" + as_text(s->min_seconds) +
+                              "' must be finite and >= 0");
         }
         options.min_seconds = s->min_seconds;
+        if (!(s->max_seconds > 0)) {
+            throw input_error("--max-seconds: '" + as_text(s->max_seconds) + "' must be > 0");
+        }
+        options.max_seconds = s->max_seconds;
         options.progress = [](const std::string& line) {
             std::fprintf(stderr, "accuracy: %s\n", line.c_str());
         };
@@ -53,8 +70,9 @@ const register_command registration([](CLI::App& app) {
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;
         if (s->precisions != "double,quad,mp:50,mp:100")
             command += " --precisions " + s->precisions;
+        if (s->max_seconds != 120) command += " --max-seconds " + as_text(s->max_seconds);
         const auto entries = measure_accuracy(options);
-        write_file_atomically(s->out, accuracy_markdown(entries, options.precisions, command));
+        write_file_atomically(s->out, accuracy_markdown(entries, options, command));
         print(json{{"entries", entries.size()}, {"out", s->out}}.dump(2) + "\n");
     });
 });

@@ -1,6 +1,7 @@
 // What accuracy costs (include/flipflux/quantities/accuracy.hpp).
 #include "flipflux/quantities/accuracy.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -70,17 +71,35 @@ int column_cap(const precision& p) {
     return dispatch(p, []<class Real>() { return output_digits<Real>(); });
 }
 
+/// The decimal digits a precision computes with (double 16, quad 34, mp:N N + 10, at least 30):
+/// the size of the numbers, which is what the cost of an evaluation grows with.
+double working_digits(const precision& p) {
+    if (p.kind == real_kind::mp) return mp_working_digits(p.digits);
+    return decimal_digits(p) + 1;
+}
+
+/// The time one evaluation is expected to take in precision `next`, from the times measured in
+/// the lower columns (`times`, at `digits`, in increasing precision): t ~ digits^k, k the
+/// exponent between the last two columns (clamped to [1, 6]; 3 with one column: a quadrature
+/// whose node count grows with the digits times an O(digits^2) arithmetic).
+double extrapolated_seconds(const std::vector<double>& digits, const std::vector<double>& times,
+                            double next) {
+    const std::size_t n = times.size();
+    double k = 3;
+    if (n >= 2 && times[n - 2] > 0 && digits[n - 1] > digits[n - 2])
+        k = std::clamp(
+            std::log(times[n - 1] / times[n - 2]) / std::log(digits[n - 1] / digits[n - 2]), 1.0,
+            6.0);
+    return times[n - 1] * std::pow(next / digits[n - 1], k);
+}
+
 }  // namespace
 
-precision accuracy_reference_precision(const std::vector<precision>& columns) {
-    int highest = 100;
-    for (const precision& p : columns)
-        highest = std::max(highest, decimal_digits(p));
-    return mp_precision(highest + 20);
+precision accuracy_reference_precision(const precision& column) {
+    return mp_precision(std::max(100, decimal_digits(column)) + 20);
 }
 
 std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
-    const precision reference_precision = accuracy_reference_precision(options.precisions);
     std::vector<accuracy_entry> entries;
     for (const quantity& q : quantities()) {
         if (!options.quantities.empty() &&
@@ -89,17 +108,33 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
             continue;
         }
         const std::vector<probe> ps = probes(q);
-        // references: the default method in the reference precision (empty: outside its domain)
+        // references: the default method in a column's reference precision, computed when a cell
+        // first needs them (a slow method in mp:1000 is checked at one energy only, and so needs
+        // one mp:1020 reference). Empty: outside the default method's domain.
         // NOTE: plain strings, not optionals: GCC 12 reports a false -Wfree-nonheap-object on
         // destroying a vector of optional strings at -O3.
-        std::vector<std::string> ref(ps.size());
-        for (std::size_t i = 0; i < ps.size(); ++i)
-            if (auto v = evaluate(reference_precision, q, q.methods[0], ps[i])) ref[i] = v->value;
+        std::map<std::pair<int, std::size_t>, std::string> references;
+        const auto reference = [&](const precision& column, std::size_t i) -> const std::string& {
+            const precision rp = accuracy_reference_precision(column);
+            const auto key = std::make_pair(rp.digits, i);
+            auto it = references.find(key);
+            if (it == references.end()) {
+                std::optional<timed_value> v = evaluate(rp, q, q.methods[0], ps[i]);
+                it = references.emplace(key, v ? v->value : std::string()).first;
+            }
+            return it->second;
+        };
         for (std::size_t m = 0; m < q.methods.size(); ++m) {
             accuracy_entry e{q.name, q.description, q.methods[m], {}};
             bool too_slow = false;
+            std::vector<double> measured_digits, measured_seconds;  // the columns timed so far
             for (const precision& p : options.precisions) {
                 accuracy_cell& cell = e.cells.emplace_back();
+                if (!too_slow && !measured_seconds.empty()) {
+                    cell.estimated_seconds =
+                        extrapolated_seconds(measured_digits, measured_seconds, working_digits(p));
+                    too_slow = cell.estimated_seconds > options.max_seconds;
+                }
                 if (too_slow) {
                     cell.skipped = true;
                     continue;
@@ -107,10 +142,11 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
                 const int cap = column_cap(p);
                 bool timed = false;
                 for (std::size_t i = 0; i < ps.size(); ++i) {
-                    if (ref[i].empty()) continue;
                     std::optional<timed_value> v = evaluate(p, q, q.methods[m], ps[i], true);
                     if (!v) continue;
-                    const double d = digits_between(v->value, ref[i], cap);
+                    const std::string& ref = reference(p, i);
+                    if (ref.empty()) continue;
+                    const double d = digits_between(v->value, ref, cap);
                     cell.digits = cell.applies ? std::min(cell.digits, d) : d;
                     cell.applies = true;
                     ++cell.energies;
@@ -128,6 +164,10 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
                     if (cell.seconds > options.slow_seconds) break;  // one energy is enough
                 }
                 too_slow = cell.seconds > options.max_seconds;
+                if (cell.applies) {
+                    measured_digits.push_back(working_digits(p));
+                    measured_seconds.push_back(cell.seconds);
+                }
                 if (options.progress) {
                     char line[240];
                     std::snprintf(line, sizeof line, "%s %s %s: %.1f digits, %.3g s (%d energies)",
@@ -158,7 +198,8 @@ std::string format_time(double s) {
 }  // namespace
 
 std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
-                              const std::vector<precision>& columns, const std::string& command) {
+                              const accuracy_options& options, const std::string& command) {
+    const std::vector<precision>& columns = options.precisions;
     std::string names, caps, header = "| method |", rule = "|---|";
     for (std::size_t c = 0; c < columns.size(); ++c) {
         const std::string sep = c == 0 ? "" : c + 1 == columns.size() ? " and " : ", ";
@@ -188,19 +229,29 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         "per evaluation in each precision, for the egalitarian pendulum. **Digits** are the "
         "minimum over the test energies (omega: E = 1, 3, 5.5, 20; per-arm quantities: arm 2 at "
         "E = 2.5, 4.5, 20 and arm 1 at E = 5, 20) of -log10 |x - ref| / |ref|, where ref is the "
-        "quantity's default (first) method in " +
-        precision_name(accuracy_reference_precision(columns)) +
-        " (so the default method is checked against a higher precision, every other method "
-        "against an independent route). Capped at the digits each precision prints (" +
+        "quantity's default (first) method in a higher precision, computed only at the energies "
+        "a cell is checked at" +
+        "; column mp:N is referenced to mp:(N + 20), the lower ones to mp:120 (so the default "
+        "method is checked against a higher precision, every other method against an independent "
+        "route). Capped at the digits each precision prints (" +
         caps + " for " + names +
         "; mp:N computes with N + 10 digits, at least 30). **Time** is the mean wall time of one "
         "evaluation at the first test energy (repeated for at least 0.2 s), on one core; methods "
         "slower than 3 s per evaluation are checked at their first energy only (the number of "
-        "energies checked is given), and a method slower than 120 s in one precision is not "
-        "measured in the higher ones (\"not measured\"). A closed form that holds only above "
+        "energies checked is given). A method is not measured in a precision (\"not measured\") "
+        "when "
+        "one evaluation would take longer than " +
+        format_time(options.max_seconds) +
+        ": measured so in a lower precision, or estimated so from the lower precisions' times "
+        "(t ~ digits^k, k the exponent between the last two measured columns; the estimate is "
+        "given). A closed form that holds only above "
         "the potential maximum is checked at E = 20 only.\n\n"
         "Targets: double <= 1e-14 (14 digits), quad <= 1e-31 (31), mp:N <= 1e-(N-10) relative. "
-        "Google Benchmark timings of the same evaluations: `bench_prediction`.\n";
+        "Google Benchmark timings of the same evaluations: `bench_prediction`. The saddle-orbit "
+        "quantities at high precision (the period and action at mp:150 against mp:200, with "
+        "seconds) and every prediction quantity at mp:300 and mp:1000 against mp:N+30 and "
+        "independent routes are checked by the verification suite: "
+        "[verification.md](verification.md).\n";
     std::string current;
     for (const accuracy_entry& e : entries) {
         if (e.quantity != current) {
@@ -211,7 +262,9 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         md += "| " + e.method;
         for (const accuracy_cell& c : e.cells) {
             if (c.skipped) {
-                md += " | not measured";
+                md += c.estimated_seconds > 0
+                          ? " | not measured (estimated " + format_time(c.estimated_seconds) + ")"
+                          : std::string(" | not measured");
                 continue;
             }
             if (!c.applies) {

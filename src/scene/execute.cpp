@@ -358,7 +358,7 @@ void run_accuracy(context& ctx) {
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
     const std::string md =
-        accuracy_markdown(entries, a.precisions, "flipflux run " + ctx.s.file.string()) + appendix;
+        accuracy_markdown(entries, options, "flipflux run " + ctx.s.file.string()) + appendix;
     const std::filesystem::path out = a.out;
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     write_file_atomically(out, md);

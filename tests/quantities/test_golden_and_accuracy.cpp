@@ -143,6 +143,27 @@ TEST(Accuracy, CommandWritesATable) {
     EXPECT_EQ(test::run_flipflux("accuracy --precisions single --out " + out).status, 2);
     EXPECT_EQ(test::run_flipflux("accuracy --quantities nonsense --out " + out).status, 2);
     EXPECT_EQ(test::run_flipflux("accuracy --min-seconds -1 --out " + out).status, 2);
+    EXPECT_EQ(test::run_flipflux("accuracy --max-seconds 0 --out " + out).status, 2);
+}
+
+// A method whose time in mp:1000, extrapolated from double (t ~ digits^3 with one column: the
+// integral's 1-D quadrature at double takes microseconds, so mp:1000 ~ (1010 / 16)^3 = 2.5e5
+// times that), exceeds --max-seconds is not measured there, and the table gives the estimate.
+TEST(Accuracy, AMethodEstimatedTooSlowIsNotMeasured) {
+    const std::string out =
+        ::testing::TempDir() + "flipflux_accuracy_est_" + std::to_string(getpid()) + ".md";
+    const test::command_result r =
+        test::run_flipflux("accuracy --out " + out +
+                           " --quantities flux-upright --precisions double,mp:1000 --min-seconds 0 "
+                           "--max-seconds 0.01");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string md = read_text(out);
+    const std::size_t row = md.find("| integral | ");
+    ASSERT_NE(row, std::string::npos) << md;
+    const std::string line = md.substr(row, md.find('\n', row) - row);
+    EXPECT_NE(line.find("digits"), std::string::npos) << line;  // double: measured
+    EXPECT_NE(line.find("not measured (estimated "), std::string::npos) << line;
+    std::filesystem::remove(out);
 }
 
 }  // namespace

@@ -4,12 +4,14 @@
 // like golden data.
 //
 // Digits of a (method, precision) cell: the minimum over test energies (and both arms) of
-// -log10(|x - ref| / |ref|), ref the quantity's default method in the reference precision mp:R,
-// R = the highest requested digits + 20 (at least 120). A default-method cell is thus checked
+// -log10(|x - ref| / |ref|), ref the quantity's default method in the column's reference
+// precision (accuracy_reference_precision: mp:(N + 20) for mp:N, mp:120 for the lower columns),
+// computed only at the energies the cell is checked at. A default-method cell is thus checked
 // against a higher precision, every other method against an independent route. Time: the mean
 // over repeated evaluations (at least min_seconds in total, at least one) at the first test energy.
-// A method whose evaluation takes longer than max_seconds in one precision is not measured in the
-// higher ones (its cells say so).
+// A method whose evaluation takes longer than max_seconds in one precision, or is estimated to
+// from the times of the lower ones (t ~ digits^k), is not measured in the higher ones (its cells
+// say so, with the estimate).
 #pragma once
 
 #include <functional>
@@ -28,20 +30,23 @@ struct accuracy_options {
     double min_seconds = 0.2;  ///< timing budget per cell
     /// a cell whose first evaluation takes longer is measured at its first energy only
     double slow_seconds = 3;
-    /// a method slower than this in one precision is not measured in the higher ones
+    /// a method slower than this in one precision (measured, or estimated from the lower
+    /// precisions' times) is not measured in it and the higher ones
     double max_seconds = 120;
     std::function<void(const std::string&)> progress;  ///< called with a line per cell
 };
 
-/// The reference precision of a set of columns: mp:(highest digits + 20), at least mp:120.
-precision accuracy_reference_precision(const std::vector<precision>& columns);
+/// The reference precision of a column: mp:(N + 20) for mp:N with N >= 100, mp:120 below.
+precision accuracy_reference_precision(const precision& column);
 
 struct accuracy_cell {
     bool applies = false;  ///< false when the method has no test energy in its domain
     bool skipped = false;  ///< not measured: too slow in a lower precision
     double digits = 0;     ///< significant digits achieved (minimum over energies)
     double seconds = 0;    ///< mean time per evaluation
-    int energies = 0;      ///< energies (and arms) checked
+    /// skipped cells: the time one evaluation was estimated to take (0: slower in a lower one)
+    double estimated_seconds = 0;
+    int energies = 0;  ///< energies (and arms) checked
 };
 
 struct accuracy_entry {
@@ -52,8 +57,8 @@ struct accuracy_entry {
 /// Measures every (quantity, method, precision).
 std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options);
 
-/// The Markdown report; `columns` are the options' precisions.
+/// The Markdown report of entries measured with `options` (its precisions are the columns).
 std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
-                              const std::vector<precision>& columns, const std::string& command);
+                              const accuracy_options& options, const std::string& command);
 
 }  // namespace flipflux
