@@ -146,7 +146,15 @@ saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model
     } const done{m, key};
     count_saddle_orbit_memo_miss();
     saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
-    if (orbit.status != orbit_status::not_converged) remember_saddle_orbit(model, orbit);
+    if (orbit.status != orbit_status::not_converged) {
+        remember_saddle_orbit(model, orbit);
+        // a periodic request answered by the symmetric formulation (near E_max, see
+        // refine_saddle_orbit) is the answer to the request too
+        if (orbit.method != options.method) {
+            const std::lock_guard<std::mutex> lock(m.mutex);
+            m.orbits.insert_or_assign(key, orbit);
+        }
+    }
     return orbit;
 }
 

@@ -2,6 +2,7 @@
 // in Real, the final quarter orbit, action, turning points, monodromy and Floquet multipliers
 // (see orbits/saddle_orbit.hpp and docs/theory.md#saddle-orbits).
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <string>
 
@@ -112,6 +113,17 @@ double_solution<Real> solve_at_double(const double_pendulum<Real>& model, arm a,
     const auto r = periodic ? detail::ceres_periodic_shooting(md, a, ed, bd, pd, n, sd)
                             : detail::newton_symmetric_shooting(md, a, ed, bd, pd, n, sd);
     out.report = r.report;
+    // NOTE: the guess comes from the continuation (symmetric Newton at double, 1e-12 or better):
+    // a "converged" solution whose period is not within a factor of two of it is another root
+    // of the residual (regression: arm 1 at E = 6 - 1e-6, periodic, Ceres converged to T < 0)
+    if (r.converged && !(r.period > pd / 2 && r.period < 2 * pd)) {
+        char note[160];
+        std::snprintf(note, sizeof note, "; its period %.17g is not near the guess's %.17g",
+                      r.period, pd);
+        out.report += note;
+        out.ok = false;
+        return out;
+    }
     if (r.converged) {
         out.beta = Real(std::remainder(r.beta, 2 * M_PI));
         out.period = Real(r.period);
@@ -353,10 +365,6 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     const double_solution<Real> start = solve_at_double(model, a, excess, guess, periodic);
     orbit.double_stage = start.report;
     if (!start.ok) {
-        if constexpr (std::is_same_v<Real, double>) {
-            orbit.status = orbit_status::not_converged;
-            return orbit;
-        }
         // NOTE: near E_max the periodic residual's rounding floor at double, eps |mu|, can
         // exceed the orbit's scale (|mu| ~ 1e27 at E_max - 1e-6), while in Real it does not:
         // the polish then starts from the guess itself
@@ -388,7 +396,32 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         orbit.double_stage += p.failed ? "; the symmetric pre-polish failed too"
                                        : "; guess pre-polished by the symmetric formulation";
     }
+    // the symmetric solution, kept in case the periodic residual cannot be resolved
+    const bool pre_polished = periodic && !start.ok && !p.failed && (p.converged || p.stalled);
+    const Real pre_beta = p.beta, pre_period = p.period, pre_update = orbit.last_update;
+    const bool pre_converged = p.converged;
     if (!p.failed) p.newton(periodic);
+    bool periodic_used = periodic;
+    // (a periodic iterate far from the symmetric solution is another root of the residual:
+    // regression, arm 1 at E = 6 - 1e-6 in double reached T < 0)
+    const bool periodic_settled = !p.failed && (p.converged || p.stalled) &&
+                                  p.period > pre_period / 2 && p.period < 2 * pre_period;
+    if (pre_polished && !periodic_settled) {
+        // NOTE: the periodic residual's rounding floor is ~ eps |mu| times the orbit's scale;
+        // where |mu| > 1 / eps (E_max - E < 1e-4 at double) no periodic iteration can resolve it,
+        // while the symmetric formulation (a quarter period, amplification ~ |mu|^(1/4)) still
+        // determines the same orbit: it is reported, and the method says so.
+        p.beta = pre_beta;
+        p.period = pre_period;
+        p.failed = false;
+        p.converged = pre_converged;
+        p.stalled = !pre_converged;
+        orbit.last_update = pre_update;
+        periodic_used = false;
+        orbit.method = orbit_method::symmetric;
+        orbit.double_stage += "; the periodic residual is below its rounding floor eps |mu| in " +
+                              precision_name<Real>() + ": the symmetric solution is reported";
+    }
     if (p.failed || (!p.converged && !p.stalled)) {
         orbit.status = orbit_status::not_converged;
         return orbit;
@@ -397,17 +430,19 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     // NOTE: the monodromy, the Jacobian (for dT/dE) and the residual are re-evaluated at the
     // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
     // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
-    (void)p.shoot(periodic, periodic ? 4 * quarter_steps : quarter_steps);
+    orbit.steps = periodic_used ? 4 * quarter_steps : quarter_steps;
+    (void)p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps);
     orbit.beta = p.beta;
     orbit.period = p.period;
 
-    if (!final_orbit(setup, quarter_steps, stages, orbit)) {
+    if (!(orbit.period > 0) || !final_orbit(setup, quarter_steps, stages, orbit) ||
+        !(orbit.action > 0)) {
         orbit.status = orbit_status::not_converged;
         return orbit;
     }
-    orbit.monodromy = periodic ? p.phi : monodromy_from_quarter(p.phi);
+    orbit.monodromy = periodic_used ? p.phi : monodromy_from_quarter(p.phi);
     orbit.floquet = floquet_analysis(orbit.monodromy);
-    orbit.period_derivative = period_derivative(setup, p, periodic);
+    orbit.period_derivative = period_derivative(setup, p, periodic_used);
 
     // ---- error estimates ---------------------------------------------------------------------
     // NOTE: besides the integration and Newton errors, rounding perturbs the orbit's energy by

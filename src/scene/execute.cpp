@@ -355,6 +355,7 @@ void run_accuracy(context& ctx) {
     accuracy_options options;
     options.quantities = a.quantities;
     options.precisions = a.precisions;
+    options.max_seconds = std::strtod(a.max_seconds.c_str(), nullptr);
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
     const std::string md =

@@ -1,6 +1,8 @@
 // Scene files: TOML -> validated `scene` (schema in docs/scenes.md).
 #include <toml++/toml.h>
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -317,6 +319,11 @@ accuracy_spec read_accuracy(table_reader& r) {
     a.out = r.string("out").value_or(a.out);
     a.quantities = r.strings("quantities").value_or(a.quantities);
     a.appendices = r.strings("appendices").value_or(a.appendices);
+    if (auto m = r.number("max_seconds")) {
+        if (const double x = std::strtod(m->c_str(), nullptr); !(x > 0 && std::isfinite(x)))
+            r.fail(r.get("max_seconds"), "max_seconds", "'" + *m + "' must be finite and > 0");
+        a.max_seconds = *m;
+    }
     if (auto list = r.strings("precisions")) {
         std::string text;
         for (const std::string& item : *list)

@@ -303,5 +303,32 @@ TEST(SaddleOrbit, HopelessGuessesAreReportedNotThrown) {
     }
 }
 
+// Regression (issue 20): at E = E_max - 1e-6 the periodic shooting's residual has a rounding
+// floor eps |mu| (|mu| ~ 1e26) above the orbit's scale in double: the default method failed
+// with "no convergence" (arm 2) or reached a root with T < 0 (arm 1). The symmetric solution is
+// reported instead, and it must agree with the quad orbit (symmetric shooting with 10 and 14
+// Gauss-Legendre stages, which agree to 4e-30: verify_orbits_precision JustBelowTheMaximum)
+// within the solver's error estimate.
+TEST(SaddleOrbit, PeriodicMethodJustBelowTheMaximumReportsTheSymmetricOrbit) {
+    const double_pendulum<double> model;
+    const struct {
+        arm a;
+        double quad_period;
+    } cases[] = {{arm::two, 39.3672933893950783395628681287972145},
+                 {arm::one, 38.1122293126956412818619081185069069}};
+    for (const auto& c : cases) {
+        const auto o = solve_saddle_orbit(model, c.a, 6 - 1e-6, {orbit_method::periodic});
+        ASSERT_NE(o.status, orbit_status::not_converged) << o.double_stage;
+        EXPECT_EQ(o.method, orbit_method::symmetric) << o.double_stage;
+        EXPECT_NE(o.double_stage.find("symmetric solution is reported"), std::string::npos);
+        EXPECT_GT(o.action, 0);
+        EXPECT_LE(std::abs(o.period - c.quad_period), o.error_estimate_period)
+            << "arm " << to_string(c.a) << ": T = " << o.period;
+        // the estimate is honest, not vacuous: the period's condition number E |dT/dE| / T is
+        // ~4e5 here, so a few 1e-10 relative is what double can give
+        EXPECT_LE(o.error_estimate_period / o.period, 1e-8);
+    }
+}
+
 }  // namespace
 }  // namespace flipflux::test

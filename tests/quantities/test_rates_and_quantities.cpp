@@ -176,5 +176,22 @@ TEST(EvalCommand, FluxInMpfrAndErrors) {
         EXPECT_NE(help.out.find(name), std::string::npos) << name;
 }
 
+// Regression (issue 20): near E_max the multiplier's error estimate was too small by up to 1e5
+// in double (E = 5.99 arm 2: 5600x). The rounding error of a periodic monodromy grows like
+// eps |mu| relative; the estimate must cover the difference from the quad value (periodic and
+// symmetric quad orbits agree to 1.4e-18 absolute at E = 5.99; value below).
+TEST(Quantities, MultiplierErrorEstimateNearTheMaximumIsHonest) {
+    const double_pendulum<double> model;
+    const double quad_mu = 171637281.931074945317580845998832817;  // quad, symmetric
+    for (const char* method : {"periodic", "symmetric"}) {
+        const auto mu = find_quantity("multiplier").evaluate(model, arm::two, 5.99, method);
+        const auto k = find_quantity("stability-index").evaluate(model, arm::two, 5.99, method);
+        EXPECT_LE(std::abs(mu.value - quad_mu), mu.error_estimate) << method;
+        EXPECT_LE(std::abs(k.value - (quad_mu + 1 / quad_mu)), k.error_estimate) << method;
+        // not vacuous: at most 2 eps |mu| relative (periodic) with |mu| = 1.7e8
+        EXPECT_LE(mu.error_estimate / mu.value, 1e-6) << method;
+    }
+}
+
 }  // namespace
 }  // namespace flipflux

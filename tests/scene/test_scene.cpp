@@ -58,6 +58,10 @@ TEST(Scene, ErrorsNameFileLineAndKey) {
          "}\n",
          "s.toml:4: ensemble[0].energies.x: unknown key"},
         {"[scene]\noutput = \"o\"\nname = \n", "s.toml:3: malformed TOML"},
+        {"[scene]\noutput = \"o\"\n[accuracy]\nmax_seconds = 0\n",
+         "s.toml:4: accuracy.max_seconds: '0' must be finite and > 0"},
+        {"[scene]\noutput = \"o\"\n[accuracy]\nmax_seconds = \"1e400\"\n",
+         "s.toml:4: accuracy.max_seconds: '1e400' must be finite and > 0"},
     };
     for (const auto& [text, expected] : cases) {
         const std::string e = error_of(text);

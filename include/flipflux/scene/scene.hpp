@@ -79,6 +79,9 @@ struct accuracy_spec {
     std::vector<std::string> quantities;  ///< empty: every registered quantity
     /// Markdown files appended verbatim after the measured tables (e.g. benchmark figures)
     std::vector<std::string> appendices;
+    /// a method slower than this (seconds per evaluation, measured or estimated from the lower
+    /// precisions) is not measured in a precision or the higher ones (decimal text, > 0)
+    std::string max_seconds = "120";
     /// the report's columns
     std::vector<precision> precisions{precision{real_kind::double_}, precision{real_kind::quad},
                                       mp_precision(50), mp_precision(100)};
