@@ -77,13 +77,17 @@ auto interruptible(F f, std::atomic<int>* stop = nullptr) -> decltype(f()) {
     {
         py::gil_scoped_release release;
         while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
-            py::gil_scoped_acquire acquire;
-            if (PyErr_CheckSignals() != 0) {
+            bool signalled = false;
+            {
+                py::gil_scoped_acquire acquire;
+                signalled = PyErr_CheckSignals() != 0;  // sets KeyboardInterrupt
+            }
+            if (signalled) {
                 interrupted = true;
-                if (stop == nullptr) break;
-                stop->store(SIGINT);
-                py::gil_scoped_release again;
-                done.wait();
+                if (stop != nullptr) {
+                    stop->store(SIGINT);
+                    done.wait();
+                }
                 break;
             }
         }
