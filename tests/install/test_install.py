@@ -10,12 +10,17 @@
      each in double and quad, within 64 eps (Omega) and 1024 eps (T, a shooting solution) relative;
   3. a one-file program compiled with `pkg-config --cflags --libs flipflux` and run;
   4. the installed CLI run from another directory finds its golden data (validate) and its report
-     generator (share/flipflux/report).
+     generator (share/flipflux/report);
+  5. the installed Python module imported from the prefix: the CLI's digits, the prefix's golden
+     data.
 
 usage: python3 test_install.py --build BUILD --source SOURCE [--cxx-flags F] [--linker-flags F]
+                               [--python-preload LIBS]
 """
 import argparse
 import csv
+import glob
+import json
 import os
 import shutil
 import subprocess
@@ -50,6 +55,13 @@ def run(cmd, **kw):
     return r.stdout
 
 
+def _glob_one(pattern):
+    found = glob.glob(pattern)
+    if len(found) != 1:
+        sys.exit(f"expected one match of {pattern}, found {found}")
+    return found[0]
+
+
 def golden_omega(source, energy):
     with open(os.path.join(source, "data", "golden", "golden.csv")) as f:
         for row in csv.DictReader(f):
@@ -72,6 +84,9 @@ def main():
     ap.add_argument("--source", required=True)
     ap.add_argument("--cxx-flags", default="")
     ap.add_argument("--linker-flags", default="")
+    ap.add_argument("--python-preload", default="", help="LD_PRELOAD for python3 (sanitizers)")
+    ap.add_argument("--python", action=argparse.BooleanOptionalAction, default=True,
+                    help="check the installed Python module (FLIPFLUX_PYTHON)")
     a = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="flipflux-install-")
     try:
@@ -119,10 +134,34 @@ def main():
             if not os.path.isfile(os.path.join(prefix, path)):
                 print(f"  FAIL missing {path}")
                 ok = False
+        # 5. the installed Python module (its RPATH finds PREFIX/lib): the CLI's digits
+        if a.python:
+            ok &= check_python(prefix, cli, tmp, a.python_preload)
         print("install_consumer:", "passed" if ok else "FAILED")
         return 0 if ok else 1
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def check_python(prefix, cli, tmp, preload):
+    """The installed Python module: the CLI's digits, the prefix's golden data."""
+    ok = True
+    site = _glob_one(os.path.join(prefix, "lib", "python3*", "dist-packages"))
+    env = dict(os.environ, PYTHONPATH=site, PYTHONDONTWRITEBYTECODE="1")
+    if preload:
+        env.update(LD_PRELOAD=preload, ASAN_OPTIONS="detect_leaks=0")
+    code = ("import flipflux, os; print(flipflux.evaluate('omega', '3', precision='quad').text);"
+            " print(os.path.realpath(flipflux.golden_dir())); print(flipflux.__file__)")
+    text, golden, module = run(["/usr/bin/python3", "-c", code], env=env, cwd=tmp).split()
+    expected = json.loads(run([cli, "eval", "omega", "--energy", "3", "--precision", "quad"],
+                              cwd=tmp))["value"]
+    for what, good in (("python value", text == expected),
+                       ("python golden", golden == os.path.realpath(
+                           os.path.join(prefix, "share", "flipflux", "golden"))),
+                       ("python module", module.startswith(site))):
+        print(f"  {'ok' if good else 'FAIL':4s} {what}")
+        ok &= good
+    return ok
 
 
 if __name__ == "__main__":
