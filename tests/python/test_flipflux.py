@@ -166,3 +166,30 @@ def test_python_md_example():
     blocks = re.findall(r"```python\n(.*?)```", text, re.S)
     assert len(blocks) == 1 and 15 <= len(blocks[0].strip().splitlines()) <= 40
     exec(compile(blocks[0], "docs/python.md", "exec"), {})
+
+
+@pytest.mark.parametrize("call", [
+    "flipflux.simulate('5', trajectories=100000, time=1000, threads=1)",
+    "flipflux.evaluate('period', '3', precision='mp:400')",
+])
+def test_ctrl_c_interrupts_a_long_call(call):
+    """SIGINT during a long call raises KeyboardInterrupt within a second (the call polls every
+    50 ms with the GIL released); simulate stops its trajectories, evaluate is abandoned (the
+    child ends with os._exit: the abandoned computation is still running, docs/python.md)."""
+    import signal
+    import sys
+    import time
+    code = (f"import flipflux, os, time\nprint('ready', flush=True)\nt = time.monotonic()\n"
+            f"try:\n    {call}\nexcept KeyboardInterrupt:\n"
+            f"    print('interrupted after', time.monotonic() - t, flush=True)\n    os._exit(0)\n"
+            f"print('finished', flush=True)\nos._exit(1)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True,
+                         env=os.environ)
+    assert p.stdout.readline().strip() == "ready"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0, out
+    assert "interrupted after" in out
+    assert time.monotonic() - sent < 10
