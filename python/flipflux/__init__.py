@@ -131,6 +131,9 @@ class Value(_NamedTuple):
     precision: str
     seconds: float
 
+    def __str__(self):
+        return f"{self.text} +- {self.error_text} ({self.method}, {self.precision})"
+
 
 def quantities():
     """Every quantity evaluate() knows: {name: (description, methods, per_arm)}."""

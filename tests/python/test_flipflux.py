@@ -38,6 +38,7 @@ def test_evaluate_equals_cli_digit_for_digit(quantity, energy, arm, precision):
     assert v.text == c["value"]
     assert v.error_text == c["error_estimate"]
     assert v.method == c["method"] and v.precision == c["precision"]
+    assert str(v) == f"{c['value']} +- {c['error_estimate']} ({c['method']}, {precision})"
     if precision == "double":
         assert isinstance(v.value, float) and v.value == float(c["value"])
     else:
