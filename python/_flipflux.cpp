@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "../src/cli/common.hpp"
+#include "../src/cli/simulate_request.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/registry.hpp"
@@ -56,12 +57,6 @@ model_text model_of(const std::map<std::string, std::string>& p) {
             throw input_error(key + ": not a pendulum parameter");
     }
     return t;
-}
-
-arm arm_of(int a) {
-    if (a == 1) return arm::one;
-    if (a == 2) return arm::two;
-    throw input_error("--arm: '" + std::to_string(a) + "' is not an arm (expected 1 or 2)");
 }
 
 /// Runs f() in a worker thread with the GIL released, polling for signals every 50 ms. On
@@ -104,9 +99,9 @@ auto interruptible(F f, std::atomic<int>* stop = nullptr) -> decltype(f()) {
     return done.get();
 }
 
-py::dict evaluate(const std::string& name, const std::string& energy_text, int arm_number,
-                  const std::string& precision_text, const std::string& method,
-                  const std::map<std::string, std::string>& parameters) {
+py::dict evaluate(const std::string& name, const std::string& energy_text,
+                  const std::string& arm_text, const std::string& precision_text,
+                  const std::string& method, const std::map<std::string, std::string>& parameters) {
     struct out_t {
         std::string quantity, arm, energy, precision, method, value, error_estimate;
         double seconds = 0;
@@ -115,7 +110,7 @@ py::dict evaluate(const std::string& name, const std::string& energy_text, int a
         const precision p = parse_precision(precision_text, "--precision");
         return dispatch(p, [&]<class Real>() {
             const quantity& q = find_quantity(name);
-            const arm a = arm_of(arm_number);
+            const arm a = cli::parse_arm(arm_text);
             const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
             const Real energy = parse_real<Real>(energy_text, "--energy");
             const auto start = std::chrono::steady_clock::now();
@@ -150,7 +145,7 @@ struct orbit_text {
     std::vector<std::array<std::string, 5>> samples;  ///< t, theta1, theta2, l1, l2
 };
 
-py::dict saddle_orbit_text(const std::string& energy_text, int arm_number,
+py::dict saddle_orbit_text(const std::string& energy_text, const std::string& arm_text,
                            const std::string& precision_text, long samples,
                            const std::string& method_text,
                            const std::map<std::string, std::string>& parameters) {
@@ -160,7 +155,7 @@ py::dict saddle_orbit_text(const std::string& energy_text, int arm_number,
     const orbit_text o = interruptible([=] {
         const precision p = parse_precision(precision_text, "--precision");
         return dispatch(p, [&]<class Real>() {
-            const arm a = arm_of(arm_number);
+            const arm a = cli::parse_arm(arm_text);
             const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
             const Real energy = parse_real<Real>(energy_text, "--energy");
             orbit_options<Real> options;
@@ -211,31 +206,24 @@ py::dict saddle_orbit_text(const std::string& energy_text, int arm_number,
 std::string simulate_json(const std::map<std::string, std::string>& a,
                           const std::map<std::string, std::string>& parameters,
                           const std::string& csv_dir) {
-    const double_pendulum<double> model(parse_parameters<double>(model_of(parameters)));
+    cli::simulate_state s;  // the command's options, checked by the command's own code
+    s.energy = a.at("energy");
+    s.arm_text = a.at("arm");
+    s.criteria = a.at("criteria");
+    s.trajectories = a.at("trajectories");
+    s.time = a.at("time");
+    s.seed = a.at("seed");
+    s.rtol = a.at("rtol");
+    s.method = a.at("method");
+    s.threads = a.at("threads");
+    s.no_chaos = a.at("chaos") != "1";
+    s.chaos_threshold = a.at("chaos_threshold");
+    s.csv_dir = csv_dir;
+    s.model = model_of(parameters);
+    const double_pendulum<double> model(parse_parameters<double>(s.model));
+    simulation_request q = cli::make_request(s);
     auto stop = std::make_shared<std::atomic<int>>(0);
-    simulation_request q;
-    q.flip_arm = arm_of(std::stoi(a.at("arm")));
-    q.energies = parse_energy_list(a.at("energy"), "--energy");
-    q.criteria = parse_criterion_list(a.at("criteria"), "--criteria");
-    ensemble_options& o = q.options;
-    const auto positive = [](const std::string& text, const std::string& option) {
-        const double v = parse_real<double>(text, option);
-        if (!(v > 0)) throw input_error(option + ": '" + text + "' is invalid (must be > 0)");
-        return v;
-    };
-    o.trajectories = std::stoull(a.at("trajectories"));
-    if (o.trajectories == 0)
-        throw input_error("--trajectories: '0' is invalid (expected a positive integer)");
-    o.time = positive(a.at("time"), "--time");
-    o.seed = std::stoull(a.at("seed"));
-    o.rtol = positive(a.at("rtol"), "--rtol");
-    o.threads = std::stoi(a.at("threads"));
-    o.method = parse_name<integration_method>(a.at("method"), "--method");
-    o.chaos = a.at("chaos") == "1";
-    o.chaos_threshold = positive(a.at("chaos_threshold"), "--chaos-threshold");
-    o.stop = stop.get();
-    q.csv_dir = csv_dir;
-    q.timing = true;
+    q.options.stop = stop.get();
     const study_result r = interruptible(
         [model, q] {
             std::optional<study_result> out = simulate(model, q);

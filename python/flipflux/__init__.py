@@ -144,7 +144,7 @@ def evaluate(quantity, energy, arm=2, precision="double", method=None, pendulum=
     """One quantity ("omega", "flux-upright", "rate-saddle", "period", ... see quantities()) at
     energy E for the given arm, in precision "double", "quad" or "mp:N" -- `flipflux eval`.
     Returns a Value (value and error estimate: float at double, mpmath.mpf otherwise)."""
-    r = _flipflux.evaluate(quantity, _text(energy, "--energy"), int(arm), precision,
+    r = _flipflux.evaluate(quantity, _text(energy, "--energy"), _text(arm, "--arm"), precision,
                            method or "", _parameters(pendulum))
     return Value(_number(r["value"], r["precision"]), _number(r["error_estimate"], r["precision"]),
                  r["value"], r["error_estimate"], r["method"], r["precision"], r["seconds"])
@@ -156,7 +156,7 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
     theta1, theta2, l1, l2 at t = k T / (N - 1): a NumPy float array at double, else a list of
     rows of decimal strings), "period" (T), "action" (F), "flux" (2F), "multiplier" and
     "stability_index" (Floquet), their error estimates, "status"; numbers as in evaluate()."""
-    r = _flipflux.saddle_orbit(_text(energy, "--energy"), int(arm), precision, int(samples),
+    r = _flipflux.saddle_orbit(_text(energy, "--energy"), _text(arm, "--arm"), precision, int(samples),
                                method, _parameters(pendulum))
     p = r["precision"]
     out = {"precision": p, "energy": r["energy"], "status": r["status"]}
@@ -182,10 +182,10 @@ def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle"
         energy = _text(energy, "--energy")
     if isinstance(criteria, (list, tuple)):
         criteria = ",".join(criteria)
-    args = {"energy": energy, "trajectories": str(int(trajectories)),
-            "time": _text(time, "--time"), "arm": str(int(arm)), "criteria": criteria,
-            "seed": str(int(seed)), "rtol": _text(rtol, "--rtol"), "method": method,
-            "threads": str(int(threads)), "chaos": "1" if chaos else "0",
+    args = {"energy": energy, "trajectories": _text(trajectories, "--trajectories"),
+            "time": _text(time, "--time"), "arm": _text(arm, "--arm"), "criteria": criteria,
+            "seed": _text(seed, "--seed"), "rtol": _text(rtol, "--rtol"), "method": method,
+            "threads": _text(threads, "--threads"), "chaos": "1" if chaos else "0",
             "chaos_threshold": _text(chaos_threshold, "--chaos-threshold")}
     with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
         report = _json.loads(_flipflux.simulate_json(args, _parameters(pendulum), tmp))

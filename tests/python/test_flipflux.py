@@ -166,9 +166,15 @@ def test_simulate_equals_cli():
     assert per_trajectory, "no per-trajectory arrays"
     for name, a in per_trajectory.items():
         assert isinstance(a, np.ndarray) and a.dtype.names, name
-    with pytest.raises(ValueError) as e:
-        flipflux.simulate("3", trajectories=0, time=10)
-    assert str(e.value).startswith("--trajectories")
+    for kwargs, args in ((dict(trajectories=0), ["--trajectories", "0"]),
+                         (dict(trajectories=-5), ["--trajectories", "-5"]),
+                         (dict(trajectories=2.5), ["--trajectories", "2.5"]),
+                         (dict(trajectories=4, seed=-1), ["--trajectories", "4", "--seed", "-1"]),
+                         (dict(trajectories=4, arm=3), ["--trajectories", "4", "--arm", "3"])):
+        with pytest.raises(ValueError) as e:
+            flipflux.simulate("3", time=10, **kwargs)
+        r = cli("simulate", "--energy", "3", "--time", "10", *args, check=False)
+        assert r.returncode == 2 and r.stderr.strip() == "flipflux: error: " + str(e.value)
 
 
 def test_python_md_example():
