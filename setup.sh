@@ -18,6 +18,7 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev lcov
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev
   libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 
 install_deps() {

@@ -48,6 +48,16 @@ int& exit_status() {
     return status;
 }
 
+std::filesystem::path find_share_path(const std::filesystem::path& relative) {
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return {};
+    for (const std::filesystem::path& root : {exe.parent_path(), exe.parent_path().parent_path()})
+        if (std::filesystem::exists(root / "share/flipflux" / relative, ec))
+            return root / "share/flipflux" / relative;
+    return {};
+}
+
 void print(const std::string& text) {
     std::fwrite(text.data(), 1, text.size(), stdout);
     std::fflush(stdout);

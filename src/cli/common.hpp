@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -53,6 +54,11 @@ int& exit_status();
 /// option (`energy: ...` -> `--energy: ...`, `sample_interval` -> `--sample-interval`); names
 /// given in full (an option, a scene's file and key) are kept.
 std::string error_text(const input_error& e);
+
+/// A file or directory of the installation, found relative to the running executable
+/// (/proc/self/exe): share/flipflux/RELATIVE beside it (build tree) or ../share/flipflux/RELATIVE
+/// (installed: PREFIX/bin/flipflux); empty when neither exists. No source path is compiled in.
+std::filesystem::path find_share_path(const std::filesystem::path& relative);
 
 /// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
 void print(const std::string& text);

@@ -1,12 +1,14 @@
-// flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N]: reference data for
-// every registered quantity on the golden energy grid, with certified digits, written atomically
-// to DIR/golden.csv and DIR/provenance.json (see include/flipflux/quantities/golden.hpp).
+// flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N] [--progress]: reference
+// data for every registered quantity on the golden energy grid, with certified digits, written
+// atomically to DIR/golden.csv and DIR/provenance.json (see
+// include/flipflux/quantities/golden.hpp).
 #include <filesystem>
 #include <sstream>
 
 #include "common.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
+#include "progress.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -16,6 +18,7 @@ struct golden_state {
     std::string quantities;
     int jobs = 2;
     std::size_t max_rows = 0;
+    bool progress = false;
     precision_option precision{"mp:100"};
 };
 
@@ -41,6 +44,8 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--jobs", s->jobs, "threads")->capture_default_str();
     sub->add_option("--max-rows", s->max_rows, "an evenly spread sample of at most N rows (0: all)")
         ->capture_default_str();
+    sub->add_flag("--progress", s->progress,
+                  "progress bar on stderr (default: only when stderr is a terminal)");
     add_precision_option(*sub, s->precision);
     sub->callback([s] {
         golden_options options;
@@ -54,10 +59,11 @@ const register_command registration([](CLI::App& app) {
         }
         options.jobs = s->jobs;
         options.max_rows = s->max_rows;
-        options.progress = [](const golden_row& r, std::size_t done, std::size_t total) {
-            std::fprintf(stderr, "golden: %zu/%zu %s arm %s E %s: %d digits\n", done, total,
-                         r.quantity.c_str(), r.arm.empty() ? "-" : r.arm.c_str(), r.energy.c_str(),
-                         r.digits);
+        progress_bar bar(s->progress);
+        options.progress = [&bar](const golden_row& r, std::size_t done, std::size_t total) {
+            bar.update(done, total, "rows", 0,
+                       r.quantity + " arm " + (r.arm.empty() ? "-" : r.arm) + " E " + r.energy +
+                           ": " + std::to_string(r.digits) + " digits");
         };
         std::size_t skipped = 0;
         options.skipped = [&skipped](const std::string& what) {
@@ -68,6 +74,7 @@ const register_command registration([](CLI::App& app) {
         std::filesystem::create_directories(s->out, ec);
         if (ec) throw input_error("--out: cannot create '" + s->out + "': " + ec.message());
         const std::vector<golden_row> rows = generate_golden(options);
+        bar.finish();
         std::string command =
             "flipflux golden --out " + s->out + " --jobs " + std::to_string(s->jobs);
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;

@@ -15,13 +15,7 @@ namespace {
 /// beside the executable (build tree) or in ../share (installed); empty when none exists.
 std::filesystem::path find_report_script() {
     if (const char* env = std::getenv("FLIPFLUX_REPORT_SCRIPT"); env && *env) return env;
-    std::error_code ec;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (ec) return {};
-    const std::filesystem::path relative = "share/flipflux/report/make_report.py";
-    for (const std::filesystem::path& root : {exe.parent_path(), exe.parent_path().parent_path()})
-        if (std::filesystem::is_regular_file(root / relative, ec)) return root / relative;
-    return {};
+    return find_share_path("report/make_report.py");
 }
 
 struct run_state {

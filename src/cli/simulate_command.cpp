@@ -20,6 +20,8 @@
 #include "common.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
+#include "progress.hpp"
+#include "simulate_request.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -131,114 +133,6 @@ class mpi_group final : public process_group {
     int rank_ = 0, size_ = 1;
 };
 
-std::string duration_text(double seconds) {
-    if (!std::isfinite(seconds) || seconds < 0) return "?";
-    const auto s = static_cast<long>(seconds + 0.5);
-    char buf[64];
-    if (s >= 3600)
-        std::snprintf(buf, sizeof buf, "%ldh%02ldm%02lds", s / 3600, s / 60 % 60, s % 60);
-    else if (s >= 60)
-        std::snprintf(buf, sizeof buf, "%ldm%02lds", s / 60, s % 60);
-    else
-        std::snprintf(buf, sizeof buf, "%lds", s);
-    return buf;
-}
-
-/// The progress bar: done/total, rate, ETA; redrawn in place on a terminal (at most 5 times a
-/// second), a line every 10 seconds otherwise.
-class progress_bar {
-  public:
-    explicit progress_bar(bool terminal) : terminal_(terminal) {}
-    void update(const simulation_progress& p) {
-        const auto now = std::chrono::steady_clock::now();
-        if (!started_) {
-            started_ = true;
-            start_ = now;
-            base_ = p.resumed;
-        }
-        const bool final = p.done >= p.total;
-        if (!final && now - last_ < std::chrono::milliseconds(terminal_ ? 200 : 10000)) return;
-        last_ = now;
-        const double elapsed = std::chrono::duration<double>(now - start_).count();
-        const double rate = elapsed > 0 ? static_cast<double>(p.done - base_) / elapsed : 0;
-        const double eta = rate > 0 ? static_cast<double>(p.total - p.done) / rate : -1;
-        constexpr int width = 30;
-        const int filled =
-            p.total ? static_cast<int>(width * static_cast<double>(p.done) / p.total) : 0;
-        std::string bar(static_cast<std::size_t>(filled), '=');
-        bar.resize(width, ' ');
-        std::fprintf(stderr, "%s[%s] %llu/%llu trajectories, energy %zu/%zu, %.3g/s, ETA %s%s",
-                     terminal_ ? "\r" : "", bar.c_str(), static_cast<unsigned long long>(p.done),
-                     static_cast<unsigned long long>(p.total), p.energy + 1, p.energies, rate,
-                     duration_text(eta).c_str(), terminal_ && !final ? "   " : "\n");
-        std::fflush(stderr);
-    }
-    void finish() {
-        if (terminal_ && started_) std::fputc('\n', stderr);
-    }
-
-  private:
-    bool terminal_;
-    bool started_ = false;
-    std::uint64_t base_ = 0;
-    std::chrono::steady_clock::time_point start_{}, last_{};
-};
-
-struct simulate_state {
-    std::string energy, arm_text = "2", criteria = "upright,approx,saddle", trajectories, time,
-                        seed = "0", rtol = "1e-10", threads = "0", csv_dir, method = "dop853",
-                        chaos_threshold = "0.05", first_index = "0", bins = "0",
-                        sample_interval = "0", checkpoint, checkpoint_interval = "2",
-                        estimator = "long", short_time = "20", reference_time = "0";
-    bool no_chaos = false, progress = false, no_timing = false;
-    model_options model;
-};
-
-std::uint64_t parse_unsigned(const std::string& text, const std::string& option, bool positive) {
-    std::uint64_t v = 0;
-    const char* end = text.data() + text.size();
-    const auto r = std::from_chars(text.data(), end, v);
-    if (text.empty() || r.ec != std::errc() || r.ptr != end || (positive && v == 0))
-        throw input_error(option + ": '" + text + "' is invalid (expected " +
-                          (positive ? "a positive" : "a non-negative") + " integer)");
-    return v;
-}
-
-double parse_positive(const std::string& text, const std::string& option) {
-    const double v = parse_real<double>(text, option);
-    if (!(v > 0)) throw input_error(option + ": '" + text + "' is invalid (must be > 0)");
-    return v;
-}
-
-simulation_request make_request(const simulate_state& s) {
-    simulation_request q;
-    q.flip_arm = parse_arm(s.arm_text);
-    q.energies = parse_energy_list(s.energy);
-    q.criteria = parse_criterion_list(s.criteria);
-    ensemble_options& o = q.options;
-    o.trajectories = parse_unsigned(s.trajectories, "--trajectories", true);
-    o.time = parse_positive(s.time, "--time");
-    o.seed = parse_unsigned(s.seed, "--seed", false);
-    o.first_index = parse_unsigned(s.first_index, "--first-index", false);
-    o.rtol = parse_positive(s.rtol, "--rtol");
-    o.threads = static_cast<int>(
-        std::min<std::uint64_t>(parse_unsigned(s.threads, "--threads", false), 4096));
-    o.method = parse_name<integration_method>(s.method, "--method");
-    o.chaos = !s.no_chaos;
-    o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
-    o.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
-    o.stop = &stop_signal;
-    q.bins = parse_unsigned(s.bins, "--bins", false);
-    q.csv_dir = s.csv_dir;
-    q.checkpoint = s.checkpoint;
-    q.checkpoint_interval = parse_real<double>(s.checkpoint_interval, "--checkpoint-interval");
-    q.estimator = parse_name<rate_estimator>(s.estimator, "--estimator");
-    q.short_time = parse_positive(s.short_time, "--short-time");
-    q.reference_time = parse_real<double>(s.reference_time, "--reference-time");
-    q.timing = !s.no_timing;
-    return q;
-}
-
 void run(const simulate_state& s) {
     std::unique_ptr<mpi_group> mpi;
     if (launched_by_mpirun()) mpi = std::make_unique<mpi_group>();
@@ -246,10 +140,15 @@ void run(const simulate_state& s) {
     try {
         const double_pendulum<double> model(parse_parameters<double>(s.model));
         simulation_request q = make_request(s);
+        q.options.stop = &stop_signal;
         q.group = mpi.get();
-        progress_bar bar(isatty(2) != 0);
-        if (root && (s.progress || isatty(2)))
-            q.progress = [&bar](const simulation_progress& p) { bar.update(p); };
+        progress_bar bar(s.progress);
+        if (root && bar.active())
+            q.progress = [&bar](const simulation_progress& p) {
+                bar.update(
+                    p.done, p.total, "trajectories", p.resumed,
+                    "energy " + std::to_string(p.energy + 1) + "/" + std::to_string(p.energies));
+            };
         const signal_guard guard;
         std::optional<study_result> result;
         try {

@@ -1,7 +1,11 @@
 // validate: accepts a correct candidate; catches a value off in its 9th digit, a missing row, a
 // duplicated row and a malformed line, each reported by line number.
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "flipflux/validation/validate.hpp"
 #include "support.hpp"
@@ -94,6 +98,32 @@ TEST_F(Validate, CliExitStatus) {
     EXPECT_NE(missing.err.find("nope.csv"), std::string::npos);
     const auto rtol = run_flipflux("validate " + (dir_ / "good.csv").string() + g + " --rtol 2");
     EXPECT_EQ(rtol.status, 2);
+}
+
+// Without --golden the command uses the golden data of its installation, found beside the
+// executable (build tree: share/flipflux/golden, a link to the source data/golden; installed:
+// ../share/flipflux/golden), whatever the working directory; an executable without one says so.
+TEST_F(Validate, CliFindsTheGoldenDataBesideTheExecutable) {
+    std::ifstream golden(fs::path(FLIPFLUX_SOURCE_DIR) / "data/golden/golden.csv");
+    std::string line, row;
+    while (std::getline(golden, line))
+        if (line.rfind("omega,,3,", 0) == 0) row = line.substr(0, line.find(',', 9) - 25);
+    ASSERT_FALSE(row.empty());
+    std::ofstream(dir_ / "omega.csv") << header << row << "\n";
+    const auto ok = run_flipflux("validate " + (dir_ / "omega.csv").string() + " --allow-missing");
+    EXPECT_EQ(ok.status, 0) << ok.out << ok.err;
+    EXPECT_NE(ok.out.find("1 ok"), std::string::npos) << ok.out;
+
+    fs::create_directories(dir_ / "bin");  // a copy of the executable with no share/ near it
+    fs::copy_file(FLIPFLUX_EXE, dir_ / "bin" / "flipflux");
+    const std::string cmd = (dir_ / "bin" / "flipflux").string() + " validate " +
+                            (dir_ / "omega.csv").string() + " 2>" + (dir_ / "err.txt").string();
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    std::ifstream err(dir_ / "err.txt");
+    std::getline(err, line);
+    EXPECT_EQ(line.rfind("flipflux: error: --golden: no golden data beside the executable", 0), 0u)
+        << line;
 }
 
 }  // namespace

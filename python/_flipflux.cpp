@@ -1,0 +1,288 @@
+// The Python module's native part (flipflux._flipflux, pybind11): thin functions over the library
+// that take decimal text and return decimal text, exactly what the command-line tool computes and
+// prints (python/flipflux/__init__.py builds the Pythonic interface on them: floats, mpmath
+// numbers, NumPy arrays). Every computation runs in a worker thread with the GIL released; the
+// calling thread polls for Ctrl-C (PyErr_CheckSignals) and raises KeyboardInterrupt: simulate
+// stops its trajectories at the next step (ensemble_options::stop), the other calls (seconds, an
+// mp orbit minutes) are abandoned to finish in the background. Bad input raises ValueError with
+// the command-line tool's one-line message (cli::error_text: "--energy: '...' ...").
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <exception>
+#include <filesystem>
+#include <future>
+#include <memory>
+#include <thread>
+
+#include "../src/cli/common.hpp"
+#include "../src/cli/simulate_request.hpp"
+#include "flipflux/core/version.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
+#include "flipflux/quantities/registry.hpp"
+#include "flipflux/study/simulation.hpp"
+#include "flipflux/study/study_files.hpp"
+#include "flipflux/validation/validate.hpp"
+
+namespace py = pybind11;
+using namespace flipflux;
+
+namespace {
+
+model_text model_of(const std::map<std::string, std::string>& p) {
+    model_text t;
+    for (const auto& [key, value] : p) {
+        if (key == "m1")
+            t.m1 = value;
+        else if (key == "m2")
+            t.m2 = value;
+        else if (key == "L1")
+            t.L1 = value;
+        else if (key == "L2")
+            t.L2 = value;
+        else if (key == "a1")
+            t.a1 = value;
+        else if (key == "a2")
+            t.a2 = value;
+        else if (key == "I1")
+            t.I1 = value;
+        else if (key == "I2")
+            t.I2 = value;
+        else if (key == "g")
+            t.g = value;
+        else
+            throw input_error(key + ": not a pendulum parameter");
+    }
+    return t;
+}
+
+/// Runs f() in a worker thread with the GIL released, polling for signals every 50 ms. On
+/// Ctrl-C: sets *stop (when given) and waits for f to stop, or else abandons f (it finishes in
+/// the background; its result is dropped), and raises KeyboardInterrupt.
+template <class F>
+auto interruptible(F f, std::atomic<int>* stop = nullptr) -> decltype(f()) {
+    using result = decltype(f());
+    auto task = std::make_shared<std::packaged_task<result()>>(std::move(f));
+    std::future<result> done = task->get_future();
+    std::thread worker([task] { (*task)(); });
+    bool interrupted = false;
+    {
+        py::gil_scoped_release release;
+        while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+            bool signalled = false;
+            {
+                py::gil_scoped_acquire acquire;
+                signalled = PyErr_CheckSignals() != 0;  // sets KeyboardInterrupt
+            }
+            if (signalled) {
+                interrupted = true;
+                if (stop != nullptr) {
+                    stop->store(SIGINT);
+                    done.wait();
+                }
+                break;
+            }
+        }
+    }
+    if (interrupted) {
+        if (stop == nullptr) {
+            worker.detach();
+        } else {
+            worker.join();
+        }
+        throw py::error_already_set();
+    }
+    worker.join();
+    return done.get();
+}
+
+py::dict evaluate(const std::string& name, const std::string& energy_text,
+                  const std::string& arm_text, const std::string& precision_text,
+                  const std::string& method, const std::map<std::string, std::string>& parameters) {
+    struct out_t {
+        std::string quantity, arm, energy, precision, method, value, error_estimate;
+        double seconds = 0;
+    };
+    const out_t o = interruptible([=] {
+        const precision p = parse_precision(precision_text, "--precision");
+        return dispatch(p, [&]<class Real>() {
+            const quantity& q = find_quantity(name);
+            const arm a = cli::parse_arm(arm_text);
+            const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
+            const Real energy = parse_real<Real>(energy_text, "--energy");
+            const auto start = std::chrono::steady_clock::now();
+            const quantity_value<Real> v = q.evaluate(model, a, energy, method);
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            return out_t{q.name,
+                         q.per_arm ? to_string(a) : "",
+                         to_decimal(energy),
+                         precision_name<Real>(),
+                         v.method,
+                         to_decimal(v.value),
+                         to_decimal(v.error_estimate, 3),
+                         seconds};
+        });
+    });
+    py::dict d;
+    d["quantity"] = o.quantity;
+    d["arm"] = o.arm.empty() ? py::none() : py::object(py::int_(std::stoi(o.arm)));
+    d["energy"] = o.energy;
+    d["precision"] = o.precision;
+    d["method"] = o.method;
+    d["value"] = o.value;
+    d["error_estimate"] = o.error_estimate;
+    d["seconds"] = o.seconds;
+    return d;
+}
+
+struct orbit_text {
+    std::string precision, energy, period, action, flux, multiplier, stability_index, status,
+        error_estimate_period, error_estimate_action, energy_error;
+    std::vector<std::array<std::string, 5>> samples;  ///< t, theta1, theta2, l1, l2
+};
+
+py::dict saddle_orbit_text(const std::string& energy_text, const std::string& arm_text,
+                           const std::string& precision_text, long samples,
+                           const std::string& method_text,
+                           const std::map<std::string, std::string>& parameters) {
+    if (samples < 2 || samples > 10000000)
+        throw input_error("--samples: '" + std::to_string(samples) +
+                          "' is not an integer in [2, 10000000]");
+    const orbit_text o = interruptible([=] {
+        const precision p = parse_precision(precision_text, "--precision");
+        return dispatch(p, [&]<class Real>() {
+            const arm a = cli::parse_arm(arm_text);
+            const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
+            const Real energy = parse_real<Real>(energy_text, "--energy");
+            orbit_options<Real> options;
+            options.method = parse_name<orbit_method>(method_text, "--method");
+            check_orbit_energy(model, a, energy);
+            const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+            if (orbit.status == orbit_status::not_converged)
+                throw std::runtime_error("orbit: no convergence at E = " + to_decimal(energy) +
+                                         " (" + orbit.double_stage + ")");
+            orbit_text t{precision_name<Real>(),
+                         to_decimal(energy),
+                         to_decimal(orbit.period),
+                         to_decimal(orbit.action),
+                         to_decimal(orbit.flux()),
+                         to_decimal(orbit.floquet.multiplier),
+                         to_decimal(orbit.floquet.stability_index),
+                         std::string(to_string(orbit.status)),
+                         to_decimal(orbit.error_estimate_period, 3),
+                         to_decimal(orbit.error_estimate_action, 3),
+                         to_decimal(orbit.energy_error, 3),
+                         {}};
+            for (long k = 0; k < samples; ++k) {  // as `flipflux orbit` samples it
+                const Real time = orbit.period * k / (samples - 1);
+                const phase_point<Real> x =
+                    k + 1 == samples ? orbit.start : orbit_state(model, orbit, time);
+                t.samples.push_back({to_decimal(time), to_decimal(x[0]), to_decimal(x[1]),
+                                     to_decimal(x[2]), to_decimal(x[3])});
+            }
+            return t;
+        });
+    });
+    py::dict d;
+    d["precision"] = o.precision;
+    d["energy"] = o.energy;
+    d["period"] = o.period;
+    d["action"] = o.action;
+    d["flux"] = o.flux;
+    d["multiplier"] = o.multiplier;
+    d["stability_index"] = o.stability_index;
+    d["status"] = o.status;
+    d["error_estimate_period"] = o.error_estimate_period;
+    d["error_estimate_action"] = o.error_estimate_action;
+    d["energy_error"] = o.energy_error;
+    d["samples"] = o.samples;
+    return d;
+}
+
+std::string simulate_json(const std::map<std::string, std::string>& a,
+                          const std::map<std::string, std::string>& parameters,
+                          const std::string& csv_dir) {
+    cli::simulate_state s;  // the command's options, checked by the command's own code
+    s.energy = a.at("energy");
+    s.arm_text = a.at("arm");
+    s.criteria = a.at("criteria");
+    s.trajectories = a.at("trajectories");
+    s.time = a.at("time");
+    s.seed = a.at("seed");
+    s.rtol = a.at("rtol");
+    s.method = a.at("method");
+    s.threads = a.at("threads");
+    s.no_chaos = a.at("chaos") != "1";
+    s.chaos_threshold = a.at("chaos_threshold");
+    s.csv_dir = csv_dir;
+    s.model = model_of(parameters);
+    const double_pendulum<double> model(parse_parameters<double>(s.model));
+    simulation_request q = cli::make_request(s);
+    auto stop = std::make_shared<std::atomic<int>>(0);
+    q.options.stop = stop.get();
+    const study_result r = interruptible(
+        [model, q] {
+            std::optional<study_result> out = simulate(model, q);
+            return *out;
+        },
+        stop.get());
+    nlohmann::ordered_json j = study_json(r);
+    j["model"] = cli::parameters_json(model);
+    return j.dump();
+}
+
+py::dict validate_file(const std::string& candidate, const std::string& golden, double rtol,
+                       bool allow_missing) {
+    if (!(rtol > 0 && rtol < 1))
+        throw input_error("--rtol: '" + std::to_string(rtol) + "' must be in (0, 1)");
+    const validation_report r = validate_candidate(candidate, golden, rtol, allow_missing);
+    py::list rows;
+    for (const validation_entry& e : r.entries) {
+        py::dict row;
+        row["status"] = std::string(to_string(e.what));
+        row["line"] = e.line;
+        row["quantity"] = e.quantity;
+        row["arm"] = e.arm;
+        row["energy"] = e.energy;
+        row["candidate"] = e.candidate;
+        row["golden"] = e.golden;
+        row["relative_error"] = e.relative_error;
+        row["matched_digits"] = e.matched_digits;
+        row["certified_digits"] = e.certified_digits;
+        row["note"] = e.note;
+        rows.append(row);
+    }
+    py::dict d;
+    d["passed"] = r.passed();
+    d["rows"] = rows;
+    d["report"] = format_report(r, rtol);
+    return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_flipflux, m) {
+    m.doc() = "flipflux's native layer (use the flipflux package, python/flipflux/__init__.py)";
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const input_error& e) {
+            PyErr_SetString(PyExc_ValueError, cli::error_text(e).c_str());
+        }
+    });
+    m.def("version", [] { return std::string(version_string()) + " (git " + git_commit() + ")"; });
+    m.def("quantities", [] {
+        std::vector<std::tuple<std::string, std::string, std::vector<std::string>, bool>> out;
+        for (const quantity& q : quantities())
+            out.emplace_back(q.name, q.description, q.methods, q.per_arm);
+        return out;
+    });
+    m.def("evaluate", &evaluate);
+    m.def("saddle_orbit", &saddle_orbit_text);
+    m.def("simulate_json", &simulate_json);
+    m.def("validate_file", &validate_file);
+}
