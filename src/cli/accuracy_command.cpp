@@ -42,8 +42,10 @@ const register_command registration([](CLI::App& app) {
             options.quantities.push_back(item);
         }
         options.precisions = parse_precision_list(s->precisions, "--precisions");
-        if (!(s->min_seconds >= 0)) {
-            throw input_error("--min-seconds: must be >= 0");
+        if (!(s->min_seconds >= 0) || !(s->min_seconds <= max_min_seconds)) {
+            throw input_error("--min-seconds: '" + to_decimal(s->min_seconds) +
+                              "' is invalid (must be in [0, " + to_decimal(max_min_seconds) +
+                              "] seconds per cell)");
         }
         options.min_seconds = s->min_seconds;
         options.progress = [](const std::string& line) {

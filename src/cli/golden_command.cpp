@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 
@@ -52,7 +53,7 @@ const register_command registration([](CLI::App& app) {
         if (s->jobs < 1) {
             throw input_error("--jobs: '" + std::to_string(s->jobs) + "' must be >= 1");
         }
-        options.jobs = s->jobs;
+        options.jobs = checked_threads(static_cast<std::uint64_t>(s->jobs), "--jobs");
         options.max_rows = s->max_rows;
         options.progress = [](const golden_row& r, std::size_t done, std::size_t total) {
             std::fprintf(stderr, "golden: %zu/%zu %s arm %s E %s: %d digits\n", done, total,

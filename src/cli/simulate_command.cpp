@@ -18,6 +18,7 @@
 #include <cstdlib>
 
 #include "common.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
 
@@ -221,8 +222,7 @@ simulation_request make_request(const simulate_state& s) {
     o.seed = parse_unsigned(s.seed, "--seed", false);
     o.first_index = parse_unsigned(s.first_index, "--first-index", false);
     o.rtol = parse_positive(s.rtol, "--rtol");
-    o.threads = static_cast<int>(
-        std::min<std::uint64_t>(parse_unsigned(s.threads, "--threads", false), 4096));
+    o.threads = checked_threads(parse_unsigned(s.threads, "--threads", false), "--threads");
     o.method = parse_name<integration_method>(s.method, "--method");
     o.chaos = !s.no_chaos;
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
@@ -261,6 +261,16 @@ void run(const simulate_state& s) {
             return;
         }
         bar.finish();
+        if (result)
+            for (const energy_result& e : result->energies)
+                if (e.failed_trajectories > 0)  // excluded from the statistics (docs/limits.md)
+                    std::fprintf(stderr,
+                                 "flipflux: warning: E = %s: %llu of %llu trajectories failed "
+                                 "(the integration stopped before T) and are excluded from the "
+                                 "statistics (\"failed_trajectories\" in the report)\n",
+                                 e.label.c_str(),
+                                 static_cast<unsigned long long>(e.failed_trajectories),
+                                 static_cast<unsigned long long>(result->options.trajectories));
         if (result) {
             json out = study_json(*result);
             out["model"] = parameters_json(model);

@@ -14,6 +14,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 
 namespace flipflux {
@@ -29,6 +30,11 @@ void validate(const ensemble_options& o) {
     if (!(o.rtol > 0) || !(o.rtol <= 0.1))
         throw input_error::about("rtol",
                                  "'" + to_decimal(o.rtol) + "' is invalid (must be in (0, 0.1])");
+    if (o.rtol < min_rtol)
+        throw input_error::about("rtol", "'" + to_decimal(o.rtol) +
+                                             "' is below what double precision can meet (at "
+                                             "least 100 eps = " +
+                                             to_decimal(min_rtol) + ")");
     if (o.atol < 0 || !std::isfinite(o.atol))
         throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))
@@ -37,6 +43,7 @@ void validate(const ensemble_options& o) {
     if (o.threads < 0)
         throw input_error::about("threads",
                                  "'" + std::to_string(o.threads) + "' is invalid (>= 0)");
+    (void)checked_threads(static_cast<std::uint64_t>(o.threads), "threads");
     if (!std::isfinite(o.sample_interval) || o.sample_interval < 0)
         throw input_error::about(
             "sample_interval", "'" + to_decimal(o.sample_interval) + "' is invalid (must be >= 0)");

@@ -25,6 +25,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -53,6 +54,11 @@ inline constexpr double energy_jump_factor = 64;
 /// Default chaos threshold on the finite-time Lyapunov exponent, in units of the inverse
 /// natural time sqrt(alpha / A) (docs/theory.md#ensembles explains the choice).
 inline constexpr double default_chaos_threshold = 0.05;
+
+/// The smallest relative tolerance double arithmetic can meet: 100 eps (2.2e-14). Below it the
+/// error estimates of DOP853 and DOPRI5 are dominated by rounding and the step size shrinks
+/// without end (Hairer's codes refuse rtol <= 10 eps; the margin keeps runs finite in time).
+inline constexpr double min_rtol = 100 * std::numeric_limits<double>::epsilon();
 
 struct ensemble_options {
     double energy = 0;
