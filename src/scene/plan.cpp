@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <set>
 
@@ -122,11 +123,16 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
                          " cannot flip)");
         }
     }
+    // the short estimator spends trajectories x time on trajectories of simulation_request's
+    // default short_time
+    double n = static_cast<double>(x.trajectories);
+    if (x.estimator == "short")
+        n = std::ceil(n * parse_real<double>(x.time, key + ".time") /
+                      simulation_request{}.short_time);
     try {
-        check_memory(
-            key + ".trajectories", std::to_string(x.trajectories),
-            static_cast<double>(x.trajectories) * trajectory_record_bytes(x.criteria.size()),
-            std::to_string(x.trajectories) + " trajectory records");
+        check_memory(key + ".trajectories", std::to_string(x.trajectories),
+                     n * trajectory_record_bytes(x.criteria.size()),
+                     to_decimal(n) + " trajectory records");
     } catch (const input_error& e) {
         fail(s, x.line, key + ".trajectories", e.detail());
     }
