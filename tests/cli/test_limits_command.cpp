@@ -54,7 +54,7 @@ TEST(LimitsCommand, ThreadCountsBeyondTheLimitAreRefused) {
 TEST(LimitsCommand, RtolBelowTheWorkingPrecisionIsRefused) {
     for (const std::string rtol : {"1e-19", "1e-100", "1e-300"})
         expect_refused(simulate + "--rtol " + rtol,
-                       {"--rtol: '" + rtol + "' is below what double precision can meet"});
+                       {"--rtol: '", "is below what double precision can meet"});
     expect_refused(
         "trajectory --state 0,3,0,0 --time 1 --criteria upright --route ensemble --rtol 1e-19",
         {"--rtol"});
@@ -62,15 +62,16 @@ TEST(LimitsCommand, RtolBelowTheWorkingPrecisionIsRefused) {
 
 TEST(LimitsCommand, BudgetsThatCannotFinishAreRefused) {
     expect_refused(simulate + "--estimator short --short-time 1e300",
-                   {"--short-time: '1e300' is longer than"});
+                   {"--short-time: '", "is longer than the budget"});
     expect_refused("accuracy --min-seconds inf --quantities omega --out /dev/null",
                    {"--min-seconds"});
 }
 
 TEST(LimitsCommand, OverflowingInputsAreRefusedNotPrintedAsInf) {
-    expect_refused("eval omega --energy 3 --m2 1e300", {"--m2: '1e300' is outside the magnitudes"});
-    expect_refused("eval rate-upright --energy 5e307", {"--energy: '5e307' is outside"});
-    expect_refused("eval flux-approx --energy 5e307", {"--energy: '5e307' is outside"});
+    expect_refused("eval omega --energy 3 --m2 1e300", {"--m2: '", "is outside the magnitudes"});
+    expect_refused("eval rate-upright --energy 5e307",
+                   {"--energy: '", "is outside the magnitudes"});
+    expect_refused("eval flux-approx --energy 5e307", {"--energy: '", "is outside the magnitudes"});
     // mp:N has the exponent range for it: a finite value
     const command_result r = run_flipflux("eval omega --energy 1e100 --precision mp:20");
     EXPECT_EQ(r.status, 0) << r.err;
