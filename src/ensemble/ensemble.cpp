@@ -54,6 +54,24 @@ void validate(const ensemble_options& o) {
         throw input_error::about("first_index", "the index range overflows");
 }
 
+double turns_bound(const double_pendulum<double>& model, double energy, double time) {
+    const auto& k = model.coefficients();
+    const double half_gap = (k.A - k.B) / 2;
+    const double m = (k.A + k.B) / 2 - std::sqrt(half_gap * half_gap + k.C * k.C);
+    const double w = std::sqrt(2 * std::max(energy, 0.0) / m) + std::sqrt((k.alpha + k.beta) / m);
+    return time * w / (2 * std::numbers::pi);
+}
+
+void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
+                           const std::string& field) {
+    const double turns = turns_bound(model, energy, time);
+    if (!(turns <= max_turns_per_trajectory))
+        throw input_error::about(
+            field, "T = " + to_decimal(time) + " at E = " + to_decimal(energy) + " allows up to " +
+                       to_decimal(turns, 3) + " turns of the arms per trajectory, more than " +
+                       to_decimal(max_turns_per_trajectory) + " (docs/limits.md)");
+}
+
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold) {
     const auto& k = model.coefficients();
     return threshold * std::sqrt(k.alpha / k.A);

@@ -114,6 +114,11 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
     for (const std::string& text : energy_texts(x.energies, key + ".energies")) {
         const double e = parse_real<double>(text, key + ".energies");
         if (!(e > 0)) fail(s, x.line, key + ".energies", "E = " + text + " must be > 0");
+        try {
+            check_trajectory_work(model, e, parse_real<double>(x.time, key + ".time"), "time");
+        } catch (const input_error& err) {
+            fail(s, x.line, key + ".time", err.detail());
+        }
         for (const std::string& c : x.criteria) {
             const double threshold = criterion_threshold(model, a, c);
             if (!(e > threshold))

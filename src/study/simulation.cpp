@@ -208,6 +208,7 @@ study_criteria build_criteria(const double_pendulum<double>& model,
     for (const auto& [label, e] : request.energies) {
         o.energy = e;
         validate(o);
+        check_trajectory_work(model, e, o.time, "time");
         s.criteria.emplace_back();
         s.predictions.emplace_back();
         for (const std::string& n : request.criteria) {

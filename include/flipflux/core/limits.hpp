@@ -16,6 +16,11 @@ inline constexpr std::uint64_t max_threads = 4096;
 /// The most histogram bins per histogram.
 inline constexpr std::uint64_t max_bins = 1000000;
 
+/// The most turns the arms of one trajectory may make (an upper bound from the energy and the
+/// integration time, ensemble.hpp's check_trajectory_work): at tens of steps per turn, more than
+/// this is days per trajectory, and E = 1e300 or T = 1e300 would never end.
+inline constexpr double max_turns_per_trajectory = 1e9;
+
 /// The most bytes one request may plan to hold: the machine's physical memory
 /// (sysconf(_SC_PHYS_PAGES) * page size), or $FLIPFLUX_MEMORY_LIMIT bytes when that is set to a
 /// positive integer (smaller, e.g. for a batch slot).

@@ -127,6 +127,18 @@ struct ensemble_result {
 /// --energy, --threads).
 void validate(const ensemble_options& options);
 
+/// An upper bound on the turns the arms make over `time` at `energy` (both arms together):
+/// time (w_E + w_0) / (2 pi) with w_E = sqrt(2 E / m) the largest angular speed the kinetic
+/// energy allows (K <= E since V >= 0) and w_0 = sqrt((alpha + beta) / m) the fastest
+/// small-oscillation frequency, m = (A + B) / 2 - sqrt(((A - B) / 2)^2 + C^2) the smallest
+/// eigenvalue of the mass matrix over all configurations.
+double turns_bound(const double_pendulum<double>& model, double energy, double time);
+
+/// Throws input_error about `field` when turns_bound exceeds max_turns_per_trajectory
+/// (core/limits.hpp): a trajectory that could not finish.
+void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
+                           const std::string& field);
+
 /// The chaos threshold in the model's time units: threshold * sqrt(alpha / A).
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold);
 
