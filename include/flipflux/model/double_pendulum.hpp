@@ -95,14 +95,16 @@ Real magnitude_limit() {
 /// magnitude_limit] (see there).
 template <class Real>
 void check_magnitude(const Real& x, const std::string& field) {
-    using std::abs;
-    const Real hi = magnitude_limit<Real>();
-    if (x != 0 && (abs(x) > hi || abs(x) < 1 / hi))
-        throw input_error::about(
-            field, "'" + to_decimal(x) + "' is outside the magnitudes " +
-                       to_decimal(Real(1 / hi), 3) + " .. " + to_decimal(hi, 3) + " that " +
-                       precision_name<Real>() +
-                       " computes with (docs/limits.md; mp:N has no such limit)");
+    if constexpr (is_supported_real_v<Real>) {  // a test's own reference type: not checked
+        using std::abs;
+        const Real hi = magnitude_limit<Real>();
+        if (x != 0 && (abs(x) > hi || abs(x) < 1 / hi))
+            throw input_error::about(
+                field, "'" + to_decimal(x) + "' is outside the magnitudes " +
+                           to_decimal(Real(1 / hi), 3) + " .. " + to_decimal(hi, 3) + " that " +
+                           precision_name<Real>() +
+                           " computes with (docs/limits.md; mp:N has no such limit)");
+    }
 }
 
 /// Derives the coefficients, validating the parameters (throws input_error naming the parameter).
