@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "flipflux/core/limits.hpp"
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "support.hpp"
@@ -61,7 +62,7 @@ TEST(SceneLimits, DuplicateArmsQuantitiesAndEnergiesAreRefused) {
     expect_refused(
         head + "[predictions]\nquantities = [\"omega\"]\narms = [2, 2]\nenergies = [3]\n",
         "s.toml:6: predictions.arms: arm 2 is given twice");
-    expect_refused(head + "[predictions]\nquantities = [\"omega\"]\nenergies = [3, 4, 3.0]\n",
+    expect_refused(head + "[predictions]\nquantities = [\"omega\"]\nenergies = [3, 4, \"3.0\"]\n",
                    "s.toml:4: predictions.energies: E = 3.0 is given twice (as '3')");
     expect_refused(head + "[orbits]\nenergies = [3, 3]\n", "orbits.energies: E = 3 is given twice");
     expect_refused(head + "[[ensemble]]\nenergies = [5, 5e0]\n",
@@ -97,7 +98,9 @@ TEST(SceneLimits, TrajectoriesBeyondMemoryAreRefusedInThePlan) {
     // the schema's own bound, 1e9 trajectories, is refused on a machine with less than ~0.5 TB
     const std::string huge =
         refusal(head + "[[ensemble]]\nenergies = [5]\ntrajectories = 1000000000\n");
-    if (memory_budget_bytes() < 1e11) EXPECT_NE(huge.find("would need about"), std::string::npos);
+    if (memory_budget_bytes() < 1e11) {
+        EXPECT_NE(huge.find("would need about"), std::string::npos) << huge;
+    }
 }
 
 TEST(SceneLimits, OutputDirectoriesThatCannotBeWrittenAreRefusedBeforeComputing) {
