@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } catch (const nlohmann::json::exception&) {
     }
     const flipflux::double_pendulum<double> model;
-    for (const std::string* t : {&text, &sealed}) {
+    for (const std::string* t : {&text, static_cast<const std::string*>(&sealed)}) {
         try {
             const auto o = flipflux::orbit_from_json<double>(*t, "fuzz.json");
             (void)flipflux::cached_orbit_problem(model, o.flip_arm, o.energy, o);
