@@ -2,9 +2,11 @@
 // tolerances and budgets that could not finish, values that overflow the working precision and
 // mistyped subcommands are refused up front with one line naming the option and exit status 2
 // (docs/limits.md). Each case exits before any computation: cheap at -O0.
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "support.hpp"
 
@@ -76,6 +78,37 @@ TEST(LimitsCommand, OverflowingInputsAreRefusedNotPrintedAsInf) {
     const command_result r = run_flipflux("eval omega --energy 1e100 --precision mp:20");
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+}
+
+// Up to the magnitude limit (3.4e38 in double) the answers are finite and correct: the double
+// values agree with mp:30 (an independent precision) to a few ulp times the closed forms'
+// condition (the rates divide two large numbers: 64 eps).
+TEST(LimitsCommand, LargeEnergiesBelowTheLimitGiveCorrectFiniteValues) {
+    auto value = [](const std::string& args) {
+        const command_result r = run_flipflux(args);
+        EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+        const std::size_t at = r.out.find("\"value\": \"");
+        return at == std::string::npos ? std::string("nan")
+                                       : r.out.substr(at + 10, r.out.find('"', at + 10) - at - 10);
+    };
+    for (const std::string q : {"omega", "rate-upright", "rate-approx"}) {
+        const std::string e = " --energy 3.3e38";
+        const double d = std::stod(value("eval " + q + e));
+        const double m = std::stod(value("eval " + q + e + " --precision mp:30"));
+        EXPECT_TRUE(std::isfinite(d)) << q;
+        EXPECT_NEAR(d / m, 1, 64 * std::numeric_limits<double>::epsilon()) << q;
+    }
+}
+
+// Issue 20: E = 1e300 or T = 1e300 integrated forever (an interrupted run after minutes).
+TEST(LimitsCommand, TrajectoriesThatCouldNotFinishAreRefused) {
+    expect_refused(
+        "simulate --energy 1e300 --trajectories 2 --time 1 --criteria upright",
+        {"--time: T = 1 at E = 1.0000000000000001e+300 allows up to", "turns of the arms"});
+    expect_refused("simulate --energy 3 --trajectories 2 --time 1e300 --criteria upright",
+                   {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+    expect_refused("trajectory --state 0,3,0,0 --time 1e300 --criteria upright --route ensemble",
+                   {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
 }
 
 TEST(LimitsCommand, MistypedSubcommandIsNamed) {
