@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
@@ -55,6 +56,7 @@ const register_command registration([](CLI::App& app) {
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;
         if (s->precisions != "double,quad,mp:50,mp:100")
             command += " --precisions " + s->precisions;
+        check_output_file(s->out, "--out");  // before minutes of measuring
         const auto entries = measure_accuracy(options);
         write_file_atomically(s->out, accuracy_markdown(entries, options.precisions, command));
         print(json{{"entries", entries.size()}, {"out", s->out}}.dump(2) + "\n");

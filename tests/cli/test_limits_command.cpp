@@ -3,6 +3,7 @@
 // mistyped subcommands are refused up front with one line naming the option and exit status 2
 // (docs/limits.md). Each case exits before any computation: cheap at -O0.
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -109,6 +110,18 @@ TEST(LimitsCommand, TrajectoriesThatCouldNotFinishAreRefused) {
                    {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
     expect_refused("trajectory --state 0,3,0,0 --time 1e300 --criteria upright --route ensemble",
                    {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+}
+
+// Issue 20: an output path that is a file's child, or a directory, ended in "internal error:
+// filesystem error" after the computation; it is refused before measuring.
+TEST(LimitsCommand, UnwritableOutputIsRefusedBeforeComputing) {
+    const std::string file =
+        ::testing::TempDir() + "flipflux_limits_file_" + std::to_string(getpid());
+    std::ofstream(file) << "x";
+    const std::string accuracy = "accuracy --quantities omega --precisions double --out ";
+    expect_refused(accuracy + file + "/x.md", {"--out: '" + file + "/x.md' cannot be written"});
+    expect_refused(accuracy + ::testing::TempDir(), {"is a directory, not a file"});
+    std::remove(file.c_str());
 }
 
 TEST(LimitsCommand, MistypedSubcommandIsNamed) {
