@@ -65,6 +65,14 @@ TEST(SceneLimits, DuplicateArmsQuantitiesAndEnergiesAreRefused) {
     expect_refused(head + "[predictions]\nquantities = [\"omega\"]\nenergies = [3, 4, \"3.0\"]\n",
                    "s.toml:4: predictions.energies: E = 3.0 is given twice (as '3')");
     expect_refused(head + "[orbits]\nenergies = [3, 3]\n", "orbits.energies: E = 3 is given twice");
+    // compared in the working precision: distinct in mp:40, one number in double
+    const std::string mp = "[scene]\nname = \"t\"\noutput = \"out/t\"\nprecision = \"mp:40\"\n";
+    const std::string close =
+        "[predictions]\nquantities = [\"omega\"]\n"
+        "energies = [\"3\", \"3.0000000000000000000001\"]\n";
+    EXPECT_EQ(refusal(mp + close), "");
+    expect_refused(head + close,
+                   "predictions.energies: E = 3.0000000000000000000001 is given twice");
     expect_refused(head + "[[ensemble]]\nenergies = [5, 5e0]\n",
                    "ensemble[0].energies: E = 5 is given twice");
     expect_refused(head + "[[ensemble]]\nenergies = [5]\ncriteria = [\"upright\", \"upright\"]\n",
