@@ -1,21 +1,15 @@
 // flipflux accuracy [--out FILE] [--quantities a,b]: digits achieved against time per evaluation
 // for every registered quantity, method and precision, as Markdown (docs/accuracy.md).
-#include <charconv>
 #include <cmath>
 
 #include "common.hpp"
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux::cli {
 namespace {
-
-/// A number as the user would have typed it (shortest round-trip form).
-std::string as_text(double x) {
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
-}
 
 struct accuracy_state {
     std::string out = "docs/accuracy.md";
@@ -54,13 +48,14 @@ const register_command registration([](CLI::App& app) {
             options.quantities.push_back(item);
         }
         options.precisions = parse_precision_list(s->precisions, "--precisions");
-        if (!(s->min_seconds >= 0 && std::isfinite(s->min_seconds))) {
-            throw input_error("--min-seconds: '" + as_text(s->min_seconds) +
-                              "' must be finite and >= 0");
+        if (!(s->min_seconds >= 0) || !(s->min_seconds <= max_min_seconds)) {
+            throw input_error("--min-seconds: '" + to_decimal(s->min_seconds) +
+                              "' is invalid (must be in [0, " + to_decimal(max_min_seconds) +
+                              "] seconds per cell)");
         }
         options.min_seconds = s->min_seconds;
         if (!(s->max_seconds > 0)) {
-            throw input_error("--max-seconds: '" + as_text(s->max_seconds) + "' must be > 0");
+            throw input_error("--max-seconds: '" + to_decimal(s->max_seconds) + "' must be > 0");
         }
         options.max_seconds = s->max_seconds;
         options.progress = [](const std::string& line) {
@@ -70,7 +65,8 @@ const register_command registration([](CLI::App& app) {
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;
         if (s->precisions != "double,quad,mp:50,mp:100")
             command += " --precisions " + s->precisions;
-        if (s->max_seconds != 120) command += " --max-seconds " + as_text(s->max_seconds);
+        if (s->max_seconds != 120) command += " --max-seconds " + to_decimal(s->max_seconds);
+        check_output_file(s->out, "--out");  // before minutes of measuring
         const auto entries = measure_accuracy(options);
         write_file_atomically(s->out, accuracy_markdown(entries, options, command));
         print(json{{"entries", entries.size()}, {"out", s->out}}.dump(2) + "\n");

@@ -20,8 +20,14 @@ json eval_json(const eval_state& s) {
     const arm a = parse_arm(s.arm_text);
     const double_pendulum<Real> model(parse_parameters<Real>(s.model));
     const Real energy = parse_real<Real>(s.energy, "--energy");
+    check_magnitude(energy, "--energy");
     const auto start = std::chrono::steady_clock::now();
     const quantity_value<Real> v = q.evaluate(model, a, energy, s.method);
+    using std::isfinite;
+    if (!isfinite(v.value))  // never print an overflow as a value
+        throw input_error("--energy: '" + s.energy + "': " + q.name + " is not finite in " +
+                          precision_name<Real>() + " there (" + to_decimal(v.value) +
+                          "); try mp:N");
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     json out{{"quantity", q.name}};

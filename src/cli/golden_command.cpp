@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "progress.hpp"
@@ -57,7 +58,7 @@ const register_command registration([](CLI::App& app) {
         if (s->jobs < 1) {
             throw input_error("--jobs: '" + std::to_string(s->jobs) + "' must be >= 1");
         }
-        options.jobs = s->jobs;
+        options.jobs = checked_threads(static_cast<std::uint64_t>(s->jobs), "--jobs");
         options.max_rows = s->max_rows;
         progress_bar bar(s->progress);
         options.progress = [&bar](const golden_row& r, std::size_t done, std::size_t total) {

@@ -17,6 +17,20 @@ int main(int argc, char** argv) {
     for (const auto& c : cli::commands())
         c.setup(app);
     try {
+        // a mistyped subcommand is named (CLI11 would only say that one is required)
+        if (argc > 1 && argv[1][0] != '-') {
+            std::string known;
+            bool found = false;
+            for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+                found = found || sub->get_name() == argv[1];
+                known += (known.empty() ? "" : ", ") + sub->get_name();
+            }
+            if (!found) {
+                std::fprintf(stderr, "flipflux: error: '%s' is not a subcommand (one of: %s)\n",
+                             argv[1], known.c_str());
+                return 2;
+            }
+        }
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/scene/scene.hpp"
 
@@ -48,6 +49,7 @@ const register_command registration([](CLI::App& app) {
             throw input_error("--checkpoint-interval: '" + to_decimal(s->checkpoint_interval) +
                               "' is invalid (must be a finite number >= 0)");
         }
+        (void)checked_threads(static_cast<std::uint64_t>(s->threads), "--threads");
         const scene sc = load_scene(s->file);
         const plan p = make_plan(sc);
         print_plan(sc, p, std::cout);
@@ -68,8 +70,12 @@ const register_command registration([](CLI::App& app) {
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
         const run_counters c = execute_plan(sc, p, std::cout, options);
         std::cout << "saddle orbits solved " << c.orbit_solves << ", from cache "
-                  << c.orbit_cache_hits << "; trajectories " << c.trajectories
-                  << "; curve criteria " << c.curve_criteria << "\n";
+                  << c.orbit_cache_hits
+                  << (c.orbit_cache_rejected ? " (" + std::to_string(c.orbit_cache_rejected) +
+                                                   " invalid cache entries recomputed)"
+                                             : std::string())
+                  << "; trajectories " << c.trajectories << "; curve criteria " << c.curve_criteria
+                  << "\n";
     });
 });
 

@@ -160,6 +160,16 @@ void run(const simulate_state& s) {
             return;
         }
         bar.finish();
+        if (result)
+            for (const energy_result& e : result->energies)
+                if (e.failed_trajectories > 0)  // excluded from the statistics (docs/limits.md)
+                    std::fprintf(stderr,
+                                 "flipflux: warning: E = %s: %llu of %llu trajectories failed "
+                                 "(the integration stopped before T) and are excluded from the "
+                                 "statistics (\"failed_trajectories\" in the report)\n",
+                                 e.label.c_str(),
+                                 static_cast<unsigned long long>(e.failed_trajectories),
+                                 static_cast<unsigned long long>(result->options.trajectories));
         if (result) {
             json out = study_json(*result);
             out["model"] = parameters_json(model);

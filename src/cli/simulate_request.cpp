@@ -1,6 +1,8 @@
 // `flipflux simulate`'s options checked and translated (simulate_request.hpp).
 #include "simulate_request.hpp"
 
+#include "flipflux/core/limits.hpp"
+
 #include <algorithm>
 #include <charconv>
 
@@ -33,8 +35,7 @@ simulation_request make_request(const simulate_state& s) {
     o.seed = parse_unsigned(s.seed, "--seed", false);
     o.first_index = parse_unsigned(s.first_index, "--first-index", false);
     o.rtol = parse_positive(s.rtol, "--rtol");
-    o.threads = static_cast<int>(
-        std::min<std::uint64_t>(parse_unsigned(s.threads, "--threads", false), 4096));
+    o.threads = checked_threads(parse_unsigned(s.threads, "--threads", false), "--threads");
     o.method = parse_name<integration_method>(s.method, "--method");
     o.chaos = !s.no_chaos;
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");

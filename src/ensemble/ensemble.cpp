@@ -14,6 +14,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 
 namespace flipflux {
@@ -29,6 +30,11 @@ void validate(const ensemble_options& o) {
     if (!(o.rtol > 0) || !(o.rtol <= 0.1))
         throw input_error::about("rtol",
                                  "'" + to_decimal(o.rtol) + "' is invalid (must be in (0, 0.1])");
+    if (o.rtol < min_rtol)
+        throw input_error::about("rtol", "'" + to_decimal(o.rtol) +
+                                             "' is below what double precision can meet (at "
+                                             "least 100 eps = " +
+                                             to_decimal(min_rtol) + ")");
     if (o.atol < 0 || !std::isfinite(o.atol))
         throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))
@@ -37,6 +43,7 @@ void validate(const ensemble_options& o) {
     if (o.threads < 0)
         throw input_error::about("threads",
                                  "'" + std::to_string(o.threads) + "' is invalid (>= 0)");
+    (void)checked_threads(static_cast<std::uint64_t>(o.threads), "threads");
     if (!std::isfinite(o.sample_interval) || o.sample_interval < 0)
         throw input_error::about(
             "sample_interval", "'" + to_decimal(o.sample_interval) + "' is invalid (must be >= 0)");
@@ -45,6 +52,24 @@ void validate(const ensemble_options& o) {
             "chaos_threshold", "'" + to_decimal(o.chaos_threshold) + "' is invalid (must be > 0)");
     if (o.first_index > std::numeric_limits<std::uint64_t>::max() - o.trajectories)
         throw input_error::about("first_index", "the index range overflows");
+}
+
+double turns_bound(const double_pendulum<double>& model, double energy, double time) {
+    const auto& k = model.coefficients();
+    const double half_gap = (k.A - k.B) / 2;
+    const double m = (k.A + k.B) / 2 - std::sqrt(half_gap * half_gap + k.C * k.C);
+    const double w = std::sqrt(2 * std::max(energy, 0.0) / m) + std::sqrt((k.alpha + k.beta) / m);
+    return time * w / (2 * std::numbers::pi);
+}
+
+void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
+                           const std::string& field) {
+    const double turns = turns_bound(model, energy, time);
+    if (!(turns <= max_turns_per_trajectory))
+        throw input_error::about(
+            field, "T = " + to_decimal(time) + " at E = " + to_decimal(energy) + " allows up to " +
+                       to_decimal(turns, 3) + " turns of the arms per trajectory, more than " +
+                       to_decimal(max_turns_per_trajectory) + " (docs/limits.md)");
 }
 
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold) {

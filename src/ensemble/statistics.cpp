@@ -95,6 +95,9 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
     std::vector<double> rates, chaotic_rates, residence;
     rates.reserve(r.trajectories.size());
     for (const trajectory_result& t : r.trajectories) {
+        // NOTE: a trajectory whose integration failed did not reach T; its flips over T are
+        // unknown, so it is no data (docs/limits.md): counted in failed_trajectories only.
+        if (t.status != rk_status::ok) continue;
         const auto& times = t.crossing_times[c];
         s.flips += times.size();
         const double rate = static_cast<double>(times.size()) / r.time;

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "flipflux/core/error.hpp"
+
 namespace flipflux {
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& content) {
@@ -36,6 +38,25 @@ std::string csv_field(const std::string& text) {
         out += c;
     }
     return out + "\"";
+}
+
+void check_output_file(const std::filesystem::path& path, const std::string& field) {
+    namespace fs = std::filesystem;
+    const std::string where = "'" + path.string() + "' ";
+    std::error_code ec;
+    if (path.empty() || fs::is_directory(path, ec))
+        throw input_error::about(field, where + "is a directory, not a file");
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+        throw input_error::about(field, where + "cannot be written: its folder '" + dir.string() +
+                                            "' cannot be created" +
+                                            (ec ? " (" + ec.message() + ")" : std::string()));
+    const fs::path probe = path.string() + ".probe." + std::to_string(::getpid());
+    FILE* f = std::fopen(probe.c_str(), "wb");
+    if (f == nullptr) throw input_error::about(field, where + "cannot be written");
+    std::fclose(f);
+    std::remove(probe.c_str());
 }
 
 }  // namespace flipflux

@@ -56,6 +56,8 @@ csv_table read_csv(const std::filesystem::path& file) {
     int number = 0;
     while (std::getline(in, line)) {
         ++number;
+        // a UTF-8 byte-order mark (spreadsheet exports write one) is not part of the first field
+        if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
         const std::string trimmed = trim(line);
         if (trimmed.empty() || trimmed.front() == '#') continue;
         std::vector<std::string> fields;

@@ -1,5 +1,7 @@
 // Names of the saddle-orbit module's enumerations.
 #include <atomic>
+#include <cstdint>
+#include <nlohmann/json.hpp>
 
 #include "flipflux/core/error.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
@@ -40,6 +42,30 @@ unsigned saddle_orbit_memo_generation() {
 
 void forget_saddle_orbits() {
     ++memo_generation;
+}
+
+}  // namespace flipflux
+
+namespace flipflux {
+
+std::string orbit_record_checksum(const std::string& text) {
+    std::uint64_t h = 14695981039346656037ull;  // FNV-1a
+    for (unsigned char c : text) {
+        h ^= c;
+        h *= 1099511628211ull;
+    }
+    static const char* digits = "0123456789abcdef";
+    std::string hex(16, '0');
+    for (int i = 15; i >= 0; --i, h >>= 4)
+        hex[static_cast<std::size_t>(i)] = digits[h & 15];
+    return hex;
+}
+
+std::string seal_orbit_record(const std::string& json_text) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(json_text);
+    j.erase("checksum");
+    j["checksum"] = orbit_record_checksum(j.dump());
+    return j.dump() + "\n";
 }
 
 }  // namespace flipflux

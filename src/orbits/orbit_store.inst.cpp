@@ -1,8 +1,10 @@
 // Saddle orbits solved once: memo and serialisation (include/flipflux/orbits/orbit_store.hpp).
 #include "flipflux/orbits/orbit_store.hpp"
 
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -85,7 +87,8 @@ void read_array(const json& j, Real* out, std::size_t n, const std::string& wher
         out[i] = real_of<Real>(j[i], where);
 }
 
-constexpr int format_version = 2;  // 2: monodromy at the final (beta, T)
+// 2: monodromy at the final (beta, T); 3: a checksum of the record
+constexpr int format_version = 3;
 
 }  // namespace
 
@@ -206,6 +209,7 @@ std::string orbit_to_json(const saddle_orbit<Real>& o) {
     for (const auto& x : o.quarter)
         q.push_back(real_array(x.data(), 4));
     j["quarter"] = q;
+    j["checksum"] = orbit_record_checksum(j.dump());  // of the rest (orbit_from_json checks)
     return j.dump() + "\n";
 }
 
@@ -218,6 +222,13 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
         throw input_error(where + ": not JSON (" + e.what() + ")");
     }
     try {
+        if (!j.is_object() || !j.contains("checksum") || !j.at("checksum").is_string())
+            throw input_error(where + ": no checksum (not an orbit record of format " +
+                              std::to_string(format_version) + ")");
+        const std::string checksum = j.at("checksum").get<std::string>();
+        j.erase("checksum");
+        if (orbit_record_checksum(j.dump()) != checksum)
+            throw input_error(where + ": checksum mismatch (the record was edited or corrupted)");
         if (j.at("format").get<int>() != format_version)
             throw input_error(where + ": cache format " + j.at("format").dump() + ", expected " +
                               std::to_string(format_version));
@@ -298,18 +309,63 @@ std::string orbit_cache_key(const double_pendulum<Real>& model,
     const std::string text = model_text_key(model) + precision_name<Real>() + ";" +
                              to_string(options.method) + ";" + std::to_string(stages) + ";" +
                              to_decimal(options.tolerance) + ";" + std::to_string(format_version);
-    std::uint64_t h = 14695981039346656037ull;  // FNV-1a, stable across builds
-    for (unsigned char c : text) {
-        h ^= c;
-        h *= 1099511628211ull;
-    }
-    static const char* digits = "0123456789abcdef";
-    std::string hex(16, '0');
-    for (int i = 15; i >= 0; --i, h >>= 4)
-        hex[static_cast<std::size_t>(i)] = digits[h & 15];
     std::string name = precision_name<Real>();  // "mp:120" -> "mp120"
     std::erase(name, ':');
-    return name + "-" + hex;
+    return name + "-" + orbit_record_checksum(text);
+}
+
+template <class Real>
+std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                 const saddle_orbit<Real>& o) {
+    using std::abs;
+    using std::cbrt;
+    using std::isfinite;
+    if (o.flip_arm != a) return "arm " + to_string(o.flip_arm) + ", expected " + to_string(a);
+    if (o.energy != energy)
+        return "energy " + to_decimal(o.energy) + ", expected " + to_decimal(energy);
+    if (o.status == orbit_status::not_converged) return "a record of a failed solve";
+    if (!isfinite(o.period) || !(o.period > 0))
+        return "period T = " + to_decimal(o.period) + " is not > 0";
+    if (!isfinite(o.action) || !(o.action > 0))
+        return "action F = " + to_decimal(o.action) + " is not > 0";
+    // NOTE: loose on purpose (cbrt eps, or 100 times the orbit's own residual near E_max): these
+    // checks catch a record of another pendulum or an orbit that does not close, not its last
+    // digits (the checksum guards those against corruption).
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    Real tol = cbrt(eps);
+    if (isfinite(o.residual) && 100 * o.residual > tol) tol = 100 * o.residual;
+    const Real es = model.saddle_energy(a), scale = abs(energy) + abs(es);
+    if (!(abs(o.excess - (energy - es)) <= tol * scale))
+        return "excess E - E_s = " + to_decimal(o.excess) + ", the model's is " +
+               to_decimal(Real(energy - es)) + " (another pendulum?)";
+    if (!(abs(model.potential(o.saddle[0], o.saddle[1]) - es) <= tol * scale))
+        return "its saddle point is not the model's (another pendulum?)";
+    if (!(abs(o.start[0] - o.saddle[0]) + abs(o.start[1] - o.saddle[1]) <= tol * scale) ||
+        !(abs(model.hamiltonian(o.start) - energy) <= tol * scale))
+        return "its start is not on the energy surface at the saddle";
+    if (o.quarter.size() < 2 || !isfinite(o.quarter_step) || !(o.quarter_step > 0))
+        return "no quarter orbit";
+    const Real quarter_time = static_cast<Real>(o.quarter.size() - 1) * o.quarter_step;
+    if (!(abs(4 * quarter_time - o.period) <= tol * o.period))
+        return "its quarter orbit spans " + to_decimal(Real(4 * quarter_time)) +
+               " / 4, not the period T = " + to_decimal(o.period) +
+               " / 4 (the orbit does not close)";
+    const auto& first = o.quarter.front();
+    const auto& last = o.quarter.back();
+    const Real l0 = abs(o.start[2]) + abs(o.start[3]);
+    if (!(abs(first[0]) + abs(first[1]) <= tol * scale) ||
+        !(abs(last[2]) + abs(last[3]) <= tol * l0) ||
+        !(abs(last[0] + o.saddle[0] - o.turning_points[0][0]) +
+              abs(last[1] + o.saddle[1] - o.turning_points[0][1]) <=
+          tol * scale))
+        return "its quarter orbit does not run from the saddle to a turning point (the orbit "
+               "does not close)";
+    for (const auto& x : o.quarter) {
+        const phase_point<Real> p{x[0] + o.saddle[0], x[1] + o.saddle[1], x[2], x[3]};
+        if (!(abs(model.hamiltonian(p) - energy) <= tol * scale))
+            return "its quarter orbit leaves the energy surface";
+    }
+    return {};
 }
 
 using R = inst_real;
@@ -321,5 +377,7 @@ template saddle_orbit<R> find_or_solve_saddle_orbit<R>(const double_pendulum<R>&
 template std::string orbit_to_json<R>(const saddle_orbit<R>&);
 template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);
 template std::string orbit_cache_key<R>(const double_pendulum<R>&, const orbit_options<R>&);
+template std::string cached_orbit_problem<R>(const double_pendulum<R>&, arm, const R&,
+                                             const saddle_orbit<R>&);
 
 }  // namespace flipflux

@@ -1,5 +1,7 @@
 // Scene execution: runs each plan step and writes its outputs atomically under the scene's output
 // directory (file formats: docs/scenes.md).
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -106,15 +108,18 @@ void run_orbit_family(context& ctx, const plan_step& step) {
             buffer << in.rdbuf();
             try {
                 saddle_orbit<Real> o = orbit_from_json<Real>(buffer.str(), file.string());
-                if (o.energy == energy && o.flip_arm == a) {
+                const std::string problem = cached_orbit_problem(model, a, energy, o);
+                if (problem.empty()) {
                     remember_saddle_orbit(model, o);
                     ++ctx.counters.orbit_cache_hits;
                     continue;
                 }
-                ctx.log << "  cache entry " << file.string()
-                        << " is for another orbit; recomputing\n";
+                ++ctx.counters.orbit_cache_rejected;
+                ctx.log << "  cache entry " << file.string() << " is invalid (" << problem
+                        << "); recomputing\n";
             } catch (const input_error& e) {
-                ctx.log << "  ignoring unreadable cache entry: " << e.what() << "\n";
+                ++ctx.counters.orbit_cache_rejected;
+                ctx.log << "  ignoring unreadable cache entry: " << e.what() << "; recomputing\n";
             }
         }
         missing.push_back(energy);
@@ -298,6 +303,9 @@ void run_ensemble(context& ctx, const plan_step& step) {
     std::filesystem::remove(request.checkpoint);
     // what was integrated and detected
     for (const energy_result& e : result.energies) {
+        if (e.failed_trajectories > 0)
+            ctx.log << "  warning: E = " << e.label << ": " << e.failed_trajectories
+                    << " trajectories failed and are excluded from the statistics\n";
         ctx.counters.trajectories += result.options.trajectories;
         for (const criterion_result& c : e.criteria)
             if (c.statistics.criterion != "upright") ++ctx.counters.curve_criteria;
@@ -390,6 +398,26 @@ void run_report(context& ctx, double seconds_so_far) {
     ctx.summary["report"] = {{"dir", r.dir}};
 }
 
+/// Creates `dir` (and its parents) and checks that a file can be created in it; throws
+/// scene_error naming the scene's file, line and key otherwise.
+void create_output_dir(const scene& s, const std::filesystem::path& dir, int line,
+                       const std::string& key) {
+    const std::string where =
+        s.file.string() + ":" + std::to_string(line) + ": " + key + ": '" + dir.string() + "' ";
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+        throw scene_error(where + "cannot be created (" +
+                          (ec ? ec.message() : std::string("not a directory")) + ")");
+    const std::filesystem::path probe =
+        dir / (".flipflux-write-test-" + std::to_string(::getpid()));
+    std::ofstream test(probe);
+    const bool writable = static_cast<bool>(test << "x");
+    test.close();
+    std::filesystem::remove(probe, ec);
+    if (!writable) throw scene_error(where + "is not writable");
+}
+
 }  // namespace
 
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
@@ -405,7 +433,13 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         dispatch(s.prec, [&]<class Real>() { return model_json(make_model<Real>(s.model)); });
     ctx.summary["orbit_families"] = json::array();
     ctx.summary["ensembles"] = json::array();
-    std::filesystem::create_directories(s.output);
+    // the output directories before anything is computed (make_plan checked what it could
+    // without creating them): a refusal names the scene's key, never a filesystem error after hours
+    create_output_dir(s, s.output, s.output_line, "scene.output");
+    if (s.golden) create_output_dir(s, s.golden->dir, s.golden->line, "golden.dir");
+    if (s.accuracy && std::filesystem::path(s.accuracy->out).has_parent_path())
+        create_output_dir(s, std::filesystem::path(s.accuracy->out).parent_path(), s.accuracy->line,
+                          "accuracy.out");
     auto elapsed = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
@@ -448,6 +482,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     ctx.counters.orbit_solves += saddle_orbit_memo_misses() - misses_before;
     ctx.summary["counters"] = {{"orbit_solves", ctx.counters.orbit_solves},
                                {"orbit_cache_hits", ctx.counters.orbit_cache_hits},
+                               {"orbit_cache_rejected", ctx.counters.orbit_cache_rejected},
                                {"quantity_evaluations", ctx.counters.quantity_evaluations},
                                {"trajectories", ctx.counters.trajectories},
                                {"curve_criteria", ctx.counters.curve_criteria}};

@@ -1,5 +1,6 @@
 // Scene files: TOML -> validated `scene` (schema in docs/scenes.md).
 #include <toml++/toml.h>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "flipflux/core/decimal.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "flipflux/study/criteria.hpp"
@@ -97,6 +99,16 @@ class table_reader {
         }
         return out;
     }
+    /// strings(key), each at most once.
+    std::optional<std::vector<std::string>> unique_strings(const std::string& key) {
+        auto out = strings(key);
+        if (out)
+            for (std::size_t i = 0; i < out->size(); ++i)
+                for (std::size_t j = 0; j < i; ++j)
+                    if ((*out)[i] == (*out)[j])
+                        fail(table_.get(key), key, "'" + (*out)[i] + "' is given twice");
+        return out;
+    }
     std::optional<std::vector<int>> arms(const std::string& key) {
         const toml::node* n = get(key);
         if (n == nullptr) return std::nullopt;
@@ -105,7 +117,10 @@ class table_reader {
             if (!e.is_integer() || (*e.value<long long>() != 1 && *e.value<long long>() != 2)) {
                 fail(&e, key, "an arm is 1 or 2");
             }
-            out.push_back(static_cast<int>(*e.value<long long>()));
+            const int a = static_cast<int>(*e.value<long long>());
+            if (std::find(out.begin(), out.end(), a) != out.end())
+                fail(&e, key, "arm " + std::to_string(a) + " is given twice");
+            out.push_back(a);
         };
         if (const toml::array* a = n->as_array()) {
             for (const toml::node& e : *a)
@@ -210,6 +225,7 @@ void read_head(table_reader& top, const std::filesystem::path& file, scene& s) {
     const auto out = r.string("output");
     if (!out || out->empty()) r.fail(nullptr, "output", "is required (an output directory)");
     s.output = *out;
+    s.output_line = static_cast<int>(r.get("output")->source().begin.line);
     if (auto p = r.string("precision")) {
         s.precision_text = *p;
         try {
@@ -224,7 +240,7 @@ void read_head(table_reader& top, const std::filesystem::path& file, scene& s) {
 predictions_spec read_predictions(table_reader& r) {
     predictions_spec p;
     p.line = r.line();
-    p.quantities = r.strings("quantities").value_or(std::vector<std::string>{});
+    p.quantities = r.unique_strings("quantities").value_or(std::vector<std::string>{});
     if (p.quantities.empty()) r.fail(nullptr, "quantities", "needs at least one quantity");
     p.arms = r.arms("arms").value_or(p.arms);
     p.energies = r.energies("energies", true);
@@ -242,13 +258,29 @@ orbits_spec read_orbits(table_reader& r) {
     return o;
 }
 
+/// An ensemble's name becomes file names under the scene's output (ensemble-NAME.json, a CSV
+/// folder, a checkpoint): one path component of letters, digits, '.', '_' and '-', not starting
+/// with '.', at most max_ensemble_name characters; nothing can lead outside the output folder.
+void check_ensemble_name(table_reader& r, const std::string& name) {
+    const bool ok_chars = std::all_of(name.begin(), name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               c == '.' || c == '_' || c == '-';
+    });
+    if (name.empty() || name.size() > max_ensemble_name || !ok_chars || name.front() == '.')
+        r.fail(r.get("name"), "name",
+               "'" + name + "' is not a valid ensemble name (one path component: 1 to " +
+                   std::to_string(max_ensemble_name) +
+                   " letters, digits, '.', '_' or '-', not starting with '.')");
+}
+
 /// One [[ensemble]] table; `index` counts from 1 (the default name).
 ensemble_spec read_ensemble(table_reader& r, int index) {
     ensemble_spec x;
     x.line = r.line();
     x.name = r.string("name").value_or("ensemble" + std::to_string(index));
+    check_ensemble_name(r, x.name);
     x.arm = r.arms("arm").value_or(std::vector<int>{2}).front();
-    if (auto c = r.strings("criteria")) {
+    if (auto c = r.unique_strings("criteria")) {
         if (c->empty()) r.fail(r.get("criteria"), "criteria", "needs at least one criterion");
         for (const auto& name : *c) {
             try {
@@ -292,6 +324,11 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     if (!(rtol > 0 && rtol < 1)) {
         r.fail(r.get("rtol"), "rtol", "'" + x.rtol + "' must be in (0, 1)");
     }
+    if (rtol < min_rtol) {
+        r.fail(r.get("rtol"), "rtol",
+               "'" + x.rtol + "' is below what double precision can meet (at least 100 eps = " +
+                   to_decimal(min_rtol) + ")");
+    }
     r.finish();
     return x;
 }
@@ -300,7 +337,7 @@ golden_spec read_golden(table_reader& r) {
     golden_spec g;
     g.line = r.line();
     g.dir = r.string("dir").value_or(g.dir);
-    g.quantities = r.strings("quantities").value_or(g.quantities);
+    g.quantities = r.unique_strings("quantities").value_or(g.quantities);
     if (auto p = r.string("precision")) {
         try {
             g.value_precision = parse_precision(*p, "precision");
@@ -317,7 +354,7 @@ accuracy_spec read_accuracy(table_reader& r) {
     accuracy_spec a;
     a.line = r.line();
     a.out = r.string("out").value_or(a.out);
-    a.quantities = r.strings("quantities").value_or(a.quantities);
+    a.quantities = r.unique_strings("quantities").value_or(a.quantities);
     a.appendices = r.strings("appendices").value_or(a.appendices);
     if (auto m = r.number("max_seconds")) {
         if (const double x = std::strtod(m->c_str(), nullptr); !(x > 0 && std::isfinite(x)))
@@ -388,6 +425,13 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         for (const toml::node& e : *list) {
             table_reader r(*e.as_table(), fname, "ensemble[" + std::to_string(index++) + "]");
             s.ensembles.push_back(read_ensemble(r, index));
+            for (std::size_t j = 0; j + 1 < s.ensembles.size(); ++j)
+                if (s.ensembles[j].name == s.ensembles.back().name)
+                    r.fail(r.get("name"), "name",
+                           "'" + s.ensembles.back().name +
+                               "' is already the name of the ensemble at line " +
+                               std::to_string(s.ensembles[j].line) +
+                               " (their outputs would overwrite each other)");
         }
     }
     if (const toml::table* t = top.subtable("golden")) {

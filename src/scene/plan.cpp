@@ -1,12 +1,20 @@
 // Scene plans: what to compute (make_plan), and printing it (--dry-run).
 #include "flipflux/scene/plan.hpp"
 
+#include <limits.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <set>
 
 #include "flipflux/core/decimal.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/quantities/registry.hpp"
+#include "flipflux/study/criteria.hpp"
+#include "flipflux/study/simulation.hpp"
 
 namespace flipflux {
 
@@ -48,11 +56,143 @@ std::string range_text(const std::vector<std::string>& energies) {
            energies.back();
 }
 
+[[noreturn]] void fail(const scene& s, int line, const std::string& key, const std::string& what) {
+    throw scene_error(s.file.string() + ":" + std::to_string(line) + ": " + key + ": " + what);
+}
+
+/// No energy of a grid given twice (compared in the working precision: the same number written
+/// twice would be computed, and written, twice).
+void check_distinct(const energy_grid& g, precision prec, const scene& s, int line,
+                    const std::string& key) {
+    dispatch(prec, [&]<class Real>() {
+        const std::vector<std::string> texts = energy_texts(g, key);
+        std::vector<std::pair<Real, std::size_t>> v;
+        for (std::size_t i = 0; i < texts.size(); ++i)
+            v.emplace_back(parse_real<Real>(texts[i], key), i);
+        std::sort(v.begin(), v.end(),
+                  [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (std::size_t i = 1; i < v.size(); ++i)
+            if (v[i].first == v[i - 1].first)
+                fail(s, line, key,
+                     "E = " + texts[std::max(v[i].second, v[i - 1].second)] +
+                         " is given twice (as '" + texts[std::min(v[i].second, v[i - 1].second)] +
+                         "')");
+    });
+}
+
+/// A directory the run will write to: not a file, its nearest existing ancestor a writable
+/// directory, no name longer than the file system allows; checked without creating anything.
+void check_output_dir(const std::filesystem::path& dir, const scene& s, int line,
+                      const std::string& key) {
+    const std::string text = "'" + dir.string() + "'";
+    if (dir.string().size() >= PATH_MAX) fail(s, line, key, text + " is too long a path");
+    for (const auto& part : dir)
+        if (part.string().size() > NAME_MAX)
+            fail(s, line, key, text + " has a name longer than " + std::to_string(NAME_MAX));
+    std::error_code ec;
+    std::filesystem::path p = dir.empty() ? std::filesystem::path(".") : dir;
+    while (!std::filesystem::exists(p, ec)) {
+        if (!p.has_parent_path() || p.parent_path() == p) {
+            p = ".";
+            break;
+        }
+        p = p.parent_path();
+    }
+    if (!std::filesystem::is_directory(p, ec))
+        fail(s, line, key, text + " cannot be a directory: '" + p.string() + "' is a file");
+    if (::access(p.c_str(), W_OK | X_OK) != 0)
+        fail(s, line, key, text + " is not writable ('" + p.string() + "' is not)");
+}
+
+/// Everything about an ensemble that needs no computation: its energies above the saddle energy
+/// of every criterion's arm, distinct, and what its trajectories will hold within memory.
+void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>& model) {
+    const ensemble_spec& x = s.ensembles[i];
+    const std::string key = "ensemble[" + std::to_string(i) + "]";
+    check_distinct(x.energies, precision{real_kind::double_}, s, x.line, key + ".energies");
+    const arm a = x.arm == 1 ? arm::one : arm::two;
+    for (const std::string& text : energy_texts(x.energies, key + ".energies")) {
+        const double e = parse_real<double>(text, key + ".energies");
+        if (!(e > 0)) fail(s, x.line, key + ".energies", "E = " + text + " must be > 0");
+        try {
+            check_trajectory_work(model, e, parse_real<double>(x.time, key + ".time"), "time");
+        } catch (const input_error& err) {
+            fail(s, x.line, key + ".time", err.detail());
+        }
+        for (const std::string& c : x.criteria) {
+            const double threshold = criterion_threshold(model, a, c);
+            if (!(e > threshold))
+                fail(s, x.line, key + ".energies",
+                     "E = " + text + " is at or below arm " + std::to_string(x.arm) +
+                         "'s saddle energy " + to_decimal(threshold) + " (criterion " + c +
+                         " cannot flip)");
+        }
+    }
+    // the short estimator spends trajectories x time on trajectories of simulation_request's
+    // default short_time
+    double n = static_cast<double>(x.trajectories);
+    if (x.estimator == "short")
+        n = std::ceil(n * parse_real<double>(x.time, key + ".time") /
+                      simulation_request{}.short_time);
+    try {
+        check_memory(key + ".trajectories", std::to_string(x.trajectories),
+                     n * trajectory_record_bytes(x.criteria.size()),
+                     to_decimal(n) + " trajectory records");
+    } catch (const input_error& e) {
+        fail(s, x.line, key + ".trajectories", e.detail());
+    }
+}
+
+/// The checks of a scene that need no computation (so that --dry-run promises only what run
+/// does): names, duplicates, domains, memory, output directories.
+void check_scene(const scene& s, const double_pendulum<double>& model) {
+    check_output_dir(s.output, s, s.output_line, "scene.output");
+    if (s.predictions)
+        check_distinct(s.predictions->energies, s.prec, s, s.predictions->line,
+                       "predictions.energies");
+    if (s.orbits) check_distinct(s.orbits->energies, s.prec, s, s.orbits->line, "orbits.energies");
+    for (std::size_t i = 0; i < s.ensembles.size(); ++i)
+        check_ensemble(s, i, model);
+    if (s.golden) {
+        const golden_spec& g = *s.golden;
+        if (s.custom_model)
+            fail(s, g.line, "golden",
+                 "golden data is defined for the default (egalitarian) pendulum; remove [model] "
+                 "or [golden]");
+        for (const std::string& q : g.quantities) {
+            try {
+                (void)find_quantity(q);
+            } catch (const input_error& e) {
+                fail(s, g.line, "golden.quantities", e.what());
+            }
+        }
+        check_output_dir(g.dir, s, g.line, "golden.dir");
+    }
+    if (s.accuracy) {
+        for (const std::string& q : s.accuracy->quantities) {
+            try {
+                (void)find_quantity(q);
+            } catch (const input_error& e) {
+                fail(s, s.accuracy->line, "accuracy.quantities", e.what());
+            }
+        }
+        check_output_dir(std::filesystem::path(s.accuracy->out).parent_path(), s, s.accuracy->line,
+                         "accuracy.out");
+    }
+    if (s.report) {
+        if (!s.predictions && s.ensembles.empty())
+            fail(s, s.report->line, "report",
+                 "the report needs something to report: [predictions] or [[ensemble]]");
+        check_output_dir(s.report->dir, s, s.report->line, "report.dir");
+    }
+}
+
 }  // namespace
 
 plan make_plan(const scene& s) {
     plan p;
     const double_pendulum<double> model = make_model<double>(s.model);
+    check_scene(s, model);
     // energies at which each arm's saddle-orbit family is needed
     std::map<std::pair<int, precision>, std::map<double, std::string>> family;
     auto want_orbits = [&](int arm_number, const std::vector<energy_entry>& energies,

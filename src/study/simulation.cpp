@@ -12,6 +12,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/ensemble/statistics.hpp"
 #include "flipflux/io/atomic_file.hpp"
@@ -108,7 +109,37 @@ json checkpoint_header(const double_pendulum<double>& model, const simulation_re
 
 }  // namespace
 
+double trajectory_record_bytes(std::size_t criteria) {
+    return static_cast<double>(sizeof(trajectory_result) + 64 + sizeof(std::uint64_t) +
+                               criteria * 2 * sizeof(std::vector<double>));
+}
+
 namespace {
+
+/// What one energy's ensemble holds in memory, bounded up front (core/limits.hpp): every
+/// trajectory's record (with its per-criterion vectors, its node in the map of finished
+/// trajectories and its index in the work list) and, with a sample interval, its samples.
+void check_sizes(const simulation_request& request, const ensemble_options& o) {
+    if (request.bins > max_bins)
+        throw input_error::about("bins", "'" + std::to_string(request.bins) +
+                                             "' is too many histogram bins (at most " +
+                                             std::to_string(max_bins) + ")");
+    (void)checked_threads(static_cast<std::uint64_t>(std::max(o.threads, 0)), "threads");
+    const double record = trajectory_record_bytes(request.criteria.size());
+    const double n = static_cast<double>(o.trajectories);
+    const std::string field =
+        request.estimator == rate_estimator::short_trajectories ? "short_time" : "trajectories";
+    const std::string value = request.estimator == rate_estimator::short_trajectories
+                                  ? to_decimal(request.short_time)
+                                  : std::to_string(o.trajectories);
+    check_memory(field, value, n * record, std::to_string(o.trajectories) + " trajectory records");
+    if (o.sample_interval > 0) {
+        const double samples = std::floor(o.time / o.sample_interval) + 2;
+        check_memory("sample_interval", to_decimal(o.sample_interval),
+                     n * samples * sizeof(std::array<double, 5>),
+                     "the sampled states of " + std::to_string(o.trajectories) + " trajectories");
+    }
+}
 
 /// The request checked (every option, the short estimator's budget turned into trajectories) and
 /// the CSV directory created: the ensemble options every energy runs with (energy set per energy).
@@ -138,6 +169,11 @@ ensemble_options checked_options(const simulation_request& request, const proces
             throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
                                                        "' is invalid (must be finite and > 0)");
         if (!(o.time > 0) || o.trajectories == 0) validate(o);
+        if (request.short_time > o.time)
+            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
+                                                       "' is longer than the budget's trajectory "
+                                                       "length, time = " +
+                                                       to_decimal(o.time));
         const double n = std::ceil(static_cast<double>(o.trajectories) * o.time /
                                    request.short_time * (1 - 1e-15));
         if (!(n <= 1e12))
@@ -147,6 +183,7 @@ ensemble_options checked_options(const simulation_request& request, const proces
         o.time = request.short_time;
     }
     o.atol = o.atol > 0 ? o.atol : o.rtol;
+    check_sizes(request, o);
     const std::filesystem::path& dir = request.csv_dir;
     if (!dir.empty() && group.rank() == 0) {
         std::error_code ec;
@@ -171,6 +208,7 @@ study_criteria build_criteria(const double_pendulum<double>& model,
     for (const auto& [label, e] : request.energies) {
         o.energy = e;
         validate(o);
+        check_trajectory_work(model, e, o.time, "time");
         s.criteria.emplace_back();
         s.predictions.emplace_back();
         for (const std::string& n : request.criteria) {
@@ -278,12 +316,14 @@ energy_result summarise_energy(
         const auto& p = predictions[c];
         e.criteria.push_back({p, analyze(r, c, p ? p->value : nan, request.bins, request.bins)});
     }
-    std::vector<double> d(r.trajectories.size());
+    std::vector<double> d;
     for (std::size_t i = 0; i < request.criteria.size(); ++i)
         for (std::size_t j = i + 1; j < request.criteria.size(); ++j) {
-            for (std::size_t t = 0; t < d.size(); ++t)
-                d[t] = static_cast<double>(r.trajectories[t].flips(i)) / r.time -
-                       static_cast<double>(r.trajectories[t].flips(j)) / r.time;
+            d.clear();
+            for (const trajectory_result& t : r.trajectories)  // failed ones are no data
+                if (t.status == rk_status::ok)
+                    d.push_back(static_cast<double>(t.flips(i)) / r.time -
+                                static_cast<double>(t.flips(j)) / r.time);
             e.paired.push_back({i, j, summarize(d)});
         }
     return e;

@@ -3,10 +3,12 @@
 #include "flipflux/validation/validate.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
@@ -35,6 +37,31 @@ bool same_energy(const std::string& a, const std::string& b) {
     return decimal_relative_error(a, b, "energy") <= 1e-12;
 }
 
+/// A golden row's digits: an integer in [1, max_mp_digits] (a value certified to fewer than one
+/// digit, or to more than any precision computes, is no reference).
+int checked_golden_digits(const std::string& text, const std::filesystem::path& file, int line) {
+    int d = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, d);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end || d < 1 || d > max_mp_digits)
+        throw input_error(file.string() + ":" + std::to_string(line) + ": digits '" + text +
+                          "' is invalid (an integer from 1 to " + std::to_string(max_mp_digits) +
+                          ")");
+    return d;
+}
+
+/// A golden row's quantity is named, its arm 1, 2 or none, its energy and value decimal numbers.
+void check_golden_row(const golden_reference& g, const std::filesystem::path& file, int line) {
+    const std::string at = file.string() + ":" + std::to_string(line) + ": ";
+    if (g.quantity.empty()) throw input_error(at + "empty quantity");
+    if (!g.arm.empty() && g.arm != "1" && g.arm != "2")
+        throw input_error(at + "arm '" + g.arm + "' is not 1, 2 or empty");
+    if (!is_decimal_number(g.energy))
+        throw input_error(at + "energy '" + g.energy + "' is not a finite decimal number");
+    if (!is_decimal_number(g.value))
+        throw input_error(at + "value '" + g.value + "' is not a finite decimal number");
+}
+
 }  // namespace
 
 std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
@@ -48,6 +75,7 @@ std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
     }
     std::sort(files.begin(), files.end());
     std::vector<golden_reference> rows;
+    std::map<std::tuple<std::string, std::string, double>, std::string> where;  // -> file:line
     for (const auto& f : files) {
         const csv_table t = read_csv(f);
         const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
@@ -63,9 +91,17 @@ std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
                                r.fields[e],
                                r.fields[v],
                                m >= 0 ? r.fields[m] : "",
-                               std::atoi(r.fields[d].c_str()),
+                               checked_golden_digits(r.fields[d], f, r.line),
                                f.string(),
                                r.line};
+            check_golden_row(g, f, r.line);
+            const auto key =
+                std::make_tuple(g.quantity, g.arm, parse_real<double>(g.energy, "energy"));
+            if (const auto [it, fresh] = where.emplace(key, g.file + ":" + std::to_string(g.line));
+                !fresh)
+                throw input_error(g.file + ":" + std::to_string(g.line) + ": " + g.quantity +
+                                  (g.arm.empty() ? "" : " arm " + g.arm) + " at E = " + g.energy +
+                                  " is given twice (first at " + it->second + ")");
             rows.push_back(g);
         }
     }

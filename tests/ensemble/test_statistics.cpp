@@ -85,6 +85,37 @@ TEST(Statistics, AnalyzeAnEnsemble) {
     EXPECT_TRUE(std::isnan(analyze(r, 0, 0.25).chaotic_fraction));
 }
 
+// Issue 20: with --rtol 1e-300 both trajectories failed and the mean rate was 0 (a failed
+// trajectory's flips were averaged as zero flips over T). A failed trajectory is no data.
+TEST(Statistics, FailedTrajectoriesAreNotCountedAsZeroFlips) {
+    ensemble_result r;
+    r.time = 10;
+    r.chaos = true;
+    r.criteria = {"a"};
+    auto traj = [](std::vector<double> a, rk_status status) {
+        trajectory_result t;
+        t.crossing_times = {std::move(a)};
+        t.status = status;
+        t.chaotic = true;
+        return t;
+    };
+    r.trajectories.push_back(traj({1, 2, 4}, rk_status::ok));            // rate 0.3
+    r.trajectories.push_back(traj({}, rk_status::step_size_underflow));  // stopped early
+    r.trajectories.push_back(traj({0.5}, rk_status::ok));                // rate 0.1
+    const criterion_statistics s = analyze(r, 0, 0.2);
+    EXPECT_EQ(s.rates.count, 2u);
+    EXPECT_DOUBLE_EQ(s.rates.mean, 0.2);
+    EXPECT_EQ(s.flips, 4u);
+    EXPECT_EQ(s.chaotic, 2u);
+    EXPECT_DOUBLE_EQ(s.chaotic_fraction, 1.0);
+    EXPECT_EQ(s.rate_distribution.total(), 2u);
+    for (auto& t : r.trajectories)
+        t.status = rk_status::step_size_underflow;
+    const criterion_statistics none = analyze(r, 0, 0.2);
+    EXPECT_EQ(none.rates.count, 0u);
+    EXPECT_TRUE(std::isnan(none.rates.mean));  // no data, not a rate of 0
+}
+
 TEST(Statistics, QualityIndicesPerRegime) {
     const double_pendulum<double> m;
     const auto g2 = paper_regimes(m, arm::two);

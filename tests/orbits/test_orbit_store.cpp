@@ -88,10 +88,10 @@ TEST(OrbitStore, MalformedRecordsAreRefusedNamingTheProblem) {
         }
     };
     refused("{not json", "not JSON");
-    auto with = [&](const char* key, const nlohmann::json& v) {
+    auto with = [&](const char* key, const nlohmann::json& v) {  // sealed: passes the checksum
         auto j = good;
         j[key] = v;
-        return j.dump();
+        return seal_orbit_record(j.dump());
     };
     refused(with("format", 99), "cache format");
     refused(with("precision", "quad"), "precision");
@@ -104,7 +104,66 @@ TEST(OrbitStore, MalformedRecordsAreRefusedNamingTheProblem) {
     refused(with("method", "newton"), "method");
     auto j = good;
     j.erase("action");
-    refused(j.dump(), "malformed orbit record");
+    refused(seal_orbit_record(j.dump()), "malformed orbit record");
+}
+
+// Issue 20: an edited cache entry (period 7.5, action -1) was used silently. Every record carries
+// a checksum over the rest of it; an edit or a truncation without resealing is refused.
+TEST(OrbitStore, EditedRecordsFailTheChecksum) {
+    const auto o = synthetic<double>(arm::two, 3.0);
+    const std::string text = orbit_to_json(o);
+    EXPECT_NO_THROW((void)orbit_from_json<double>(text, "f.json"));
+    auto j = nlohmann::ordered_json::parse(text);
+    ASSERT_TRUE(j.contains("checksum"));
+    j["period"] = "7.5";
+    for (const std::string& bad : {j.dump(), text.substr(0, text.size() / 2) + "}"}) {
+        try {
+            (void)orbit_from_json<double>(bad, "f.json");
+            ADD_FAILURE() << "accepted an edited record";
+        } catch (const input_error& e) {
+            EXPECT_NE(std::string(e.what()).find("f.json"), std::string::npos) << e.what();
+        }
+    }
+    j.erase("checksum");
+    try {
+        (void)orbit_from_json<double>(j.dump(), "f.json");
+        ADD_FAILURE() << "accepted a record without a checksum";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("no checksum"), std::string::npos) << e.what();
+    }
+}
+
+// Issue 20: a record that passes the checksum (resealed) but is not a physical orbit of this
+// pendulum (period 7.5, action -1, another energy or arm, a quarter orbit that does not close) is
+// refused by the physical checks, which accept the orbit as solved.
+TEST(OrbitStore, CachedOrbitsAreCheckedPhysically) {
+    const double_pendulum<double> model;
+    const saddle_orbit<double> o = solve_saddle_orbit(model, arm::two, 3.0);
+    ASSERT_NE(o.status, orbit_status::not_converged);
+    EXPECT_EQ(cached_orbit_problem(model, arm::two, 3.0, o), "");
+    const saddle_orbit<double> back = orbit_from_json<double>(orbit_to_json(o), "f.json");
+    EXPECT_EQ(cached_orbit_problem(model, arm::two, 3.0, back), "");
+    auto problem = [&](auto edit) {
+        saddle_orbit<double> x = o;
+        edit(x);
+        return cached_orbit_problem(model, arm::two, 3.0, x);
+    };
+    EXPECT_NE(problem([](auto& x) { x.period = 7.5; }).find("does not close"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.action = -1; }).find("action"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.period = -x.period; }).find("period"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.energy = 3.5; }).find("energy"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.flip_arm = arm::one; }).find("arm"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.excess *= 2; }).find("excess"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.start[2] *= 1.01; }).find("energy surface"),
+              std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.quarter.back()[2] += 0.1; }).find("does not close"),
+              std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.status = orbit_status::not_converged; }).find("failed"),
+              std::string::npos);
+    // a record of another pendulum (heavier lower link): its saddle energy differs
+    physical_parameters<double> p = model.parameters();
+    p.m2 = 2;
+    EXPECT_NE(cached_orbit_problem(double_pendulum<double>(p), arm::two, 3.0, o), "");
 }
 
 TEST(OrbitStore, MemoReturnsOnlyTheSameOrbit) {

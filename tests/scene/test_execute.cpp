@@ -106,13 +106,50 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
                                          parse_real<double>(curve.rows[0].fields.at(2), "t2"));
     EXPECT_NEAR(v_end, 3.0, 1e-9);
 
+    // issue 20: an edited entry (period 7.5, action -1) was used and published. Edited without
+    // resealing it fails the checksum; resealed it fails the physical checks; both are
+    // recomputed, counted and the outputs are the same as solved
+    std::vector<fs::path> entries;
+    for (const auto& f : fs::recursive_directory_iterator(cache))
+        if (f.is_regular_file()) entries.push_back(f.path());
+    ASSERT_EQ(entries.size(), 2u);
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        auto j = nlohmann::ordered_json::parse(read_text(entries[i]));
+        j["period"] = "7.5";
+        j["action"] = "-1";
+        std::ofstream(entries[i]) << (i == 0 ? j.dump() : seal_orbit_record(j.dump()));
+    }
+    forget_saddle_orbits();
+    const run_counters edited = run(s, cache);
+    EXPECT_EQ(edited.orbit_cache_hits, 0u);
+    EXPECT_EQ(edited.orbit_cache_rejected, 2u);
+    EXPECT_EQ(edited.orbit_solves, 2u);
+    EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
+    EXPECT_EQ(
+        nlohmann::json::parse(read_text(out / "run.json"))["counters"]["orbit_cache_rejected"], 2);
+
     // a corrupted cache entry is recomputed, not trusted
     for (const auto& f : fs::recursive_directory_iterator(cache))
         if (f.is_regular_file()) std::ofstream(f.path()) << "{not json";
     forget_saddle_orbits();
     const run_counters third = run(s, cache);
     EXPECT_EQ(third.orbit_solves, 2u);
+    EXPECT_EQ(third.orbit_cache_rejected, 2u);
     EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
+
+    // an output directory that cannot be created is refused before anything is computed
+    const fs::path file = out / "predictions.csv";
+    const scene blocked = scene_in(file / "sub",
+                                   "[predictions]\nquantities = [\"omega\"]\n"
+                                   "energies = [3]\n");
+    std::ostringstream log;
+    try {
+        (void)execute_plan(blocked, plan{}, log, {});
+        ADD_FAILURE() << "not refused";
+    } catch (const scene_error& e) {
+        EXPECT_NE(std::string(e.what()).find("t.toml:3: scene.output: '"), std::string::npos)
+            << e.what();
+    }
     fs::remove_all(out);
     fs::remove_all(cache);
 }

@@ -84,6 +84,44 @@ TEST_F(Validate, CatchesMalformedAndUnmatchedLines) {
     EXPECT_NE(text.find("FAILED"), std::string::npos);
 }
 
+// Issue 20: golden files given to validate are outside data too. `digits = -5` made a 6834 %
+// error pass, duplicate golden rows were accepted; malformed numbers now name file:line.
+TEST_F(Validate, BadGoldenFilesAreRefusedNamingFileAndLine) {
+    const fs::path golden = dir_ / "golden" / "values.csv";
+    const std::string head = "quantity,arm,energy,value,digits,method\n";
+    const std::string good = "flux-upright,2,2.5,1.23456789012345678901234567890123456789,38,e\n";
+    auto refusal = [&](const std::string& bad_row) {
+        std::ofstream(golden) << head + good + bad_row;
+        try {
+            (void)check(header + row1);
+        } catch (const input_error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    const std::string at = golden.string() + ":3: ";
+    for (const std::string d : {"-5", "0", "x", "3.5", "", "1000001", "99999999999"})
+        EXPECT_NE(refusal("flux-upright,2,3,2.7," + d + ",e\n").find(at + "digits '" + d + "'"),
+                  std::string::npos)
+            << d;
+    EXPECT_NE(refusal("flux-upright,2,3,2.7e,30,e\n").find(at + "value '2.7e'"), std::string::npos);
+    EXPECT_NE(refusal("flux-upright,2,x,2.7,30,e\n").find(at + "energy 'x'"), std::string::npos);
+    EXPECT_NE(refusal("flux-upright,3,3,2.7,30,e\n").find(at + "arm '3'"), std::string::npos);
+    EXPECT_NE(refusal(",2,3,2.7,30,e\n").find(at + "empty quantity"), std::string::npos);
+    EXPECT_NE(refusal("flux-upright,2,2.50,1.2,30,e\n")
+                  .find(at + "flux-upright arm 2 at E = 2.50 is given twice (first at " +
+                        golden.string() + ":2)"),
+              std::string::npos);
+    EXPECT_EQ(refusal("flux-upright,2,3,2.7,30,e\n"), "");
+}
+
+// Issue 20: a candidate CSV with a UTF-8 byte-order mark (spreadsheet export) was refused while
+// scenes accept one.
+TEST_F(Validate, CandidateWithAByteOrderMarkIsRead) {
+    const auto r = check("\xEF\xBB\xBF" + header + row1 + row2 + row3);
+    EXPECT_TRUE(r.passed()) << format_report(r, 1e-12);
+}
+
 TEST_F(Validate, CliExitStatus) {
     std::ofstream(dir_ / "good.csv") << header + row1 + row2 + row3;
     std::ofstream(dir_ / "bad.csv") << header + row1 + row2 + row2 + row3;

@@ -25,6 +25,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -53,6 +54,11 @@ inline constexpr double energy_jump_factor = 64;
 /// Default chaos threshold on the finite-time Lyapunov exponent, in units of the inverse
 /// natural time sqrt(alpha / A) (docs/theory.md#ensembles explains the choice).
 inline constexpr double default_chaos_threshold = 0.05;
+
+/// The smallest relative tolerance double arithmetic can meet: 100 eps (2.2e-14). Below it the
+/// error estimates of DOP853 and DOPRI5 are dominated by rounding and the step size shrinks
+/// without end (Hairer's codes refuse rtol <= 10 eps; the margin keeps runs finite in time).
+inline constexpr double min_rtol = 100 * std::numeric_limits<double>::epsilon();
 
 struct ensemble_options {
     double energy = 0;
@@ -120,6 +126,18 @@ struct ensemble_result {
 /// Validates the options (throws input_error naming the option: --trajectories, --time, --rtol,
 /// --energy, --threads).
 void validate(const ensemble_options& options);
+
+/// An upper bound on the turns the arms make over `time` at `energy` (both arms together):
+/// time (w_E + w_0) / (2 pi) with w_E = sqrt(2 E / m) the largest angular speed the kinetic
+/// energy allows (K <= E since V >= 0) and w_0 = sqrt((alpha + beta) / m) the fastest
+/// small-oscillation frequency, m = (A + B) / 2 - sqrt(((A - B) / 2)^2 + C^2) the smallest
+/// eigenvalue of the mass matrix over all configurations.
+double turns_bound(const double_pendulum<double>& model, double energy, double time);
+
+/// Throws input_error about `field` when turns_bound exceeds max_turns_per_trajectory
+/// (core/limits.hpp): a trajectory that could not finish.
+void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
+                           const std::string& field);
 
 /// The chaos threshold in the model's time units: threshold * sqrt(alpha / A).
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold);

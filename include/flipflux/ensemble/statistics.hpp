@@ -67,7 +67,8 @@ struct criterion_statistics {
     histogram rate_distribution;
 };
 
-/// Statistics of criterion `c` of an ensemble. predicted_rate may be NaN.
+/// Statistics of criterion `c` of an ensemble over its trajectories that reached T (status ok):
+/// a failed trajectory is excluded, never counted as zero flips. predicted_rate may be NaN.
 criterion_statistics analyze(const ensemble_result& result, std::size_t c, double predicted_rate,
                              std::size_t rate_bins = 0, std::size_t residence_bins = 0);
 

@@ -12,6 +12,11 @@ namespace flipflux {
 /// naming the path when the file cannot be written.
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);
 
+/// Checks, before a long computation, that `path` can be written as write_file_atomically will
+/// (its folder created, a file creatable there, `path` not a directory); throws input_error about
+/// `field` (an option or a scene key) otherwise. Leaves the folders created, no file.
+void check_output_file(const std::filesystem::path& path, const std::string& field);
+
 /// Quotes a CSV field when it contains a comma, quote or newline.
 std::string csv_field(const std::string& text);
 

@@ -25,6 +25,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "flipflux/core/decimal.hpp"
@@ -74,6 +75,38 @@ struct lagrangian_coefficients {
     Real A, B, C, alpha, beta, D0;
 };
 
+/// The largest magnitude of a model parameter or an energy computed with at Real:
+/// 2^(max_exponent / 8) (1.8e38 in double, about 1e617 in quad), so that the products of up to
+/// eight of them formed on the way (A B - C^2 is a sixth power of a length-mass scale, the rates
+/// square energies) stay finite; parameters are also at least its reciprocal. MPFR's exponent
+/// range is wide enough for any decimal input: no limit (infinity).
+template <class Real>
+Real magnitude_limit() {
+    if constexpr (std::numeric_limits<Real>::max_exponent > 0 &&
+                  std::numeric_limits<Real>::max_exponent < 100000) {
+        using std::ldexp;
+        return ldexp(Real(1), std::numeric_limits<Real>::max_exponent / 8);
+    } else {
+        return std::numeric_limits<Real>::infinity();
+    }
+}
+
+/// Throws input_error about `field` when x != 0 and |x| lies outside [1 / magnitude_limit,
+/// magnitude_limit] (see there).
+template <class Real>
+void check_magnitude(const Real& x, const std::string& field) {
+    if constexpr (is_supported_real_v<Real>) {  // a test's own reference type: not checked
+        using std::abs;
+        const Real hi = magnitude_limit<Real>();
+        if (x != 0 && (abs(x) > hi || abs(x) < 1 / hi))
+            throw input_error::about(
+                field, "'" + to_decimal(x) + "' is outside the magnitudes " +
+                           to_decimal(Real(1 / hi), 3) + " .. " + to_decimal(hi, 3) + " that " +
+                           precision_name<Real>() +
+                           " computes with (docs/limits.md; mp:N has no such limit)");
+    }
+}
+
 /// Derives the coefficients, validating the parameters (throws input_error naming the parameter).
 template <class Real>
 lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p) {
@@ -83,6 +116,7 @@ lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p
         if (!isfinite(v) || !ok) {
             throw input_error::about(name, "'" + to_decimal(v) + "' is invalid (" + rule + ")");
         }
+        check_magnitude(v, name);
     };
     require(p.m1, p.m1 > 0, "m1", "a mass must be > 0");
     require(p.m2, p.m2 > 0, "m2", "a mass must be > 0");

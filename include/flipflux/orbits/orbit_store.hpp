@@ -59,25 +59,44 @@ saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model
 template <class Real>
 std::string orbit_to_json(const saddle_orbit<Real>& orbit);
 
-/// Inverse of orbit_to_json; throws input_error naming `where` on malformed text.
+/// Inverse of orbit_to_json; throws input_error naming `where` on malformed text or a checksum
+/// that does not match (orbit_to_json writes one over the rest of the record).
 template <class Real>
 saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& where);
+
+/// FNV-1a (64 bit) of `text` as 16 hex digits, stable across builds: a record's "checksum" is
+/// this of the record's JSON text without it (and the cache key's hash).
+std::string orbit_record_checksum(const std::string& text);
+
+/// A record's JSON text with its checksum (re)computed: orbit_to_json's last step; tests use it to
+/// build records that pass the checksum but are wrong otherwise.
+std::string seal_orbit_record(const std::string& json_text);
+
+/// Why an orbit read from the cache cannot be used for (model, a, energy), or "" when it can: a
+/// physical check independent of the solver (arm and energy as asked, T > 0, F > 0, the model's
+/// saddle point and saddle energy, the start on the energy surface, the quarter orbit spanning
+/// T/4 from the saddle to a turning point on the energy surface, i.e. the orbit closes).
+template <class Real>
+std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a, const Real& energy,
+                                 const saddle_orbit<Real>& orbit);
 
 /// Cache directory name for (model, arm-independent) orbits at Real with `options`.
 template <class Real>
 std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_options<Real>& options);
 
-#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                          \
-    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                      \
-        const double_pendulum<R>&, arm, const R&, orbit_method);                                \
-    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                    \
-                                                  const saddle_orbit<R>&);                      \
-    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                              \
-        const double_pendulum<R>&, arm, const R&, const orbit_options<R>&);                     \
-    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                       \
-    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&); \
-    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                   \
-                                                   const orbit_options<R>&);
+#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                            \
+    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                        \
+        const double_pendulum<R>&, arm, const R&, orbit_method);                                  \
+    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                      \
+                                                  const saddle_orbit<R>&);                        \
+    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                                \
+        const double_pendulum<R>&, arm, const R&, const orbit_options<R>&);                       \
+    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                         \
+    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);   \
+    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                     \
+                                                   const orbit_options<R>&);                      \
+    extern template std::string cached_orbit_problem<R>(const double_pendulum<R>&, arm, const R&, \
+                                                        const saddle_orbit<R>&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_STORE_EXTERN)
 #undef FLIPFLUX_ORBIT_STORE_EXTERN
 

@@ -22,12 +22,15 @@
 
 namespace flipflux {
 
+/// The largest timing budget per cell (seconds): a table has hundreds of cells.
+inline constexpr double max_min_seconds = 60;
+
 struct accuracy_options {
     std::vector<std::string> quantities;  ///< empty: every registered quantity
     /// the columns, in increasing precision
     std::vector<precision> precisions{precision{real_kind::double_}, precision{real_kind::quad},
                                       mp_precision(50), mp_precision(100)};
-    double min_seconds = 0.2;  ///< timing budget per cell
+    double min_seconds = 0.2;  ///< timing budget per cell, in [0, max_min_seconds]
     /// a cell whose first evaluation takes longer is measured at its first energy only
     double slow_seconds = 3;
     /// a method slower than this in one precision (measured, or estimated from the lower

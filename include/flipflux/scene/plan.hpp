@@ -57,6 +57,7 @@ void print_plan(const scene& s, const plan& p, std::ostream& out);
 struct run_counters {
     std::size_t orbit_solves = 0;          ///< saddle orbits solved (cache misses)
     std::size_t orbit_cache_hits = 0;      ///< saddle orbits read from the cache
+    std::size_t orbit_cache_rejected = 0;  ///< cache entries refused (corrupt, invalid): recomputed
     std::size_t quantity_evaluations = 0;  ///< registry evaluations
     std::size_t trajectories = 0;          ///< trajectories integrated
     std::size_t curve_criteria = 0;        ///< criteria evaluated that are curves (approx, saddle)

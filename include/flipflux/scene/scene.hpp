@@ -49,6 +49,9 @@ struct orbits_spec {
     int line = 0;
 };
 
+/// The longest ensemble name (it becomes file names under the output directory).
+inline constexpr std::size_t max_ensemble_name = 100;
+
 struct ensemble_spec {
     std::string name;
     int arm = 2;
@@ -97,6 +100,7 @@ struct scene {
     std::filesystem::path file;
     std::string name, description;
     std::filesystem::path output;  ///< output directory
+    int output_line = 0;           ///< the line of [scene] output (error messages)
     std::string precision_text = "double";
     precision prec = precision{real_kind::double_};
     model_spec model;

@@ -77,6 +77,10 @@ struct simulation_request {
     std::function<void(const simulation_progress&)> progress;
 };
 
+/// What one trajectory's record holds in memory while its energy runs (without flips or
+/// samples): the bound of core/limits.hpp's check_memory for `criteria` criteria.
+double trajectory_record_bytes(std::size_t criteria);
+
 /// Runs the study. Throws input_error for bad input (naming the field) before integrating, and
 /// simulation_interrupted when options.stop is set during the run. With a process group, only
 /// rank 0 returns the result (the others return nothing). The per-energy CSVs are written to

@@ -1,0 +1,132 @@
+// Issue 20 (hardening), through the executable: sizes that drive allocations, thread counts,
+// tolerances and budgets that could not finish, values that overflow the working precision and
+// mistyped subcommands are refused up front with one line naming the option and exit status 2
+// (docs/limits.md). Each case exits before any computation: cheap at -O0.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+/// `args` exits 2 with one line on stderr that contains every one of `expected`, and no stdout.
+void expect_refused(const std::string& args, std::initializer_list<std::string> expected) {
+    const command_result r = run_flipflux(args);
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    for (const std::string& e : expected)
+        EXPECT_NE(r.err.find(e), std::string::npos)
+            << args << "\ngot: " << r.err << "expected: " << e;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+}
+
+const std::string simulate = "simulate --energy 3 --trajectories 2 --time 1 ";
+
+TEST(LimitsCommand, SimulateBinsBeyondTheLimitAreRefused) {
+    expect_refused(simulate + "--bins 1000000000", {"--bins: '1000000000'", "at most 1000000"});
+}
+
+TEST(LimitsCommand, SimulateTrajectoriesBeyondMemoryAreRefused) {
+    expect_refused("simulate --energy 3 --trajectories 4294967297 --time 1",
+                   {"--trajectories: '4294967297' would need about", "GB"});
+    ::setenv("FLIPFLUX_MEMORY_LIMIT", "100000", 1);
+    expect_refused("simulate --energy 3 --trajectories 10000 --time 1", {"--trajectories"});
+    ::unsetenv("FLIPFLUX_MEMORY_LIMIT");
+}
+
+TEST(LimitsCommand, SimulateTinySampleIntervalIsRefused) {
+    const std::string dir = ::testing::TempDir() + "flipflux_limits_" + std::to_string(getpid());
+    expect_refused(simulate + "--sample-interval 1e-300 --csv-dir " + dir,
+                   {"--sample-interval: '1e-300' would need about"});
+    std::filesystem::remove_all(dir);
+}
+
+TEST(LimitsCommand, ThreadCountsBeyondTheLimitAreRefused) {
+    expect_refused(simulate + "--threads 100000", {"--threads: '100000' is too many threads"});
+    expect_refused("golden --jobs 100000 --quantities omega --out /nonexistent",
+                   {"--jobs: '100000' is too many threads"});
+    const std::string scene = FLIPFLUX_SOURCE_DIR "/data/scenes/default.toml";
+    expect_refused("run --dry-run --threads 100000 " + scene, {"--threads: '100000'"});
+}
+
+TEST(LimitsCommand, RtolBelowTheWorkingPrecisionIsRefused) {
+    for (const std::string rtol : {"1e-19", "1e-100", "1e-300"})
+        expect_refused(simulate + "--rtol " + rtol,
+                       {"--rtol: '", "is below what double precision can meet"});
+    expect_refused(
+        "trajectory --state 0,3,0,0 --time 1 --criteria upright --route ensemble --rtol 1e-19",
+        {"--rtol"});
+}
+
+TEST(LimitsCommand, BudgetsThatCannotFinishAreRefused) {
+    expect_refused(simulate + "--estimator short --short-time 1e300",
+                   {"--short-time: '", "is longer than the budget"});
+    expect_refused("accuracy --min-seconds inf --quantities omega --out /dev/null",
+                   {"--min-seconds"});
+}
+
+TEST(LimitsCommand, OverflowingInputsAreRefusedNotPrintedAsInf) {
+    expect_refused("eval omega --energy 3 --m2 1e300", {"--m2: '", "is outside the magnitudes"});
+    expect_refused("eval rate-upright --energy 5e307",
+                   {"--energy: '", "is outside the magnitudes"});
+    expect_refused("eval flux-approx --energy 5e307", {"--energy: '", "is outside the magnitudes"});
+    // mp:N has the exponent range for it: a finite value
+    const command_result r = run_flipflux("eval omega --energy 1e100 --precision mp:20");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+}
+
+// Up to the magnitude limit (3.4e38 in double) the answers are finite and correct: the double
+// values agree with mp:30 (an independent precision) to a few ulp times the closed forms'
+// condition (the rates divide two large numbers: 64 eps).
+TEST(LimitsCommand, LargeEnergiesBelowTheLimitGiveCorrectFiniteValues) {
+    auto value = [](const std::string& args) {
+        const command_result r = run_flipflux(args);
+        EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+        const std::size_t at = r.out.find("\"value\": \"");
+        return at == std::string::npos ? std::string("nan")
+                                       : r.out.substr(at + 10, r.out.find('"', at + 10) - at - 10);
+    };
+    for (const std::string q : {"omega", "rate-upright", "rate-approx"}) {
+        const std::string e = " --energy 3.3e38";
+        const double d = std::stod(value("eval " + q + e));
+        const double m = std::stod(value("eval " + q + e + " --precision mp:30"));
+        EXPECT_TRUE(std::isfinite(d)) << q;
+        EXPECT_NEAR(d / m, 1, 64 * std::numeric_limits<double>::epsilon()) << q;
+    }
+}
+
+// Issue 20: E = 1e300 or T = 1e300 integrated forever (an interrupted run after minutes).
+TEST(LimitsCommand, TrajectoriesThatCouldNotFinishAreRefused) {
+    expect_refused(
+        "simulate --energy 1e300 --trajectories 2 --time 1 --criteria upright",
+        {"--time: T = 1 at E = 1.0000000000000001e+300 allows up to", "turns of the arms"});
+    expect_refused("simulate --energy 3 --trajectories 2 --time 1e300 --criteria upright",
+                   {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+    expect_refused("trajectory --state 0,3,0,0 --time 1e300 --criteria upright --route ensemble",
+                   {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+}
+
+// Issue 20: an output path that is a file's child, or a directory, ended in "internal error:
+// filesystem error" after the computation; it is refused before measuring.
+TEST(LimitsCommand, UnwritableOutputIsRefusedBeforeComputing) {
+    const std::string file =
+        ::testing::TempDir() + "flipflux_limits_file_" + std::to_string(getpid());
+    std::ofstream(file) << "x";
+    const std::string accuracy = "accuracy --quantities omega --precisions double --out ";
+    expect_refused(accuracy + file + "/x.md", {"--out: '" + file + "/x.md' cannot be written"});
+    expect_refused(accuracy + ::testing::TempDir(), {"is a directory, not a file"});
+    std::remove(file.c_str());
+}
+
+TEST(LimitsCommand, MistypedSubcommandIsNamed) {
+    expect_refused("evall omega --energy 3", {"'evall' is not a subcommand", "eval"});
+}
+
+}  // namespace
+}  // namespace flipflux::test

@@ -1,0 +1,55 @@
+// core/limits.hpp: the memory budget (physical memory, or $FLIPFLUX_MEMORY_LIMIT), the memory
+// check's one-line refusal naming the field and value, and the thread limit.
+#include <cstdlib>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/limits.hpp"
+#include "support.hpp"
+
+namespace flipflux::test {
+namespace {
+
+TEST(Limits, MemoryBudgetIsThePhysicalMemoryOrTheEnvironmentsLimit) {
+    ::unsetenv("FLIPFLUX_MEMORY_LIMIT");
+    const double physical = memory_budget_bytes();
+    EXPECT_GT(physical, 1e8);  // any machine that builds flipflux has 100 MB
+    ::setenv("FLIPFLUX_MEMORY_LIMIT", "12345", 1);
+    EXPECT_EQ(memory_budget_bytes(), 12345.0);
+    for (const char* bad : {"0", "-3", "12x", ""}) {  // ignored: the physical memory counts
+        ::setenv("FLIPFLUX_MEMORY_LIMIT", bad, 1);
+        EXPECT_EQ(memory_budget_bytes(), physical) << bad;
+    }
+    ::unsetenv("FLIPFLUX_MEMORY_LIMIT");
+}
+
+TEST(Limits, MemoryCheckRefusesBeyondTheBudgetInOneLine) {
+    ::setenv("FLIPFLUX_MEMORY_LIMIT", "1000000000", 1);  // 1 GB
+    EXPECT_NO_THROW(check_memory("bins", "7", 1e9, "histograms"));
+    try {
+        check_memory("trajectories", "4294967297", 1.3e12, "trajectory records");
+        ADD_FAILURE() << "not refused";
+    } catch (const input_error& e) {
+        EXPECT_EQ(e.field(), "trajectories");
+        EXPECT_EQ(std::string(e.what()),
+                  "trajectories: '4294967297' would need about 1.3e+03 GB for trajectory "
+                  "records, more than the 1 GB of memory available (docs/limits.md)");
+    }
+    EXPECT_THROW(check_memory("x", "1", std::numeric_limits<double>::infinity(), "y"), input_error);
+    EXPECT_THROW(check_memory("x", "1", std::numeric_limits<double>::quiet_NaN(), "y"),
+                 input_error);
+    ::unsetenv("FLIPFLUX_MEMORY_LIMIT");
+}
+
+TEST(Limits, ThreadCountsAreBounded) {
+    EXPECT_EQ(checked_threads(0, "threads"), 0);
+    EXPECT_EQ(checked_threads(max_threads, "threads"), static_cast<int>(max_threads));
+    try {
+        (void)checked_threads(100000, "--jobs");
+        ADD_FAILURE() << "not refused";
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()), "--jobs: '100000' is too many threads (at most 4096)");
+    }
+}
+
+}  // namespace
+}  // namespace flipflux::test

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Bounded libFuzzer runs of every fuzz target (fuzz/), seeded from the bundled files.
+#   bash tools/fuzz.sh [SECONDS_PER_TARGET]   (default 8: about a minute for the seven targets)
+# Builds the "fuzz" preset (clang-14, ASan+UBSan) first. A crash leaves crash-* in
+# build/fuzz/findings/TARGET/ and makes the script fail; each becomes a regression test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-8}
+cmake --preset fuzz >/dev/null
+targets=(scene energy_grid decimal checkpoint orbit_cache candidate golden)
+cmake --build build/fuzz -j"${FLIPFLUX_FUZZ_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
+seeds=build/fuzz/seeds
+rm -rf "$seeds" && mkdir -p "$seeds"
+for t in "${targets[@]}"; do mkdir -p "$seeds/$t" "build/fuzz/findings/$t"; done
+cp data/scenes/*.toml "$seeds/scene/"
+printf '3' >"$seeds/energy_grid/1"; printf '2.5,3,3.5' >"$seeds/energy_grid/2"
+printf '2:6:0.05' >"$seeds/energy_grid/3"
+printf '1.5\n1.50000001' >"$seeds/decimal/1"; printf -- '-2.5e-300\n0' >"$seeds/decimal/2"
+printf '3.14159265358979323846264338327950288419716939937510' >"$seeds/decimal/3"
+cp data/golden/*.csv "$seeds/golden/"
+head -5 data/golden/golden.csv >"$seeds/candidate/1"
+find tests data docs -name '*.checkpoint' -exec cp {} "$seeds/checkpoint/" \; 2>/dev/null || true
+printf '{"format":3}\n' >"$seeds/checkpoint/1"
+find "${FLIPFLUX_CACHE_DIR:-$HOME/.cache/flipflux}" -name 'E*.json' 2>/dev/null | head -20 |
+    xargs -r cp -t "$seeds/orbit_cache/"
+printf '{"format":3,"precision":"double","arm":"2","energy":"3"}' >"$seeds/orbit_cache/1"
+status=0
+for t in "${targets[@]}"; do
+    echo "fuzz_$t: ${seconds}s"
+    (cd "build/fuzz/findings/$t" &&
+        ../../fuzz/fuzz_"$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+            -print_final_stats=1 "../../seeds/$t" 2>&1 | tail -3) || status=1
+done
+exit $status
