@@ -59,7 +59,8 @@ double pilot_variance(const double_pendulum<double>& model, const pilot_key& k,
     const ensemble_result r = run_ensemble(model, e, {c});
     const double P = static_cast<double>(r.trajectories.size());
     double mean = 0;
-    for (const trajectory_result& t : r.trajectories) mean += static_cast<double>(t.flips(0));
+    for (const trajectory_result& t : r.trajectories)
+        mean += static_cast<double>(t.flips(0));
     mean /= P;
     double m2 = 0, m4 = 0;
     for (const trajectory_result& t : r.trajectories) {
@@ -105,8 +106,8 @@ bool read_row(const csv_row& row, const csv_table& t, const ensemble_columns& c,
         const double n = static_cast<double>(x.flips);
         if (!parse_count(f[c.flips_sq], flips_sq))
             x.note = "flips_sq '" + f[c.flips_sq] + "' is not a whole number";
-        else if (static_cast<double>(flips_sq) < std::max(n, n * n / x.trajectories) *
-                                                     (1 - std::numeric_limits<double>::epsilon()))
+        else if (static_cast<double>(flips_sq) <
+                 std::max(n, n * n / x.trajectories) * (1 - std::numeric_limits<double>::epsilon()))
             x.note = "flips_sq '" + f[c.flips_sq] +
                      "' is below max(flips, flips^2 / trajectories): not a sum of squared counts";
     }
@@ -127,8 +128,8 @@ void grade(ensemble_check_entry& x, const ensemble_check_options& o) {
 }  // namespace
 
 std::size_t ensemble_check_report::count(ensemble_check_entry::status s) const {
-    return static_cast<std::size_t>(std::count_if(
-        entries.begin(), entries.end(), [s](const auto& e) { return e.what == s; }));
+    return static_cast<std::size_t>(
+        std::count_if(entries.begin(), entries.end(), [s](const auto& e) { return e.what == s; }));
 }
 
 bool ensemble_check_report::passed() const {
@@ -145,7 +146,7 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
         throw input_error::about("pilot", "'" + std::to_string(options.pilot_trajectories) +
                                               "' must be at least 2 trajectories");
     const csv_table t = read_csv(candidate);
-    const ensemble_columns c{column(t, "criterion"), column(t, "arm"),  column(t, "energy"),
+    const ensemble_columns c{column(t, "criterion"),    column(t, "arm"),  column(t, "energy"),
                              column(t, "trajectories"), column(t, "time"), column(t, "flips"),
                              column(t, "flips_sq")};
     if (c.criterion < 0 || c.arm < 0 || c.energy < 0 || c.trajectories < 0 || c.time < 0 ||
@@ -183,9 +184,18 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
             const double n = static_cast<double>(x.flips);
             variance = (static_cast<double>(flips_sq) - n * n / M) / (M - 1);
             x.variance = "candidate";
+        } else if (x.predicted == 0) {  // at or below the arm's saddle energy: no flip possible
+            x.variance = "none";
         } else {
             const pilot_key k{E, x.time, x.criterion, a};
-            if (!pilots.count(k)) pilots[k] = pilot_variance(model, k, options);
+            try {
+                if (!pilots.count(k)) pilots[k] = pilot_variance(model, k, options);
+            } catch (const input_error& e) {
+                x.what = status::no_prediction;
+                x.note = std::string("no pilot ensemble: ") + e.what();
+                report.entries.push_back(x);
+                continue;
+            }
             variance = pilots[k];
             x.variance = "pilot " + std::to_string(options.pilot_trajectories);
         }
@@ -204,9 +214,8 @@ std::string format_ensemble_check(const ensemble_check_report& r) {
                   "summary: %zu rows: %zu pass, %zu warn, %zu FAIL, %zu malformed, %zu "
                   "no-prediction (pass |z| < %g, warn |z| < %g) -> %s\n",
                   r.entries.size(), r.count(status::pass), r.count(status::warn),
-                  r.count(status::fail), r.count(status::malformed),
-                  r.count(status::no_prediction), r.options.warn_z, r.options.fail_z,
-                  r.passed() ? "PASSED" : "FAILED");
+                  r.count(status::fail), r.count(status::malformed), r.count(status::no_prediction),
+                  r.options.warn_z, r.options.fail_z, r.passed() ? "PASSED" : "FAILED");
     out += buf;
     std::snprintf(buf, sizeof buf, "%-5s %-13s %-8s %-3s %-8s %-13s %-13s %-11s %-8s %-10s %s\n",
                   "line", "status", "crit.", "arm", "energy", "simulated", "predicted", "std.error",
@@ -268,8 +277,8 @@ std::map<std::pair<std::string, std::string>, std::vector<flip_row>> read_events
         out[{r.fields[ac], r.fields[cc]}].push_back({time, d == "-1" ? -1 : 1, r.line});
     }
     if (reference && !o.state.empty() && !found)
-        throw input_error::about("state", "'" + o.state + "' has no rows in '" + file.string() +
-                                              "'");
+        throw input_error::about("state",
+                                 "'" + o.state + "' has no rows in '" + file.string() + "'");
     return out;
 }
 
@@ -286,12 +295,13 @@ std::string describe(const flip_row* r) {
 event_comparison compare_flip_events(const std::filesystem::path& candidate,
                                      const std::filesystem::path& reference,
                                      const event_comparison_options& o) {
-    if (!(o.time_tolerance > 0))
-        throw input_error::about("time-tol", "must be positive");
+    if (!(o.time_tolerance > 0)) throw input_error::about("time-tol", "must be positive");
     const auto cand = read_events(candidate, o, false), ref = read_events(reference, o, true);
     std::map<std::pair<std::string, std::string>, int> keys;
-    for (const auto& [k, v] : cand) keys[k] = 0;
-    for (const auto& [k, v] : ref) keys[k] = 0;
+    for (const auto& [k, v] : cand)
+        keys[k] = 0;
+    for (const auto& [k, v] : ref)
+        keys[k] = 0;
     event_comparison out;
     out.first_difference_time = std::numeric_limits<double>::infinity();
     static const std::vector<flip_row> none;
@@ -324,8 +334,7 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
     return out;
 }
 
-std::string format_event_comparison(const event_comparison& c,
-                                    const event_comparison_options& o) {
+std::string format_event_comparison(const event_comparison& c, const event_comparison_options& o) {
     std::string out;
     char buf[512];
     std::size_t cand = 0, ref = 0, agree = 0;

@@ -66,10 +66,9 @@ TEST_F(SimulatorCheck, AnUnbiasedEnsemblePassesWithItsOwnVarianceAndWithThePilot
     const counts c = simulated_counts(1000, 2);
     ensemble_check_options o;
     o.pilot_trajectories = 400;
-    const auto r = check_simulated_ensemble(double_pendulum<double>(),
-                                            write("good.csv", header + row(c.flips, c.flips_sq) +
-                                                                  row(c.flips, 0)),
-                                            o);
+    const auto r = check_simulated_ensemble(
+        double_pendulum<double>(),
+        write("good.csv", header + row(c.flips, c.flips_sq) + row(c.flips, 0)), o);
     const std::string text = format_ensemble_check(r);
     std::printf("%s", text.c_str());
     EXPECT_TRUE(r.passed()) << text;
@@ -92,20 +91,21 @@ TEST_F(SimulatorCheck, AnUnbiasedEnsemblePassesWithItsOwnVarianceAndWithThePilot
 TEST_F(SimulatorCheck, ABiasedCountFailsAndAFourSigmaCountWarns) {
     const counts c = simulated_counts(1000, 2);
     const double_pendulum<double> m;
-    const auto good = check_simulated_ensemble(m, write("a.csv", header + row(c.flips, c.flips_sq)),
-                                               {});
+    const auto good =
+        check_simulated_ensemble(m, write("a.csv", header + row(c.flips, c.flips_sq)), {});
     const double se = good.entries[0].standard_error;
     const double predicted = good.entries[0].predicted;
     // half the flips (every crossing in one direction only, say): z ~ -9
-    const auto half = check_simulated_ensemble(
-        m, write("b.csv", header + row(c.flips / 2, c.flips_sq / 2)), {});
+    const auto half =
+        check_simulated_ensemble(m, write("b.csv", header + row(c.flips / 2, c.flips_sq / 2)), {});
     EXPECT_FALSE(half.passed());
     EXPECT_EQ(half.entries[0].what, ensemble_check_entry::status::fail)
         << format_ensemble_check(half);
     EXPECT_LT(half.entries[0].z, -5);
     // 4 standard errors below the prediction: warn, and the report still passes
     const auto low = static_cast<std::uint64_t>(std::llround((predicted - 4 * se) * 2000));
-    const auto warn = check_simulated_ensemble(m, write("c.csv", header + row(low, c.flips_sq)), {});
+    const auto warn =
+        check_simulated_ensemble(m, write("c.csv", header + row(low, c.flips_sq)), {});
     EXPECT_EQ(warn.entries[0].what, ensemble_check_entry::status::warn)
         << format_ensemble_check(warn);
     EXPECT_TRUE(warn.passed());
@@ -113,15 +113,14 @@ TEST_F(SimulatorCheck, ABiasedCountFailsAndAFourSigmaCountWarns) {
 
 TEST_F(SimulatorCheck, MalformedRowsAreReportedByLine) {
     const auto r = check_simulated_ensemble(double_pendulum<double>(),
-                                            write("bad.csv", header +
-                                                                 "bogus,2,5,10,2,3,\n"
-                                                                 "upright,3,5,10,2,3,\n"
-                                                                 "upright,2,x,10,2,3,\n"
-                                                                 "upright,2,5,1,2,3,\n"
-                                                                 "upright,2,5,10,-2,3,\n"
-                                                                 "upright,2,5,10,2,2.5,\n"
-                                                                 "upright,2,5,10,2,30,50\n"
-                                                                 "upright,2,5,10\n"),
+                                            write("bad.csv", header + "bogus,2,5,10,2,3,\n"
+                                                                      "upright,3,5,10,2,3,\n"
+                                                                      "upright,2,x,10,2,3,\n"
+                                                                      "upright,2,5,1,2,3,\n"
+                                                                      "upright,2,5,10,-2,3,\n"
+                                                                      "upright,2,5,10,2,2.5,\n"
+                                                                      "upright,2,5,10,2,30,50\n"
+                                                                      "upright,2,5,10\n"),
                                             {});
     ASSERT_EQ(r.entries.size(), 8u);
     EXPECT_EQ(r.count(ensemble_check_entry::status::malformed), 8u) << format_ensemble_check(r);
@@ -134,13 +133,36 @@ TEST_F(SimulatorCheck, MalformedRowsAreReportedByLine) {
                  input_error);
 }
 
+// Below an arm's saddle energy no flip is possible: zero flips pass without a variance, any flip
+// fails; a criterion without a prediction (the saddle orbit above E_max = 6) is reported.
+TEST_F(SimulatorCheck, RowsWhereNoFlipIsPossibleOrNothingIsPredicted) {
+    ensemble_check_options o;
+    o.pilot_trajectories = 50;
+    const auto r = check_simulated_ensemble(double_pendulum<double>(),
+                                            write("edge.csv",
+                                                  "criterion,arm,energy,trajectories,"
+                                                  "time,flips\n"
+                                                  "upright,1,3,100,10,0\n"
+                                                  "upright,1,3,100,10,2\n"
+                                                  "saddle,2,7,100,10,5\n"),
+                                            o);
+    const std::string text = format_ensemble_check(r);
+    ASSERT_EQ(r.entries.size(), 3u) << text;
+    EXPECT_EQ(r.entries[0].what, ensemble_check_entry::status::pass) << text;
+    EXPECT_EQ(r.entries[0].variance, "none");
+    EXPECT_EQ(r.entries[1].what, ensemble_check_entry::status::fail) << text;
+    EXPECT_EQ(r.entries[2].what, ensemble_check_entry::status::no_prediction) << text;
+    EXPECT_FALSE(r.passed());
+}
+
 // Events: the same file agrees; a shifted time, a flipped direction, a missing event are the
 // first difference of their stream, and the earliest over the streams is reported.
-const std::string events = "time,arm,criterion,direction\n"
-                           "0.5,2,upright,1\n"
-                           "1.25,2,approx,1\n"
-                           "2.0,1,upright,-1\n"
-                           "3.5,2,upright,-1\n";
+const std::string events =
+    "time,arm,criterion,direction\n"
+    "0.5,2,upright,1\n"
+    "1.25,2,approx,1\n"
+    "2.0,1,upright,-1\n"
+    "3.5,2,upright,-1\n";
 
 TEST_F(SimulatorCheck, IdenticalEventsAgree) {
     const auto ref = write("ref.csv", events);
@@ -149,11 +171,12 @@ TEST_F(SimulatorCheck, IdenticalEventsAgree) {
     EXPECT_FALSE(c.differs) << format_event_comparison(c, o);
     EXPECT_EQ(c.streams.size(), 3u);
     // within the tolerance, in another order of the rows
-    const auto d = compare_flip_events(write("cand2.csv", "time,arm,criterion,direction\n"
-                                                          "2.0000000001,1,upright,-1\n"
-                                                          "0.5000000004,2,upright,1\n"
-                                                          "1.25,2,approx,1\n"
-                                                          "3.5,2,upright,-1\n"),
+    const auto d = compare_flip_events(write("cand2.csv",
+                                             "time,arm,criterion,direction\n"
+                                             "2.0000000001,1,upright,-1\n"
+                                             "0.5000000004,2,upright,1\n"
+                                             "1.25,2,approx,1\n"
+                                             "3.5,2,upright,-1\n"),
                                        ref, o);
     EXPECT_FALSE(d.differs) << format_event_comparison(d, o);
 }
@@ -165,15 +188,17 @@ TEST_F(SimulatorCheck, TheFirstDifferenceIsReported) {
         return compare_flip_events(write("cand.csv", text), ref, o);
     };
     // a time beyond the tolerance in the arm-1 stream, a direction in the second arm-2 event
-    const auto c = cand("time,arm,criterion,direction\n0.5,2,upright,1\n1.25,2,approx,1\n"
-                        "2.01,1,upright,-1\n3.5,2,upright,1\n");
+    const auto c = cand(
+        "time,arm,criterion,direction\n0.5,2,upright,1\n1.25,2,approx,1\n"
+        "2.01,1,upright,-1\n3.5,2,upright,1\n");
     ASSERT_TRUE(c.differs);
     EXPECT_NE(c.first_difference.find("arm 1 upright event 1"), std::string::npos)
         << c.first_difference;
     EXPECT_DOUBLE_EQ(c.first_difference_time, 2.0);
     // a missed event: the arm-2 approx stream is empty in the candidate
-    const auto m = cand("time,arm,criterion,direction\n0.5,2,upright,1\n2.0,1,upright,-1\n"
-                        "3.5,2,upright,-1\n");
+    const auto m = cand(
+        "time,arm,criterion,direction\n0.5,2,upright,1\n2.0,1,upright,-1\n"
+        "3.5,2,upright,-1\n");
     ASSERT_TRUE(m.differs);
     EXPECT_NE(m.first_difference.find("approx"), std::string::npos) << m.first_difference;
     EXPECT_NE(m.first_difference.find("candidate none"), std::string::npos);
@@ -187,9 +212,10 @@ TEST_F(SimulatorCheck, TheFirstDifferenceIsReported) {
 }
 
 TEST_F(SimulatorCheck, ReferenceWithStatesNeedsAState) {
-    const auto ref = write("golden.csv", "state,time,arm,criterion,direction,digits\n"
-                                         "s01,0.5,2,upright,1,50\n"
-                                         "s02,0.7,2,upright,-1,50\n");
+    const auto ref = write("golden.csv",
+                           "state,time,arm,criterion,direction,digits\n"
+                           "s01,0.5,2,upright,1,50\n"
+                           "s02,0.7,2,upright,-1,50\n");
     const auto cand = write("cand.csv", "time,arm,criterion,direction\n0.7,2,upright,-1\n");
     event_comparison_options o;
     EXPECT_THROW(compare_flip_events(cand, ref, o), input_error);
@@ -200,12 +226,12 @@ TEST_F(SimulatorCheck, ReferenceWithStatesNeedsAState) {
     o.state = "s99";
     EXPECT_THROW(compare_flip_events(cand, ref, o), input_error);
     o.state = "s02";
-    EXPECT_THROW(compare_flip_events(write("bad.csv", "time,arm,criterion,direction\n0.7,2,"
-                                                      "upright,0\n"),
+    EXPECT_THROW(compare_flip_events(write("bad.csv",
+                                           "time,arm,criterion,direction\n0.7,2,"
+                                           "upright,0\n"),
                                      ref, o),
                  input_error);
-    EXPECT_THROW(compare_flip_events(write("bad2.csv", "time,arm\n0.7,2\n"), ref, o),
-                 input_error);
+    EXPECT_THROW(compare_flip_events(write("bad2.csv", "time,arm\n0.7,2\n"), ref, o), input_error);
 }
 
 TEST(ValidateCommand, TakesExactlyOneMode) {
@@ -215,10 +241,9 @@ TEST(ValidateCommand, TakesExactlyOneMode) {
     EXPECT_EQ(run_flipflux("validate --trajectories " + f + " --reference " + f).status, 0);
     EXPECT_EQ(run_flipflux("validate --trajectories " + f).status, 2);
     EXPECT_EQ(run_flipflux("validate --trajectories " + f + " --ensemble " + f).status, 2);
-    EXPECT_EQ(run_flipflux("validate --trajectories " + f + " --reference " + f +
-                           " --time-tol 0")
-                  .status,
-              2);
+    EXPECT_EQ(
+        run_flipflux("validate --trajectories " + f + " --reference " + f + " --time-tol 0").status,
+        2);
     EXPECT_EQ(run_flipflux("validate --ensemble " + f + " --pilot 1").status, 2);
     const command_result r = run_flipflux("validate --ensemble " + f);
     EXPECT_EQ(r.status, 2) << r.out << r.err;  // an events file has no ensemble columns

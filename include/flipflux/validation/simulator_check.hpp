@@ -5,9 +5,9 @@
 // (any order; optional flips_sq = sum over trajectories of the squared flip count; other columns
 // ignored): M trajectories of length tau, microcanonical at energy E, with N flips in all. The
 // estimator R^ = N / (M tau) is unbiased for R = f / Omega at every tau (the ensemble is invariant
-// under the flow: docs/theory.md, "the estimator"), with Var R^ = Var(N_tau) / (M tau^2). Var(N_tau)
-// is taken from the candidate when it gives flips_sq (the unbiased sample variance of its
-// per-trajectory counts, as `simulate` computes its standard error); otherwise from a pilot
+// under the flow: docs/theory.md, "the estimator"), with Var R^ = Var(N_tau) / (M tau^2).
+// Var(N_tau) is taken from the candidate when it gives flips_sq (the unbiased sample variance of
+// its per-trajectory counts, as `simulate` computes its standard error); otherwise from a pilot
 // ensemble of flipflux's own simulator at (E, tau) with P trajectories, as the upper bound
 // s^2 + 3 sqrt((m4 - s^4) / P) (s^2 the sample variance, m4 the fourth central moment of the
 // pilot's counts: s^2 plus three standard errors of s^2). Not the Poisson value R tau: counts in
@@ -74,7 +74,7 @@ struct event_comparison_options {
 struct event_stream_summary {
     std::string arm, criterion;
     std::size_t candidate = 0, reference = 0, agreeing = 0;  ///< agreeing: leading events
-    double max_time_difference = 0;  ///< over the agreeing events
+    double max_time_difference = 0;                          ///< over the agreeing events
 };
 
 struct event_comparison {
