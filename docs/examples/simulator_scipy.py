@@ -23,6 +23,7 @@ boundary (a bug seen in real simulators; the correct guard is none: solve_ivp re
 the segment where it lies, and a segment's start is not tested).
 
 Usage: simulator_scipy.py [--bug] [--energies 5.5,8] [--trajectories 100] [--time 10] [--seed 1]
+       simulator_scipy.py [--bug] --state TH1,TH2,L1,L2 --time T   (one trajectory's flips)
 """
 import argparse
 import math
@@ -76,19 +77,27 @@ def arm2(_t, y):
     return math.cos(y[1] / 2)
 
 
-def flips(y0, T, bug):
-    counts = [0, 0]
+def flip_events(y0, T, bug, rtol=1e-9):
+    """[(time, arm, direction)] in time order; direction +1 when the angle increases."""
+    events = []
     t, y = 0.0, y0
     while t < T - 1e-12:
         t1 = min(T, t + SEGMENT)
-        s = solve_ivp(rhs, (t, t1), y, method="DOP853", rtol=1e-9, atol=1e-9,
+        s = solve_ivp(rhs, (t, t1), y, method="DOP853", rtol=rtol, atol=rtol,
                       events=(arm1, arm2))
         for i in range(2):
-            times = s.t_events[i]
-            if bug:
-                times = [x for x in times if x - t > GUARD]
-            counts[i] += len(times)
+            for x, state in zip(s.t_events[i], s.y_events[i]):
+                if bug and x - t <= GUARD:
+                    continue
+                events.append((x, i + 1, 1 if rhs(x, state)[i] > 0 else -1))
         t, y = t1, s.y[:, -1]
+    return sorted(events)
+
+
+def flips(y0, T, bug):
+    counts = [0, 0]
+    for _, arm, _ in flip_events(y0, T, bug):
+        counts[arm - 1] += 1
     return counts
 
 
@@ -99,7 +108,15 @@ def main():
     p.add_argument("--trajectories", type=int, default=100)
     p.add_argument("--time", type=float, default=10)
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--state", help="one trajectory from TH1,TH2,L1,L2: print its upright flips "
+                   "(time,arm,criterion,direction) instead of an ensemble")
     a = p.parse_args()
+    if a.state:
+        print("time,arm,criterion,direction")
+        y0 = [float(x) for x in a.state.split(",")]
+        for time, arm, direction in flip_events(y0, a.time, a.bug, rtol=1e-12):
+            print(f"{time!r},{arm},upright,{direction}")
+        return
     rng = np.random.default_rng(a.seed)
     print("criterion,arm,energy,trajectories,time,flips,flips_sq")
     for text in a.energies.split(","):
