@@ -10,7 +10,8 @@ and mp:70) over T = 40 with the upright and approximate criteria of both arms, a
 
 where digits = floor(-log10 |low - high| / max(|high|, 1)) (capped at the low precision's digits):
 the decimal digits certified by the agreement of the two precisions (absolute for values below 1:
-the event time and the state components are O(1)..O(40)). The two runs must list the same events
+the event time and the state components are O(1)..O(40)); each value is the high precision's,
+rounded to those digits. The two runs must list the same events
 (arm, criterion, direction, in order) or the script stops. Raw outputs are cached in --work so an
 interrupted run resumes; run it niced, one trajectory at a time (mp:70 over T = 40 takes ~1 minute).
 
@@ -60,6 +61,14 @@ def digits(low, high, cap):
     return min(cap, int((-d.log10()).to_integral_value(rounding="ROUND_FLOOR")))
 
 
+def rounded(text, d):
+    """The high-precision value rounded to its certified digits (absolute below 1, relative above)."""
+    b = Decimal(text)
+    scale = max(abs(b), Decimal(1))
+    e = -d + int(scale.log10().to_integral_value(rounding="ROUND_FLOOR"))
+    return str(b.quantize(Decimal(1).scaleb(e)))
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--flipflux", required=True)
@@ -87,14 +96,15 @@ def main():
         if [key(e) for e in lo_ev] != [key(e) for e in hi_ev]:
             sys.exit(f"{s['name']}: the events differ between {a.low} and {a.high}")
         for lo, hi in zip(lo_ev, hi_ev):
-            ev_rows.append([s["name"], hi["time"], hi["arm"], hi["criterion"], hi["direction"],
-                            digits(lo["time"], hi["time"], cap)])
+            d = digits(lo["time"], hi["time"], cap)
+            ev_rows.append([s["name"], rounded(hi["time"], d), hi["arm"], hi["criterion"],
+                            hi["direction"], d])
         for lo, hi in zip(lo_st, hi_st):
             if hi["t"] not in SAMPLES:
                 continue
             cols = ("theta1", "theta2", "l1", "l2")
             d = min(digits(lo[c], hi[c], cap) for c in cols)
-            st_rows.append([s["name"], hi["t"]] + [hi[c] for c in cols] + [d])
+            st_rows.append([s["name"], hi["t"]] + [rounded(hi[c], d) for c in cols] + [d])
     with open(os.path.join(a.dir, "events.csv"), "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(["state", "time", "arm", "criterion", "direction", "digits"])
@@ -105,7 +115,7 @@ def main():
         w.writerows(st_rows)
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
     with open(os.path.join(a.dir, "provenance.json"), "w") as f:
-        json.dump({"command": " ".join(sys.argv), "git_commit": commit, "low": a.low, "high": a.high,
+        json.dump({"command": " ".join(sys.argv), "repository_commit": commit, "low": a.low, "high": a.high,
                    "time": TIME, "criteria": CRITERIA, "arms": "both", "route": "reference",
                    "states": [s["name"] for s in states],
                    "flipflux_version": subprocess.run([a.flipflux, "--version"], capture_output=True,
