@@ -15,7 +15,7 @@ struct validate_state {
     std::string candidate, golden = "data/golden", rtol = "1e-12";
     bool allow_missing = false;
     std::string ensemble, pilot = "1000", seed = "1";
-    std::string trajectories, reference, state, time_tol = "1e-6", until = "0";
+    std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
     model_options model;
 };
 
@@ -45,6 +45,11 @@ void validate_trajectories(const validate_state& s) {
         throw input_error("--time-tol: '" + s.time_tol + "' must be positive");
     if (!(o.until >= 0)) throw input_error("--until: '" + s.until + "' must be >= 0");
     o.state = s.state;
+    for (std::size_t pos = 0; pos < s.criteria.size();) {
+        const std::size_t comma = std::min(s.criteria.find(',', pos), s.criteria.size());
+        o.criteria.push_back(s.criteria.substr(pos, comma - pos));
+        pos = comma + 1;
+    }
     const event_comparison c = compare_flip_events(s.trajectories, s.reference, o);
     print(format_event_comparison(c, o));
     if (c.differs) exit_status() = 1;
@@ -82,6 +87,8 @@ const register_command registration([](CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--until", s->until, "compare only events before this time (0: all)")
         ->capture_default_str();
+    sub->add_option("--criteria", s->criteria,
+                    "--trajectories: compare only these criteria (comma-separated; default all)");
     add_model_options(*sub, s->model);
     sub->callback([s] {
         const int modes = !s->candidate.empty() + !s->ensemble.empty() + !s->trajectories.empty();

@@ -274,6 +274,9 @@ std::map<std::pair<std::string, std::string>, std::vector<flip_row>> read_events
             throw input_error(at("direction '" + d + "' is not 1 or -1"));
         const double time = parse_real<double>(r.fields[tc], "time");
         if (o.until > 0 && time >= o.until) continue;
+        if (!o.criteria.empty() &&
+            std::find(o.criteria.begin(), o.criteria.end(), r.fields[cc]) == o.criteria.end())
+            continue;
         out[{r.fields[ac], r.fields[cc]}].push_back({time, d == "-1" ? -1 : 1, r.line});
     }
     if (reference && !o.state.empty() && !found)

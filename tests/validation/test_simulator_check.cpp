@@ -207,6 +207,11 @@ TEST_F(SimulatorCheck, TheFirstDifferenceIsReported) {
     EXPECT_TRUE(x.differs);
     o.until = 3.8;
     EXPECT_FALSE(cand(events + "3.9,2,upright,1\n").differs);
+    // the missing approx stream is not compared when only upright is asked for
+    o.criteria = {"upright"};
+    EXPECT_FALSE(cand("time,arm,criterion,direction\n0.5,2,upright,1\n2.0,1,upright,-1\n"
+                      "3.5,2,upright,-1\n")
+                     .differs);
     const std::string text = format_event_comparison(c, o);
     EXPECT_NE(text.find("first difference"), std::string::npos) << text;
 }

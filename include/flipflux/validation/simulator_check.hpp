@@ -19,7 +19,8 @@
 // reference may have a `state` column (data/golden/trajectories/events.csv), then `state` selects
 // its rows. Events are compared per (arm, criterion) stream, in order: the k-th event of a stream
 // must have the same direction and a time within time_tolerance. Only events before `until` (if
-// > 0) are compared. The first difference (earliest in time over all streams) is reported.
+// > 0), and of the listed criteria (if any), are compared. The first difference (earliest in time
+// over all streams) is reported.
 #pragma once
 
 #include <cstdint>
@@ -69,6 +70,7 @@ struct event_comparison_options {
     double time_tolerance = 1e-6;  ///< absolute, in time units
     double until = 0;              ///< compare events with time < until (0: all)
     std::string state;             ///< the reference rows of this state (reference with `state`)
+    std::vector<std::string> criteria;  ///< compare only these criteria (empty: all)
 };
 
 struct event_stream_summary {
