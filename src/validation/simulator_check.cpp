@@ -340,6 +340,11 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
 std::string format_event_comparison(const event_comparison& c, const event_comparison_options& o) {
     std::string out;
     char buf[512];
+    std::string until;
+    if (o.until > 0) {
+        std::snprintf(buf, sizeof buf, ", before t = %g", o.until);
+        until = buf;
+    }
     std::size_t cand = 0, ref = 0, agree = 0;
     for (const auto& s : c.streams) {
         cand += s.candidate;
@@ -349,8 +354,7 @@ std::string format_event_comparison(const event_comparison& c, const event_compa
     std::snprintf(buf, sizeof buf,
                   "summary: %zu candidate events, %zu reference events, %zu agree (time "
                   "tolerance %g%s) -> %s\n",
-                  cand, ref, agree, o.time_tolerance,
-                  o.until > 0 ? (", before t = " + std::to_string(o.until)).c_str() : "",
+                  cand, ref, agree, o.time_tolerance, until.c_str(),
                   c.differs ? "DIFFER" : "AGREE");
     out += buf;
     if (c.differs) out += "first difference: " + c.first_difference + "\n";
