@@ -2,6 +2,7 @@
 // flipflux validate --ensemble CANDIDATE.csv [--pilot P] [--seed S] [model options]
 // flipflux validate --trajectories CANDIDATE.csv --reference EVENTS.csv [--state NAME]
 //     [--time-tol DT] [--until T]
+#include <cmath>
 #include <iostream>
 
 #include "common.hpp"
