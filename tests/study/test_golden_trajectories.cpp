@@ -31,10 +31,19 @@ TEST(GoldenTrajectories, AreWellFormedAndCertified) {
     const csv_table samples = read_csv(dir + "states.csv");
     std::map<std::string, double> last;  // state -> last event time
     std::map<std::string, int> per_state;
-    const int s = col(events, "state"), t = col(events, "time"), d = col(events, "digits");
+    const int s = col(events, "state"), t = col(events, "time"), d = col(events, "digits"),
+              a = col(events, "arm"), c = col(events, "criterion");
+    int arm1 = 0;
+    double grazing_gap = 1;  // s02: the closest pair of arm-2 upright flips
+    double previous_upright = -1;
     for (const csv_row& r : events.rows) {
         const double time = parse_real<double>(r.fields[t], "time");
         EXPECT_GE(time, last[r.fields[s]]) << "line " << r.line;
+        arm1 += r.fields[a] == "1";
+        if (r.fields[s] == "s02" && r.fields[a] == "2" && r.fields[c] == "upright") {
+            if (previous_upright >= 0) grazing_gap = std::min(grazing_gap, time - previous_upright);
+            previous_upright = time;
+        }
         last[r.fields[s]] = time;
         ++per_state[r.fields[s]];
         EXPECT_GE(std::atoi(r.fields[d].c_str()), 30) << "line " << r.line;
@@ -45,6 +54,8 @@ TEST(GoldenTrajectories, AreWellFormedAndCertified) {
         EXPECT_GE(std::atoi(r.fields[sd].c_str()), 30) << "states.csv line " << r.line;
         ++sampled[r.fields[ss]];
     }
+    EXPECT_GT(arm1, 10);           // both arms flip
+    EXPECT_LT(grazing_gap, 1e-3);  // the grazing flip: two crossings 5.5e-4 apart
     EXPECT_GE(states.rows.size(), 12u);
     for (const csv_row& r : states.rows) {  // every state: t = 10, 20, 40 and some flips
         EXPECT_EQ(sampled[r.fields[0]], 3) << r.fields[0];
