@@ -118,6 +118,7 @@ def main():
         json.dump({"command": " ".join(sys.argv), "repository_commit": commit, "low": a.low, "high": a.high,
                    "time": TIME, "criteria": CRITERIA, "arms": "both", "route": "reference",
                    "states": [s["name"] for s in states],
+                   "flipflux_executable": a.flipflux,
                    "flipflux_version": subprocess.run([a.flipflux, "--version"], capture_output=True,
                                                       text=True).stdout.strip()}, f, indent=2)
         f.write("\n")
