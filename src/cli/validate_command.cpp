@@ -1,7 +1,12 @@
 // flipflux validate CANDIDATE.csv [--golden DIR] [--rtol X] [--allow-missing]
+// flipflux validate --ensemble CANDIDATE.csv [--pilot P] [--seed S] [model options]
+// flipflux validate --trajectories CANDIDATE.csv --reference EVENTS.csv [--state NAME]
+//     [--time-tol DT] [--until T]
+#include <cmath>
 #include <iostream>
 
 #include "common.hpp"
+#include "flipflux/validation/simulator_check.hpp"
 #include "flipflux/validation/validate.hpp"
 
 namespace flipflux::cli {
@@ -10,22 +15,101 @@ namespace {
 struct validate_state {
     std::string candidate, golden, rtol = "1e-12";
     bool allow_missing = false;
+    std::string ensemble, pilot = "1000", seed = "1";
+    std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
+    model_options model;
 };
+
+std::uint64_t parse_count(const std::string& text, const std::string& option) {
+    const double v = parse_real<double>(text, option);
+    if (!(v >= 0 && v < 1e18 && v == std::floor(v)))
+        throw input_error(option + ": '" + text + "' is not a whole number");
+    return static_cast<std::uint64_t>(v);
+}
+
+void validate_ensemble(const validate_state& s) {
+    const double_pendulum<double> model(parse_parameters<double>(s.model));
+    ensemble_check_options o;
+    o.pilot_trajectories = parse_count(s.pilot, "--pilot");
+    o.seed = parse_count(s.seed, "--seed");
+    const ensemble_check_report r = check_simulated_ensemble(model, s.ensemble, o);
+    print(format_ensemble_check(r));
+    if (!r.passed()) exit_status() = 1;
+}
+
+void validate_trajectories(const validate_state& s) {
+    std::string reference = s.reference;
+    if (reference.empty() && !s.state.empty()) {
+        // the reference trajectories of the golden data flipflux was built or installed with
+        const std::filesystem::path golden = find_share_path("golden");
+        if (!golden.empty()) reference = (golden / "trajectories" / "events.csv").string();
+    }
+    if (reference.empty())
+        throw input_error(
+            "--trajectories: needs --reference FILE (or --state NAME of the golden data's "
+            "reference trajectories)");
+    event_comparison_options o;
+    o.time_tolerance = parse_real<double>(s.time_tol, "--time-tol");
+    o.until = parse_real<double>(s.until, "--until");
+    if (!(o.time_tolerance > 0))
+        throw input_error("--time-tol: '" + s.time_tol + "' must be positive");
+    if (!(o.until >= 0)) throw input_error("--until: '" + s.until + "' must be >= 0");
+    o.state = s.state;
+    for (std::size_t pos = 0; pos < s.criteria.size();) {
+        const std::size_t comma = std::min(s.criteria.find(',', pos), s.criteria.size());
+        o.criteria.push_back(s.criteria.substr(pos, comma - pos));
+        pos = comma + 1;
+    }
+    const event_comparison c = compare_flip_events(s.trajectories, reference, o);
+    print(format_event_comparison(c, o));
+    if (c.differs) exit_status() = 1;
+}
 
 const register_command registration([](CLI::App& app) {
     auto s = std::make_shared<validate_state>();
     CLI::App* sub = app.add_subcommand(
         "validate",
         "Compare another implementation's values (CSV: quantity, arm, energy, value) with the "
-        "golden data; exit status 1 when any row fails or cannot be matched (docs/validating.md)");
-    sub->add_option("candidate", s->candidate, "the candidate CSV file")->required();
+        "golden data, a simulator's ensemble flip counts with the predicted rates (--ensemble), "
+        "or its flip events with reference events (--trajectories); exit status 1 when any row "
+        "fails (docs/validating.md)");
+    sub->add_option("candidate", s->candidate, "the candidate CSV file (golden-data values)");
     sub->add_option("--golden", s->golden,
                     "the golden-data directory [default: the installation's, share/flipflux/golden "
                     "beside the executable or in ../share]");
     sub->add_option("--rtol", s->rtol, "relative tolerance per row")->capture_default_str();
     sub->add_flag("--allow-missing", s->allow_missing,
                   "accept a candidate that covers only some energies of a quantity");
+    sub->add_option("--ensemble", s->ensemble,
+                    "a simulator's ensemble results (CSV: criterion, arm, energy, trajectories, "
+                    "time, flips[, flips_sq]) to test against the predicted rates");
+    sub->add_option("--pilot", s->pilot,
+                    "--ensemble rows without flips_sq: trajectories of flipflux's pilot ensemble "
+                    "that bounds the count variance")
+        ->capture_default_str();
+    sub->add_option("--seed", s->seed, "seed of the pilot ensembles")->capture_default_str();
+    sub->add_option("--trajectories", s->trajectories,
+                    "a simulator's flip events (CSV: time, arm, criterion, direction) to compare "
+                    "with --reference");
+    sub->add_option("--reference", s->reference,
+                    "reference events (flipflux trajectory --events, or the golden data's "
+                    "trajectories/events.csv with --state; default with --state: the golden "
+                    "data beside the executable)");
+    sub->add_option("--state", s->state, "the reference trajectory's name (a `state` column)");
+    sub->add_option("--time-tol", s->time_tol, "absolute tolerance of event times")
+        ->capture_default_str();
+    sub->add_option("--until", s->until, "compare only events before this time (0: all)")
+        ->capture_default_str();
+    sub->add_option("--criteria", s->criteria,
+                    "--trajectories: compare only these criteria (comma-separated; default all)");
+    add_model_options(*sub, s->model);
     sub->callback([s] {
+        const int modes = !s->candidate.empty() + !s->ensemble.empty() + !s->trajectories.empty();
+        if (modes != 1)
+            throw input_error(
+                "validate: give exactly one of CANDIDATE, --ensemble FILE, --trajectories FILE");
+        if (!s->ensemble.empty()) return validate_ensemble(*s);
+        if (!s->trajectories.empty()) return validate_trajectories(*s);
         const double rtol = parse_real<double>(s->rtol, "--rtol");
         if (!(rtol > 0 && rtol < 1)) {
             throw input_error("--rtol: '" + s->rtol + "' must be in (0, 1)");

@@ -1,0 +1,373 @@
+// Validating a simulator (validation/simulator_check.hpp, docs/validating.md): its ensemble flip
+// counts against the predicted rates by the exact identity E[N_tau] = tau f / Omega, and its
+// events of one trajectory against reference events.
+#include "flipflux/validation/simulator_check.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/io/csv.hpp"
+#include "flipflux/study/criteria.hpp"
+
+namespace flipflux {
+namespace {
+
+int column(const csv_table& t, const std::string& name) {
+    const auto it = std::find(t.header.begin(), t.header.end(), name);
+    return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
+}
+
+bool parse_count(const std::string& text, std::uint64_t& out) {
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, out);
+    return r.ec == std::errc() && r.ptr == end && !text.empty();
+}
+
+bool parse_positive(const std::string& text, double& out) {
+    if (!is_decimal_number(text)) return false;
+    out = parse_real<double>(text, "value");
+    return std::isfinite(out) && out > 0;
+}
+
+// Var(N_tau) from a pilot ensemble of flipflux's simulator: the sample variance plus three of its
+// standard errors (the fourth central moment's estimate). NOTE: no Poisson floor: the counts are
+// sub-Poisson where flips are regular (rotating arms above E_max: Var N ~ 0.5 E[N] at E = 8).
+struct pilot_key {
+    double energy, time;
+    std::string criterion;
+    arm a;
+    auto operator<=>(const pilot_key&) const = default;
+};
+
+double pilot_variance(const double_pendulum<double>& model, const pilot_key& k,
+                      const ensemble_check_options& o) {
+    ensemble_options e;
+    e.energy = k.energy;
+    e.time = k.time;
+    e.trajectories = o.pilot_trajectories;
+    e.seed = o.seed;
+    e.rtol = o.rtol;
+    e.chaos = false;
+    ensemble_criterion c = make_criterion(model, k.a, k.criterion, k.energy);
+    const ensemble_result r = run_ensemble(model, e, {c});
+    const double P = static_cast<double>(r.trajectories.size());
+    double mean = 0;
+    for (const trajectory_result& t : r.trajectories)
+        mean += static_cast<double>(t.flips(0));
+    mean /= P;
+    double m2 = 0, m4 = 0;
+    for (const trajectory_result& t : r.trajectories) {
+        const double d = static_cast<double>(t.flips(0)) - mean;
+        m2 += d * d;
+        m4 += d * d * d * d;
+    }
+    const double s2 = m2 / (P - 1);
+    m4 /= P;
+    return s2 + 3 * std::sqrt(std::max(m4 - s2 * s2, 0.0) / P);
+}
+
+struct ensemble_columns {
+    int criterion, arm, energy, trajectories, time, flips, flips_sq;
+};
+
+// Reads one row into x (status malformed with a note when it cannot); returns false then.
+bool read_row(const csv_row& row, const csv_table& t, const ensemble_columns& c,
+              ensemble_check_entry& x, std::uint64_t& flips_sq, bool& has_flips_sq) {
+    if (row.fields.size() != t.header.size()) {
+        x.note = "expected " + std::to_string(t.header.size()) + " fields, found " +
+                 std::to_string(row.fields.size());
+        return false;
+    }
+    const auto& f = row.fields;
+    x.criterion = f[c.criterion];
+    x.arm = f[c.arm];
+    x.energy = f[c.energy];
+    if (x.criterion != "upright" && x.criterion != "approx" && x.criterion != "saddle")
+        x.note = "criterion '" + x.criterion + "' is not upright, approx or saddle";
+    else if (x.arm != "1" && x.arm != "2")
+        x.note = "arm '" + x.arm + "' is not 1 or 2";
+    else if (!parse_positive(x.energy, x.simulated))
+        x.note = "energy '" + x.energy + "' is not a positive number";
+    else if (!parse_count(f[c.trajectories], x.trajectories) || x.trajectories < 2)
+        x.note = "trajectories '" + f[c.trajectories] + "' is not a whole number >= 2";
+    else if (!parse_positive(f[c.time], x.time))
+        x.note = "time '" + f[c.time] + "' is not a positive number";
+    else if (!parse_count(f[c.flips], x.flips))
+        x.note = "flips '" + f[c.flips] + "' is not a whole number";
+    has_flips_sq = c.flips_sq >= 0 && !f[c.flips_sq].empty();
+    if (x.note.empty() && has_flips_sq) {
+        const double n = static_cast<double>(x.flips);
+        if (!parse_count(f[c.flips_sq], flips_sq))
+            x.note = "flips_sq '" + f[c.flips_sq] + "' is not a whole number";
+        else if (static_cast<double>(flips_sq) <
+                 std::max(n, n * n / x.trajectories) * (1 - std::numeric_limits<double>::epsilon()))
+            x.note = "flips_sq '" + f[c.flips_sq] +
+                     "' is below max(flips, flips^2 / trajectories): not a sum of squared counts";
+    }
+    return x.note.empty();
+}
+
+void grade(ensemble_check_entry& x, const ensemble_check_options& o) {
+    using status = ensemble_check_entry::status;
+    if (x.standard_error > 0) {
+        x.z = (x.simulated - x.predicted) / x.standard_error;
+    } else {  // no flips possible and none counted: exact agreement or none
+        x.z = x.simulated == x.predicted ? 0 : std::numeric_limits<double>::infinity();
+    }
+    const double a = std::abs(x.z);
+    x.what = a < o.warn_z ? status::pass : a < o.fail_z ? status::warn : status::fail;
+}
+
+}  // namespace
+
+std::size_t ensemble_check_report::count(ensemble_check_entry::status s) const {
+    return static_cast<std::size_t>(
+        std::count_if(entries.begin(), entries.end(), [s](const auto& e) { return e.what == s; }));
+}
+
+bool ensemble_check_report::passed() const {
+    using status = ensemble_check_entry::status;
+    return !entries.empty() && count(status::fail) == 0 && count(status::malformed) == 0 &&
+           count(status::no_prediction) == 0;
+}
+
+ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& model,
+                                               const std::filesystem::path& candidate,
+                                               const ensemble_check_options& options) {
+    using status = ensemble_check_entry::status;
+    if (options.pilot_trajectories < 2)
+        throw input_error::about("pilot", "'" + std::to_string(options.pilot_trajectories) +
+                                              "' must be at least 2 trajectories");
+    const csv_table t = read_csv(candidate);
+    const ensemble_columns c{column(t, "criterion"),    column(t, "arm"),  column(t, "energy"),
+                             column(t, "trajectories"), column(t, "time"), column(t, "flips"),
+                             column(t, "flips_sq")};
+    if (c.criterion < 0 || c.arm < 0 || c.energy < 0 || c.trajectories < 0 || c.time < 0 ||
+        c.flips < 0)
+        throw input_error(candidate.string() +
+                          ":1: the header must name the columns criterion, arm, energy, "
+                          "trajectories, time, flips");
+    ensemble_check_report report;
+    report.options = options;
+    std::map<pilot_key, double> pilots;  // Var(N_tau) per (E, tau, criterion, arm)
+    for (const csv_row& row : t.rows) {
+        ensemble_check_entry x;
+        x.line = row.line;
+        std::uint64_t flips_sq = 0;
+        bool has_flips_sq = false;
+        if (!read_row(row, t, c, x, flips_sq, has_flips_sq)) {
+            report.entries.push_back(x);
+            continue;
+        }
+        const double E = x.simulated, M = static_cast<double>(x.trajectories);
+        const arm a = x.arm == "1" ? arm::one : arm::two;
+        try {
+            const auto p = criterion_prediction(model, a, x.criterion, E);
+            if (!p) throw input_error("no registered rate");
+            x.predicted = static_cast<double>(p->value);
+        } catch (const std::exception& e) {
+            x.what = status::no_prediction;
+            x.note = e.what();
+            report.entries.push_back(x);
+            continue;
+        }
+        x.simulated = static_cast<double>(x.flips) / (M * x.time);
+        double variance = 0;  // of one trajectory's count N_tau
+        if (has_flips_sq) {
+            const double n = static_cast<double>(x.flips);
+            variance = (static_cast<double>(flips_sq) - n * n / M) / (M - 1);
+            x.variance = "candidate";
+        } else if (x.predicted == 0) {  // at or below the arm's saddle energy: no flip possible
+            x.variance = "none";
+        } else {
+            const pilot_key k{E, x.time, x.criterion, a};
+            try {
+                if (!pilots.count(k)) pilots[k] = pilot_variance(model, k, options);
+            } catch (const input_error& e) {
+                x.what = status::no_prediction;
+                x.note = std::string("no pilot ensemble: ") + e.what();
+                report.entries.push_back(x);
+                continue;
+            }
+            variance = pilots[k];
+            x.variance = "pilot " + std::to_string(options.pilot_trajectories);
+        }
+        x.standard_error = std::sqrt(std::max(variance, 0.0) / M) / x.time;
+        grade(x, options);
+        report.entries.push_back(x);
+    }
+    return report;
+}
+
+std::string format_ensemble_check(const ensemble_check_report& r) {
+    using status = ensemble_check_entry::status;
+    std::string out;
+    char buf[768];
+    std::snprintf(buf, sizeof buf,
+                  "summary: %zu rows: %zu pass, %zu warn, %zu FAIL, %zu malformed, %zu "
+                  "no-prediction (pass |z| < %g, warn |z| < %g) -> %s\n",
+                  r.entries.size(), r.count(status::pass), r.count(status::warn),
+                  r.count(status::fail), r.count(status::malformed), r.count(status::no_prediction),
+                  r.options.warn_z, r.options.fail_z, r.passed() ? "PASSED" : "FAILED");
+    out += buf;
+    std::snprintf(buf, sizeof buf, "%-5s %-13s %-8s %-3s %-8s %-13s %-13s %-11s %-8s %-10s %s\n",
+                  "line", "status", "crit.", "arm", "energy", "simulated", "predicted", "std.error",
+                  "z", "variance", "note");
+    out += buf;
+    for (const auto& e : r.entries) {
+        if (e.what == status::malformed || e.what == status::no_prediction) {
+            std::snprintf(buf, sizeof buf, "%-5d %-13s %-8s %-3s %-8s %s\n", e.line,
+                          to_string(e.what).c_str(), e.criterion.c_str(), e.arm.c_str(),
+                          e.energy.c_str(), e.note.c_str());
+        } else {
+            std::snprintf(buf, sizeof buf,
+                          "%-5d %-13s %-8s %-3s %-8s %-13.8f %-13.8f %-11.3e %+-8.2f %-10s %s\n",
+                          e.line, to_string(e.what).c_str(), e.criterion.c_str(), e.arm.c_str(),
+                          e.energy.c_str(), e.simulated, e.predicted, e.standard_error, e.z,
+                          e.variance.c_str(), e.note.c_str());
+        }
+        out += buf;
+    }
+    return out;
+}
+
+namespace {
+
+struct flip_row {
+    double time;
+    int direction;
+    int line;
+};
+
+// (arm, criterion) -> events in file order; rows of `state` only when the file has that column.
+std::map<std::pair<std::string, std::string>, std::vector<flip_row>> read_events(
+    const std::filesystem::path& file, const event_comparison_options& o, bool reference) {
+    const csv_table t = read_csv(file);
+    const int tc = column(t, "time"), ac = column(t, "arm"), cc = column(t, "criterion"),
+              dc = column(t, "direction"), sc = column(t, "state");
+    if (tc < 0 || ac < 0 || cc < 0 || dc < 0)
+        throw input_error(file.string() +
+                          ":1: the header must name the columns time, arm, criterion, direction");
+    if (reference && sc >= 0 && o.state.empty())
+        throw input_error::about("state", "the reference '" + file.string() +
+                                              "' lists several trajectories: choose one");
+    std::map<std::pair<std::string, std::string>, std::vector<flip_row>> out;
+    bool found = false;
+    for (const csv_row& r : t.rows) {
+        const auto at = [&](const std::string& what) {
+            return file.string() + ":" + std::to_string(r.line) + ": " + what;
+        };
+        if (r.fields.size() != t.header.size()) throw input_error(at("wrong number of fields"));
+        if (sc >= 0 && !o.state.empty() && r.fields[sc] != o.state) continue;
+        found = true;
+        const std::string& d = r.fields[dc];
+        if (!is_decimal_number(r.fields[tc]))
+            throw input_error(at("time '" + r.fields[tc] + "' is not a number"));
+        if (d != "1" && d != "-1" && d != "+1")
+            throw input_error(at("direction '" + d + "' is not 1 or -1"));
+        const double time = parse_real<double>(r.fields[tc], "time");
+        if (o.until > 0 && time >= o.until) continue;
+        if (!o.criteria.empty() &&
+            std::find(o.criteria.begin(), o.criteria.end(), r.fields[cc]) == o.criteria.end())
+            continue;
+        out[{r.fields[ac], r.fields[cc]}].push_back({time, d == "-1" ? -1 : 1, r.line});
+    }
+    if (reference && !o.state.empty() && !found)
+        throw input_error::about("state",
+                                 "'" + o.state + "' has no rows in '" + file.string() + "'");
+    return out;
+}
+
+std::string describe(const flip_row* r) {
+    if (!r) return "none";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "t = %.17g, direction %+d (line %d)", r->time, r->direction,
+                  r->line);
+    return buf;
+}
+
+}  // namespace
+
+event_comparison compare_flip_events(const std::filesystem::path& candidate,
+                                     const std::filesystem::path& reference,
+                                     const event_comparison_options& o) {
+    if (!(o.time_tolerance > 0)) throw input_error::about("time-tol", "must be positive");
+    const auto cand = read_events(candidate, o, false), ref = read_events(reference, o, true);
+    std::map<std::pair<std::string, std::string>, int> keys;
+    for (const auto& [k, v] : cand)
+        keys[k] = 0;
+    for (const auto& [k, v] : ref)
+        keys[k] = 0;
+    event_comparison out;
+    out.first_difference_time = std::numeric_limits<double>::infinity();
+    static const std::vector<flip_row> none;
+    for (const auto& [k, unused] : keys) {
+        const auto ci = cand.find(k), ri = ref.find(k);
+        const std::vector<flip_row>& c = ci == cand.end() ? none : ci->second;
+        const std::vector<flip_row>& r = ri == ref.end() ? none : ri->second;
+        event_stream_summary s{k.first, k.second, c.size(), r.size(), 0, 0};
+        std::size_t i = 0;
+        for (; i < std::min(c.size(), r.size()); ++i) {
+            const double dt = std::abs(c[i].time - r[i].time);
+            if (c[i].direction != r[i].direction || !(dt <= o.time_tolerance)) break;
+            s.max_time_difference = std::max(s.max_time_difference, dt);
+        }
+        s.agreeing = i;
+        out.streams.push_back(s);
+        if (i == c.size() && i == r.size()) continue;
+        const flip_row* cr = i < c.size() ? &c[i] : nullptr;
+        const flip_row* rr = i < r.size() ? &r[i] : nullptr;
+        const double when = std::min(cr ? cr->time : std::numeric_limits<double>::infinity(),
+                                     rr ? rr->time : std::numeric_limits<double>::infinity());
+        out.differs = true;
+        if (when < out.first_difference_time) {
+            out.first_difference_time = when;
+            out.first_difference = "arm " + k.first + " " + k.second + " event " +
+                                   std::to_string(i + 1) + ": candidate " + describe(cr) +
+                                   "; reference " + describe(rr);
+        }
+    }
+    return out;
+}
+
+std::string format_event_comparison(const event_comparison& c, const event_comparison_options& o) {
+    std::string out;
+    char buf[512];
+    std::string until;
+    if (o.until > 0) {
+        std::snprintf(buf, sizeof buf, ", before t = %g", o.until);
+        until = buf;
+    }
+    std::size_t cand = 0, ref = 0, agree = 0;
+    for (const auto& s : c.streams) {
+        cand += s.candidate;
+        ref += s.reference;
+        agree += s.agreeing;
+    }
+    std::snprintf(buf, sizeof buf,
+                  "summary: %zu candidate events, %zu reference events, %zu agree (time "
+                  "tolerance %g%s) -> %s\n",
+                  cand, ref, agree, o.time_tolerance, until.c_str(),
+                  c.differs ? "DIFFER" : "AGREE");
+    out += buf;
+    if (c.differs) out += "first difference: " + c.first_difference + "\n";
+    std::snprintf(buf, sizeof buf, "%-4s %-9s %-10s %-10s %-9s %s\n", "arm", "criterion",
+                  "candidate", "reference", "agreeing", "max |dt| (agreeing)");
+    out += buf;
+    for (const auto& s : c.streams) {
+        std::snprintf(buf, sizeof buf, "%-4s %-9s %-10zu %-10zu %-9zu %.3e\n", s.arm.c_str(),
+                      s.criterion.c_str(), s.candidate, s.reference, s.agreeing,
+                      s.max_time_difference);
+        out += buf;
+    }
+    return out;
+}
+
+}  // namespace flipflux
