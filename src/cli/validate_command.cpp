@@ -6,8 +6,10 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "flipflux/study/criteria.hpp"
 #include "flipflux/validation/simulator_check.hpp"
 #include "flipflux/validation/validate.hpp"
+#include "simulate_request.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -20,18 +22,11 @@ struct validate_state {
     model_options model;
 };
 
-std::uint64_t parse_count(const std::string& text, const std::string& option) {
-    const double v = parse_real<double>(text, option);
-    if (!(v >= 0 && v < 1e18 && v == std::floor(v)))
-        throw input_error(option + ": '" + text + "' is not a whole number");
-    return static_cast<std::uint64_t>(v);
-}
-
 void validate_ensemble(const validate_state& s) {
     const double_pendulum<double> model(parse_parameters<double>(s.model));
     ensemble_check_options o;
-    o.pilot_trajectories = parse_count(s.pilot, "--pilot");
-    o.seed = parse_count(s.seed, "--seed");
+    o.pilot_trajectories = parse_unsigned(s.pilot, "--pilot", true);
+    o.seed = parse_unsigned(s.seed, "--seed", false);
     const ensemble_check_report r = check_simulated_ensemble(model, s.ensemble, o);
     print(format_ensemble_check(r));
     if (!r.passed()) exit_status() = 1;
@@ -58,6 +53,7 @@ void validate_trajectories(const validate_state& s) {
     for (std::size_t pos = 0; pos < s.criteria.size();) {
         const std::size_t comma = std::min(s.criteria.find(',', pos), s.criteria.size());
         o.criteria.push_back(s.criteria.substr(pos, comma - pos));
+        check_criterion_name(o.criteria.back());  // a typo would compare nothing and pass
         pos = comma + 1;
     }
     const event_comparison c = compare_flip_events(s.trajectories, reference, o);

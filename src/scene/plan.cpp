@@ -131,6 +131,13 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
     // the short estimator spends trajectories x time on trajectories of simulation_request's
     // default short_time
     double n = static_cast<double>(x.trajectories);
+    // (the simulation refuses a short time longer than the time: so does the plan, before the
+    // scene's other steps run)
+    if (x.estimator == "short" &&
+        parse_real<double>(x.time, key + ".time") < simulation_request{}.short_time)
+        fail(s, x.line, key + ".time",
+             "'" + x.time + "' is shorter than the short estimator's trajectories (" +
+                 to_decimal(simulation_request{}.short_time) + "): use estimator = \"long\"");
     if (x.estimator == "short")
         n = std::ceil(n * parse_real<double>(x.time, key + ".time") /
                       simulation_request{}.short_time);

@@ -7,7 +7,9 @@
 #include <stdexcept>
 
 #include "flipflux/core/constants.hpp"
+#include "flipflux/core/convert.hpp"
 #include "flipflux/core/instantiate.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
@@ -228,6 +230,9 @@ trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
     detail::check_trajectory_request(q);
     trajectory_record<Real> out;
     out.energy = model.hamiltonian(q.state);
+    // the same work bound as the ensemble route: a trajectory that could not finish is refused
+    check_trajectory_work(double_pendulum<double>(convert_parameters<double>(model.parameters())),
+                          static_cast<double>(out.energy), static_cast<double>(q.time), "time");
     const std::vector<curve_at<Real>> list = curves(model, q, out.energy, out.skipped);
     const auto [stages, steps] = stages_and_steps(model, out.energy, q.time);
     out.route = "gauss-legendre (" + std::to_string(stages) + " stages, " + std::to_string(steps) +

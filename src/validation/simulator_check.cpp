@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <vector>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/io/csv.hpp"
 #include "flipflux/study/criteria.hpp"
@@ -55,16 +57,26 @@ double pilot_variance(const double_pendulum<double>& model, const pilot_key& k,
     e.seed = o.seed;
     e.rtol = o.rtol;
     e.chaos = false;
+    // a trajectory that could not finish is refused before minutes of integration (the
+    // candidate's time comes from its file)
+    check_trajectory_work(model, k.energy, k.time, "time");
     ensemble_criterion c = make_criterion(model, k.a, k.criterion, k.energy);
     const ensemble_result r = run_ensemble(model, e, {c});
-    const double P = static_cast<double>(r.trajectories.size());
-    double mean = 0;
+    // failed trajectories (stopped before T) are not data, as in every other statistic
+    std::vector<double> counts;
     for (const trajectory_result& t : r.trajectories)
-        mean += static_cast<double>(t.flips(0));
+        if (t.status == rk_status::ok && !t.abandoned)
+            counts.push_back(static_cast<double>(t.flips(0)));
+    if (counts.size() < 2)
+        throw input_error::about("pilot", "fewer than 2 of its trajectories finished");
+    const double P = static_cast<double>(counts.size());
+    double mean = 0;
+    for (const double n : counts)
+        mean += n;
     mean /= P;
     double m2 = 0, m4 = 0;
-    for (const trajectory_result& t : r.trajectories) {
-        const double d = static_cast<double>(t.flips(0)) - mean;
+    for (const double n : counts) {
+        const double d = n - mean;
         m2 += d * d;
         m4 += d * d * d * d;
     }
@@ -145,6 +157,10 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
     if (options.pilot_trajectories < 2)
         throw input_error::about("pilot", "'" + std::to_string(options.pilot_trajectories) +
                                               "' must be at least 2 trajectories");
+    // the pilot holds one result per trajectory (flip times included): ~1 KB each, at least
+    check_memory("pilot", std::to_string(options.pilot_trajectories),
+                 1024.0 * static_cast<double>(options.pilot_trajectories),
+                 "the pilot ensemble's trajectories");
     const csv_table t = read_csv(candidate);
     const ensemble_columns c{column(t, "criterion"),    column(t, "arm"),  column(t, "energy"),
                              column(t, "trajectories"), column(t, "time"), column(t, "flips"),
@@ -180,9 +196,14 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
         }
         x.simulated = static_cast<double>(x.flips) / (M * x.time);
         double variance = 0;  // of one trajectory's count N_tau
-        if (has_flips_sq) {
-            const double n = static_cast<double>(x.flips);
-            variance = (static_cast<double>(flips_sq) - n * n / M) / (M - 1);
+        const double n = static_cast<double>(x.flips);
+        const double own =
+            has_flips_sq ? (static_cast<double>(flips_sq) - n * n / M) / (M - 1) : 0.0;
+        // NOTE: a zero sample variance (every trajectory with the same count: a regularly
+        // rotating arm, a short time) says nothing about the count's true variance; the pilot's
+        // bound is used then, as without flips_sq
+        if (has_flips_sq && own > 0) {
+            variance = own;
             x.variance = "candidate";
         } else if (x.predicted == 0) {  // at or below the arm's saddle energy: no flip possible
             x.variance = "none";

@@ -110,6 +110,23 @@ TEST(LimitsCommand, TrajectoriesThatCouldNotFinishAreRefused) {
                    {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
     expect_refused("trajectory --state 0,3,0,0 --time 1e300 --criteria upright --route ensemble",
                    {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+    // the reference route (quad, mp:N) too: it ran forever (review of issue 20's merge)
+    expect_refused("trajectory --state 0,3,0,0 --time 1e300 --criteria upright --route reference",
+                   {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+    expect_refused("trajectory --state 0,3,0,0 --time 1e300 --criteria upright --precision quad",
+                   {"--time: T = 1.0000000000000001e+300 at E = ", "turns of the arms"});
+    // validate --ensemble's pilot ensemble runs at the candidate's time: a row with T = 1e300
+    // ran forever; it is a no-prediction row now (exit 1), and an absurd --pilot is refused
+    const std::string candidate =
+        ::testing::TempDir() + "flipflux_limits_ensemble_" + std::to_string(getpid()) + ".csv";
+    std::ofstream(candidate) << "criterion,arm,energy,trajectories,time,flips\n"
+                                "upright,2,5,1000,1e300,5\n";
+    const test::command_result r = test::run_flipflux("validate --ensemble " + candidate);
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("turns of the arms"), std::string::npos) << r.out;
+    expect_refused("validate --ensemble " + candidate + " --pilot 100000000000000000",
+                   {"--pilot", "memory"});
+    std::remove(candidate.c_str());
 }
 
 // Issue 20: an output path that is a file's child, or a directory, ended in "internal error:

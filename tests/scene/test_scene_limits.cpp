@@ -134,5 +134,14 @@ TEST(SceneLimits, OutputDirectoriesThatCannotBeWrittenAreRefusedBeforeComputing)
     std::filesystem::remove_all(dir);
 }
 
+// Review of issue 20's merge: a short-estimator ensemble whose time is below the short
+// trajectories' length passed the dry run, then failed after the scene's earlier steps had run.
+TEST(SceneLimits, ShortEstimatorWithATimeBelowItsTrajectoriesIsRefusedInThePlan) {
+    expect_refused(head + "[[ensemble]]\nenergies = [5]\nestimator = \"short\"\ntime = 10\n",
+                   "s.toml:4: ensemble[0].time: '10' is shorter than the short estimator's");
+    EXPECT_EQ(refusal(head + "[[ensemble]]\nenergies = [5]\nestimator = \"short\"\ntime = 40\n"),
+              "");
+}
+
 }  // namespace
 }  // namespace flipflux::test
