@@ -19,11 +19,11 @@ printf '1.5\n1.50000001' >"$seeds/decimal/1"; printf -- '-2.5e-300\n0' >"$seeds/
 printf '3.14159265358979323846264338327950288419716939937510' >"$seeds/decimal/3"
 cp data/golden/*.csv "$seeds/golden/"
 head -5 data/golden/golden.csv >"$seeds/candidate/1"
-find tests data docs -name '*.checkpoint' -exec cp {} "$seeds/checkpoint/" \; 2>/dev/null || true
-printf '{"format":3}\n' >"$seeds/checkpoint/1"
-find "${FLIPFLUX_CACHE_DIR:-$HOME/.cache/flipflux}" -name 'E*.json' 2>/dev/null | head -20 |
-    xargs -r cp -t "$seeds/orbit_cache/"
-printf '{"format":3,"precision":"double","arm":"2","energy":"3"}' >"$seeds/orbit_cache/1"
+# fuzz/seeds/: a checkpoint of a finished two-energy run and saddle-orbit cache records (double,
+# both arms), as flipflux wrote them.
+for t in "${targets[@]}"; do
+    if [ -d "fuzz/seeds/$t" ]; then cp fuzz/seeds/"$t"/* "$seeds/$t/"; fi
+done
 # UBSan reports end the run (a crash), as ASan errors do.
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}
 status=0
