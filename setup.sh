@@ -3,7 +3,8 @@
 #
 #   bash setup.sh main    install, build the command-line tool (release), run the default scene
 #   bash setup.sh test    install, format check, one instrumented build (ASan+UBSan and coverage at
-#                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %)
+#                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %),
+#                         the libFuzzer targets built (clang-14) and run 8 s each (tools/fuzz.sh)
 #   bash setup.sh verify  install, release build, the verification suite with the checks too slow
 #                         for CI (high precisions); writes docs/verification.md
 #   bash setup.sh deps    install only (idempotent: apt-get runs only when a package is missing)
@@ -19,6 +20,7 @@ PACKAGES=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev
   libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath python3-scipy
   pybind11-dev python3-dev python3-numpy python3-pytest
+  clang-14 libclang-rt-14-dev libomp-14-dev
 )
 
 install_deps() {
@@ -93,6 +95,11 @@ ci_tests() {
   echo "coverage gate passed: lines $pct% >= $COVERAGE_GATE%"
 }
 
+fuzz_check() {  # every reader of outside data under libFuzzer (fuzz/): a crash fails CI
+  echo "== fuzz targets (clang-14, libFuzzer + ASan + UBSan), 8 s each"
+  FLIPFLUX_FUZZ_JOBS=$JOBS bash tools/fuzz.sh 8
+}
+
 run_verify() {
   echo "== release build and the verification suite (docs/verification.md)"
   build release
@@ -116,7 +123,8 @@ case "${1:-}" in
   test)
     install_deps
     format_check
-    ci_tests ;;
+    ci_tests
+    fuzz_check ;;
   verify)
     install_deps
     run_verify ;;

@@ -19,16 +19,28 @@ printf '1.5\n1.50000001' >"$seeds/decimal/1"; printf -- '-2.5e-300\n0' >"$seeds/
 printf '3.14159265358979323846264338327950288419716939937510' >"$seeds/decimal/3"
 cp data/golden/*.csv "$seeds/golden/"
 head -5 data/golden/golden.csv >"$seeds/candidate/1"
-find tests data docs -name '*.checkpoint' -exec cp {} "$seeds/checkpoint/" \; 2>/dev/null || true
-printf '{"format":3}\n' >"$seeds/checkpoint/1"
-find "${FLIPFLUX_CACHE_DIR:-$HOME/.cache/flipflux}" -name 'E*.json' 2>/dev/null | head -20 |
-    xargs -r cp -t "$seeds/orbit_cache/"
-printf '{"format":3,"precision":"double","arm":"2","energy":"3"}' >"$seeds/orbit_cache/1"
+# fuzz/seeds/: a checkpoint of a finished two-energy run and saddle-orbit cache records (double,
+# both arms), as flipflux wrote them.
+for t in "${targets[@]}"; do
+    if [ -d "fuzz/seeds/$t" ]; then cp fuzz/seeds/"$t"/* "$seeds/$t/"; fi
+done
+# UBSan reports end the run (a crash), as ASan errors do.
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}
 status=0
 for t in "${targets[@]}"; do
-    echo "fuzz_$t: ${seconds}s"
-    (cd "build/fuzz/findings/$t" &&
-        ../../fuzz/fuzz_"$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-            -print_final_stats=1 "../../seeds/$t" 2>&1 | tail -3) || status=1
+    dir=build/fuzz/findings/$t
+    rm -rf "$dir/tmp" && mkdir -p "$dir/tmp"
+    # TMPDIR: the candidate and golden targets write their files there (removed below).
+    if (cd "$dir" && TMPDIR=$PWD/tmp ../../fuzz/fuzz_"$t" -max_total_time="$seconds" -timeout=10 \
+        -rss_limit_mb=2048 -print_final_stats=1 "../../seeds/$t" >log 2>&1); then
+        echo "fuzz_$t: ${seconds}s, $(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log" |
+            grep -o '[0-9]*$') inputs, no crash"
+    else
+        echo "fuzz_$t: FAILED (input and report in $dir/):" >&2
+        grep -A30 -m1 -E '^==[0-9]+==ERROR|runtime error|deadly signal|Timeout|out-of-memory' \
+            "$dir/log" | head -40 >&2
+        status=1
+    fi
+    rm -rf "$dir/tmp"
 done
 exit $status
