@@ -60,7 +60,7 @@ template <class Real>
 evaluation evaluate_text(const golden_task& t, const std::string& method) {
     try {
         const double_pendulum<Real> model;
-        const Real energy = parse_real<Real>(t.energy, "energy");
+        const energy_level<Real> energy = parse_energy_level<Real>(t.energy, "energy");
         const quantity_value<Real> v = t.q->evaluate(model, t.a, energy, method);
         return {to_decimal(v.value), v.method, ""};
     } catch (const input_error& e) {
