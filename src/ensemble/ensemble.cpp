@@ -19,6 +19,15 @@
 
 namespace flipflux {
 
+std::string rtol_problem(double rtol, const std::string& text) {
+    const std::string shown = text.empty() ? to_decimal(rtol) : text;
+    if (!(rtol > 0) || !(rtol <= 0.1)) return "'" + shown + "' is invalid (must be in (0, 0.1])";
+    if (rtol < min_rtol)
+        return "'" + shown + "' is below what double precision can meet (at least 100 eps = " +
+               to_decimal(min_rtol) + ")";
+    return {};
+}
+
 void validate(const ensemble_options& o) {
     if (o.trajectories == 0)
         throw input_error::about("trajectories",
@@ -27,14 +36,7 @@ void validate(const ensemble_options& o) {
         throw input_error::about("time",
                                  "'" + to_decimal(o.time) +
                                      "' is invalid (the integration time must be finite and > 0)");
-    if (!(o.rtol > 0) || !(o.rtol <= 0.1))
-        throw input_error::about("rtol",
-                                 "'" + to_decimal(o.rtol) + "' is invalid (must be in (0, 0.1])");
-    if (o.rtol < min_rtol)
-        throw input_error::about("rtol", "'" + to_decimal(o.rtol) +
-                                             "' is below what double precision can meet (at "
-                                             "least 100 eps = " +
-                                             to_decimal(min_rtol) + ")");
+    if (const std::string p = rtol_problem(o.rtol); !p.empty()) throw input_error::about("rtol", p);
     if (o.atol < 0 || !std::isfinite(o.atol))
         throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))

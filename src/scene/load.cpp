@@ -316,15 +316,8 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
         r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
     }
-    const double rtol = parse_real<double>(x.rtol, "rtol");
-    if (!(rtol > 0 && rtol < 1)) {
-        r.fail(r.get("rtol"), "rtol", "'" + x.rtol + "' must be in (0, 1)");
-    }
-    if (rtol < min_rtol) {
-        r.fail(r.get("rtol"), "rtol",
-               "'" + x.rtol + "' is below what double precision can meet (at least 100 eps = " +
-                   to_decimal(min_rtol) + ")");
-    }
+    if (const std::string p = rtol_problem(parse_real<double>(x.rtol, "rtol"), x.rtol); !p.empty())
+        r.fail(r.get("rtol"), "rtol", p);
     r.finish();
     return x;
 }

@@ -17,11 +17,7 @@ namespace flipflux {
 trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& model,
                                               const trajectory_request<double>& q) {
     detail::check_trajectory_request(q);
-    if (q.rtol < min_rtol)
-        throw input_error::about("rtol", "'" + to_decimal(q.rtol) +
-                                             "' is below what double precision can meet (at "
-                                             "least 100 eps = " +
-                                             to_decimal(min_rtol) + ")");
+    if (const std::string p = rtol_problem(q.rtol); !p.empty()) throw input_error::about("rtol", p);
     trajectory_record<double> out;
     out.energy = model.hamiltonian(q.state);
     check_trajectory_work(model, out.energy, q.time, "time");

@@ -60,6 +60,12 @@ inline constexpr double default_chaos_threshold = 0.05;
 /// without end (Hairer's codes refuse rtol <= 10 eps; the margin keeps runs finite in time).
 inline constexpr double min_rtol = 100 * std::numeric_limits<double>::epsilon();
 
+/// Why `rtol` cannot drive the ensemble's integrator, or "" when it can: the one rule of
+/// simulate, trajectory (at double) and scenes (so a dry run refuses what the run would).
+/// "'RTOL' is invalid (must be in (0, 0.1])" or "'RTOL' is below what double precision can meet
+/// (at least 100 eps = ...)", RTOL the user's text when given.
+std::string rtol_problem(double rtol, const std::string& text = "");
+
 struct ensemble_options {
     double energy = 0;
     std::uint64_t trajectories = 0;  ///< how many (> 0)
