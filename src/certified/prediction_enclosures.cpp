@@ -1,0 +1,585 @@
+// Enclosures of Omega(E) and f1(E) (docs/certified.md has the derivations).
+//
+// Omega = 2 [ th_full 8 pi sqrt(D0) E(m) + 2 pi sqrt(D0) int_{th_full}^{th_edge} F(th1) dth1 ],
+//     F(th1) = E(t2 + th1 | m) + E(t2 - th1 | m),   m = -C^2/D0,
+// with t2(th1) the half-width of the allowed th2 interval (2 beta sin^2(t2/2) = E - 2 alpha
+// sin^2(th1/2)); Omega = 16 pi^2 sqrt(D0) E(m) for E >= E_max. The integrand has square-root
+// branch points at th_full (t2 = pi) and th_edge (t2 = 0); there th1 = th_full + u^2 and
+// th1 = th_edge - u^2 make it holomorphic in u (the square roots are factored as u times the
+// square root of a function that does not vanish), and the middle piece is integrated in th1.
+// E(phi | m) is evaluated from sin phi and cos phi, reduced by k quarter periods to |x| <= pi/4:
+//     k even: E(phi) = k E(m) + E(x | m),
+//     k odd:  E(phi) = k E(m) + sqrt(1 - m) E(x | m / (m - 1)),
+// each E(x | .) by Carlson's form s R_F(c^2, 1 - m s^2, 1) - (m/3) s^3 R_D(c^2, 1 - m s^2, 1),
+// holomorphic while c^2 and 1 - m s^2 keep positive real parts (checked on every ball).
+//
+// f1 (either arm; J, w, E_s as in prediction/upright_flux.hpp, E_max = E_s + 2w, p = delta/(2w)):
+//     E_s < E < E_max:  f1 = 32 sqrt(J w) [E(p) - (1 - p) K(p)]
+//     E >= E_max:       f1 = 16 sqrt(2 J delta) E(2w / delta)
+// Both Omega and f1 are non-decreasing in E: an energy ball that straddles a kink (a saddle
+// energy, E_max) is enclosed by the union of the enclosures at two exact energies on either side.
+#include "prediction_enclosures.hpp"
+
+#include <acb_calc.h>
+#include <acb_elliptic.h>
+#include <arb_hypgeom.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <vector>
+
+#include "flipflux/certified/enclosure.hpp"
+#include "flipflux/core/error.hpp"
+
+namespace flipflux::certified_detail {
+
+std::string take_arb_string(char* s) {
+    std::string out(s);
+    flint_free(s);
+    return out;
+}
+
+namespace {
+
+/// A ball that avoids the branch cut (-inf, 0] of sqrt, log and Carlson's integrals: its real part
+/// is positive.
+bool right_half_plane(const acb_t z) {
+    return arb_is_positive(acb_realref(z));
+}
+
+/// E(x | m) by Carlson's form from s = sin x, c = cos x (|Re x| < pi/2); false when a ball leaves
+/// the region where the form is holomorphic (then res is undefined).
+bool carlson_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong prec) {
+    acb_ball c2, delta, one, rf, rd, t;
+    acb_sqr(c2.x, c, prec);
+    acb_sqr(delta.x, s, prec);
+    acb_mul_arb(delta.x, delta.x, m, prec);
+    acb_sub_si(delta.x, delta.x, 1, prec);
+    acb_neg(delta.x, delta.x);  // 1 - m s^2
+    if (!right_half_plane(c) || !right_half_plane(c2.x) || !right_half_plane(delta.x)) return false;
+    acb_one(one.x);
+    acb_elliptic_rf(rf.x, c2.x, delta.x, one.x, 0, prec);
+    acb_elliptic_rj(rd.x, c2.x, delta.x, one.x, one.x, 0, prec);  // R_D(x, y, 1) = R_J(x, y, 1, 1)
+    acb_mul(res, s, rf.x, prec);
+    acb_pow_ui(t.x, s, 3, prec);
+    acb_mul(t.x, t.x, rd.x, prec);
+    acb_mul_arb(t.x, t.x, m, prec);
+    acb_div_ui(t.x, t.x, 3, prec);
+    acb_sub(res, res, t.x, prec);
+    return true;
+}
+
+/// The constants of the phase-volume integrand.
+struct volume_constants {
+    arb_ball m, m_conj, sqrt_one_minus_m, complete_e;  // m = -C^2/D0, m/(m-1), sqrt(1-m), E(m)
+};
+
+/// E(x | m) from s = sin x and c = cos x (|Re x| < pi/2) on a wide ball, where Carlson's
+/// duplication overflows: E(x | m) = x int_0^1 g(t x) dt, g(v) = sqrt(1 - m sin^2 v), lies in
+/// x g(V) for V the rectangle hull of 0 and x (convex, so it contains every segment [0, x'] and
+/// g(V) the mean value). x = atan(s / c), holomorphic while s / c avoids the cuts +-i[1, inf).
+bool bounded_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong prec) {
+    if (!right_half_plane(c)) return false;
+    acb_ball ratio, x, zero, hull, g;
+    acb_div(ratio.x, s, c, prec);
+    arb_ball im;
+    arb_abs(im.x, acb_imagref(ratio.x));
+    arb_sub_ui(im.x, im.x, 1, prec);
+    if (arb_contains_zero(acb_realref(ratio.x)) && !arb_is_negative(im.x)) return false;
+    acb_atan(x.x, ratio.x, prec);
+    acb_zero(zero.x);
+    acb_union(hull.x, zero.x, x.x, prec);
+    acb_sin(g.x, hull.x, prec);
+    acb_sqr(g.x, g.x, prec);
+    acb_mul_arb(g.x, g.x, m, prec);
+    acb_sub_si(g.x, g.x, 1, prec);
+    acb_neg(g.x, g.x);
+    if (!right_half_plane(g.x)) return false;
+    acb_sqrt(g.x, g.x, prec);
+    acb_mul(res, x.x, g.x, prec);
+    return true;
+}
+
+/// E(x | m), |Re x| < pi/2: Carlson's form on narrow balls (order 0: the quadrature nodes), the
+/// hull bound where that is not finite and on the ellipses of the error bounds (order 1).
+bool reduced_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong order, slong prec) {
+    if (order == 0 && carlson_e(res, s, c, m, prec) && acb_is_finite(res)) return true;
+    return bounded_e(res, s, c, m, prec);
+}
+
+/// E(phi | m) from sin phi, cos phi and an approximation phi_approx of phi (picks the quarter
+/// period; any choice is valid, a poor one only makes the ball check fail).
+bool elliptic_e_of_angle(acb_t res, const acb_t s, const acb_t c, double phi_approx,
+                         const volume_constants& k, slong order, slong prec) {
+    const long q = std::lround(phi_approx / (M_PI / 2));
+    acb_ball xs, xc;
+    // x = phi - q pi/2: rotate (s, c) by -q pi/2
+    switch (((q % 4) + 4) % 4) {
+        case 0:
+            acb_set(xs.x, s), acb_set(xc.x, c);
+            break;
+        case 1:
+            acb_neg(xs.x, c), acb_set(xc.x, s);
+            break;
+        case 2:
+            acb_neg(xs.x, s), acb_neg(xc.x, c);
+            break;
+        default:
+            acb_set(xs.x, c), acb_neg(xc.x, s);
+            break;
+    }
+    if (q % 2 == 0) {
+        if (!reduced_e(res, xs.x, xc.x, k.m.x, order, prec)) return false;
+    } else {
+        if (!reduced_e(res, xs.x, xc.x, k.m_conj.x, order, prec)) return false;
+        acb_mul_arb(res, res, k.sqrt_one_minus_m.x, prec);
+    }
+    arb_ball shift;
+    arb_mul_si(shift.x, k.complete_e.x, q, prec);
+    acb_add_arb(res, res, shift.x, prec);
+    return true;
+}
+
+enum class piece { plain, from_full, to_edge };
+
+struct volume_integrand {
+    piece kind = piece::plain;
+    const arb_struct* E = nullptr;
+    const arb_struct* alpha = nullptr;
+    const arb_struct* beta = nullptr;
+    const arb_struct* anchor = nullptr;  // th_full (from_full) or th_edge (to_edge)
+    bool anchor_is_kink = false;         // th_full = 0 or th_edge = pi exactly (E at a kink)
+    const volume_constants* k = nullptr;
+};
+
+double mid_double(const acb_t z) {
+    return arf_get_d(arb_midref(acb_realref(z)), ARF_RND_NEAR);
+}
+
+/// z * sqrt(alpha sinc(z^2/2) sin(anchor +- z^2/2)), the square root of 2 alpha sin(z^2/2)
+/// sin(anchor +- z^2/2) that is holomorphic at z = 0; at a kink (sin(anchor +- z^2/2) =
+/// sin(z^2/2)) it is z^2 sinc(z^2/2) sqrt(alpha/2).
+bool factored_root(acb_t res, const acb_t z, const volume_integrand& f, int sign, slong prec) {
+    acb_ball h, sc, t;
+    acb_sqr(h.x, z, prec);
+    acb_mul_2exp_si(h.x, h.x, -1);  // z^2/2
+    acb_sinc(sc.x, h.x, prec);
+    if (f.anchor_is_kink) {
+        arb_ball r;
+        arb_mul_2exp_si(r.x, f.alpha, -1);
+        arb_sqrt(r.x, r.x, prec);
+        acb_sqr(t.x, z, prec);
+        acb_mul(t.x, t.x, sc.x, prec);
+        acb_mul_arb(res, t.x, r.x, prec);
+        return true;
+    }
+    acb_set_arb(t.x, f.anchor);
+    if (sign > 0)
+        acb_add(t.x, t.x, h.x, prec);
+    else
+        acb_sub(t.x, t.x, h.x, prec);
+    acb_sin(t.x, t.x, prec);
+    acb_mul(t.x, t.x, sc.x, prec);
+    acb_mul_arb(t.x, t.x, f.alpha, prec);
+    if (!right_half_plane(t.x)) return false;
+    acb_sqrt(t.x, t.x, prec);
+    acb_mul(res, t.x, z, prec);
+    return true;
+}
+
+/// The integrand F(th1(z)) dth1/dz of one piece (acb_calc_func_t).
+int volume_integrand_eval(acb_ptr out, const acb_t z, void* param, slong order, slong prec) {
+    const auto& f = *static_cast<const volume_integrand*>(param);
+    acb_ball th, jac, rem, gap, s2, c2, two_beta_root, t;
+    // th1, the Jacobian, and sqrt(2 beta) sin(t2/2) (s2) and sqrt(2 beta) cos(t2/2) (c2)
+    arb_ball two_beta;
+    arb_mul_2exp_si(two_beta.x, f.beta, 1);
+    acb_set_arb(two_beta_root.x, two_beta.x);
+    acb_sqrt(two_beta_root.x, two_beta_root.x, prec);
+    if (f.kind == piece::plain) {
+        acb_set(th.x, z);
+        acb_one(jac.x);
+    } else {
+        acb_sqr(th.x, z, prec);
+        if (f.kind == piece::to_edge) acb_neg(th.x, th.x);
+        acb_add_arb(th.x, th.x, f.anchor, prec);
+        acb_mul_2exp_si(jac.x, z, 1);
+    }
+    // rem = E - 2 alpha sin^2(th/2) (= 2 beta sin^2(t2/2)), gap = 2 beta - rem
+    acb_mul_2exp_si(t.x, th.x, -1);
+    acb_sin(t.x, t.x, prec);
+    acb_sqr(t.x, t.x, prec);
+    acb_mul_arb(t.x, t.x, f.alpha, prec);
+    acb_mul_2exp_si(t.x, t.x, 1);
+    acb_set_arb(rem.x, f.E);
+    acb_sub(rem.x, rem.x, t.x, prec);
+    acb_set_arb(gap.x, two_beta.x);
+    acb_sub(gap.x, gap.x, rem.x, prec);
+    if (f.kind == piece::to_edge) {
+        if (!factored_root(s2.x, z, f, -1, prec)) goto fail;
+    } else {
+        if (!right_half_plane(rem.x)) goto fail;
+        acb_sqrt(s2.x, rem.x, prec);
+    }
+    if (f.kind == piece::from_full) {
+        if (!factored_root(c2.x, z, f, +1, prec)) goto fail;
+    } else {
+        if (!right_half_plane(gap.x)) goto fail;
+        acb_sqrt(c2.x, gap.x, prec);
+    }
+    acb_div(s2.x, s2.x, two_beta_root.x, prec);
+    acb_div(c2.x, c2.x, two_beta_root.x, prec);
+    {
+        acb_ball st, ct, sth, cth, sp, cp, sm, cm, ep, em;
+        acb_mul(st.x, s2.x, c2.x, prec);
+        acb_mul_2exp_si(st.x, st.x, 1);  // sin t2
+        acb_sqr(ct.x, c2.x, prec);
+        acb_sqr(t.x, s2.x, prec);
+        acb_sub(ct.x, ct.x, t.x, prec);  // cos t2
+        acb_sin_cos(sth.x, cth.x, th.x, prec);
+        // sin, cos of t2 + th1 and t2 - th1
+        acb_mul(sp.x, st.x, cth.x, prec);
+        acb_mul(t.x, ct.x, sth.x, prec);
+        acb_add(sp.x, sp.x, t.x, prec);
+        acb_sub(sm.x, sp.x, t.x, prec);
+        acb_sub(sm.x, sm.x, t.x, prec);
+        acb_mul(cp.x, ct.x, cth.x, prec);
+        acb_mul(t.x, st.x, sth.x, prec);
+        acb_sub(cp.x, cp.x, t.x, prec);
+        acb_add(cm.x, cp.x, t.x, prec);
+        acb_add(cm.x, cm.x, t.x, prec);
+        const double t2 = 2 * std::atan2(mid_double(s2.x), mid_double(c2.x));
+        const double th1 = mid_double(th.x);
+        if (!elliptic_e_of_angle(ep.x, sp.x, cp.x, t2 + th1, *f.k, order, prec)) goto fail;
+        if (!elliptic_e_of_angle(em.x, sm.x, cm.x, t2 - th1, *f.k, order, prec)) goto fail;
+        acb_add(out, ep.x, em.x, prec);
+        acb_mul(out, out, jac.x, prec);
+    }
+    return 0;
+fail:
+    acb_indeterminate(out);
+    return 0;
+}
+
+/// int_a^b f over a real segment with exact endpoints.
+void integrate_exact(arb_t res, volume_integrand& f, const arf_t a, const arf_t b, slong prec) {
+    acb_ball ca, cb, r;
+    acb_zero(ca.x);
+    acb_zero(cb.x);
+    arb_set_arf(acb_realref(ca.x), a);
+    arb_set_arf(acb_realref(cb.x), b);
+    mag_t tol;
+    mag_init(tol);
+    mag_set_ui_2exp_si(tol, 1, -prec);
+    acb_calc_integrate_opt_t opt;
+    acb_calc_integrate_opt_init(opt);
+    if (std::getenv("FLIPFLUX_ARB_VERBOSE")) opt->verbose = 1;
+    acb_calc_integrate(r.x, volume_integrand_eval, &f, ca.x, cb.x, prec, tol, opt, prec);
+    mag_clear(tol);
+    arb_set(res, acb_realref(r.x));  // the integrand is real on the real segment
+}
+
+/// int_a^b f for ball endpoints: the integral between their midpoints plus (b - b0) f(b) -
+/// (a - a0) f(a), f evaluated on the endpoint balls (each term encloses the integral over the
+/// piece between the midpoint and the true endpoint).
+void integrate_balls(arb_t res, volume_integrand& f, const arb_t a, const arb_t b, slong prec) {
+    integrate_exact(res, f, arb_midref(a), arb_midref(b), prec);
+    for (int end = 0; end < 2; ++end) {
+        const arb_struct* x = end == 0 ? a : b;
+        if (mag_is_zero(arb_radref(x))) continue;
+        acb_ball ball, fx;
+        acb_set_arb(ball.x, x);
+        volume_integrand_eval(fx.x, ball.x, &f, 0, prec);
+        arb_ball width;
+        arb_zero(width.x);
+        mag_set(arb_radref(width.x), arb_radref(x));  // x - x0 lies in [-rad, rad]
+        arb_mul(width.x, width.x, acb_realref(fx.x), prec);
+        if (end == 0)
+            arb_sub(res, res, width.x, prec);
+        else
+            arb_add(res, res, width.x, prec);
+    }
+}
+
+/// Omega for an energy whose position relative to 2 alpha, 2 beta and E_max is decided.
+void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int vs_full,
+                          int vs_edge, int vs_max, slong prec) {
+    volume_constants k;
+    arb_ball c2;
+    arb_sqr(c2.x, p.C.x, prec);
+    arb_div(k.m.x, c2.x, p.D0.x, prec);
+    arb_neg(k.m.x, k.m.x);
+    arb_mul(k.m_conj.x, p.A.x, p.B.x, prec);
+    arb_div(k.m_conj.x, c2.x, k.m_conj.x, prec);  // m/(m-1) = C^2/(A B)
+    arb_mul(k.sqrt_one_minus_m.x, p.A.x, p.B.x, prec);
+    arb_div(k.sqrt_one_minus_m.x, k.sqrt_one_minus_m.x, p.D0.x, prec);
+    arb_sqrt(k.sqrt_one_minus_m.x, k.sqrt_one_minus_m.x, prec);  // 1 - m = A B / D0
+    {
+        acb_ball mm, e;
+        acb_set_arb(mm.x, k.m.x);
+        acb_elliptic_e(e.x, mm.x, prec);
+        arb_set(k.complete_e.x, acb_realref(e.x));
+    }
+    arb_ball root_d0, pi;
+    arb_sqrt(root_d0.x, p.D0.x, prec);
+    arb_const_pi(pi.x, prec);
+    if (vs_max >= 0) {  // E >= E_max: 16 pi^2 sqrt(D0) E(m)
+        arb_sqr(res, pi.x, prec);
+        arb_mul_ui(res, res, 16, prec);
+        arb_mul(res, res, root_d0.x, prec);
+        arb_mul(res, res, k.complete_e.x, prec);
+        return;
+    }
+    // th_full (E >= 2 beta): sin^2(th_full/2) = (E - 2 beta)/(2 alpha); th_edge (E <= 2 alpha):
+    // sin^2(th_edge/2) = E/(2 alpha)
+    arb_ball th_full, th_edge, t;
+    if (vs_full > 0) {
+        arb_mul_2exp_si(t.x, p.beta.x, 1);
+        arb_sub(t.x, E, t.x, prec);
+        arb_div(t.x, t.x, p.alpha.x, prec);
+        arb_mul_2exp_si(t.x, t.x, -1);
+        arb_sqrt(t.x, t.x, prec);
+        arb_asin(th_full.x, t.x, prec);
+        arb_mul_2exp_si(th_full.x, th_full.x, 1);
+    } else {
+        arb_zero(th_full.x);
+    }
+    if (vs_edge < 0) {
+        arb_div(t.x, E, p.alpha.x, prec);
+        arb_mul_2exp_si(t.x, t.x, -1);
+        arb_sqrt(t.x, t.x, prec);
+        arb_asin(th_edge.x, t.x, prec);
+        arb_mul_2exp_si(th_edge.x, th_edge.x, 1);
+    } else {
+        arb_set(th_edge.x, pi.x);
+    }
+    const bool singular_left = vs_full >= 0, singular_right = vs_edge <= 0;
+    volume_integrand base;
+    base.E = E;
+    base.alpha = p.alpha.x;
+    base.beta = p.beta.x;
+    base.k = &k;
+    // u-pieces of length about a third of [th_full, th_edge] at each singular end
+    arb_ball span, u;
+    arb_sub(span.x, th_edge.x, th_full.x, prec);
+    arb_div_ui(u.x, span.x, 3, prec);
+    arb_sqrt(u.x, u.x, prec);
+    arf_t U, zero;
+    arf_init(U);
+    arf_init(zero);
+    arf_set_round(U, arb_midref(u.x), 30, ARF_RND_DOWN);  // an exact short dyadic
+    arb_ball integral, piece_value, a, b;
+    arb_zero(integral.x);
+    arb_set(a.x, th_full.x);
+    arb_set(b.x, th_edge.x);
+    if (singular_left) {
+        volume_integrand f = base;
+        f.kind = piece::from_full;
+        f.anchor = th_full.x;
+        f.anchor_is_kink = vs_full == 0;
+        integrate_exact(piece_value.x, f, zero, U, prec);
+        arb_add(integral.x, integral.x, piece_value.x, prec);
+        arb_set_arf(t.x, U);
+        arb_sqr(t.x, t.x, prec);
+        arb_add(a.x, th_full.x, t.x, prec);
+    }
+    if (singular_right) {
+        volume_integrand f = base;
+        f.kind = piece::to_edge;
+        f.anchor = th_edge.x;
+        f.anchor_is_kink = vs_edge == 0;
+        integrate_exact(piece_value.x, f, zero, U, prec);
+        arb_add(integral.x, integral.x, piece_value.x, prec);
+        arb_set_arf(t.x, U);
+        arb_sqr(t.x, t.x, prec);
+        arb_sub(b.x, th_edge.x, t.x, prec);
+    }
+    {
+        volume_integrand f = base;
+        f.kind = piece::plain;
+        integrate_balls(piece_value.x, f, a.x, b.x, prec);
+        arb_add(integral.x, integral.x, piece_value.x, prec);
+    }
+    arf_clear(U);
+    arf_clear(zero);
+    // Omega = 4 pi sqrt(D0) [4 th_full E(m) + int F]
+    arb_mul(t.x, th_full.x, k.complete_e.x, prec);
+    arb_mul_2exp_si(t.x, t.x, 2);
+    arb_add(res, integral.x, t.x, prec);
+    arb_mul(res, res, pi.x, prec);
+    arb_mul(res, res, root_d0.x, prec);
+    arb_mul_2exp_si(res, res, 2);
+}
+
+/// -1, 0 (both exact and equal), +1, or 2 (undecided) for E against the kink K.
+int compare_energy(const arb_t E, const arb_t K) {
+    if (arb_lt(E, K)) return -1;
+    if (arb_gt(E, K)) return 1;
+    if (arb_is_exact(E) && arb_is_exact(K) && arb_equal(E, K)) return 0;
+    return 2;
+}
+
+using energy_function = std::function<void(arb_t, const arb_t)>;
+
+/// f(E) for f non-decreasing in E whose formula changes at the kinks: when E is undecided
+/// against a kink, the union of f at exact energies strictly below and above both.
+void monotone_enclosure(arb_t res, const energy_function& f, const arb_t E,
+                        const std::vector<const arb_struct*>& kinks, slong prec, int depth = 0) {
+    bool decided = true;
+    for (const arb_struct* K : kinks)
+        decided = decided && compare_energy(E, K) != 2;
+    if (decided) {
+        f(res, E);
+        return;
+    }
+    if (depth > 0)
+        throw certification_error(
+            "the energy cannot be separated from a kink of the energy surface at " +
+            std::to_string(prec) + " bits (it coincides with one whose value is not exact)");
+    arf_t lo, hi, k, eps;
+    arf_init(lo), arf_init(hi), arf_init(k), arf_init(eps);
+    arb_get_lbound_arf(lo, E, prec);
+    arb_get_ubound_arf(hi, E, prec);
+    for (const arb_struct* K : kinks) {
+        if (compare_energy(E, K) != 2) continue;
+        arb_get_lbound_arf(k, K, prec);
+        arf_mul_2exp_si(eps, k, -prec);
+        arf_abs(eps, eps);
+        arf_sub(k, k, eps, prec, ARF_RND_FLOOR);
+        if (arf_cmp(k, lo) < 0) arf_set(lo, k);
+        arb_get_ubound_arf(k, K, prec);
+        arf_mul_2exp_si(eps, k, -prec);
+        arf_abs(eps, eps);
+        arf_add(k, k, eps, prec, ARF_RND_CEIL);
+        if (arf_cmp(k, hi) > 0) arf_set(hi, k);
+    }
+    arb_ball e_lo, e_hi, v_lo, v_hi;
+    arb_set_arf(e_lo.x, lo);
+    arb_set_arf(e_hi.x, hi);
+    arf_clear(lo), arf_clear(hi), arf_clear(k), arf_clear(eps);
+    monotone_enclosure(v_lo.x, f, e_lo.x, kinks, prec, depth + 1);
+    monotone_enclosure(v_hi.x, f, e_hi.x, kinks, prec, depth + 1);
+    arb_union(res, v_lo.x, v_hi.x, prec);
+}
+
+}  // namespace
+
+pendulum_balls pendulum_from_text(const model_text& t, slong prec) {
+    auto parse = [prec](arb_ball& out, const std::string& text, const char* name, bool zero_ok) {
+        if (arb_set_str(out.x, text.c_str(), prec) != 0 || !arb_is_finite(out.x))
+            throw input_error::about(name, "'" + text + "' is not a decimal number");
+        if (!(arb_is_positive(out.x) || (zero_ok && arb_is_nonnegative(out.x))))
+            throw input_error::about(name, "'" + text + "' is outside its domain (" +
+                                               (zero_ok ? "needs >= 0" : "needs > 0") + ")");
+    };
+    arb_ball m1, m2, L1, L2, a1, a2, I1, I2, g;
+    parse(m1, t.m1, "m1", false);
+    parse(m2, t.m2, "m2", false);
+    parse(L1, t.L1, "L1", false);
+    parse(L2, t.L2, "L2", false);
+    parse(a1, t.a1.empty() ? t.L1 : t.a1, "a1", false);
+    parse(a2, t.a2.empty() ? t.L2 : t.a2, "a2", false);
+    parse(I1, t.I1, "I1", true);
+    parse(I2, t.I2, "I2", true);
+    parse(g, t.g, "g", false);
+    pendulum_balls p;
+    arb_ball J1, J2, u;
+    arb_sqr(J1.x, a1.x, prec);  // J1 = I1 + m1 a1^2, J2 = I2 + m2 a2^2
+    arb_mul(J1.x, J1.x, m1.x, prec);
+    arb_add(J1.x, J1.x, I1.x, prec);
+    arb_sqr(J2.x, a2.x, prec);
+    arb_mul(J2.x, J2.x, m2.x, prec);
+    arb_add(J2.x, J2.x, I2.x, prec);
+    arb_sqr(u.x, L1.x, prec);
+    arb_mul(u.x, u.x, m2.x, prec);  // m2 L1^2
+    arb_add(p.A.x, J1.x, u.x, prec);
+    arb_set(p.B.x, J2.x);
+    arb_mul(p.C.x, m2.x, L1.x, prec);
+    arb_mul(p.C.x, p.C.x, a2.x, prec);
+    arb_mul(p.D0.x, u.x, I2.x, prec);  // D0 = J1 J2 + m2 L1^2 I2
+    arb_addmul(p.D0.x, J1.x, J2.x, prec);
+    arb_mul(p.alpha.x, m1.x, a1.x, prec);
+    arb_addmul(p.alpha.x, m2.x, L1.x, prec);
+    arb_mul(p.alpha.x, p.alpha.x, g.x, prec);
+    arb_mul(p.beta.x, m2.x, a2.x, prec);
+    arb_mul(p.beta.x, p.beta.x, g.x, prec);
+    return p;
+}
+
+void energy_from_text(arb_t E, const std::string& text, slong prec) {
+    if (arb_set_str(E, text.c_str(), prec) != 0 || !arb_is_finite(E))
+        throw input_error::about("energy", "'" + text + "' is not a decimal number");
+    if (!arb_is_positive(E))
+        throw input_error::about("energy", "'" + text +
+                                               "' is outside the domain (needs E > 0: the energy "
+                                               "surface is empty at and below the minimum 0)");
+}
+
+void enclose_phase_volume(arb_t res, const pendulum_balls& p, const arb_t E, slong prec) {
+    arb_ball two_alpha, two_beta, e_max;
+    arb_mul_2exp_si(two_alpha.x, p.alpha.x, 1);
+    arb_mul_2exp_si(two_beta.x, p.beta.x, 1);
+    arb_add(e_max.x, two_alpha.x, two_beta.x, prec);
+    monotone_enclosure(
+        res,
+        [&](arb_t out, const arb_t e) {
+            phase_volume_decided(out, p, e, compare_energy(e, two_beta.x),
+                                 compare_energy(e, two_alpha.x), compare_energy(e, e_max.x), prec);
+        },
+        E, {two_alpha.x, two_beta.x, e_max.x}, prec);
+}
+
+void enclose_upright_flux(arb_t res, const pendulum_balls& p, arm a, const arb_t E, slong prec) {
+    // (J, w, E_s): arm 2 (A, alpha, 2 beta), arm 1 (B, beta, 2 alpha)
+    const arb_struct* J = a == arm::two ? p.A.x : p.B.x;
+    const arb_struct* w = a == arm::two ? p.alpha.x : p.beta.x;
+    arb_ball e_s, e_max;
+    arb_mul_2exp_si(e_s.x, a == arm::two ? p.beta.x : p.alpha.x, 1);
+    arb_mul_2exp_si(e_max.x, w, 1);
+    arb_add(e_max.x, e_max.x, e_s.x, prec);
+    monotone_enclosure(
+        res,
+        [&](arb_t out, const arb_t e) {
+            const int vs_saddle = compare_energy(e, e_s.x), vs_max = compare_energy(e, e_max.x);
+            if (vs_saddle <= 0) {
+                arb_zero(out);
+                return;
+            }
+            arb_ball delta, two_w, t;
+            arb_sub(delta.x, e, e_s.x, prec);
+            arb_mul_2exp_si(two_w.x, w, 1);
+            if (vs_max >= 0) {  // 16 sqrt(2 J delta) E(2w/delta)
+                acb_ball mm, ee;
+                arb_div(t.x, two_w.x, delta.x, prec);
+                acb_set_arb(mm.x, t.x);
+                if (vs_max == 0)
+                    acb_one(ee.x);  // E(1) = 1
+                else
+                    acb_elliptic_e(ee.x, mm.x, prec);
+                arb_mul(t.x, J, delta.x, prec);
+                arb_mul_2exp_si(t.x, t.x, 1);
+                arb_sqrt(t.x, t.x, prec);
+                arb_mul(out, t.x, acb_realref(ee.x), prec);
+                arb_mul_ui(out, out, 16, prec);
+                return;
+            }
+            // 32 sqrt(J w) [E(p) - (1 - p) K(p)], p = delta/(2w), 1 - p = (E_max - E)/(2w)
+            acb_ball pp, ek, kk;
+            arb_div(t.x, delta.x, two_w.x, prec);
+            acb_set_arb(pp.x, t.x);
+            acb_elliptic_e(ek.x, pp.x, prec);
+            acb_elliptic_k(kk.x, pp.x, prec);
+            arb_sub(t.x, e_max.x, e, prec);
+            arb_div(t.x, t.x, two_w.x, prec);
+            arb_mul(t.x, t.x, acb_realref(kk.x), prec);
+            arb_sub(out, acb_realref(ek.x), t.x, prec);
+            arb_mul(t.x, J, w, prec);
+            arb_sqrt(t.x, t.x, prec);
+            arb_mul(out, out, t.x, prec);
+            arb_mul_ui(out, out, 32, prec);
+        },
+        E, {e_s.x, e_max.x}, prec);
+}
+
+}  // namespace flipflux::certified_detail
