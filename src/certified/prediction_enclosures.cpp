@@ -25,7 +25,6 @@
 #include <arb_hypgeom.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <functional>
 #include <vector>
 
@@ -70,26 +69,13 @@ bool carlson_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong pre
     return true;
 }
 
-/// The constants of the phase-volume integrand.
-struct volume_constants {
-    arb_ball m, m_conj, sqrt_one_minus_m, complete_e;  // m = -C^2/D0, m/(m-1), sqrt(1-m), E(m)
-};
-
-/// E(x | m) from s = sin x and c = cos x (|Re x| < pi/2) on a wide ball, where Carlson's
-/// duplication overflows: E(x | m) = x int_0^1 g(t x) dt, g(v) = sqrt(1 - m sin^2 v), lies in
-/// x g(V) for V the rectangle hull of 0 and x (convex, so it contains every segment [0, x'] and
-/// g(V) the mean value). x = atan(s / c), holomorphic while s / c avoids the cuts +-i[1, inf).
-bool bounded_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong prec) {
-    if (!right_half_plane(c)) return false;
-    acb_ball ratio, x, zero, hull, g;
-    acb_div(ratio.x, s, c, prec);
-    arb_ball im;
-    arb_abs(im.x, acb_imagref(ratio.x));
-    arb_sub_ui(im.x, im.x, 1, prec);
-    if (arb_contains_zero(acb_realref(ratio.x)) && !arb_is_negative(im.x)) return false;
-    acb_atan(x.x, ratio.x, prec);
-    acb_zero(zero.x);
-    acb_union(hull.x, zero.x, x.x, prec);
+/// E(x | m), |Re x| < pi/2, on a wide ball, where Carlson's duplication overflows:
+/// E(x | m) = x int_0^1 g(t x) dt, g(v) = sqrt(1 - m sin^2 v), lies in x g(V) for V the
+/// rectangle hull of 0 and x (convex: it contains every segment [0, x'], and the rectangle g(V)
+/// contains the mean value of g over it).
+bool bounded_e(acb_t res, const acb_t x, const arb_t m, slong prec) {
+    acb_ball zero, hull, g;
+    acb_union(hull.x, zero.x, x, prec);
     acb_sin(g.x, hull.x, prec);
     acb_sqr(g.x, g.x, prec);
     acb_mul_arb(g.x, g.x, m, prec);
@@ -97,45 +83,46 @@ bool bounded_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong pre
     acb_neg(g.x, g.x);
     if (!right_half_plane(g.x)) return false;
     acb_sqrt(g.x, g.x, prec);
-    acb_mul(res, x.x, g.x, prec);
+    acb_mul(res, x, g.x, prec);
     return true;
 }
 
 /// E(x | m), |Re x| < pi/2: Carlson's form on narrow balls (order 0: the quadrature nodes), the
 /// hull bound where that is not finite and on the ellipses of the error bounds (order 1).
-bool reduced_e(acb_t res, const acb_t s, const acb_t c, const arb_t m, slong order, slong prec) {
-    if (order == 0 && carlson_e(res, s, c, m, prec) && acb_is_finite(res)) return true;
-    return bounded_e(res, s, c, m, prec);
+bool reduced_e(acb_t res, const acb_t x, const arb_t m, slong order, slong prec) {
+    if (order == 0) {
+        acb_ball s, c;
+        acb_sin_cos(s.x, c.x, x, prec);
+        if (carlson_e(res, s.x, c.x, m, prec) && acb_is_finite(res)) return true;
+    }
+    return bounded_e(res, x, m, prec);
 }
 
-/// E(phi | m) from sin phi, cos phi and an approximation phi_approx of phi (picks the quarter
-/// period; any choice is valid, a poor one only makes the ball check fail).
-bool elliptic_e_of_angle(acb_t res, const acb_t s, const acb_t c, double phi_approx,
-                         const volume_constants& k, slong order, slong prec) {
-    const long q = std::lround(phi_approx / (M_PI / 2));
-    acb_ball xs, xc;
-    // x = phi - q pi/2: rotate (s, c) by -q pi/2
-    switch (((q % 4) + 4) % 4) {
-        case 0:
-            acb_set(xs.x, s), acb_set(xc.x, c);
-            break;
-        case 1:
-            acb_neg(xs.x, c), acb_set(xc.x, s);
-            break;
-        case 2:
-            acb_neg(xs.x, s), acb_neg(xc.x, c);
-            break;
-        default:
-            acb_set(xs.x, c), acb_neg(xc.x, s);
-            break;
-    }
+/// The constants of the phase-volume integrand.
+struct volume_constants {
+    arb_ball m, m_conj, sqrt_one_minus_m, complete_e;  // m = -C^2/D0, m/(m-1), sqrt(1-m), E(m)
+    arb_ball half_pi;
+};
+
+/// E(phi | m) for a ball phi, reduced by q quarter periods (q = the nearest integer to
+/// mid(phi)/(pi/2)) to x = phi - q pi/2 (see the file comment).
+bool elliptic_e_of_angle(acb_t res, const acb_t phi, const volume_constants& k, slong order,
+                         slong prec) {
+    const double approx = arf_get_d(arb_midref(acb_realref(phi)), ARF_RND_NEAR);
+    const long q = std::lround(approx / (M_PI / 2));
+    acb_ball x;
+    arb_ball shift;
+    arb_mul_si(shift.x, k.half_pi.x, q, prec);
+    acb_sub_arb(x.x, phi, shift.x, prec);
+    arb_ball reach;  // |Re x| < pi/2: the reduced form is valid on the ball
+    arb_abs(reach.x, acb_realref(x.x));
+    if (!arb_lt(reach.x, k.half_pi.x)) return false;
     if (q % 2 == 0) {
-        if (!reduced_e(res, xs.x, xc.x, k.m.x, order, prec)) return false;
+        if (!reduced_e(res, x.x, k.m.x, order, prec)) return false;
     } else {
-        if (!reduced_e(res, xs.x, xc.x, k.m_conj.x, order, prec)) return false;
+        if (!reduced_e(res, x.x, k.m_conj.x, order, prec)) return false;
         acb_mul_arb(res, res, k.sqrt_one_minus_m.x, prec);
     }
-    arb_ball shift;
     arb_mul_si(shift.x, k.complete_e.x, q, prec);
     acb_add_arb(res, res, shift.x, prec);
     return true;
@@ -191,12 +178,10 @@ bool factored_root(acb_t res, const acb_t z, const volume_integrand& f, int sign
 /// The integrand F(th1(z)) dth1/dz of one piece (acb_calc_func_t).
 int volume_integrand_eval(acb_ptr out, const acb_t z, void* param, slong order, slong prec) {
     const auto& f = *static_cast<const volume_integrand*>(param);
-    acb_ball th, jac, rem, gap, s2, c2, two_beta_root, t;
+    acb_ball th, jac, rem, gap, s2, c2, t;
     // th1, the Jacobian, and sqrt(2 beta) sin(t2/2) (s2) and sqrt(2 beta) cos(t2/2) (c2)
     arb_ball two_beta;
     arb_mul_2exp_si(two_beta.x, f.beta, 1);
-    acb_set_arb(two_beta_root.x, two_beta.x);
-    acb_sqrt(two_beta_root.x, two_beta_root.x, prec);
     if (f.kind == piece::plain) {
         acb_set(th.x, z);
         acb_one(jac.x);
@@ -228,31 +213,30 @@ int volume_integrand_eval(acb_ptr out, const acb_t z, void* param, slong order, 
         if (!right_half_plane(gap.x)) goto fail;
         acb_sqrt(c2.x, gap.x, prec);
     }
-    acb_div(s2.x, s2.x, two_beta_root.x, prec);
-    acb_div(c2.x, c2.x, two_beta_root.x, prec);
     {
-        acb_ball st, ct, sth, cth, sp, cp, sm, cm, ep, em;
-        acb_mul(st.x, s2.x, c2.x, prec);
-        acb_mul_2exp_si(st.x, st.x, 1);  // sin t2
-        acb_sqr(ct.x, c2.x, prec);
-        acb_sqr(t.x, s2.x, prec);
-        acb_sub(ct.x, ct.x, t.x, prec);  // cos t2
-        acb_sin_cos(sth.x, cth.x, th.x, prec);
-        // sin, cos of t2 + th1 and t2 - th1
-        acb_mul(sp.x, st.x, cth.x, prec);
-        acb_mul(t.x, ct.x, sth.x, prec);
-        acb_add(sp.x, sp.x, t.x, prec);
-        acb_sub(sm.x, sp.x, t.x, prec);
-        acb_sub(sm.x, sm.x, t.x, prec);
-        acb_mul(cp.x, ct.x, cth.x, prec);
-        acb_mul(t.x, st.x, sth.x, prec);
-        acb_sub(cp.x, cp.x, t.x, prec);
-        acb_add(cm.x, cp.x, t.x, prec);
-        acb_add(cm.x, cm.x, t.x, prec);
-        const double t2 = 2 * std::atan2(mid_double(s2.x), mid_double(c2.x));
-        const double th1 = mid_double(th.x);
-        if (!elliptic_e_of_angle(ep.x, sp.x, cp.x, t2 + th1, *f.k, order, prec)) goto fail;
-        if (!elliptic_e_of_angle(em.x, sm.x, cm.x, t2 - th1, *f.k, order, prec)) goto fail;
+        // t2 = 2 atan(s2/c2) or pi - 2 atan(c2/s2) (whichever ratio is smaller at the midpoint:
+        // both are holomorphic where the ratio avoids the cuts +-i[1, inf))
+        acb_ball ratio, t2, phi, ep, em;
+        arb_ball im, pi;
+        const bool small_t2 = std::abs(mid_double(s2.x)) <= std::abs(mid_double(c2.x));
+        if (small_t2)
+            acb_div(ratio.x, s2.x, c2.x, prec);
+        else
+            acb_div(ratio.x, c2.x, s2.x, prec);
+        arb_abs(im.x, acb_imagref(ratio.x));
+        arb_sub_ui(im.x, im.x, 1, prec);
+        if (!arb_is_positive(acb_realref(ratio.x)) && !arb_is_negative(im.x)) goto fail;
+        acb_atan(t2.x, ratio.x, prec);
+        acb_mul_2exp_si(t2.x, t2.x, 1);
+        if (!small_t2) {
+            acb_neg(t2.x, t2.x);
+            arb_mul_2exp_si(pi.x, f.k->half_pi.x, 1);
+            acb_add_arb(t2.x, t2.x, pi.x, prec);
+        }
+        acb_add(phi.x, t2.x, th.x, prec);
+        if (!elliptic_e_of_angle(ep.x, phi.x, *f.k, order, prec)) goto fail;
+        acb_sub(phi.x, t2.x, th.x, prec);
+        if (!elliptic_e_of_angle(em.x, phi.x, *f.k, order, prec)) goto fail;
         acb_add(out, ep.x, em.x, prec);
         acb_mul(out, out, jac.x, prec);
     }
@@ -274,7 +258,6 @@ void integrate_exact(arb_t res, volume_integrand& f, const arf_t a, const arf_t 
     mag_set_ui_2exp_si(tol, 1, -prec);
     acb_calc_integrate_opt_t opt;
     acb_calc_integrate_opt_init(opt);
-    if (std::getenv("FLIPFLUX_ARB_VERBOSE")) opt->verbose = 1;
     acb_calc_integrate(r.x, volume_integrand_eval, &f, ca.x, cb.x, prec, tol, opt, prec);
     mag_clear(tol);
     arb_set(res, acb_realref(r.x));  // the integrand is real on the real segment
@@ -321,6 +304,8 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
         acb_elliptic_e(e.x, mm.x, prec);
         arb_set(k.complete_e.x, acb_realref(e.x));
     }
+    arb_const_pi(k.half_pi.x, prec);
+    arb_mul_2exp_si(k.half_pi.x, k.half_pi.x, -1);
     arb_ball root_d0, pi;
     arb_sqrt(root_d0.x, p.D0.x, prec);
     arb_const_pi(pi.x, prec);
