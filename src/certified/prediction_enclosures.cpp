@@ -133,10 +133,14 @@ enum class piece { plain, from_full, to_edge };
 struct volume_integrand {
     piece kind = piece::plain;
     const arb_struct* E = nullptr;
+    const arb_struct* e_minus_two_alpha = nullptr;
+    const arb_struct* two_beta_minus_e = nullptr;
+    const arb_struct* e_max_minus_e = nullptr;
     const arb_struct* alpha = nullptr;
     const arb_struct* beta = nullptr;
-    const arb_struct* anchor = nullptr;  // th_full (from_full) or th_edge (to_edge)
-    bool anchor_is_kink = false;         // th_full = 0 or th_edge = pi exactly (E at a kink)
+    const arb_struct* anchor = nullptr;             // th_full (from_full) or th_edge (to_edge)
+    const arb_struct* anchor_supplement = nullptr;  // pi - anchor, computed without cancellation
+    bool anchor_is_kink = false;  // th_full = 0 or th_edge = pi exactly (E at a kink)
     const volume_constants* k = nullptr;
 };
 
@@ -161,8 +165,10 @@ bool factored_root(acb_t res, const acb_t z, const volume_integrand& f, int sign
         acb_mul_arb(res, t.x, r.x, prec);
         return true;
     }
-    acb_set_arb(t.x, f.anchor);
-    if (sign > 0)
+    // sin(anchor +- h), or sin(supplement -+ h) past pi/2 (accurate where the anchor is near pi)
+    const bool near_pi = arf_get_d(arb_midref(f.anchor), ARF_RND_NEAR) > M_PI / 2;
+    acb_set_arb(t.x, near_pi ? f.anchor_supplement : f.anchor);
+    if ((sign > 0) != near_pi)
         acb_add(t.x, t.x, h.x, prec);
     else
         acb_sub(t.x, t.x, h.x, prec);
@@ -180,8 +186,6 @@ int volume_integrand_eval(acb_ptr out, const acb_t z, void* param, slong order, 
     const auto& f = *static_cast<const volume_integrand*>(param);
     acb_ball th, jac, rem, gap, s2, c2, t;
     // th1, the Jacobian, and sqrt(2 beta) sin(t2/2) (s2) and sqrt(2 beta) cos(t2/2) (c2)
-    arb_ball two_beta;
-    arb_mul_2exp_si(two_beta.x, f.beta, 1);
     if (f.kind == piece::plain) {
         acb_set(th.x, z);
         acb_one(jac.x);
@@ -191,16 +195,30 @@ int volume_integrand_eval(acb_ptr out, const acb_t z, void* param, slong order, 
         acb_add_arb(th.x, th.x, f.anchor, prec);
         acb_mul_2exp_si(jac.x, z, 1);
     }
-    // rem = E - 2 alpha sin^2(th/2) (= 2 beta sin^2(t2/2)), gap = 2 beta - rem
-    acb_mul_2exp_si(t.x, th.x, -1);
-    acb_sin(t.x, t.x, prec);
-    acb_sqr(t.x, t.x, prec);
-    acb_mul_arb(t.x, t.x, f.alpha, prec);
-    acb_mul_2exp_si(t.x, t.x, 1);
-    acb_set_arb(rem.x, f.E);
-    acb_sub(rem.x, rem.x, t.x, prec);
-    acb_set_arb(gap.x, two_beta.x);
-    acb_sub(gap.x, gap.x, rem.x, prec);
+    // rem = E - 2 alpha sin^2(th/2) (= 2 beta sin^2(t2/2)), gap = 2 beta - rem, written without
+    // cancellation: past pi/2, rem = (E - 2 alpha) + 2 alpha cos^2(th/2) and gap = (E_max - E) -
+    // 2 alpha cos^2(th/2) (small near pi when E is near 2 alpha or E_max), else rem = E - 2 alpha
+    // sin^2(th/2) and gap = (2 beta - E) + 2 alpha sin^2(th/2)
+    {
+        acb_ball sh, ch;
+        acb_mul_2exp_si(t.x, th.x, -1);
+        acb_sin_cos(sh.x, ch.x, t.x, prec);
+        acb_sqr(sh.x, sh.x, prec);
+        acb_mul_arb(sh.x, sh.x, f.alpha, prec);
+        acb_mul_2exp_si(sh.x, sh.x, 1);  // 2 alpha sin^2(th/2)
+        if (mid_double(th.x) > M_PI / 2) {
+            acb_sqr(ch.x, ch.x, prec);
+            acb_mul_arb(ch.x, ch.x, f.alpha, prec);
+            acb_mul_2exp_si(ch.x, ch.x, 1);  // 2 alpha cos^2(th/2)
+            acb_add_arb(rem.x, ch.x, f.e_minus_two_alpha, prec);
+            acb_neg(gap.x, ch.x);
+            acb_add_arb(gap.x, gap.x, f.e_max_minus_e, prec);
+        } else {
+            acb_set_arb(rem.x, f.E);
+            acb_sub(rem.x, rem.x, sh.x, prec);
+            acb_add_arb(gap.x, sh.x, f.two_beta_minus_e, prec);
+        }
+    }
     if (f.kind == piece::to_edge) {
         if (!factored_root(s2.x, z, f, -1, prec)) goto fail;
     } else {
@@ -318,30 +336,58 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     }
     // th_full (E >= 2 beta): sin^2(th_full/2) = (E - 2 beta)/(2 alpha); th_edge (E <= 2 alpha):
     // sin^2(th_edge/2) = E/(2 alpha)
-    arb_ball th_full, th_edge, t;
+    // and their supplements pi - th from cos^2(th_full/2) = (E_max - E)/(2 alpha),
+    // cos^2(th_edge/2) = (2 alpha - E)/(2 alpha): each angle from the formula that does not cancel
+    arb_ball th_full, th_edge, psi_full, psi_edge, t, e_max;
+    auto angle = [&](arb_t out, const arb_t numerator) {  // 2 asin(sqrt(numerator / (2 alpha)))
+        arb_div(out, numerator, p.alpha.x, prec);
+        arb_mul_2exp_si(out, out, -1);
+        arb_sqrt(out, out, prec);
+        arb_asin(out, out, prec);
+        arb_mul_2exp_si(out, out, 1);
+    };
+    auto settle = [&](arb_t th, arb_t psi) {  // keep the smaller of th, pi - th; derive the other
+        if (arf_cmp_si(arb_midref(th), 2) < 0)
+            arb_sub(psi, pi.x, th, prec);
+        else
+            arb_sub(th, pi.x, psi, prec);
+    };
+    arb_add(e_max.x, p.alpha.x, p.beta.x, prec);
+    arb_mul_2exp_si(e_max.x, e_max.x, 1);
     if (vs_full > 0) {
         arb_mul_2exp_si(t.x, p.beta.x, 1);
         arb_sub(t.x, E, t.x, prec);
-        arb_div(t.x, t.x, p.alpha.x, prec);
-        arb_mul_2exp_si(t.x, t.x, -1);
-        arb_sqrt(t.x, t.x, prec);
-        arb_asin(th_full.x, t.x, prec);
-        arb_mul_2exp_si(th_full.x, th_full.x, 1);
+        angle(th_full.x, t.x);
+        arb_sub(t.x, e_max.x, E, prec);
+        angle(psi_full.x, t.x);
+        settle(th_full.x, psi_full.x);
     } else {
         arb_zero(th_full.x);
+        arb_set(psi_full.x, pi.x);
     }
     if (vs_edge < 0) {
-        arb_div(t.x, E, p.alpha.x, prec);
-        arb_mul_2exp_si(t.x, t.x, -1);
-        arb_sqrt(t.x, t.x, prec);
-        arb_asin(th_edge.x, t.x, prec);
-        arb_mul_2exp_si(th_edge.x, th_edge.x, 1);
+        angle(th_edge.x, E);
+        arb_mul_2exp_si(t.x, p.alpha.x, 1);
+        arb_sub(t.x, t.x, E, prec);
+        angle(psi_edge.x, t.x);
+        settle(th_edge.x, psi_edge.x);
     } else {
         arb_set(th_edge.x, pi.x);
+        arb_zero(psi_edge.x);
     }
     const bool singular_left = vs_full >= 0, singular_right = vs_edge <= 0;
+    arb_ball e_minus_two_alpha, two_beta_minus_e;
+    arb_mul_2exp_si(t.x, p.alpha.x, 1);
+    arb_sub(e_minus_two_alpha.x, E, t.x, prec);
+    arb_mul_2exp_si(t.x, p.beta.x, 1);
+    arb_sub(two_beta_minus_e.x, t.x, E, prec);
     volume_integrand base;
     base.E = E;
+    base.e_minus_two_alpha = e_minus_two_alpha.x;
+    base.two_beta_minus_e = two_beta_minus_e.x;
+    arb_ball e_max_minus_e;
+    arb_sub(e_max_minus_e.x, e_max.x, E, prec);
+    base.e_max_minus_e = e_max_minus_e.x;
     base.alpha = p.alpha.x;
     base.beta = p.beta.x;
     base.k = &k;
@@ -362,6 +408,7 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
         volume_integrand f = base;
         f.kind = piece::from_full;
         f.anchor = th_full.x;
+        f.anchor_supplement = psi_full.x;
         f.anchor_is_kink = vs_full == 0;
         integrate_exact(piece_value.x, f, zero, U, prec);
         arb_add(integral.x, integral.x, piece_value.x, prec);
@@ -373,6 +420,7 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
         volume_integrand f = base;
         f.kind = piece::to_edge;
         f.anchor = th_edge.x;
+        f.anchor_supplement = psi_edge.x;
         f.anchor_is_kink = vs_edge == 0;
         integrate_exact(piece_value.x, f, zero, U, prec);
         arb_add(integral.x, integral.x, piece_value.x, prec);
