@@ -2,8 +2,8 @@
 // routes computed 20 digits beyond the enclosure's precision, an independent route, and reach the
 // relative radius 10^(-N + 10) at mp:N; for the paper's pendulum and a rigid-link pendulum with
 // unequal masses, at energies in every regime of the energy surface (below both saddles, between
-// them, between the upper saddle and E_max, above E_max, just above a saddle) and exactly at the
-// kinks.
+// them, between the upper saddle and E_max, above E_max, just below E_max) and exactly at the
+// kinks. Just above a saddle (E_s + 1e-20) and the timings: verification/certified.cpp (verify).
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -61,31 +61,30 @@ TEST_P(EnclosureRegimes, ContainTheValueOfTheExistingRoutesAndReachTheRadius) {
         const std::string ref = reference_value(it.quantity, t, it.a, c.energy, digits + 20);
         EXPECT_TRUE(enclosure_contains(e, ref))
             << "[" << e.mid << " +/- " << e.radius << "] does not contain " << ref;
-        if (e.mid != "0") EXPECT_GE(e.proven_digits, digits - 10) << e.radius;
-        if (e.mid == "0") EXPECT_EQ(e.radius, "0");  // a flux below its saddle is exactly 0
+        if (e.mid != "0") {
+            EXPECT_GE(e.proven_digits, digits - 10) << e.radius;
+        } else {
+            EXPECT_EQ(e.radius, "0");  // a flux at or below its saddle is exactly 0
+        }
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Paper, EnclosureRegimes,
-    ::testing::Values(enclosure_case{"BelowBothSaddles", false, "1.5"},
-                      enclosure_case{"BetweenTheSaddles", false, "3.2"},
-                      enclosure_case{"BelowTheMaximum", false, "5.5"},
-                      enclosure_case{"AboveTheMaximum", false, "7.25"},
-                      enclosure_case{"JustAboveTheLowerSaddle", false, "2.00000000000000000001"},
-                      enclosure_case{"JustAboveTheUpperSaddle", false, "4.00000000000000000001"},
-                      enclosure_case{"JustBelowTheMaximum", false, "5.99999999999999999999"},
-                      enclosure_case{"AtTheLowerSaddle", false, "2"},
-                      enclosure_case{"AtTheMaximum", false, "6"}),
-    [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(Paper, EnclosureRegimes,
+                         ::testing::Values(enclosure_case{"BelowBothSaddles", false, "1.5"},
+                                           enclosure_case{"BetweenTheSaddles", false, "3.2"},
+                                           enclosure_case{"BelowTheMaximum", false, "5.5"},
+                                           enclosure_case{"AboveTheMaximum", false, "7.25"},
+                                           enclosure_case{"JustBelowTheMaximum", false,
+                                                          "5.99999999999999999999"},
+                                           enclosure_case{"AtTheLowerSaddle", false, "2"},
+                                           enclosure_case{"AtTheMaximum", false, "6"}),
+                         [](const auto& info) { return std::string(info.param.name); });
 
 INSTANTIATE_TEST_SUITE_P(RigidLinks, EnclosureRegimes,
                          ::testing::Values(enclosure_case{"BelowBothSaddles", true, "1.1"},
                                            enclosure_case{"BetweenTheSaddles", true, "2.9"},
                                            enclosure_case{"BelowTheMaximum", true, "5.1"},
                                            enclosure_case{"AboveTheMaximum", true, "9.3"},
-                                           enclosure_case{"JustAboveTheLowerSaddle", true,
-                                                          "1.80000000000000000001"},
                                            enclosure_case{"AtTheUpperSaddle", true, "4"}),
                          [](const auto& info) { return std::string(info.param.name); });
 
@@ -104,7 +103,8 @@ TEST(Enclosure, AWrongValueLiesOutside) {
     const certified_enclosure e = certified_value("omega", model_text{}, arm::two, "3.2", 30);
     const std::string ref = reference_value("omega", model_text{}, arm::two, "3.2", 50);
     const std::string wrong = dispatch(mp_precision(50), [&]<class Real>() {
-        return to_decimal(Real(parse_real<Real>(ref, "v") * (1 + Real("1e-25"))));
+        const Real v = parse_real<Real>(ref, "v");
+        return to_decimal(Real(v + v * parse_real<Real>("1e-25", "relative error")));
     });
     EXPECT_TRUE(enclosure_contains(e, ref));
     EXPECT_FALSE(enclosure_contains(e, wrong));
