@@ -303,10 +303,8 @@ void integrate_balls(arb_t res, volume_integrand& f, const arb_t a, const arb_t 
     }
 }
 
-/// Omega for an energy whose position relative to 2 alpha, 2 beta and E_max is decided.
-void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int vs_full,
-                          int vs_edge, int vs_max, slong prec) {
-    volume_constants k;
+/// m = -C^2/D0 and the constants derived from it.
+void make_volume_constants(volume_constants& k, const pendulum_balls& p, slong prec) {
     arb_ball c2;
     arb_sqr(c2.x, p.C.x, prec);
     arb_div(k.m.x, c2.x, p.D0.x, prec);
@@ -324,6 +322,64 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     }
     arb_const_pi(k.half_pi.x, prec);
     arb_mul_2exp_si(k.half_pi.x, k.half_pi.x, -1);
+}
+
+/// The ends of the allowed th1 interval and their supplements (pi - angle): th_full (E >= 2 beta:
+/// sin^2(th_full/2) = (E - 2 beta)/(2 alpha), else 0), th_edge (E <= 2 alpha: sin^2(th_edge/2) =
+/// E/(2 alpha), else pi), the supplements from cos^2(th_full/2) = (E_max - E)/(2 alpha) and
+/// cos^2(th_edge/2) = (2 alpha - E)/(2 alpha): each angle from the formula that does not cancel.
+struct allowed_interval {
+    arb_ball th_full, th_edge, psi_full, psi_edge;
+};
+
+allowed_interval allowed_interval_of(const pendulum_balls& p, const arb_t E, int vs_full,
+                                     int vs_edge, const arb_t pi, slong prec) {
+    allowed_interval r;
+    arb_ball t, e_max;
+    auto angle = [&](arb_t out, const arb_t numerator) {  // 2 asin(sqrt(numerator / (2 alpha)))
+        arb_div(out, numerator, p.alpha.x, prec);
+        arb_mul_2exp_si(out, out, -1);
+        arb_sqrt(out, out, prec);
+        arb_asin(out, out, prec);
+        arb_mul_2exp_si(out, out, 1);
+    };
+    auto settle = [&](arb_t th, arb_t psi) {  // keep the smaller of th, pi - th; derive the other
+        if (arf_cmp_si(arb_midref(th), 2) < 0)
+            arb_sub(psi, pi, th, prec);
+        else
+            arb_sub(th, pi, psi, prec);
+    };
+    arb_add(e_max.x, p.alpha.x, p.beta.x, prec);
+    arb_mul_2exp_si(e_max.x, e_max.x, 1);
+    if (vs_full > 0) {
+        arb_mul_2exp_si(t.x, p.beta.x, 1);
+        arb_sub(t.x, E, t.x, prec);
+        angle(r.th_full.x, t.x);
+        arb_sub(t.x, e_max.x, E, prec);
+        angle(r.psi_full.x, t.x);
+        settle(r.th_full.x, r.psi_full.x);
+    } else {
+        arb_zero(r.th_full.x);
+        arb_set(r.psi_full.x, pi);
+    }
+    if (vs_edge < 0) {
+        angle(r.th_edge.x, E);
+        arb_mul_2exp_si(t.x, p.alpha.x, 1);
+        arb_sub(t.x, t.x, E, prec);
+        angle(r.psi_edge.x, t.x);
+        settle(r.th_edge.x, r.psi_edge.x);
+    } else {
+        arb_set(r.th_edge.x, pi);
+        arb_zero(r.psi_edge.x);
+    }
+    return r;
+}
+
+/// Omega for an energy whose position relative to 2 alpha, 2 beta and E_max is decided.
+void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int vs_full,
+                          int vs_edge, int vs_max, slong prec) {
+    volume_constants k;
+    make_volume_constants(k, p, prec);
     arb_ball root_d0, pi;
     arb_sqrt(root_d0.x, p.D0.x, prec);
     arb_const_pi(pi.x, prec);
@@ -334,47 +390,10 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
         arb_mul(res, res, k.complete_e.x, prec);
         return;
     }
-    // th_full (E >= 2 beta): sin^2(th_full/2) = (E - 2 beta)/(2 alpha); th_edge (E <= 2 alpha):
-    // sin^2(th_edge/2) = E/(2 alpha)
-    // and their supplements pi - th from cos^2(th_full/2) = (E_max - E)/(2 alpha),
-    // cos^2(th_edge/2) = (2 alpha - E)/(2 alpha): each angle from the formula that does not cancel
-    arb_ball th_full, th_edge, psi_full, psi_edge, t, e_max;
-    auto angle = [&](arb_t out, const arb_t numerator) {  // 2 asin(sqrt(numerator / (2 alpha)))
-        arb_div(out, numerator, p.alpha.x, prec);
-        arb_mul_2exp_si(out, out, -1);
-        arb_sqrt(out, out, prec);
-        arb_asin(out, out, prec);
-        arb_mul_2exp_si(out, out, 1);
-    };
-    auto settle = [&](arb_t th, arb_t psi) {  // keep the smaller of th, pi - th; derive the other
-        if (arf_cmp_si(arb_midref(th), 2) < 0)
-            arb_sub(psi, pi.x, th, prec);
-        else
-            arb_sub(th, pi.x, psi, prec);
-    };
+    const allowed_interval ends = allowed_interval_of(p, E, vs_full, vs_edge, pi.x, prec);
+    arb_ball t, e_max;
     arb_add(e_max.x, p.alpha.x, p.beta.x, prec);
     arb_mul_2exp_si(e_max.x, e_max.x, 1);
-    if (vs_full > 0) {
-        arb_mul_2exp_si(t.x, p.beta.x, 1);
-        arb_sub(t.x, E, t.x, prec);
-        angle(th_full.x, t.x);
-        arb_sub(t.x, e_max.x, E, prec);
-        angle(psi_full.x, t.x);
-        settle(th_full.x, psi_full.x);
-    } else {
-        arb_zero(th_full.x);
-        arb_set(psi_full.x, pi.x);
-    }
-    if (vs_edge < 0) {
-        angle(th_edge.x, E);
-        arb_mul_2exp_si(t.x, p.alpha.x, 1);
-        arb_sub(t.x, t.x, E, prec);
-        angle(psi_edge.x, t.x);
-        settle(th_edge.x, psi_edge.x);
-    } else {
-        arb_set(th_edge.x, pi.x);
-        arb_zero(psi_edge.x);
-    }
     const bool singular_left = vs_full >= 0, singular_right = vs_edge <= 0;
     arb_ball e_minus_two_alpha, two_beta_minus_e;
     arb_mul_2exp_si(t.x, p.alpha.x, 1);
@@ -393,7 +412,7 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     base.k = &k;
     // u-pieces of length about a third of [th_full, th_edge] at each singular end
     arb_ball span, u;
-    arb_sub(span.x, th_edge.x, th_full.x, prec);
+    arb_sub(span.x, ends.th_edge.x, ends.th_full.x, prec);
     arb_div_ui(u.x, span.x, 3, prec);
     arb_sqrt(u.x, u.x, prec);
     arf_t U, zero;
@@ -402,31 +421,31 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     arf_set_round(U, arb_midref(u.x), 30, ARF_RND_DOWN);  // an exact short dyadic
     arb_ball integral, piece_value, a, b;
     arb_zero(integral.x);
-    arb_set(a.x, th_full.x);
-    arb_set(b.x, th_edge.x);
+    arb_set(a.x, ends.th_full.x);
+    arb_set(b.x, ends.th_edge.x);
     if (singular_left) {
         volume_integrand f = base;
         f.kind = piece::from_full;
-        f.anchor = th_full.x;
-        f.anchor_supplement = psi_full.x;
+        f.anchor = ends.th_full.x;
+        f.anchor_supplement = ends.psi_full.x;
         f.anchor_is_kink = vs_full == 0;
         integrate_exact(piece_value.x, f, zero, U, prec);
         arb_add(integral.x, integral.x, piece_value.x, prec);
         arb_set_arf(t.x, U);
         arb_sqr(t.x, t.x, prec);
-        arb_add(a.x, th_full.x, t.x, prec);
+        arb_add(a.x, ends.th_full.x, t.x, prec);
     }
     if (singular_right) {
         volume_integrand f = base;
         f.kind = piece::to_edge;
-        f.anchor = th_edge.x;
-        f.anchor_supplement = psi_edge.x;
+        f.anchor = ends.th_edge.x;
+        f.anchor_supplement = ends.psi_edge.x;
         f.anchor_is_kink = vs_edge == 0;
         integrate_exact(piece_value.x, f, zero, U, prec);
         arb_add(integral.x, integral.x, piece_value.x, prec);
         arb_set_arf(t.x, U);
         arb_sqr(t.x, t.x, prec);
-        arb_sub(b.x, th_edge.x, t.x, prec);
+        arb_sub(b.x, ends.th_edge.x, t.x, prec);
     }
     {
         volume_integrand f = base;
@@ -437,7 +456,7 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     arf_clear(U);
     arf_clear(zero);
     // Omega = 4 pi sqrt(D0) [4 th_full E(m) + int F]
-    arb_mul(t.x, th_full.x, k.complete_e.x, prec);
+    arb_mul(t.x, ends.th_full.x, k.complete_e.x, prec);
     arb_mul_2exp_si(t.x, t.x, 2);
     arb_add(res, integral.x, t.x, prec);
     arb_mul(res, res, pi.x, prec);
