@@ -119,6 +119,19 @@ TEST(Enclosure, PrintedBallContainsTheComputedBall) {
     EXPECT_FALSE(enclosure_contains(e, "301.6307", "1e-6"));
 }
 
+TEST(Enclosure, AnEnergyAtAnInexactKinkIsTheUnionOfBothSides) {
+    // g = 0.1: 2 beta = 0.2 and E = 0.2 are the same decimal, neither a dyadic, so the energy
+    // ball cannot be placed on one side of the saddle: Omega is the union of the enclosures on
+    // both sides (monotone in E), f1 a ball [0, f1(E + 2^-prec)] that contains 0 (no relative
+    // radius: the proof fails, with exit status 1 in the CLI)
+    model_text t;
+    t.g = "0.1";
+    const certified_enclosure e = certified_value("omega", t, arm::two, "0.2", 30);
+    EXPECT_GE(e.proven_digits, 20) << e.radius;
+    EXPECT_TRUE(enclosure_contains(e, reference_value("omega", t, arm::two, "0.2", 50)));
+    EXPECT_THROW(certified_value("flux-upright", t, arm::two, "0.2", 30), certification_error);
+}
+
 TEST(Enclosure, BadInputIsAnInputError) {
     EXPECT_THROW(certified_value("period", model_text{}, arm::two, "3", 30), input_error);
     EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "-1", 30), input_error);
@@ -144,6 +157,13 @@ TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
     EXPECT_GE(j["enclosure"]["proven_digits"].get<int>(), 20);
     const std::string interval = j["enclosure"]["interval"];
     EXPECT_EQ(interval.front(), '[');
+    // just above the saddle the value is for the energy rounded to mp:30 (it differs from the
+    // exact value for the decimal in the 20th digit): checked against the enclosure for the
+    // rounded inputs, and said so
+    const test::command_result near = test::run_flipflux(
+        "eval flux-upright --energy 2.00000000000000000001 --precision mp:30 --certify");
+    ASSERT_EQ(near.status, 0) << near.err;
+    EXPECT_TRUE(nlohmann::json::parse(near.out)["enclosure"].contains("value_check")) << near.out;
     const test::command_result bad =
         test::run_flipflux("eval flux-approx --energy 5.5 --precision mp:30 --certify");
     EXPECT_EQ(bad.status, 2);
