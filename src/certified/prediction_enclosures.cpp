@@ -375,6 +375,49 @@ allowed_interval allowed_interval_of(const pendulum_balls& p, const arb_t E, int
     return r;
 }
 
+/// The complete integrals E(m) and K(m) of m = 1 - q, with the complement q given (0 < q <= 1,
+/// known to more relative digits than m near m = 1). For q >= 1/2 Arb's acb_elliptic_e/k of m;
+/// for q < 1/2 Carlson's forms K = R_F(0, q, 1), E = 2 R_G(0, q, 1) (Arb's acb_elliptic_e loses
+/// most digits near m = 1), E evaluated at the exact midpoint q0 of q and widened by
+/// rad(q) max |dE/dq|, dE/dq = (K - E) / (2 m) bounded on the ball (mean value theorem: Arb's own
+/// propagation of a radius through R_G near q = 0 is loose by many orders).
+void complete_integrals(arb_t e, arb_t k, const arb_t q, slong prec) {
+    acb_ball zero, one, qq, r;
+    acb_one(one.x);
+    acb_set_arb(qq.x, q);
+    if (arf_cmp_2exp_si(arb_midref(q), -1) >= 0) {
+        acb_sub(r.x, one.x, qq.x, prec);  // m
+        acb_ball ee, kk;
+        acb_elliptic_e(ee.x, r.x, prec);
+        acb_elliptic_k(kk.x, r.x, prec);
+        arb_set(e, acb_realref(ee.x));
+        arb_set(k, acb_realref(kk.x));
+        return;
+    }
+    acb_elliptic_rf(r.x, zero.x, qq.x, one.x, 0, prec);
+    arb_set(k, acb_realref(r.x));
+    acb_ball crude_e;
+    acb_elliptic_rg(crude_e.x, zero.x, qq.x, one.x, 0, prec);
+    acb_mul_2exp_si(crude_e.x, crude_e.x, 1);
+    arb_ball slope, m;
+    arb_sub(slope.x, k, acb_realref(crude_e.x), prec);
+    arb_sub_ui(m.x, q, 1, prec);
+    arb_neg(m.x, m.x);
+    arb_mul_2exp_si(m.x, m.x, 1);
+    arb_div(slope.x, slope.x, m.x, prec);  // dE/dq on the ball
+    arb_abs(slope.x, slope.x);
+    acb_zero(qq.x);
+    arb_set_arf(acb_realref(qq.x), arb_midref(q));
+    acb_elliptic_rg(r.x, zero.x, qq.x, one.x, 0, prec);
+    acb_mul_2exp_si(r.x, r.x, 1);
+    arb_set(e, acb_realref(r.x));
+    arb_ball width;
+    arb_zero(width.x);
+    mag_set(arb_radref(width.x), arb_radref(q));
+    arb_mul(width.x, width.x, slope.x, prec);
+    arb_add(e, e, width.x, prec);
+}
+
 /// Omega for an energy whose position relative to 2 alpha, 2 beta and E_max is decided.
 void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int vs_full,
                           int vs_edge, int vs_max, slong prec) {
@@ -495,14 +538,18 @@ void monotone_enclosure(arb_t res, const energy_function& f, const arb_t E,
     arb_get_ubound_arf(hi, E, prec);
     for (const arb_struct* K : kinks) {
         if (compare_energy(E, K) != 2) continue;
+        // step 2^20 (|K| 2^-prec + rad K) beyond the kink's ball: there E - K is known to about
+        // six digits, so the formulas that depend on it (th_full, th_edge) are well conditioned;
+        // the union widens by that step, about 2^(21 - prec) relatively
+        arf_set_mag(eps, arb_radref(K));
+        arf_mul_2exp_si(k, arb_midref(K), -prec);
+        arf_abs(k, k);
+        arf_add(eps, eps, k, 64, ARF_RND_CEIL);
+        arf_mul_2exp_si(eps, eps, 20);
         arb_get_lbound_arf(k, K, prec);
-        arf_mul_2exp_si(eps, k, -prec);
-        arf_abs(eps, eps);
         arf_sub(k, k, eps, prec, ARF_RND_FLOOR);
         if (arf_cmp(k, lo) < 0) arf_set(lo, k);
         arb_get_ubound_arf(k, K, prec);
-        arf_mul_2exp_si(eps, k, -prec);
-        arf_abs(eps, eps);
         arf_add(k, k, eps, prec, ARF_RND_CEIL);
         if (arf_cmp(k, hi) > 0) arf_set(hi, k);
     }
@@ -601,31 +648,28 @@ void enclose_upright_flux(arb_t res, const pendulum_balls& p, arm a, const arb_t
             arb_ball delta, two_w, t;
             arb_sub(delta.x, e, e_s.x, prec);
             arb_mul_2exp_si(two_w.x, w, 1);
-            if (vs_max >= 0) {  // 16 sqrt(2 J delta) E(2w/delta)
-                acb_ball mm, ee;
-                arb_div(t.x, two_w.x, delta.x, prec);
-                acb_set_arb(mm.x, t.x);
-                if (vs_max == 0)
-                    acb_one(ee.x);  // E(1) = 1
-                else
-                    acb_elliptic_e(ee.x, mm.x, prec);
+            arb_ball ek, kk, q;
+            if (vs_max >= 0) {  // 16 sqrt(2 J delta) E(2w/delta), 1 - 2w/delta = (E - E_max)/delta
+                if (vs_max == 0) {
+                    arb_one(ek.x);  // E(1) = 1
+                } else {
+                    arb_sub(q.x, e, e_max.x, prec);
+                    arb_div(q.x, q.x, delta.x, prec);
+                    complete_integrals(ek.x, kk.x, q.x, prec);
+                }
                 arb_mul(t.x, J, delta.x, prec);
                 arb_mul_2exp_si(t.x, t.x, 1);
                 arb_sqrt(t.x, t.x, prec);
-                arb_mul(out, t.x, acb_realref(ee.x), prec);
+                arb_mul(out, t.x, ek.x, prec);
                 arb_mul_ui(out, out, 16, prec);
                 return;
             }
             // 32 sqrt(J w) [E(p) - (1 - p) K(p)], p = delta/(2w), 1 - p = (E_max - E)/(2w)
-            acb_ball pp, ek, kk;
-            arb_div(t.x, delta.x, two_w.x, prec);
-            acb_set_arb(pp.x, t.x);
-            acb_elliptic_e(ek.x, pp.x, prec);
-            acb_elliptic_k(kk.x, pp.x, prec);
-            arb_sub(t.x, e_max.x, e, prec);
-            arb_div(t.x, t.x, two_w.x, prec);
-            arb_mul(t.x, t.x, acb_realref(kk.x), prec);
-            arb_sub(out, acb_realref(ek.x), t.x, prec);
+            arb_sub(q.x, e_max.x, e, prec);
+            arb_div(q.x, q.x, two_w.x, prec);
+            complete_integrals(ek.x, kk.x, q.x, prec);
+            arb_mul(t.x, q.x, kk.x, prec);
+            arb_sub(out, ek.x, t.x, prec);
             arb_mul(t.x, J, w, prec);
             arb_sqrt(t.x, t.x, prec);
             arb_mul(out, out, t.x, prec);
