@@ -83,7 +83,7 @@ TEST(CertifiedVerify, SecondsPerProof) {
                 EXPECT_GE(e.proven_digits, digits - 10) << q << " at " << energy;
             }
             std::printf(
-                "certified %s at mp:%d: at most %.3f s per proof, at least %d proven digits "
+                "certified %s at mp:%d: at most %.3g s per proof, at least %d proven digits "
                 "(E = 0.5 ... 12)\n",
                 q, digits, worst, fewest);
         }
