@@ -112,9 +112,10 @@ py::dict evaluate(const std::string& name, const std::string& energy_text,
             const quantity& q = find_quantity(name);
             const arm a = cli::parse_arm(arm_text);
             const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
-            const Real energy = parse_real<Real>(energy_text, "--energy");
+            const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
+            const Real& energy = level.value;
             const auto start = std::chrono::steady_clock::now();
-            const quantity_value<Real> v = q.evaluate(model, a, energy, method);
+            const quantity_value<Real> v = q.evaluate(model, a, level, method);
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             return out_t{q.name,
@@ -157,11 +158,12 @@ py::dict saddle_orbit_text(const std::string& energy_text, const std::string& ar
         return dispatch(p, [&]<class Real>() {
             const arm a = cli::parse_arm(arm_text);
             const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
-            const Real energy = parse_real<Real>(energy_text, "--energy");
+            const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
+            const Real& energy = level.value;
             orbit_options<Real> options;
             options.method = parse_name<orbit_method>(method_text, "--method");
-            check_orbit_energy(model, a, energy);
-            const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+            check_orbit_energy(model, a, level);
+            const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
             if (orbit.status == orbit_status::not_converged)
                 throw std::runtime_error("orbit: no convergence at E = " + to_decimal(energy) +
                                          " (" + orbit.double_stage + ")");

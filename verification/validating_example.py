@@ -24,7 +24,8 @@ def main():
         good = os.path.join(tmp, "candidate.csv")
         with open(good, "w") as f:
             f.write(run([sys.executable, SCRIPT]).stdout)
-        r = run([exe, "validate", good, "--golden", GOLDEN, "--allow-missing", "--rtol", "1e-25"])
+        r = run([exe, "validate", good, "--golden", GOLDEN, "--allow-missing", "--rtol", "1e-25",
+                 "--verbose"])
         print(r.stdout)
         assert r.returncode == 0, f"a correct candidate failed (status {r.returncode}): {r.stderr}"
         rows = [l for l in r.stdout.splitlines() if " ok " in f" {l} "]

@@ -211,15 +211,22 @@ def golden_dir():
         here = parent
 
 
-def validate(rows, rtol=1e-12, allow_missing=False, golden=None):
+def validate(rows, rtol=1e-12, allow_missing=False, golden=None, pendulum=None):
     """Compares your values with the golden data -- `flipflux validate`. rows: an iterable of
     (quantity, arm, energy, value) tuples or of dicts with those keys (arm None or "" for omega;
-    numbers as described in the module's docstring, str to keep every digit). Returns a dict:
-    "passed", "rows" (one dict per row: status ok/FAIL/unmatched/duplicate/malformed/missing,
-    relative_error, matched_digits, ...) and "report" (the command-line tool's table)."""
+    numbers as described in the module's docstring, str to keep every digit). pendulum: the
+    golden set of another pendulum (a folder of the golden data, e.g. "unequal-point-masses";
+    None or "egalitarian": the paper's). Returns a dict: "passed", "rows" (one dict per row:
+    status ok/FAIL/unmatched/duplicate/malformed/missing, relative_error, matched_digits, ...) and
+    "report" (the command-line tool's report)."""
     golden = golden or golden_dir()
     if golden is None:
         raise ValueError("--golden: no golden data found above the package; give the directory")
+    if pendulum not in (None, "egalitarian"):
+        if not _os.path.isfile(_os.path.join(str(golden), str(pendulum), "golden.csv")) or \
+                _os.sep in str(pendulum) or str(pendulum).startswith("."):
+            raise ValueError(f"--pendulum: '{pendulum}' has no golden set under '{golden}'")
+        golden = _os.path.join(str(golden), str(pendulum))
     with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
         path = _os.path.join(tmp, "candidate.csv")
         with open(path, "w", newline="") as f:

@@ -88,10 +88,11 @@ json eval_json(const eval_state& s) {
     const quantity& q = find_quantity(s.quantity);
     const arm a = parse_arm(s.arm_text);
     const double_pendulum<Real> model(parse_parameters<Real>(s.model));
-    const Real energy = parse_real<Real>(s.energy, "--energy");
+    const energy_level<Real> level = parse_energy_level<Real>(s.energy, "--energy");
+    const Real& energy = level.value;
     check_magnitude(energy, "--energy");
     const auto start = std::chrono::steady_clock::now();
-    const quantity_value<Real> v = q.evaluate(model, a, energy, s.method);
+    const quantity_value<Real> v = q.evaluate(model, a, level, s.method);
     using std::isfinite;
     if (!isfinite(v.value))  // never print an overflow as a value
         throw input_error("--energy: '" + s.energy + "': " + q.name + " is not finite in " +

@@ -7,6 +7,7 @@
 
 #include "common.hpp"
 #include "flipflux/core/limits.hpp"
+#include "flipflux/core/names.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "progress.hpp"
@@ -21,7 +22,22 @@ struct golden_state {
     std::size_t max_rows = 0;
     bool progress = false;
     precision_option precision{"mp:100"};
+    model_options model;
+    std::string pendulum;
 };
+
+/// The model options as the command line gives them back (for the provenance's command).
+std::string model_flags(const model_options& m) {
+    std::string out;
+    const model_options d;
+    const auto flag = [&out](const char* name, const std::string& v, const std::string& def) {
+        if (v != def) out += std::string(" --") + name + " " + v;
+    };
+    flag("m1", m.m1, d.m1), flag("m2", m.m2, d.m2), flag("L1", m.L1, d.L1);
+    flag("L2", m.L2, d.L2), flag("a1", m.a1, d.a1), flag("a2", m.a2, d.a2);
+    flag("I1", m.I1, d.I1), flag("I2", m.I2, d.I2), flag("g", m.g, d.g);
+    return out;
+}
 
 std::vector<std::string> split_list(const std::string& text) {
     std::vector<std::string> items;
@@ -48,8 +64,25 @@ const register_command registration([](CLI::App& app) {
     sub->add_flag("--progress", s->progress,
                   "progress bar on stderr (default: only when stderr is a terminal)");
     add_precision_option(*sub, s->precision);
+    add_model_options(*sub, s->model);
+    sub->add_option("--pendulum", s->pendulum,
+                    "the pendulum's name in the provenance (and the folder name under data/golden "
+                    "that validate --pendulum reads) [default: egalitarian for the paper's, else "
+                    "required]");
     sub->callback([s] {
         golden_options options;
+        options.model = s->model;
+        (void)make_model<double>(s->model);  // input_error naming a bad parameter
+        if (s->pendulum.empty() && !s->model.is_default())
+            throw input_error(
+                "--pendulum: a name is required for a pendulum other than the "
+                "paper's (it names the golden set)");
+        options.pendulum = s->pendulum.empty() ? "egalitarian" : s->pendulum;
+        if (!is_plain_name(options.pendulum))
+            throw input_error(
+                "--pendulum: '" + options.pendulum +
+                "' is not a plain name (one path component: letters, digits, '.', '_' or "
+                "'-', not starting with '.')");
         options.value_precision = parse_precision(s->precision.text);
         (void)golden_check_precision(options.value_precision);  // input_error when too low
         options.quantities = split_list(s->quantities);
@@ -81,9 +114,12 @@ const register_command registration([](CLI::App& app) {
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;
         if (s->max_rows > 0) command += " --max-rows " + std::to_string(s->max_rows);
         if (s->precision.text != "mp:100") command += " --precision " + s->precision.text;
+        if (!s->pendulum.empty()) command += " --pendulum " + s->pendulum;
+        command += model_flags(s->model);
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
         write_file_atomically(s->out + "/provenance.json",
-                              golden_provenance(command, rows.size(), options.value_precision));
+                              golden_provenance(command, rows.size(), options.value_precision,
+                                                options.model, options.pendulum));
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);

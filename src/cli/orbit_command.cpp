@@ -39,11 +39,12 @@ std::string orbit_csv(const orbit_state_options& o) {
     const arm a = parse_arm(o.arm_text);
     const long samples = parse_samples(o.samples);
     const double_pendulum<Real> model(parse_parameters<Real>(o.model));
-    const Real energy = parse_real<Real>(o.energy, "--energy");
+    const energy_level<Real> level = parse_energy_level<Real>(o.energy, "--energy");
+    const Real& energy = level.value;
     orbit_options<Real> options;
     options.method = parse_name<orbit_method>(o.method, "--method");
-    check_orbit_energy(model, a, energy);
-    const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
+    check_orbit_energy(model, a, level);
+    const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
     if (orbit.status == orbit_status::not_converged)
         throw std::runtime_error("orbit: no convergence at E = " + to_decimal(energy) + " (" +
                                  orbit.double_stage + ")");

@@ -1,4 +1,5 @@
-// flipflux validate CANDIDATE.csv [--golden DIR] [--rtol X] [--allow-missing]
+// flipflux validate CANDIDATE.csv [--golden DIR] [--pendulum NAME] [--rtol X] [--allow-missing]
+//     [--require-all] [--verbose]
 // flipflux validate --ensemble CANDIDATE.csv [--pilot P] [--seed S] [model options]
 // flipflux validate --trajectories CANDIDATE.csv --reference EVENTS.csv [--state NAME]
 //     [--time-tol DT] [--until T]
@@ -6,6 +7,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "flipflux/core/names.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/validation/simulator_check.hpp"
 #include "flipflux/validation/validate.hpp"
@@ -16,11 +18,29 @@ namespace {
 
 struct validate_state {
     std::string candidate, golden, rtol = "1e-12";
-    bool allow_missing = false;
+    bool allow_missing = false, verbose = false, require_all = false;
+    std::string pendulum;
     std::string ensemble, pilot = "1000", seed = "1";
     std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
     model_options model;
 };
+
+/// The golden set of a named pendulum: the folder NAME under the golden data (one path component,
+/// holding golden.csv); input_error listing the sets there otherwise.
+std::string golden_set_of(const std::string& golden, const std::string& name) {
+    namespace fs = std::filesystem;
+    if (name == "egalitarian") return golden;  // the paper's pendulum: the top-level set
+    std::string known;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(golden, ec))
+        if (e.is_directory() && fs::exists(e.path() / "golden.csv"))
+            known += (known.empty() ? "" : ", ") + e.path().filename().string();
+    if (!is_plain_name(name) || !fs::exists(fs::path(golden) / name / "golden.csv"))
+        throw input_error("--pendulum: '" + name + "' has no golden set under '" + golden +
+                          "' (sets: egalitarian, the default" +
+                          (known.empty() ? "" : ", " + known) + ")");
+    return (fs::path(golden) / name).string();
+}
 
 void validate_ensemble(const validate_state& s) {
     const double_pendulum<double> model(parse_parameters<double>(s.model));
@@ -74,6 +94,13 @@ const register_command registration([](CLI::App& app) {
                     "the golden-data directory [default: the installation's, share/flipflux/golden "
                     "beside the executable or in ../share]");
     sub->add_option("--rtol", s->rtol, "relative tolerance per row")->capture_default_str();
+    sub->add_option("--pendulum", s->pendulum,
+                    "the golden set of this pendulum (a folder under the golden data, e.g. "
+                    "unequal-point-masses; its parameters are in its provenance.json) [default: "
+                    "egalitarian, the paper's]");
+    sub->add_flag("--verbose", s->verbose, "list every row, the ok and missing ones too");
+    sub->add_flag("--require-all", s->require_all,
+                  "candidate rows the golden set lacks (unmatched) fail the validation");
     sub->add_flag("--allow-missing", s->allow_missing,
                   "accept a candidate that covers only some energies of a quantity");
     sub->add_option("--ensemble", s->ensemble,
@@ -118,9 +145,10 @@ const register_command registration([](CLI::App& app) {
                     "--golden: no golden data beside the executable (share/flipflux/golden or "
                     "../share/flipflux/golden); give the directory");
         }
+        if (!s->pendulum.empty()) golden = golden_set_of(golden, s->pendulum);
         const validation_report r =
-            validate_candidate(s->candidate, golden, rtol, s->allow_missing);
-        print(format_report(r, rtol));
+            validate_candidate(s->candidate, golden, rtol, s->allow_missing, s->require_all);
+        print(format_report(r, rtol, s->verbose));
         if (!r.passed()) exit_status() = 1;
     });
 });

@@ -3,10 +3,15 @@
 // type's output precision.
 #include "flipflux/core/decimal.hpp"
 
+#include <mpfr.h>
+
 #include <cstdlib>
 #include <iomanip>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/instantiate.hpp"
@@ -37,6 +42,107 @@ Real parse_real(std::string_view text, std::string_view what) {
     return value;
 }
 
+namespace {
+
+/// An MPFR number of its own precision, freed on every path.
+struct mpfr_number {
+    mpfr_t x;
+    explicit mpfr_number(mpfr_prec_t bits) { mpfr_init2(x, bits); }
+    ~mpfr_number() { mpfr_clear(x); }
+    mpfr_number(const mpfr_number&) = delete;
+    mpfr_number& operator=(const mpfr_number&) = delete;
+};
+
+/// Binary digits of Real's significand (of the working precision for mp).
+template <class Real>
+long significand_bits(const Real& x) {
+    if constexpr (has_variable_precision_v<Real>)
+        return static_cast<long>(mpfr_get_prec(x.backend().data()));
+    else
+        return std::numeric_limits<Real>::digits;
+}
+
+/// out = x exactly (out has at least x's significand bits).
+template <class Real>
+void set_exactly(mpfr_ptr out, const Real& x) {
+    if constexpr (std::is_same_v<Real, double>) {
+        mpfr_set_d(out, x, MPFR_RNDN);
+    } else if constexpr (has_variable_precision_v<Real>) {
+        mpfr_set(out, x.backend().data(), MPFR_RNDN);
+    } else {
+        // quad: three doubles hold its 113 bits exactly (each remainder is exact in quad)
+        const double hi = static_cast<double>(x);
+        const Real r1 = x - Real(hi);
+        const double mid = static_cast<double>(r1);
+        const double lo = static_cast<double>(r1 - Real(mid));
+        mpfr_set_d(out, hi, MPFR_RNDN);
+        mpfr_add_d(out, out, mid, MPFR_RNDN);
+        mpfr_add_d(out, out, lo, MPFR_RNDN);
+    }
+}
+
+/// x rounded to Real.
+template <class Real>
+Real rounded(mpfr_srcptr x) {
+    if constexpr (std::is_same_v<Real, double>) {
+        return mpfr_get_d(x, MPFR_RNDN);
+    } else if constexpr (has_variable_precision_v<Real>) {
+        Real r;
+        mpfr_set(r.backend().data(), x, MPFR_RNDN);
+        return r;
+    } else {
+        // quad: through 45 significant digits (the rounding from 150 to 113 bits is then the only
+        // one that matters)
+        if (mpfr_zero_p(x)) return Real(0);
+        std::vector<char> buffer(64);
+        mpfr_exp_t e = 0;
+        mpfr_get_str(buffer.data(), &e, 10, 45, x, MPFR_RNDN);
+        std::string digits(buffer.data());
+        const bool negative = !digits.empty() && digits[0] == '-';
+        if (negative) digits.erase(0, 1);
+        const std::string text = std::string(negative ? "-" : "") + "0." + digits + "e" +
+                                 std::to_string(static_cast<long>(e));
+        return Real(text.c_str());
+    }
+}
+
+/// The decimal exponent of a decimal text (0 without one).
+long decimal_exponent(std::string_view text) {
+    const std::size_t e = text.find_first_of("eE");
+    return e == std::string_view::npos
+               ? 0
+               : std::strtol(std::string(text.substr(e + 1)).c_str(), nullptr, 10);
+}
+
+}  // namespace
+
+template <class Real>
+Real parse_difference(std::string_view text, const Real& subtrahend, std::string_view what) {
+    const Real value = parse_real<Real>(text, what);  // validates the text, and its range
+    using boost::multiprecision::isfinite;
+    using std::frexp;
+    using std::isfinite;
+    const auto exponent = [](const Real& x) {
+        int e = 0;
+        if (x != 0) frexp(x, &e);
+        return std::labs(static_cast<long>(e));
+    };
+    if (!isfinite(subtrahend)) throw std::domain_error("parse_difference: subtrahend not finite");
+    // |text - b| >= 1 / (10^m 2^n) unless 0 (text = k 10^-m, b = j 2^-n): enough bits for the
+    // cancellation down to that, plus Real's own and guard bits
+    const long bits = significand_bits(subtrahend);
+    const long m = static_cast<long>(text.size()) + std::labs(decimal_exponent(text));
+    const long n = bits + exponent(subtrahend);
+    const long scale = exponent(value);
+    mpfr_number a(static_cast<mpfr_prec_t>(2 * bits + 4 * m + n + scale + 128));
+    mpfr_number b(static_cast<mpfr_prec_t>(bits + 64));
+    const std::string s(text);
+    mpfr_set_str(a.x, s.c_str(), 10, MPFR_RNDN);
+    set_exactly(b.x, subtrahend);
+    mpfr_sub(a.x, a.x, b.x, MPFR_RNDN);
+    return rounded<Real>(a.x);
+}
+
 template <class Real>
 std::string to_decimal(const Real& x, int significant_digits) {
     std::ostringstream out;
@@ -56,6 +162,8 @@ std::string to_decimal(const Real& x) {
 }
 
 template inst_real parse_real<inst_real>(std::string_view, std::string_view);
+template inst_real parse_difference<inst_real>(std::string_view, const inst_real&,
+                                               std::string_view);
 template std::string to_decimal<inst_real>(const inst_real&);
 template std::string to_decimal<inst_real>(const inst_real&, int);
 

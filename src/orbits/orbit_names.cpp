@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/io/checksum.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
@@ -49,16 +50,7 @@ void forget_saddle_orbits() {
 namespace flipflux {
 
 std::string orbit_record_checksum(const std::string& text) {
-    std::uint64_t h = 14695981039346656037ull;  // FNV-1a
-    for (unsigned char c : text) {
-        h ^= c;
-        h *= 1099511628211ull;
-    }
-    static const char* digits = "0123456789abcdef";
-    std::string hex(16, '0');
-    for (int i = 15; i >= 0; --i, h >>= 4)
-        hex[static_cast<std::size_t>(i)] = digits[h & 15];
-    return hex;
+    return checksum_hex(text);
 }
 
 std::string seal_orbit_record(const std::string& json_text) {

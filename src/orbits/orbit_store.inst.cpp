@@ -45,10 +45,16 @@ struct memo {
         static memo m;
         return m;
     }
+    /// E and E - E_s: two decimal inputs that round to one E are two orbits (energy_level).
     static std::string key(const double_pendulum<Real>& model, arm a, const Real& energy,
-                           orbit_method method) {
+                           const Real& excess, orbit_method method) {
         return model_text_key(model) + precision_name<Real>() + ";" + to_string(a) + ";" +
-               to_decimal(energy, full_digits(energy)) + ";" + to_string(method);
+               to_decimal(energy, full_digits(energy)) + ";" +
+               to_decimal(excess, full_digits(excess)) + ";" + to_string(method);
+    }
+    static std::string key(const double_pendulum<Real>& model, arm a,
+                           const energy_level<Real>& energy, orbit_method method) {
+        return key(model, a, energy.value, energy.above(model.saddle_energy(a)), method);
     }
     void refresh() {  // under the lock
         const unsigned g = saddle_orbit_memo_generation();
@@ -94,7 +100,8 @@ constexpr int format_version = 3;
 
 template <class Real>
 std::optional<saddle_orbit<Real>> recall_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                                      const Real& energy, orbit_method method) {
+                                                      const level_arg<Real>& energy,
+                                                      orbit_method method) {
     auto& m = memo<Real>::instance();
     const std::lock_guard<std::mutex> lock(m.mutex);
     m.refresh();
@@ -108,13 +115,13 @@ void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbi
     auto& m = memo<Real>::instance();
     const std::lock_guard<std::mutex> lock(m.mutex);
     m.refresh();
-    m.orbits.insert_or_assign(memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.method),
-                              orbit);
+    m.orbits.insert_or_assign(
+        memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.excess, orbit.method), orbit);
 }
 
 template <class Real>
 saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                              const Real& energy,
+                                              const level_arg<Real>& energy,
                                               const orbit_options<Real>& options) {
     if (saddle_orbit_memo_bypassed()) {
         count_saddle_orbit_memo_miss();
@@ -315,12 +322,13 @@ std::string orbit_cache_key(const double_pendulum<Real>& model,
 }
 
 template <class Real>
-std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a, const Real& energy,
-                                 const saddle_orbit<Real>& o) {
+std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a,
+                                 const level_arg<Real>& level, const saddle_orbit<Real>& o) {
     using std::abs;
     using std::cbrt;
     using std::isfinite;
     if (o.flip_arm != a) return "arm " + to_string(o.flip_arm) + ", expected " + to_string(a);
+    const Real& energy = level.value;
     if (o.energy != energy)
         return "energy " + to_decimal(o.energy) + ", expected " + to_decimal(energy);
     if (o.status == orbit_status::not_converged) return "a record of a failed solve";
@@ -335,9 +343,9 @@ std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a, cons
     Real tol = cbrt(eps);
     if (isfinite(o.residual) && 100 * o.residual > tol) tol = 100 * o.residual;
     const Real es = model.saddle_energy(a), scale = abs(energy) + abs(es);
-    if (!(abs(o.excess - (energy - es)) <= tol * scale))
+    if (!(abs(o.excess - level.above(es)) <= tol * scale))
         return "excess E - E_s = " + to_decimal(o.excess) + ", the model's is " +
-               to_decimal(Real(energy - es)) + " (another pendulum?)";
+               to_decimal(level.above(es)) + " (another pendulum?)";
     if (!(abs(model.potential(o.saddle[0], o.saddle[1]) - es) <= tol * scale))
         return "its saddle point is not the model's (another pendulum?)";
     if (!(abs(o.start[0] - o.saddle[0]) + abs(o.start[1] - o.saddle[1]) <= tol * scale) ||
@@ -370,14 +378,15 @@ std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a, cons
 
 using R = inst_real;
 template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(const double_pendulum<R>&, arm,
-                                                               const R&, orbit_method);
+                                                               const level_arg<R>&, orbit_method);
 template void remember_saddle_orbit<R>(const double_pendulum<R>&, const saddle_orbit<R>&);
-template saddle_orbit<R> find_or_solve_saddle_orbit<R>(const double_pendulum<R>&, arm, const R&,
+template saddle_orbit<R> find_or_solve_saddle_orbit<R>(const double_pendulum<R>&, arm,
+                                                       const level_arg<R>&,
                                                        const orbit_options<R>&);
 template std::string orbit_to_json<R>(const saddle_orbit<R>&);
 template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);
 template std::string orbit_cache_key<R>(const double_pendulum<R>&, const orbit_options<R>&);
-template std::string cached_orbit_problem<R>(const double_pendulum<R>&, arm, const R&,
+template std::string cached_orbit_problem<R>(const double_pendulum<R>&, arm, const level_arg<R>&,
                                              const saddle_orbit<R>&);
 
 }  // namespace flipflux

@@ -28,15 +28,16 @@ int default_stages() {
 }
 
 template <class Real>
-void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& energy) {
+void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy) {
     using boost::multiprecision::isfinite;
     using std::isfinite;
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
-    if (!isfinite(energy) || !(energy > lo) || !(energy < hi)) {
-        throw input_error::about("energy", "'" + to_decimal(energy) + "' is outside the arm-" +
-                                               to_string(a) + " saddle-orbit family's range (" +
-                                               to_decimal(lo) + ", " + to_decimal(hi) +
-                                               "), open at both ends");
+    if (!isfinite(energy.value) || !isfinite(energy.residual) || !(energy.above(lo) > 0) ||
+        !(energy.below(hi) > 0)) {
+        throw input_error::about("energy", "'" + to_decimal(energy.value) +
+                                               "' is outside the arm-" + to_string(a) +
+                                               " saddle-orbit family's range (" + to_decimal(lo) +
+                                               ", " + to_decimal(hi) + "), open at both ends");
     }
 }
 
@@ -343,7 +344,8 @@ Real period_derivative(const detail::shooting_setup<Real>& setup, const polish<R
 
 template <class Real>
 saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                       const Real& energy, const orbit_guess<Real>& guess,
+                                       const level_arg<Real>& energy,
+                                       const orbit_guess<Real>& guess,
                                        const orbit_options<Real>& options) {
     using std::abs;
     using std::max;
@@ -351,12 +353,12 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     const bool periodic = options.method == orbit_method::periodic;
     const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
     const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
-    const Real excess = energy - model.saddle_energy(a);
+    const Real excess = energy.above(model.saddle_energy(a));
     const Real eps = std::numeric_limits<Real>::epsilon();
 
     saddle_orbit<Real> orbit;
     orbit.flip_arm = a;
-    orbit.energy = energy;
+    orbit.energy = energy.value;
     orbit.excess = excess;
     orbit.method = options.method;
     orbit.stages = stages;
@@ -463,12 +465,13 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 }
 
 template <class Real>
-saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a, const Real& energy,
+saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                      const level_arg<Real>& energy,
                                       const orbit_options<Real>& options) {
     check_orbit_energy(model, a, energy);
     const orbit_guess<Real> lin = linear_guess(model, a);
     const double_pendulum<double> md = to_double(model);
-    const double target = static_cast<double>(energy - model.saddle_energy(a));
+    const double target = static_cast<double>(energy.above(model.saddle_energy(a)));
     // NOTE: the continuation's corrector is the symmetric Newton iteration whatever the method:
     // its basin is that of a quarter period, about sqrt(|mu|) times wider than the periodic
     // shooting's (Ceres' continuation stalls near E_max, see docs/theory.md); the orbit itself
@@ -479,8 +482,8 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     if (!c.success) {
         saddle_orbit<Real> failed;
         failed.flip_arm = a;
-        failed.energy = energy;
-        failed.excess = energy - model.saddle_energy(a);
+        failed.energy = energy.value;
+        failed.excess = energy.above(model.saddle_energy(a));
         failed.status = orbit_status::not_converged;
         failed.double_stage = "continuation from the centre mode failed: " + c.stop_reason;
         return failed;
@@ -492,21 +495,22 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
 
 template <class Real>
 saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
-                                           const std::vector<Real>& energies,
+                                           const std::vector<energy_level<Real>>& energies,
                                            const orbit_options<Real>& options) {
     saddle_family<Real> family;
     family.flip_arm = a;
     std::vector<double> targets;
     for (std::size_t i = 0; i < energies.size(); ++i) {
         check_orbit_energy(model, a, energies[i]);
-        if (i > 0 && !(energies[i] > energies[i - 1]))
+        const Real excess = energies[i].above(model.saddle_energy(a));
+        if (i > 0 && !(excess > energies[i - 1].above(model.saddle_energy(a))))
             throw input_error::about("energy", "the energies must increase ('" +
-                                                   to_decimal(energies[i]) + "' follows '" +
-                                                   to_decimal(energies[i - 1]) + "')");
-        targets.push_back(static_cast<double>(energies[i] - model.saddle_energy(a)));
+                                                   to_decimal(energies[i].value) + "' follows '" +
+                                                   to_decimal(energies[i - 1].value) + "')");
+        targets.push_back(static_cast<double>(excess));
         if (i > 0 && !(targets[i] > targets[i - 1]))
             throw input_error::about(
-                "energy", "'" + to_decimal(energies[i]) +
+                "energy", "'" + to_decimal(energies[i].value) +
                               "' is not distinguishable from the previous energy at double");
     }
     const orbit_guess<Real> lin = linear_guess(model, a);
@@ -570,17 +574,17 @@ phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_o
 
 template int default_stages<inst_real>();
 template void check_orbit_energy<inst_real>(const double_pendulum<inst_real>&, arm,
-                                            const inst_real&);
+                                            const level_arg<inst_real>&);
 template orbit_guess<inst_real> linear_guess<inst_real>(const double_pendulum<inst_real>&, arm);
 template saddle_orbit<inst_real> refine_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
-                                                                arm, const inst_real&,
+                                                                arm, const level_arg<inst_real>&,
                                                                 const orbit_guess<inst_real>&,
                                                                 const orbit_options<inst_real>&);
 template saddle_orbit<inst_real> solve_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
-                                                               arm, const inst_real&,
+                                                               arm, const level_arg<inst_real>&,
                                                                const orbit_options<inst_real>&);
 template saddle_family<inst_real> continue_saddle_family<inst_real>(
-    const double_pendulum<inst_real>&, arm, const std::vector<inst_real>&,
+    const double_pendulum<inst_real>&, arm, const std::vector<energy_level<inst_real>>&,
     const orbit_options<inst_real>&);
 template phase_point<inst_real> orbit_state<inst_real>(const double_pendulum<inst_real>&,
                                                        const saddle_orbit<inst_real>&,

@@ -31,15 +31,17 @@ struct curve_frame {
     Real w_s, w_f;       ///< weights of s and of the flip angle in V
     Real M_ss, M_ff, C;  ///< diagonal entries of M for s and for the flip angle; C
 
-    curve_frame(const double_pendulum<Real>& m, const Real& energy, const curve_view<Real>& c)
+    curve_frame(const double_pendulum<Real>& m, const energy_level<Real>& energy,
+                const curve_view<Real>& c)
         : model(m), curve(c) {
         using boost::multiprecision::isfinite;
         using std::isfinite;
-        if (!isfinite(energy)) throw std::domain_error("curve_flux: energy not finite");
+        if (!isfinite(energy.value) || !isfinite(energy.residual))
+            throw std::domain_error("curve_flux: energy not finite");
         const auto& k = m.coefficients();
         const bool two = c.flip_arm == arm::two;
-        delta = energy - m.saddle_energy(c.flip_arm);
-        above_max = energy - m.maximum_energy();
+        delta = energy.above(m.saddle_energy(c.flip_arm));
+        above_max = energy.above(m.maximum_energy());
         w_s = two ? k.alpha : k.beta;
         w_f = two ? k.beta : k.alpha;
         M_ss = two ? k.A : k.B;
@@ -323,8 +325,9 @@ std::vector<std::array<Real, 2>> accessible_intervals(const double_pendulum<Real
 }
 
 template <class Real>
-curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model, const Real& energy,
-                                   const curve_view<Real>& curve, curve_flux_method method) {
+curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model,
+                                   const level_arg<Real>& energy, const curve_view<Real>& curve,
+                                   curve_flux_method method) {
     using std::sqrt;
     const curve_frame<Real> frame(model, energy, curve);
     curve_flux_result<Real> r;
@@ -354,7 +357,7 @@ curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model, const Rea
 }
 
 template <class Real>
-Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const Real& energy,
+Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy,
                       const Real& slope) {
     using std::sqrt;
     const auto& k = model.coefficients();
@@ -370,7 +373,7 @@ Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const Real& ene
             "near_saddle_flux: the curve's tangent is not transverse to the "
             "saddle's runaway direction (d^T K* d <= 0)");
     }
-    return 4 * pi<Real>() * (energy - model.saddle_energy(a)) * sqrt(mass / stiffness);
+    return 4 * pi<Real>() * energy.above(model.saddle_energy(a)) * sqrt(mass / stiffness);
 }
 
 #define FLIPFLUX_CURVE_FLUX_INSTANTIATE(R)                                                        \
@@ -378,9 +381,9 @@ Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const Real& ene
                                        const R&);                                                 \
     template std::vector<std::array<R, 2>> accessible_intervals<R>(                               \
         const double_pendulum<R>&, const R&, const curve_view<R>&);                               \
-    template curve_flux_result<R> curve_flux<R>(const double_pendulum<R>&, const R&,              \
+    template curve_flux_result<R> curve_flux<R>(const double_pendulum<R>&, const level_arg<R>&,   \
                                                 const curve_view<R>&, curve_flux_method);         \
-    template R near_saddle_flux<R>(const double_pendulum<R>&, arm, const R&, const R&)
+    template R near_saddle_flux<R>(const double_pendulum<R>&, arm, const level_arg<R>&, const R&)
 FLIPFLUX_CURVE_FLUX_INSTANTIATE(inst_real);
 
 }  // namespace flipflux

@@ -13,16 +13,17 @@ namespace flipflux {
 
 template <class Real>
 prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a,
-                                       flip_criterion criterion, const Real& energy,
+                                       flip_criterion criterion, const level_arg<Real>& energy,
                                        rate_route route) {
     using boost::multiprecision::isfinite;
     using std::isfinite;
-    if (!isfinite(energy) || !(energy > 0)) {
+    if (!isfinite(energy.value) || !energy.positive()) {
         throw std::domain_error("predicted_rate: needs a finite E > 0 (Omega = 0 otherwise)");
     }
     const bool closed = route == rate_route::closed_form;
-    const prediction_result<Real> omega = phase_volume(
-        model, energy, closed ? phase_volume_method::elliptic : phase_volume_method::quadrature_2d);
+    const prediction_result<Real> omega =
+        phase_volume(model, energy.value,
+                     closed ? phase_volume_method::elliptic : phase_volume_method::quadrature_2d);
     prediction_result<Real> flux;
     if (criterion == flip_criterion::upright) {
         flux = upright_flux(model, a, energy,
@@ -36,6 +37,7 @@ prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a
 
 template prediction_result<inst_real> predicted_rate<inst_real>(const double_pendulum<inst_real>&,
                                                                 arm, flip_criterion,
-                                                                const inst_real&, rate_route);
+                                                                const level_arg<inst_real>&,
+                                                                rate_route);
 
 }  // namespace flipflux

@@ -20,15 +20,16 @@ namespace {
 template <class Real>
 struct upright_geometry {
     Real J, w, delta, below_max;
-    upright_geometry(const double_pendulum<Real>& model, arm a, const Real& energy) {
+    upright_geometry(const double_pendulum<Real>& model, arm a, const energy_level<Real>& energy) {
         using boost::multiprecision::isfinite;
         using std::isfinite;
-        if (!isfinite(energy)) throw std::domain_error("upright_flux: energy not finite");
+        if (!isfinite(energy.value) || !isfinite(energy.residual))
+            throw std::domain_error("upright_flux: energy not finite");
         const auto& k = model.coefficients();
         J = a == arm::two ? k.A : k.B;
         w = a == arm::two ? k.alpha : k.beta;
-        delta = energy - model.saddle_energy(a);
-        below_max = model.maximum_energy() - energy;
+        delta = energy.above(model.saddle_energy(a));
+        below_max = energy.below(model.maximum_energy());
     }
 };
 
@@ -79,7 +80,7 @@ prediction_result<Real> upright_flux_integral(const upright_geometry<Real>& g) {
 
 template <class Real>
 Real upright_flux_incomplete_elliptic(const double_pendulum<Real>& model, arm a,
-                                      const Real& energy) {
+                                      const level_arg<Real>& energy) {
     using std::sqrt;
     const upright_geometry<Real> g(model, a, energy);
     if (!(g.delta > 0) || !(g.below_max >= 0)) {
@@ -93,7 +94,8 @@ Real upright_flux_incomplete_elliptic(const double_pendulum<Real>& model, arm a,
 }
 
 template <class Real>
-Real upright_flux_complete_elliptic(const double_pendulum<Real>& model, arm a, const Real& energy) {
+Real upright_flux_complete_elliptic(const double_pendulum<Real>& model, arm a,
+                                    const level_arg<Real>& energy) {
     using std::sqrt;
     const upright_geometry<Real> g(model, a, energy);
     if (!(g.below_max <= 0)) {
@@ -106,7 +108,7 @@ Real upright_flux_complete_elliptic(const double_pendulum<Real>& model, arm a, c
 
 template <class Real>
 Real upright_flux_reciprocal_modulus(const double_pendulum<Real>& model, arm a,
-                                     const Real& energy) {
+                                     const level_arg<Real>& energy) {
     using std::sqrt;
     const upright_geometry<Real> g(model, a, energy);
     if (!(g.delta > 0) || !(g.below_max > 0)) {
@@ -119,15 +121,16 @@ Real upright_flux_reciprocal_modulus(const double_pendulum<Real>& model, arm a,
 }
 
 template <class Real>
-Real upright_flux_near_saddle(const double_pendulum<Real>& model, arm a, const Real& energy) {
+Real upright_flux_near_saddle(const double_pendulum<Real>& model, arm a,
+                              const level_arg<Real>& energy) {
     using std::sqrt;
     const upright_geometry<Real> g(model, a, energy);
     return 4 * pi<Real>() * sqrt(g.J / g.w) * g.delta * (1 + g.delta / (16 * g.w));
 }
 
 template <class Real>
-prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a, const Real& energy,
-                                     upright_flux_method method) {
+prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a,
+                                     const level_arg<Real>& energy, upright_flux_method method) {
     const upright_geometry<Real> g(model, a, energy);
     prediction_result<Real> r;
     if (!(g.delta > 0)) return r;  // the surface is not reached
@@ -153,13 +156,16 @@ prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a, 
     return r;
 }
 
-#define FLIPFLUX_UPRIGHT_FLUX_INSTANTIATE(R)                                                  \
-    template prediction_result<R> upright_flux<R>(const double_pendulum<R>&, arm, const R&,   \
-                                                  upright_flux_method);                       \
-    template R upright_flux_incomplete_elliptic<R>(const double_pendulum<R>&, arm, const R&); \
-    template R upright_flux_complete_elliptic<R>(const double_pendulum<R>&, arm, const R&);   \
-    template R upright_flux_reciprocal_modulus<R>(const double_pendulum<R>&, arm, const R&);  \
-    template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm, const R&)
+#define FLIPFLUX_UPRIGHT_FLUX_INSTANTIATE(R)                                                 \
+    template prediction_result<R> upright_flux<R>(const double_pendulum<R>&, arm,            \
+                                                  const level_arg<R>&, upright_flux_method); \
+    template R upright_flux_incomplete_elliptic<R>(const double_pendulum<R>&, arm,           \
+                                                   const level_arg<R>&);                     \
+    template R upright_flux_complete_elliptic<R>(const double_pendulum<R>&, arm,             \
+                                                 const level_arg<R>&);                       \
+    template R upright_flux_reciprocal_modulus<R>(const double_pendulum<R>&, arm,            \
+                                                  const level_arg<R>&);                      \
+    template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm, const level_arg<R>&)
 FLIPFLUX_UPRIGHT_FLUX_INSTANTIATE(inst_real);
 
 }  // namespace flipflux

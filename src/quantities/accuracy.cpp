@@ -53,7 +53,7 @@ std::optional<timed_value> evaluate(const precision& p, const quantity& q,
                                     bool fresh = false) {
     return dispatch(p, [&]<class Real>() -> std::optional<timed_value> {
         const double_pendulum<Real> model;
-        const Real energy = parse_real<Real>(pr.energy, "energy");
+        const energy_level<Real> energy = parse_energy_level<Real>(pr.energy, "energy");
         std::optional<saddle_orbit_memo_bypass> bypass;
         if (fresh && q.needs_saddle_orbit) bypass.emplace();
         try {

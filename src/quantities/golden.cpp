@@ -47,6 +47,7 @@ struct golden_task {
     const quantity* q;
     arm a;
     std::string energy;
+    const model_text* model;
 };
 
 /// One evaluation as decimal text (every digit of its precision), or why there is none.
@@ -59,8 +60,8 @@ struct evaluation {
 template <class Real>
 evaluation evaluate_text(const golden_task& t, const std::string& method) {
     try {
-        const double_pendulum<Real> model;
-        const Real energy = parse_real<Real>(t.energy, "energy");
+        const double_pendulum<Real> model = make_model<Real>(*t.model);
+        const energy_level<Real> energy = parse_energy_level<Real>(t.energy, "energy");
         const quantity_value<Real> v = t.q->evaluate(model, t.a, energy, method);
         return {to_decimal(v.value), v.method, ""};
     } catch (const input_error& e) {
@@ -158,8 +159,44 @@ precision golden_check_precision(const precision& value_precision) {
             "mp:DIGITS with DIGITS >= 2)");
 }
 
+std::vector<std::string> golden_relative_energies(double start, double maximum) {
+    std::vector<std::string> grid;
+    const auto add = [&grid, start](double e) {
+        const std::string text = round_decimal(to_decimal(e, 17), 10);
+        if (parse_real<double>(text, "energy") > start &&
+            std::find(grid.begin(), grid.end(), text) == grid.end())
+            grid.push_back(text);
+    };
+    add(start + maximum / 1000);
+    for (int k = 1; k <= 40; ++k) {
+        if (k == 40) add(maximum * (1 - 1.0 / 1000));
+        add(maximum * k / 40);
+    }
+    for (double f : {1.25, 1.5, 2.0, 3.0, 5.0, 10.0})
+        add(maximum * f);
+    std::sort(grid.begin(), grid.end(), [](const std::string& a, const std::string& b) {
+        return parse_real<double>(a, "energy") < parse_real<double>(b, "energy");
+    });
+    return grid;
+}
+
+std::vector<std::string> golden_relative_orbit_energies(double start, double maximum) {
+    std::vector<std::string> grid;
+    for (double f : {0.01, 0.25, 0.5, 0.75, 0.99})
+        grid.push_back(round_decimal(to_decimal(start + (maximum - start) * f, 17), 10));
+    return grid;
+}
+
 std::vector<golden_row> generate_golden(const golden_options& options) {
-    const double_pendulum<double> model;
+    const double_pendulum<double> model = make_model<double>(options.model);
+    const bool paper = options.model.is_default();
+    const auto grid = [paper](double start, double maximum) {
+        return paper ? golden_energies(start, maximum) : golden_relative_energies(start, maximum);
+    };
+    const auto orbit_grid = [paper](double start, double maximum) {
+        return paper ? golden_orbit_energies(start, maximum)
+                     : golden_relative_orbit_energies(start, maximum);
+    };
     std::vector<golden_task> tasks;
     for (const quantity& q : quantities()) {
         if (!options.quantities.empty() &&
@@ -168,15 +205,15 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
             continue;
         }
         if (!q.per_arm) {
-            for (const std::string& e : golden_energies(0, model.maximum_energy()))
-                tasks.push_back({&q, arm::two, e});
+            for (const std::string& e : grid(0, model.maximum_energy()))
+                tasks.push_back({&q, arm::two, e, &options.model});
             continue;
         }
         for (arm a : {arm::two, arm::one}) {
             const double es = model.saddle_energy(a), emax = model.maximum_energy();
             for (const std::string& e :
-                 q.needs_saddle_orbit ? golden_orbit_energies(es, emax) : golden_energies(es, emax))
-                tasks.push_back({&q, a, e});
+                 q.needs_saddle_orbit ? orbit_grid(es, emax) : grid(es, emax))
+                tasks.push_back({&q, a, e, &options.model});
         }
     }
     if (options.max_rows > 0 && tasks.size() > options.max_rows) {
@@ -260,7 +297,8 @@ std::vector<golden_row> parse_golden_csv(const std::string& text) {
 }
 
 std::string golden_provenance(const std::string& command, std::size_t rows,
-                              const precision& value_precision) {
+                              const precision& value_precision, const model_text& model,
+                              const std::string& pendulum) {
     const precision check = golden_check_precision(value_precision);
     nlohmann::ordered_json j;
     j["command"] = command;
@@ -286,13 +324,36 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
     j["boost_math_policy"] =
         "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
         "(domain and evaluation errors throw)";
-    j["model"] =
-        "egalitarian double pendulum: m1 = m2 = L1 = L2 = g = 1 (A = 2, B = C = 1, "
-        "alpha = 2, beta = 1)";
-    j["grid"] =
-        "per quantity and arm: every 0.05 from above the saddle energy (0 for omega) to E_max = 6, "
-        "then 6.5, 7, 7.5, 8, 9, 10, 12, 15, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100; energies are "
-        "decimal text parsed in each precision";
+    const double_pendulum<double> m = make_model<double>(model);
+    j["pendulum"] = pendulum;
+    j["parameters"] = {{"m1", model.m1},
+                       {"m2", model.m2},
+                       {"L1", model.L1},
+                       {"L2", model.L2},
+                       {"a1", model.a1.empty() ? model.L1 : model.a1},
+                       {"a2", model.a2.empty() ? model.L2 : model.a2},
+                       {"I1", model.I1},
+                       {"I2", model.I2},
+                       {"g", model.g}};
+    j["critical_energies"] = {{"saddle_arm2", to_decimal(m.saddle_energy(arm::two))},
+                              {"saddle_arm1", to_decimal(m.saddle_energy(arm::one))},
+                              {"maximum", to_decimal(m.maximum_energy())}};
+    if (model.is_default()) {
+        j["model"] =
+            "egalitarian double pendulum: m1 = m2 = L1 = L2 = g = 1 (A = 2, B = C = 1, "
+            "alpha = 2, beta = 1)";
+        j["grid"] =
+            "per quantity and arm: every 0.05 from above the saddle energy (0 for omega) to E_max "
+            "= 6, then 6.5, 7, 7.5, 8, 9, 10, 12, 15, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100; "
+            "energies are decimal text parsed in each precision";
+    } else {
+        j["model"] = "double pendulum with the parameters above (flipflux --m1 ... --g)";
+        j["grid"] =
+            "relative to the critical energies, U = E_max: the fractions k/40 of U above the "
+            "saddle energy (0 for omega), E_s + U/1000, U (1 - 1/1000), and 1.25, 1.5, 2, 3, 5, 10 "
+            "U, each with 10 significant digits; energies are decimal text parsed in each "
+            "precision";
+    }
     j["columns"] = {{"quantity", "registered name (flipflux eval --help)"},
                     {"arm", "1 or 2; empty for quantities that are not per arm"},
                     {"energy", "E as decimal text"},

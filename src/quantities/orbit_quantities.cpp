@@ -20,15 +20,15 @@ namespace {
 const std::vector<std::string> orbit_methods = names_of<orbit_method>();
 
 template <class Real>
-saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a, const Real& energy,
-                             const std::string& method) {
+saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a,
+                             const energy_level<Real>& energy, const std::string& method) {
     orbit_options<Real> options;
     options.method =
         method.empty() ? orbit_method::periodic : parse_name<orbit_method>(method, "method");
     check_orbit_energy(model, a, energy);
     saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy, options);
     if (orbit.status == orbit_status::not_converged) {
-        throw std::runtime_error("saddle orbit at E = " + to_decimal(energy) + " (arm " +
+        throw std::runtime_error("saddle orbit at E = " + to_decimal(energy.value) + " (arm " +
                                  to_string(a) + "): no convergence (" + orbit.double_stage + ")");
     }
     return orbit;
@@ -47,7 +47,8 @@ std::string method_text(const saddle_orbit<Real>& orbit) {
 
 struct period_fn {
     template <class Real>
-    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                    const energy_level<Real>& energy,
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         return {o.period, o.error_estimate_period, method_text(o)};
@@ -56,7 +57,8 @@ struct period_fn {
 
 struct action_fn {
     template <class Real>
-    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                    const energy_level<Real>& energy,
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         return {o.action, o.error_estimate_action, method_text(o)};
@@ -65,7 +67,8 @@ struct action_fn {
 
 struct flux_fn {
     template <class Real>
-    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                    const energy_level<Real>& energy,
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         return {o.flux(), 2 * o.error_estimate_action, "f3 = 2 F, " + method_text(o)};
@@ -102,12 +105,13 @@ Real multiplier_error(const saddle_orbit<Real>& o) {
 
 struct multiplier_fn {
     template <class Real>
-    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                    const energy_level<Real>& energy,
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         if (!o.floquet.hyperbolic) {
             throw std::runtime_error(
-                "saddle orbit at E = " + to_decimal(energy) +
+                "saddle orbit at E = " + to_decimal(energy.value) +
                 " is elliptic: its nontrivial multipliers are exp(+-i nu) with nu = " +
                 to_decimal(o.floquet.angle) + " (see stability-index)");
         }
@@ -118,7 +122,8 @@ struct multiplier_fn {
 
 struct stability_fn {
     template <class Real>
-    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                    const energy_level<Real>& energy,
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         return {o.floquet.stability_index, multiplier_error(o),
@@ -128,11 +133,12 @@ struct stability_fn {
 
 struct rate_fn {
     template <class Real>
-    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a, const Real& energy,
+    quantity_value<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                    const energy_level<Real>& energy,
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         const prediction_result<Real> flux{o.flux(), 2 * o.error_estimate_action, 0};
-        const auto omega = phase_volume(model, energy, phase_volume_method::elliptic);
+        const auto omega = phase_volume(model, energy.value, phase_volume_method::elliptic);
         const auto r = rate_from(flux, omega);
         return {r.value, r.error_estimate,
                 "R3 = f3 / Omega (Omega: elliptic route), " + method_text(o)};

@@ -32,10 +32,10 @@ Method method_named(const std::string& quantity, const std::string& method) {
 }
 
 template <class Real>
-void require_positive_energy(const std::string& quantity, const Real& energy) {
-    if (!(energy > 0)) {
+void require_positive_energy(const std::string& quantity, const energy_level<Real>& energy) {
+    if (!energy.positive()) {
         throw input_error::about(
-            "energy", "'" + to_decimal(energy) + "' is outside the domain of " + quantity +
+            "energy", "'" + to_decimal(energy.value) + "' is outside the domain of " + quantity +
                           " (needs E > 0: the energy surface is empty at and below the "
                           "potential minimum 0)");
     }
@@ -52,23 +52,24 @@ void add_prediction_quantities(std::vector<quantity>& list) {
     list.push_back(make_quantity(
         "omega", "phase volume Omega(E) of the energy surface (all arms)",
         names_of<phase_volume_method>(), false,
-        []<class Real>(const double_pendulum<Real>& model, arm, const Real& energy,
+        []<class Real>(const double_pendulum<Real>& model, arm, const energy_level<Real>& energy,
                        const std::string& method) {
             const auto m = method_named<phase_volume_method>("omega", method);
             require_positive_energy("omega", energy);
-            if (m == phase_volume_method::closed_form && !(energy >= model.maximum_energy())) {
+            if (m == phase_volume_method::closed_form &&
+                !(energy.above(model.maximum_energy()) >= 0)) {
                 throw input_error::about(
-                    "energy", "'" + to_decimal(energy) +
+                    "energy", "'" + to_decimal(energy.value) +
                                   "' is below the threshold of method closed-form of omega "
                                   "(needs E >= E_max = " +
                                   to_decimal(model.maximum_energy()) + ", the potential maximum)");
             }
-            return value_of(phase_volume(model, energy, m), to_string(m));
+            return value_of(phase_volume(model, energy.value, m), to_string(m));
         }));
     list.push_back(make_quantity(
         "flux-upright", "phase flux f1 through the upright surface th_arm = pi (both directions)",
         names_of<upright_flux_method>(), true,
-        []<class Real>(const double_pendulum<Real>& model, arm a, const Real& energy,
+        []<class Real>(const double_pendulum<Real>& model, arm a, const energy_level<Real>& energy,
                        const std::string& method) {
             const auto m = method_named<upright_flux_method>("flux-upright", method);
             require_positive_energy("flux-upright", energy);
@@ -78,7 +79,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
         "flux-approx",
         "phase flux f2 through the approximate saddle curve th_arm = pi + A sin(other angle)",
         names_of<curve_flux_method>(), true,
-        []<class Real>(const double_pendulum<Real>& model, arm a, const Real& energy,
+        []<class Real>(const double_pendulum<Real>& model, arm a, const energy_level<Real>& energy,
                        const std::string& method) {
             const auto m = method_named<curve_flux_method>("flux-approx", method);
             require_positive_energy("flux-approx", energy);
@@ -88,7 +89,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
     list.push_back(make_quantity(
         "rate-upright", "predicted flip rate f1 / Omega of the upright criterion",
         names_of<rate_route>(), true,
-        []<class Real>(const double_pendulum<Real>& model, arm a, const Real& energy,
+        []<class Real>(const double_pendulum<Real>& model, arm a, const energy_level<Real>& energy,
                        const std::string& method) {
             const auto m = method_named<rate_route>("rate-upright", method);
             require_positive_energy("rate-upright", energy);
@@ -98,7 +99,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
     list.push_back(make_quantity(
         "rate-approx", "predicted flip rate f2 / Omega of the approximate saddle criterion",
         names_of<rate_route>(), true,
-        []<class Real>(const double_pendulum<Real>& model, arm a, const Real& energy,
+        []<class Real>(const double_pendulum<Real>& model, arm a, const energy_level<Real>& energy,
                        const std::string& method) {
             const auto m = method_named<rate_route>("rate-approx", method);
             require_positive_energy("rate-approx", energy);

@@ -7,13 +7,14 @@
 namespace flipflux {
 
 template <class Real>
-std::vector<Real> energies_of(const energy_grid& grid, const std::string& where) {
-    std::vector<Real> out;
+std::vector<energy_level<Real>> energies_of(const energy_grid& grid, const std::string& where) {
+    std::vector<energy_level<Real>> out;
     for (const std::string& text : energy_texts(grid, where))
-        out.push_back(parse_real<Real>(text, where));
+        out.push_back(parse_energy_level<Real>(text, where));
     return out;
 }
 
-template std::vector<inst_real> energies_of<inst_real>(const energy_grid&, const std::string&);
+template std::vector<energy_level<inst_real>> energies_of<inst_real>(const energy_grid&,
+                                                                     const std::string&);
 
 }  // namespace flipflux

@@ -96,10 +96,10 @@ void run_orbit_family(context& ctx, const plan_step& step) {
               ("arm" + std::to_string(step.arm));
     }
     // cached orbits first
-    std::vector<Real> missing;
+    std::vector<energy_level<Real>> missing;
     std::vector<std::string> missing_text;
     for (const std::string& text : step.energies) {
-        const Real energy = parse_real<Real>(text, "energy");
+        const energy_level<Real> energy = parse_energy_level<Real>(text, "energy");
         if (recall_saddle_orbit(model, a, energy, options.method)) continue;
         const auto file = dir / ("E" + text + ".json");
         if (!dir.empty() && std::filesystem::exists(file)) {
@@ -138,7 +138,8 @@ void run_orbit_family(context& ctx, const plan_step& step) {
             remember_saddle_orbit(model, o);
             if (!dir.empty() && o.status != orbit_status::not_converged) {
                 std::size_t i = 0;
-                while (i < missing.size() && missing[i] != o.energy)
+                while (i < missing.size() && (missing[i].value != o.energy ||
+                                              missing[i].above(model.saddle_energy(a)) != o.excess))
                     ++i;
                 if (i < missing.size()) {
                     std::filesystem::create_directories(dir);
@@ -170,11 +171,11 @@ void write_orbit_tables(context& ctx, int arm_number) {
     curves << "energy,theta1,theta2\n";
     const Real es = model.saddle_energy(a), emax = model.maximum_energy();
     const Real pi_r = boost::math::constants::pi<Real>();
-    for (const Real& energy : energies_of<Real>(spec.energies, "orbits.energies")) {
-        if (!(energy > es && energy < emax)) continue;
-        const auto o = recall_saddle_orbit(model, a, energy, orbit_method::periodic);
+    for (const energy_level<Real>& level : energies_of<Real>(spec.energies, "orbits.energies")) {
+        if (!(level.above(es) > 0 && level.below(emax) > 0)) continue;
+        const auto o = recall_saddle_orbit(model, a, level, orbit_method::periodic);
         if (!o) continue;  // the continuation stopped short (run.json says why)
-        const std::string e = to_decimal(energy);
+        const std::string e = to_decimal(level.value);
         csv << e << "," << to_decimal(o->period) << "," << to_decimal(o->action) << ","
             << to_decimal(o->flux()) << "," << to_decimal(o->floquet.stability_index) << ","
             << (o->floquet.hyperbolic ? to_decimal(o->floquet.multiplier) : std::string()) << ","
@@ -250,7 +251,7 @@ void run_predictions(context& ctx, const plan_step& step) {
         const arm a = at == std::string::npos || entry.substr(at + 1) == "2" ? arm::two : arm::one;
         const quantity& q = find_quantity(name);
         for (const std::string& text : step.energies) {
-            const Real energy = parse_real<Real>(text, "energy");
+            const energy_level<Real> energy = parse_energy_level<Real>(text, "energy");
             try {
                 const quantity_value<Real> v = q.evaluate(model, a, energy, "");
                 ++ctx.counters.quantity_evaluations;

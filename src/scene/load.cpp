@@ -262,11 +262,7 @@ orbits_spec read_orbits(table_reader& r) {
 /// folder, a checkpoint): one path component of letters, digits, '.', '_' and '-', not starting
 /// with '.', at most max_ensemble_name characters; nothing can lead outside the output folder.
 void check_ensemble_name(table_reader& r, const std::string& name) {
-    const bool ok_chars = std::all_of(name.begin(), name.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-               c == '.' || c == '_' || c == '-';
-    });
-    if (name.empty() || name.size() > max_ensemble_name || !ok_chars || name.front() == '.')
+    if (!is_plain_name(name, max_ensemble_name))
         r.fail(r.get("name"), "name",
                "'" + name + "' is not a valid ensemble name (one path component: 1 to " +
                    std::to_string(max_ensemble_name) +

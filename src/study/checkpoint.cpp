@@ -21,16 +21,8 @@ using json = nlohmann::ordered_json;
 
 constexpr std::string_view header_tag = "flipflux-checkpoint ";
 
-std::string hex16(std::uint64_t v) {
-    static const char* digits = "0123456789abcdef";
-    std::string s(16, '0');
-    for (int i = 15; i >= 0; --i, v >>= 4)
-        s[static_cast<std::size_t>(i)] = digits[v & 15];
-    return s;
-}
-
 std::string hashed_line(const std::string& content) {
-    return content + " #" + hex16(fnv1a64(content)) + "\n";
+    return content + " #" + checksum_hex(content) + "\n";
 }
 
 // The content of a hashed line (without the newline), or false when the hash does not match.
@@ -39,7 +31,7 @@ bool verified(std::string_view line, std::string_view& content) {
     const std::string_view tail = line.substr(line.size() - 18);
     if (tail[0] != ' ' || tail[1] != '#') return false;
     content = line.substr(0, line.size() - 18);
-    return hex16(fnv1a64(content)) == tail.substr(2);
+    return checksum_hex(content) == tail.substr(2);
 }
 
 void put(std::string& s, double x) {
@@ -101,15 +93,6 @@ std::string shorten(const std::string& s) {
 }
 
 }  // namespace
-
-std::uint64_t fnv1a64(std::string_view text) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (const char c : text) {
-        h ^= static_cast<unsigned char>(c);
-        h *= 0x100000001b3ULL;
-    }
-    return h;
-}
 
 std::string trajectory_record(std::size_t energy, const trajectory_result& r) {
     std::string s = "T";

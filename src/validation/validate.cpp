@@ -116,12 +116,15 @@ std::size_t validation_report::count(validation_entry::status s) const {
 }
 
 bool validation_report::passed() const {
-    return !entries.empty() && count(validation_entry::status::ok) == entries.size();
+    using status = validation_entry::status;
+    return count(status::ok) > 0 && count(status::fail) == 0 && count(status::duplicate) == 0 &&
+           count(status::malformed) == 0 && count(status::missing) == 0 &&
+           (!require_all || count(status::unmatched) == 0);
 }
 
 validation_report validate_candidate(const std::filesystem::path& candidate,
                                      const std::filesystem::path& golden_dir, double rtol,
-                                     bool allow_missing) {
+                                     bool allow_missing, bool require_all) {
     using status = validation_entry::status;
     const std::vector<golden_reference> golden = read_golden(golden_dir);
     for (const auto& g : golden)
@@ -137,6 +140,7 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
                           ":1: the header must name the columns quantity, arm, energy, value");
     }
     validation_report report;
+    report.require_all = require_all;
     std::set<std::size_t> used;                          // golden rows matched
     std::map<std::size_t, int> first_line;               // golden row -> candidate line
     std::set<std::pair<std::string, std::string>> seen;  // (quantity, arm) in the candidate
@@ -206,28 +210,38 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
     return report;
 }
 
-std::string format_report(const validation_report& r, double rtol) {
+std::string format_report(const validation_report& r, double rtol, bool verbose) {
+    using status = validation_entry::status;
     std::string out;
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11s %-7s %s\n", "line", "status",
-                  "quantity", "arm", "energy", "rel.error", "digits", "note");
+    std::snprintf(buf, sizeof buf,
+                  "summary: %zu rows: %zu ok, %zu FAIL, %zu unmatched%s, %zu duplicate, %zu "
+                  "malformed, %zu missing (rtol %.3g) -> %s\n",
+                  r.entries.size(), r.count(status::ok), r.count(status::fail),
+                  r.count(status::unmatched), r.require_all ? "" : " (not fatal)",
+                  r.count(status::duplicate), r.count(status::malformed), r.count(status::missing),
+                  rtol, r.passed() ? "PASSED" : "FAILED");
     out += buf;
+    std::size_t shown = 0;
+    std::string table;
     for (const auto& e : r.entries) {
+        if (!verbose && (e.what == status::ok || e.what == status::missing)) continue;
         std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11.3e %-7.1f %s\n",
                       e.line ? std::to_string(e.line).c_str() : "-", to_string(e.what).c_str(),
                       e.quantity.c_str(), e.arm.empty() ? "-" : e.arm.c_str(), e.energy.c_str(),
                       e.relative_error, e.matched_digits, e.note.c_str());
-        out += buf;
+        table += buf;
+        ++shown;
     }
-    using status = validation_entry::status;
-    std::snprintf(buf, sizeof buf,
-                  "summary: %zu rows: %zu ok, %zu FAIL, %zu unmatched, %zu duplicate, %zu "
-                  "malformed, %zu missing (rtol %.3g) -> %s\n",
-                  r.entries.size(), r.count(status::ok), r.count(status::fail),
-                  r.count(status::unmatched), r.count(status::duplicate),
-                  r.count(status::malformed), r.count(status::missing), rtol,
-                  r.passed() ? "PASSED" : "FAILED");
-    out += buf;
+    if (shown > 0) {
+        std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11s %-7s %s\n", "line",
+                      "status", "quantity", "arm", "energy", "rel.error", "digits", "note");
+        out += buf + table;
+    }
+    if (!verbose && r.count(status::missing) > 0)
+        out += std::to_string(r.count(status::missing)) +
+               " missing rows (golden rows with no candidate row): --verbose lists them, "
+               "--allow-missing accepts them\n";
     return out;
 }
 

@@ -24,6 +24,30 @@ TYPED_TEST(Decimal, ParsesInWorkingPrecisionNotThroughDouble) {
     EXPECT_EQ(parse_real<Real>("7.", "x"), Real(7));
 }
 
+// parse_difference: the distance of a decimal input to a Real that Real cannot hold by parsing the
+// input first. References are powers of ten parsed on their own, and an exact binary expansion.
+TYPED_TEST(Decimal, ParseDifferenceKeepsWhatRoundingTheInputLoses) {
+    using Real = TypeParam;
+    const int k = full_digits(Real(2)) + 3;  // beyond every digit Real holds (mp: guard digits too)
+    const Real tiny = parse_real<Real>("1e-" + std::to_string(k), "x");
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    const std::string above = "2." + std::string(k - 1, '0') + "1";  // 2 + 10^-k
+    const std::string below = "1." + std::string(k, '9');            // 2 - 10^-k
+    EXPECT_EQ(parse_real<Real>(above, "E"), Real(2));
+    EXPECT_EQ(parse_real<Real>(below, "E"), Real(2));
+    EXPECT_LE(relative_error(parse_difference<Real>(above, Real(2), "E"), tiny), eps);
+    EXPECT_LE(relative_error(parse_difference<Real>(below, Real(2), "E"), Real(-tiny)), eps);
+    EXPECT_EQ(parse_difference<Real>("0.5", Real(1) / 2, "E"), Real(0));
+    EXPECT_EQ(parse_difference<Real>("-3.25", Real(1), "E"), Real(-17) / 4);
+    if constexpr (std::is_same_v<Real, double>) {
+        // 5.3 = 5.29999999999999982236431605997495353221893310546875
+        // + 1.7763568394002504646778106689453125e-16
+        EXPECT_EQ(parse_difference<double>("5.3", 5.3, "E"),
+                  1.7763568394002504646778106689453125e-16);
+    }
+    EXPECT_THROW(parse_difference<Real>("nan", Real(2), "--energy"), input_error);
+}
+
 TYPED_TEST(Decimal, RoundTripsWithAllDigits) {
     using Real = TypeParam;
     random_reals rnd(7);

@@ -173,10 +173,25 @@ TEST(OrbitStore, MemoReturnsOnlyTheSameOrbit) {
     p.m2 = 2;
     const double_pendulum<double> other(p);
     auto o = synthetic<double>(arm::two, 3.0);
+    o.excess = 3.0 - model.saddle_energy(arm::two);  // the memo's key: E and E - E_s
     o.method = orbit_method::periodic;
     o.status = orbit_status::converged;
     remember_saddle_orbit(model, o);
     ASSERT_TRUE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::periodic).has_value());
+    // just above the saddle, two decimal inputs that round to the same E are two orbits
+    // (model/energy_level.hpp)
+    auto near = synthetic<double>(arm::two, 2.0);
+    near.excess = 1e-20;
+    near.method = orbit_method::periodic;
+    near.status = orbit_status::converged;
+    remember_saddle_orbit(model, near);
+    const auto level = [](const char* text) { return parse_energy_level<double>(text, "E"); };
+    EXPECT_TRUE(recall_saddle_orbit(model, arm::two, level("2.00000000000000000001"),
+                                    orbit_method::periodic)
+                    .has_value());
+    EXPECT_FALSE(recall_saddle_orbit(model, arm::two, level("2.00000000000000000002"),
+                                     orbit_method::periodic)
+                     .has_value());
     EXPECT_FALSE(recall_saddle_orbit(model, arm::one, 3.0, orbit_method::periodic).has_value());
     EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.5, orbit_method::periodic).has_value());
     EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::symmetric).has_value());

@@ -152,6 +152,26 @@ TEST(SaddleOrbit, SmallOrbitsScaleWithTheLinearPeriodAtQuad) {
     check_small_orbit<quad>(arm::one);
 }
 
+// E = E_s + 10^-20 given in decimal: E rounds to E_s at double, the orbit is the one of
+// E - E_s = 10^-20 (model/energy_level.hpp): F = (E - E_s) T_lin (1 + O(E - E_s)), T = T_lin.
+TEST(SaddleOrbit, JustAboveTheSaddleTheExcessComesFromTheDecimalInput) {
+    const double_pendulum<double> model;
+    for (arm a : {arm::two, arm::one}) {
+        const std::string text =
+            a == arm::two ? "2.00000000000000000001" : "4.00000000000000000001";
+        const energy_level<double> E = parse_energy_level<double>(text, "--energy");
+        ASSERT_EQ(E.value, model.saddle_energy(a));
+        orbit_options<double> options;
+        options.method = orbit_method::symmetric;
+        const auto o = solve_saddle_orbit(model, a, E, options);
+        ASSERT_EQ(o.status, orbit_status::converged);
+        const double t_lin = linear_guess(model, a).period;
+        EXPECT_NEAR(o.excess, 1e-20, 4 * eps<double>() * 1e-20);
+        EXPECT_NEAR(o.period / t_lin, 1, 64 * eps<double>());
+        EXPECT_NEAR(o.action / (1e-20 * t_lin), 1, 64 * eps<double>());
+    }
+}
+
 TEST(SaddleOrbit, MonodromyHasTwoUnitMultipliersAndAReciprocalPair) {
     const double_pendulum<double> model;
     for (arm a : {arm::two, arm::one}) {

@@ -7,6 +7,7 @@
 
 #include "flipflux/core/constants.hpp"
 #include "flipflux/model/critical_points.hpp"
+#include "flipflux/model/energy_level.hpp"
 #include "flipflux/prediction/curve_flux.hpp"
 #include "flipflux/prediction/upright_flux.hpp"
 #include "pendulums.hpp"
@@ -93,6 +94,55 @@ TYPED_TEST(Fluxes, UprightRoutesAgreeForEveryPendulumAndArm) {
                 }
             }
         }
+    }
+}
+
+// The brief's hard case "just above a saddle": E = E_s + 10^-k written in decimal, with k beyond
+// the working precision, so that E itself rounds to E_s. The distance E - E_s is carried from the
+// decimal text (model/energy_level.hpp), and the fluxes follow their power laws in it: f1 =
+// 4 pi sqrt(J/w) d (1 + d/(16 w)), f2 = 4 pi d / omega_centre (1 + O(d)); E - E_s computed from
+// the rounded E would give 0. The reference d = 10^-k is parsed on its own (not carried).
+TYPED_TEST(Fluxes, JustAboveASaddleTheDistanceComesFromTheDecimalInput) {
+    using Real = TypeParam;
+    using std::sqrt;
+    const int k = full_digits(Real(1)) + 3;
+    const Real d = parse_real<Real>("1e-" + std::to_string(k), "d");
+    for (std::size_t i : {0, 2}) {  // critical levels with exact decimals: 2, 4, 6 and 1.5, 4, 5.5
+        const auto& spec = test::model_specs()[i];
+        const double_pendulum<Real> model = test::make_model<Real>(spec);
+        for (arm a : {arm::two, arm::one}) {
+            const std::string es = to_decimal(model.saddle_energy(a));
+            ASSERT_EQ(parse_real<Real>(es, "E_s"), model.saddle_energy(a)) << es;
+            // es + 10^-k as decimal text: the fraction padded to k digits, the last one a 1
+            const auto point = es.find('.');
+            const std::string fraction = point == std::string::npos ? "" : es.substr(point + 1);
+            ASSERT_LT(fraction.size() + 1, static_cast<std::size_t>(k));
+            const std::string text = es.substr(0, point) + "." + fraction +
+                                     std::string(k - 1 - fraction.size(), '0') + "1";
+            const energy_level<Real> E = parse_energy_level<Real>(text, "--energy");
+            EXPECT_EQ(E.value, model.saddle_energy(a)) << text;  // Real cannot hold E
+            const auto& k_ = model.coefficients();
+            // upright_flux_near_saddle's J and w: those of the other (non-flipping) angle
+            const Real J = a == arm::two ? k_.A : k_.B, w = a == arm::two ? k_.alpha : k_.beta;
+            const Real series = 4 * pi<Real>() * sqrt(J / w) * d * (1 + d / (16 * w));
+            for (upright_flux_method m :
+                 {upright_flux_method::elliptic, upright_flux_method::integral})
+                EXPECT_LE(relative_error(upright_flux(model, a, E, m).value, series),
+                          tolerance<Real>(64))
+                    << spec.name << " arm " << to_string(a) << " " << to_string(m);
+            const critical_point<Real> saddle = flip_saddle(model, a);
+            const Real f2 = approximate_saddle_flux(model, a, E).value;
+            EXPECT_LE(relative_error(f2, Real(4 * pi<Real>() * d / saddle.modes[0].rate)),
+                      tolerance<Real>(1024))
+                << spec.name << " arm " << to_string(a);
+        }
+        // and just below the maximum: E_max - E = 10^-k, the distance the upright flux sees
+        const std::string emax = to_decimal(model.maximum_energy());
+        const energy_level<Real> top =
+            parse_energy_level<Real>(emax + "e0", "--energy");  // exactly E_max: no residual
+        EXPECT_EQ(top.residual, Real(0));
+        const energy_level<Real> below(model.maximum_energy(), Real(-d));
+        EXPECT_LE(relative_error(below.below(model.maximum_energy()), d), eps<Real>());
     }
 }
 

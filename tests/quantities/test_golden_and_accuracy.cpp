@@ -76,6 +76,52 @@ TEST(Golden, SampleOfRowsRegeneratesInQuad) {
     EXPECT_GE(checked, 10u);
 }
 
+// Issue 14: the golden sets of the other pendulums (data/golden/<name>/), each with its parameters
+// in its provenance: a sample of each regenerates in quad from those parameters, and its critical
+// energies are the model's.
+TEST(Golden, EveryPendulumsSetRegeneratesASampleInQuad) {
+    namespace fs = std::filesystem;
+    std::size_t sets = 0;
+    for (const auto& entry :
+         fs::directory_iterator(fs::path(FLIPFLUX_SOURCE_DIR) / "data/golden")) {
+        if (!entry.is_directory() || !fs::exists(entry.path() / "golden.csv")) continue;
+        ++sets;
+        const std::string name = entry.path().filename().string();
+        const nlohmann::json prov =
+            nlohmann::json::parse(read_text((entry.path() / "provenance.json").string()));
+        EXPECT_EQ(prov.at("pendulum").get<std::string>(), name);
+        const nlohmann::json& p = prov.at("parameters");
+        model_text t;
+        t.m1 = p.at("m1"), t.m2 = p.at("m2"), t.L1 = p.at("L1"), t.L2 = p.at("L2");
+        t.a1 = p.at("a1"), t.a2 = p.at("a2"), t.I1 = p.at("I1"), t.I2 = p.at("I2"), t.g = p.at("g");
+        const double_pendulum<quad> model = make_model<quad>(t);
+        const nlohmann::json& c = prov.at("critical_energies");
+        EXPECT_LE(relative_error(model.maximum_energy(), c.at("maximum").get<std::string>()),
+                  1e-15);
+        EXPECT_LE(
+            relative_error(model.saddle_energy(arm::two), c.at("saddle_arm2").get<std::string>()),
+            1e-15);
+        const std::vector<golden_row> rows =
+            parse_golden_csv(read_text((entry.path() / "golden.csv").string()));
+        ASSERT_GT(rows.size(), 100u) << name;
+        EXPECT_EQ(prov.at("rows").get<std::size_t>(), rows.size());
+        std::size_t checked = 0;
+        for (std::size_t i = 0; i < rows.size(); i += rows.size() / 7) {
+            const golden_row& r = rows[i];
+            EXPECT_GE(r.digits, 40) << name << " " << r.quantity << " E " << r.energy;
+            const quantity& q = find_quantity(r.quantity);
+            const arm a = r.arm == "1" ? arm::one : arm::two;
+            const quantity_value<quad> v =
+                q.evaluate(model, a, parse_energy_level<quad>(r.energy, "E"), "");
+            EXPECT_LE(relative_error(v.value, r.value), 1e-31)
+                << name << " " << r.quantity << " arm " << r.arm << " E " << r.energy;
+            ++checked;
+        }
+        EXPECT_GE(checked, 7u);
+    }
+    EXPECT_GE(sets, 3u);  // with the top-level one (the paper's): four pendulums
+}
+
 TEST(Golden, GridCsvAndDigits) {
     const std::vector<std::string> grid = golden_energies(2, 6);
     ASSERT_EQ(grid.front(), "2.05");

@@ -76,15 +76,16 @@ TEST(Scene, GridsExpandInTheWorkingPrecision) {
     g.from = "2.05", g.to = "5.95", g.step = "0.05";
     const auto e = energies_of<quad>(g, "energies");
     ASSERT_EQ(e.size(), 79u);
-    EXPECT_EQ(e.front(), quad(205) / 100);
-    EXPECT_EQ(e.back(), quad(595) / 100);
+    EXPECT_EQ(e.front().value, quad(205) / 100);
+    EXPECT_EQ(e.back().value, quad(595) / 100);
     // every point is the decimal meant, correctly rounded: no accumulated rounding
-    EXPECT_EQ(e[20], quad(305) / 100);
+    EXPECT_EQ(e[20].value, quad(305) / 100);
     const auto texts = energy_texts(g, "energies");
     EXPECT_EQ(texts[1], "2.1");
     EXPECT_EQ(texts[20], "3.05");
-    EXPECT_EQ(energies_of<double>(g, "energies")[1], 2.1);
-    in_mp(50, [&] { EXPECT_EQ(energies_of<mp>(g, "energies")[77], parse_real<mp>("5.9", "x")); });
+    EXPECT_EQ(energies_of<double>(g, "energies")[1].value, 2.1);
+    in_mp(50,
+          [&] { EXPECT_EQ(energies_of<mp>(g, "energies")[77].value, parse_real<mp>("5.9", "x")); });
     energy_grid bad;
     bad.from = "2", bad.to = "3.01", bad.step = "0.1";
     EXPECT_THROW(energies_of<double>(bad, "energies"), scene_error);

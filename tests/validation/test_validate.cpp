@@ -47,6 +47,30 @@ TEST_F(Validate, AcceptsACorrectCandidate) {
     EXPECT_GE(r.entries[0].matched_digits, 16);
 }
 
+// Issue 14: rows the golden set lacks are counted, not fatal, unless require_all; the report puts
+// the summary first and lists ok and missing rows only when verbose.
+TEST_F(Validate, UnmatchedRowsAreCountedAndFailOnlyWhenAllAreRequired) {
+    const std::string extra = "flux-upright,2,2.75,1.5\n";  // no golden value at E = 2.75
+    const auto r = check(header + row1 + extra + row2 + row3);
+    EXPECT_EQ(r.count(validation_entry::status::unmatched), 1u);
+    EXPECT_TRUE(r.passed()) << format_report(r, 1e-12);
+    std::ofstream(dir_ / "candidate.csv") << header + row1 + extra + row2 + row3;
+    const auto strict =
+        validate_candidate(dir_ / "candidate.csv", dir_ / "golden", 1e-12, false, true);
+    EXPECT_FALSE(strict.passed());
+    const std::string brief = format_report(r, 1e-12);
+    EXPECT_EQ(brief.rfind("summary: 4 rows: 3 ok", 0), 0u) << brief;
+    EXPECT_NE(brief.find("unmatched  flux-upright"), std::string::npos) << brief;
+    EXPECT_EQ(brief.find(" ok "), std::string::npos) << brief;  // ok rows only when verbose
+    const std::string full = format_report(r, 1e-12, true);
+    EXPECT_NE(full.find(" ok "), std::string::npos) << full;
+    // a missing row: counted in the summary, listed only when verbose
+    const auto m = check(header + row1 + row3);
+    EXPECT_FALSE(m.passed());
+    EXPECT_EQ(format_report(m, 1e-12).find("has no candidate row"), std::string::npos);
+    EXPECT_NE(format_report(m, 1e-12, true).find("has no candidate row"), std::string::npos);
+}
+
 TEST_F(Validate, CatchesAValueOffInItsNinthDigit) {
     const auto r = check(header + row1 + "flux-upright,2,3,2.718281838459045\n" + row3);
     EXPECT_FALSE(r.passed());

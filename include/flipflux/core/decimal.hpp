@@ -46,6 +46,14 @@ bool is_decimal_number(std::string_view text);
 template <class Real>
 Real parse_real(std::string_view text, std::string_view what);
 
+/// The decimal number `text` minus the Real `subtrahend`, computed from every digit of both and
+/// rounded once to Real (MPFR with room for the cancellation; a tie may round either way). For
+/// carrying a decimal input's distance to a critical level that Real itself cannot hold: with
+/// text = "2.0000000000000000001" and subtrahend 2, double gives 1e-19 where
+/// parse_real<double>(text) - 2 gives 0. Throws input_error about `what` like parse_real.
+template <class Real>
+Real parse_difference(std::string_view text, const Real& subtrahend, std::string_view what);
+
 /// Formats x with output_digits<Real>() significant digits (shortest form of that precision).
 template <class Real>
 std::string to_decimal(const Real& x);
@@ -88,9 +96,10 @@ std::vector<std::string> decimal_grid(std::string_view from, std::string_view to
                                       std::string_view step, const std::string& field,
                                       long max_points = 1000000);
 
-#define FLIPFLUX_DECIMAL_EXTERN(R)                                       \
-    extern template R parse_real<R>(std::string_view, std::string_view); \
-    extern template std::string to_decimal<R>(const R&);                 \
+#define FLIPFLUX_DECIMAL_EXTERN(R)                                                       \
+    extern template R parse_real<R>(std::string_view, std::string_view);                 \
+    extern template R parse_difference<R>(std::string_view, const R&, std::string_view); \
+    extern template std::string to_decimal<R>(const R&);                                 \
     extern template std::string to_decimal<R>(const R&, int);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_DECIMAL_EXTERN)
 #undef FLIPFLUX_DECIMAL_EXTERN

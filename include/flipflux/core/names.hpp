@@ -20,6 +20,17 @@
 
 namespace flipflux {
 
+/// A name that becomes one path component (an ensemble's files, a golden set's folder): 1 to
+/// `max_size` letters, digits, '.', '_' or '-', not starting with '.': nothing can lead outside
+/// the folder it is put in.
+inline bool is_plain_name(std::string_view name, std::size_t max_size = 100) {
+    for (char c : name)
+        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+              c == '.' || c == '_' || c == '-'))
+            return false;
+    return !name.empty() && name.size() <= max_size && name.front() != '.';
+}
+
 template <class E>
 struct enum_table;
 

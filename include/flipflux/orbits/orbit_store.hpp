@@ -25,7 +25,8 @@ namespace flipflux {
 /// The remembered orbit, or nullopt.
 template <class Real>
 std::optional<saddle_orbit<Real>> recall_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                                      const Real& energy, orbit_method method);
+                                                      const level_arg<Real>& energy,
+                                                      orbit_method method);
 
 /// Remembers an orbit (of its arm and energy) for `model`.
 template <class Real>
@@ -52,7 +53,7 @@ class saddle_orbit_memo_bypass {
 /// orbit.
 template <class Real>
 saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                              const Real& energy,
+                                              const level_arg<Real>& energy,
                                               const orbit_options<Real>& options = {});
 
 /// Every field, reals as decimal strings (JSON text).
@@ -77,26 +78,26 @@ std::string seal_orbit_record(const std::string& json_text);
 /// saddle point and saddle energy, the start on the energy surface, the quarter orbit spanning
 /// T/4 from the saddle to a turning point on the energy surface, i.e. the orbit closes).
 template <class Real>
-std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a, const Real& energy,
-                                 const saddle_orbit<Real>& orbit);
+std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a,
+                                 const level_arg<Real>& energy, const saddle_orbit<Real>& orbit);
 
 /// Cache directory name for (model, arm-independent) orbits at Real with `options`.
 template <class Real>
 std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_options<Real>& options);
 
-#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                            \
-    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                        \
-        const double_pendulum<R>&, arm, const R&, orbit_method);                                  \
-    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                      \
-                                                  const saddle_orbit<R>&);                        \
-    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                                \
-        const double_pendulum<R>&, arm, const R&, const orbit_options<R>&);                       \
-    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                         \
-    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&);   \
-    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                     \
-                                                   const orbit_options<R>&);                      \
-    extern template std::string cached_orbit_problem<R>(const double_pendulum<R>&, arm, const R&, \
-                                                        const saddle_orbit<R>&);
+#define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                          \
+    extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                      \
+        const double_pendulum<R>&, arm, const level_arg<R>&, orbit_method);                     \
+    extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                    \
+                                                  const saddle_orbit<R>&);                      \
+    extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                              \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&);          \
+    extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                       \
+    extern template saddle_orbit<R> orbit_from_json<R>(const std::string&, const std::string&); \
+    extern template std::string orbit_cache_key<R>(const double_pendulum<R>&,                   \
+                                                   const orbit_options<R>&);                    \
+    extern template std::string cached_orbit_problem<R>(                                        \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const saddle_orbit<R>&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_STORE_EXTERN)
 #undef FLIPFLUX_ORBIT_STORE_EXTERN
 

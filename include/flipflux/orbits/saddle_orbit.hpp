@@ -25,6 +25,7 @@
 
 #include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/energy_level.hpp"
 
 namespace flipflux {
 
@@ -153,14 +154,18 @@ template <class Real>
 orbit_guess<Real> linear_guess(const double_pendulum<Real>& model, arm a);
 
 /// The saddle orbit at energy E, continued from the centre mode (at double) and refined in Real.
+/// The orbit depends on E through E - E_s (energy.above), exact for a decimal input (see
+/// model/energy_level.hpp); orbit.energy is E rounded to Real.
 template <class Real>
-saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a, const Real& energy,
+saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
+                                      const level_arg<Real>& energy,
                                       const orbit_options<Real>& options = {});
 
 /// The saddle orbit at energy E refined from a guess (no continuation).
 template <class Real>
 saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                       const Real& energy, const orbit_guess<Real>& guess,
+                                       const level_arg<Real>& energy,
+                                       const orbit_guess<Real>& guess,
                                        const orbit_options<Real>& options = {});
 
 /// The family through the given energies (increasing, each inside the family's range): a
@@ -169,8 +174,15 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 /// by options.method. Throws input_error for an energy outside the range or a decreasing list.
 template <class Real>
 saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
-                                           const std::vector<Real>& energies,
+                                           const std::vector<energy_level<Real>>& energies,
                                            const orbit_options<Real>& options = {});
+template <class Real>
+saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, arm a,
+                                           const std::vector<Real>& energies,
+                                           const orbit_options<Real>& options = {}) {
+    return continue_saddle_family(
+        model, a, std::vector<energy_level<Real>>(energies.begin(), energies.end()), options);
+}
 
 /// The absolute state (theta1, theta2, l1, l2) on the orbit at time t (any real t; reduced modulo
 /// T and by the orbit's time-reversal and reflection symmetries to the stored quarter orbit).
@@ -180,22 +192,24 @@ phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_o
 
 /// Throws input_error unless E_s(a) < E < E_max.
 template <class Real>
-void check_orbit_energy(const double_pendulum<Real>& model, arm a, const Real& energy);
+void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy);
 
-#define FLIPFLUX_ORBIT_EXTERN(R)                                                                   \
-    extern template int default_stages<R>();                                                       \
-    extern template floquet_multipliers<R> floquet_analysis<R>(                                    \
-        const std::array<std::array<R, 4>, 4>&);                                                   \
-    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);                \
-    extern template saddle_orbit<R> solve_saddle_orbit<R>(const double_pendulum<R>&, arm,          \
-                                                          const R&, const orbit_options<R>&);      \
-    extern template saddle_orbit<R> refine_saddle_orbit<R>(                                        \
-        const double_pendulum<R>&, arm, const R&, const orbit_guess<R>&, const orbit_options<R>&); \
-    extern template saddle_family<R> continue_saddle_family<R>(                                    \
-        const double_pendulum<R>&, arm, const std::vector<R>&, const orbit_options<R>&);           \
-    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,                       \
-                                                  const saddle_orbit<R>&, const R&);               \
-    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const R&);
+#define FLIPFLUX_ORBIT_EXTERN(R)                                                       \
+    extern template int default_stages<R>();                                           \
+    extern template floquet_multipliers<R> floquet_analysis<R>(                        \
+        const std::array<std::array<R, 4>, 4>&);                                       \
+    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);    \
+    extern template saddle_orbit<R> solve_saddle_orbit<R>(                             \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&); \
+    extern template saddle_orbit<R> refine_saddle_orbit<R>(                            \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_guess<R>&,    \
+        const orbit_options<R>&);                                                      \
+    extern template saddle_family<R> continue_saddle_family<R>(                        \
+        const double_pendulum<R>&, arm, const std::vector<energy_level<R>>&,           \
+        const orbit_options<R>&);                                                      \
+    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,           \
+                                                  const saddle_orbit<R>&, const R&);   \
+    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const level_arg<R>&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_EXTERN)
 #undef FLIPFLUX_ORBIT_EXTERN
 

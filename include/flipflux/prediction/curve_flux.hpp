@@ -49,6 +49,7 @@
 #include "flipflux/core/names.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/energy_level.hpp"
 #include "flipflux/prediction/result.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
 
@@ -92,13 +93,14 @@ std::vector<std::array<Real, 2>> accessible_intervals(const double_pendulum<Real
                                                       const curve_view<Real>& curve);
 
 template <class Real>
-curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model, const Real& energy,
-                                   const curve_view<Real>& curve, curve_flux_method method);
+curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model,
+                                   const level_arg<Real>& energy, const curve_view<Real>& curve,
+                                   curve_flux_method method);
 
 /// The flux through any dividing curve (see above).
 template <class Real, class Curve>
 requires dividing_curve<Curve, Real> curve_flux_result<Real> curve_flux(
-    const double_pendulum<Real>& model, const Real& energy, const Curve& curve,
+    const double_pendulum<Real>& model, const level_arg<Real>& energy, const Curve& curve,
     curve_flux_method method = curve_flux_method::kinetic) {
     auto offset = [&curve](const Real& s) -> Real { return curve.offset(s); };
     auto slope = [&curve](const Real& s) -> Real { return curve.slope(s); };
@@ -110,7 +112,7 @@ requires dividing_curve<Curve, Real> curve_flux_result<Real> curve_flux(
 /// slope of the saddle's centre mode (paper eq. eq:approximate_saddle_flux for arm 2).
 template <class Real>
 curve_flux_result<Real> approximate_saddle_flux(
-    const double_pendulum<Real>& model, arm a, const Real& energy,
+    const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy,
     curve_flux_method method = curve_flux_method::kinetic) {
     return curve_flux(model, energy, approximate_saddle_curve(model, a), method);
 }
@@ -121,17 +123,18 @@ curve_flux_result<Real> approximate_saddle_flux(
 /// centre-mode slope this is 4 pi (E - E_s) / omega_centre, the minimum over all slopes.
 /// Requires d^T K* d > 0 (std::domain_error otherwise).
 template <class Real>
-Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const Real& energy,
+Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy,
                       const Real& slope);
 
-#define FLIPFLUX_CURVE_FLUX_EXTERN(R)                                                            \
-    extern template R curve_kinetic_energy<R>(const double_pendulum<R>&, const R&,               \
-                                              const curve_view<R>&, const R&);                   \
-    extern template std::vector<std::array<R, 2>> accessible_intervals<R>(                       \
-        const double_pendulum<R>&, const R&, const curve_view<R>&);                              \
-    extern template curve_flux_result<R> curve_flux<R>(const double_pendulum<R>&, const R&,      \
-                                                       const curve_view<R>&, curve_flux_method); \
-    extern template R near_saddle_flux<R>(const double_pendulum<R>&, arm, const R&, const R&);
+#define FLIPFLUX_CURVE_FLUX_EXTERN(R)                                                             \
+    extern template R curve_kinetic_energy<R>(const double_pendulum<R>&, const R&,                \
+                                              const curve_view<R>&, const R&);                    \
+    extern template std::vector<std::array<R, 2>> accessible_intervals<R>(                        \
+        const double_pendulum<R>&, const R&, const curve_view<R>&);                               \
+    extern template curve_flux_result<R> curve_flux<R>(                                           \
+        const double_pendulum<R>&, const level_arg<R>&, const curve_view<R>&, curve_flux_method); \
+    extern template R near_saddle_flux<R>(const double_pendulum<R>&, arm, const level_arg<R>&,    \
+                                          const R&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_CURVE_FLUX_EXTERN)
 #undef FLIPFLUX_CURVE_FLUX_EXTERN
 

@@ -12,6 +12,7 @@
 
 #include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/energy_level.hpp"
 #include "flipflux/prediction/result.hpp"
 
 namespace flipflux {
@@ -35,12 +36,12 @@ struct enum_table<rate_route> {
 
 template <class Real>
 prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a,
-                                       flip_criterion criterion, const Real& energy,
+                                       flip_criterion criterion, const level_arg<Real>& energy,
                                        rate_route route = rate_route::closed_form);
 
-#define FLIPFLUX_RATES_EXTERN(R)                                                           \
-    extern template prediction_result<R> predicted_rate<R>(const double_pendulum<R>&, arm, \
-                                                           flip_criterion, const R&, rate_route);
+#define FLIPFLUX_RATES_EXTERN(R)                            \
+    extern template prediction_result<R> predicted_rate<R>( \
+        const double_pendulum<R>&, arm, flip_criterion, const level_arg<R>&, rate_route);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_RATES_EXTERN)
 #undef FLIPFLUX_RATES_EXTERN
 

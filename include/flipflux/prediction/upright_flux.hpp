@@ -25,6 +25,7 @@
 
 #include "flipflux/core/names.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/energy_level.hpp"
 #include "flipflux/prediction/result.hpp"
 
 namespace flipflux {
@@ -43,36 +44,42 @@ struct enum_table<upright_flux_method> {
 };
 
 template <class Real>
-prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a, const Real& energy,
+prediction_result<Real> upright_flux(const double_pendulum<Real>& model, arm a,
+                                     const level_arg<Real>& energy,
                                      upright_flux_method method = upright_flux_method::elliptic);
 
 /// 16 sqrt(2 J delta) E(phi_0 | 2w/delta), sin^2 phi_0 = delta / (2w): E_s < E <= E_max only.
 template <class Real>
 Real upright_flux_incomplete_elliptic(const double_pendulum<Real>& model, arm a,
-                                      const Real& energy);
+                                      const level_arg<Real>& energy);
 
 /// 16 sqrt(2 J delta) E(2w/delta): E >= E_max only.
 template <class Real>
-Real upright_flux_complete_elliptic(const double_pendulum<Real>& model, arm a, const Real& energy);
+Real upright_flux_complete_elliptic(const double_pendulum<Real>& model, arm a,
+                                    const level_arg<Real>& energy);
 
 /// 16 sqrt(J/w) [2w E(p) - (2w - delta) K(p)], p = delta/(2w): E_s < E < E_max only (a check:
 /// loses relative accuracy ~ eps w / delta near E_s).
 template <class Real>
-Real upright_flux_reciprocal_modulus(const double_pendulum<Real>& model, arm a, const Real& energy);
+Real upright_flux_reciprocal_modulus(const double_pendulum<Real>& model, arm a,
+                                     const level_arg<Real>& energy);
 
 /// 4 pi sqrt(J/w) delta (1 + delta/(16 w)): the first two terms of f1 at small delta = E - E_s.
 template <class Real>
-Real upright_flux_near_saddle(const double_pendulum<Real>& model, arm a, const Real& energy);
+Real upright_flux_near_saddle(const double_pendulum<Real>& model, arm a,
+                              const level_arg<Real>& energy);
 
-#define FLIPFLUX_UPRIGHT_FLUX_EXTERN(R)                                                            \
-    extern template prediction_result<R> upright_flux<R>(const double_pendulum<R>&, arm, const R&, \
-                                                         upright_flux_method);                     \
-    extern template R upright_flux_incomplete_elliptic<R>(const double_pendulum<R>&, arm,          \
-                                                          const R&);                               \
-    extern template R upright_flux_complete_elliptic<R>(const double_pendulum<R>&, arm, const R&); \
-    extern template R upright_flux_reciprocal_modulus<R>(const double_pendulum<R>&, arm,           \
-                                                         const R&);                                \
-    extern template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm, const R&);
+#define FLIPFLUX_UPRIGHT_FLUX_EXTERN(R)                                                   \
+    extern template prediction_result<R> upright_flux<R>(                                 \
+        const double_pendulum<R>&, arm, const level_arg<R>&, upright_flux_method);        \
+    extern template R upright_flux_incomplete_elliptic<R>(const double_pendulum<R>&, arm, \
+                                                          const level_arg<R>&);           \
+    extern template R upright_flux_complete_elliptic<R>(const double_pendulum<R>&, arm,   \
+                                                        const level_arg<R>&);             \
+    extern template R upright_flux_reciprocal_modulus<R>(const double_pendulum<R>&, arm,  \
+                                                         const level_arg<R>&);            \
+    extern template R upright_flux_near_saddle<R>(const double_pendulum<R>&, arm,         \
+                                                  const level_arg<R>&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_UPRIGHT_FLUX_EXTERN)
 #undef FLIPFLUX_UPRIGHT_FLUX_EXTERN
 

@@ -18,6 +18,7 @@
 #include "flipflux/core/real.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/model_text.hpp"
 
 namespace flipflux {
 
@@ -41,8 +42,18 @@ std::vector<std::string> golden_energies(double start, double maximum);
 /// (egalitarian arm 2: 2.05, 3, 4, 5, 5.95; arm 1: 4.05, 5, 5.95).
 std::vector<std::string> golden_orbit_energies(double start, double maximum);
 
+/// The grid of any other pendulum, relative to its critical energies (U = E_max): the fractions
+/// k/40 of U (k = 1..40) above `start`, start + U/1000 (just above the saddle; start = 0 for
+/// quantities not per arm), U (1 - 1/1000) (just below the maximum), and 1.25, 1.5, 2, 3, 5 and 10
+/// times U; each written with 10 significant digits.
+std::vector<std::string> golden_relative_energies(double start, double maximum);
+/// Its orbit grid: start + (U - start) x {1/100, 1/4, 1/2, 3/4, 99/100}, 10 significant digits.
+std::vector<std::string> golden_relative_orbit_energies(double start, double maximum);
+
 struct golden_options {
     std::vector<std::string> quantities;            ///< empty: every registered quantity
+    model_text model;                               ///< the pendulum (default: the paper's)
+    std::string pendulum = "egalitarian";           ///< its name, for the provenance
     precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
     int jobs = 1;                                   ///< OpenMP threads
     std::size_t max_rows = 0;                       ///< 0: all (for quick runs and tests)
@@ -53,7 +64,8 @@ struct golden_options {
     std::function<void(const std::string& what)> skipped;
 };
 
-/// Generates the rows for the egalitarian pendulum (the paper's).
+/// Generates the rows for options.model: the egalitarian pendulum (the paper's) on the golden grid,
+/// any other on the relative grid.
 std::vector<golden_row> generate_golden(const golden_options& options);
 
 /// Certified significant digits of `value` given a reference: floor(-log10 |a - b| / |b|),
@@ -69,7 +81,8 @@ std::vector<golden_row> parse_golden_csv(const std::string& text);
 /// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
 /// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count.
 std::string golden_provenance(const std::string& command, std::size_t rows,
-                              const precision& value_precision);
+                              const precision& value_precision, const model_text& model = {},
+                              const std::string& pendulum = "egalitarian");
 
 /// The precision that certifies golden values computed in `value_precision`: mp:N -> mp:(N/2),
 /// quad -> double. Throws input_error for double (and mp:1).

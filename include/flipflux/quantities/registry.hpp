@@ -13,6 +13,7 @@
 
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/double_pendulum.hpp"
+#include "flipflux/model/energy_level.hpp"
 
 namespace flipflux {
 
@@ -25,11 +26,13 @@ struct quantity_value {
 };
 
 /// Evaluates a quantity at energy E for arm a (ignored by quantities that are not per arm) with a
-/// named method ("" = the default). Throws input_error for an energy outside the domain or an
-/// unknown method.
+/// named method ("" = the default). E is an energy_level: parse_energy_level(text) carries the
+/// decimal input's distance to the saddles and to E_max exactly; a Real converts implicitly.
+/// Throws input_error for an energy outside the domain or an unknown method.
 template <class Real>
-using quantity_function = std::function<quantity_value<Real>(
-    const double_pendulum<Real>&, arm, const Real& energy, const std::string& method)>;
+using quantity_function = std::function<quantity_value<Real>(const double_pendulum<Real>&, arm,
+                                                             const energy_level<Real>& energy,
+                                                             const std::string& method)>;
 
 struct quantity {
     std::string name;
@@ -43,8 +46,8 @@ struct quantity {
     per_real_type<quantity_function> functions;
 
     template <class Real>
-    quantity_value<Real> evaluate(const double_pendulum<Real>& model, arm a, const Real& energy,
-                                  const std::string& method) const {
+    quantity_value<Real> evaluate(const double_pendulum<Real>& model, arm a,
+                                  const level_arg<Real>& energy, const std::string& method) const {
         return std::get<quantity_function<Real>>(functions)(model, a, energy, method);
     }
 };

@@ -16,6 +16,7 @@
 
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
+#include "flipflux/model/energy_level.hpp"
 #include "flipflux/model/model_text.hpp"
 
 namespace flipflux {
@@ -127,10 +128,11 @@ std::vector<std::string> energy_texts(const energy_grid& grid, const std::string
 
 /// The energies of a grid in Real: energy_texts, each parsed in Real (correctly rounded).
 template <class Real>
-std::vector<Real> energies_of(const energy_grid& grid, const std::string& where);
+std::vector<energy_level<Real>> energies_of(const energy_grid& grid, const std::string& where);
 
-#define FLIPFLUX_SCENE_EXTERN(R) \
-    extern template std::vector<R> energies_of<R>(const energy_grid&, const std::string&);
+#define FLIPFLUX_SCENE_EXTERN(R)                                                    \
+    extern template std::vector<energy_level<R>> energies_of<R>(const energy_grid&, \
+                                                                const std::string&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_SCENE_EXTERN)
 #undef FLIPFLUX_SCENE_EXTERN
 

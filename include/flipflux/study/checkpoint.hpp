@@ -27,14 +27,12 @@
 #include <vector>
 
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/io/checksum.hpp"
 #include "flipflux/study/study_result.hpp"
 
 namespace flipflux {
 
 inline constexpr int checkpoint_format_version = 2;
-
-/// FNV-1a, 64 bits.
-std::uint64_t fnv1a64(std::string_view text);
 
 /// One line (with its hash and the newline) holding trajectory r of energy k, and back.
 /// Everything but `crossings` and `samples` (never checkpointed) is stored.

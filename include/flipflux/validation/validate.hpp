@@ -41,16 +41,22 @@ struct validation_entry {
 
 struct validation_report {
     std::vector<validation_entry> entries;
+    bool require_all = false;  ///< unmatched candidate rows fail the validation
     std::size_t count(validation_entry::status s) const;
-    bool passed() const;  ///< every entry ok, and at least one
+    /// At least one row ok, none FAIL, duplicate, malformed or missing; unmatched rows (values
+    /// the golden set lacks) are counted, and fail only with require_all.
+    bool passed() const;
 };
 
+/// Missing rows (golden rows without a candidate row of a quantity and arm the candidate has)
+/// are reported unless allow_missing.
 validation_report validate_candidate(const std::filesystem::path& candidate,
                                      const std::filesystem::path& golden_dir, double rtol,
-                                     bool allow_missing);
+                                     bool allow_missing, bool require_all = false);
 
-/// The report as an aligned text table with a summary line.
-std::string format_report(const validation_report& r, double rtol);
+/// The report: the summary line first, then a table of the rows that need attention (FAIL,
+/// duplicate, malformed, unmatched); with `verbose` every row, the ok and missing ones too.
+std::string format_report(const validation_report& r, double rtol, bool verbose = false);
 
 template <>
 struct enum_table<validation_entry::status> {
