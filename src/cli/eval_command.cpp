@@ -30,13 +30,13 @@ std::string binary_decimal(const Real& x, int digits) {
 /// The "enclosure" member of --certify: the proven ball at the precision's digits, and the check
 /// that the non-rigorous value lies in it, widened by the value's own error estimate (which the
 /// ball may be narrower than); certification_error (exit status 1) if not. The non-rigorous route
-/// computes with the energy and the parameters rounded to Real; where that rounding moves the
-/// value by more than the widened ball (just above a saddle, where f1 ~ E - E_s), the check is
-/// repeated with the enclosure for the rounded inputs.
+/// computes with the parameters rounded to Real (the energy is carried as its decimal,
+/// model/energy_level.hpp); where that rounding moves the value by more than the widened ball
+/// (just above an inexact saddle energy, where f1 ~ E - E_s), the check is repeated with the
+/// enclosure for the rounded parameters.
 template <class Real>
 json enclosure_json(const eval_state& s, const quantity& q, arm a,
-                    const double_pendulum<Real>& model, const Real& energy,
-                    const quantity_value<Real>& v) {
+                    const double_pendulum<Real>& model, const quantity_value<Real>& v) {
     if (!has_certified_enclosure(q.name))
         throw input_error::about("--certify", q.name +
                                                   " has no certified route (certified: omega, "
@@ -69,17 +69,15 @@ json enclosure_json(const eval_state& s, const quantity& q, arm a,
     rounded.a1 = binary_decimal(p.a1, shown), rounded.a2 = binary_decimal(p.a2, shown);
     rounded.I1 = binary_decimal(p.I1, shown), rounded.I2 = binary_decimal(p.I2, shown);
     rounded.g = binary_decimal(p.g, shown);
-    const certified_enclosure r =
-        certified_value(q.name, rounded, a, binary_decimal(energy, shown), digits);
+    const certified_enclosure r = certified_value(q.name, rounded, a, s.energy, digits);
     if (!enclosure_contains(r, value, slack))
         throw certification_error(q.name + " at E = " + s.energy + ": the value " + value +
                                   " (error estimate " + slack +
                                   ") lies outside the proven enclosure [" + r.mid + " +/- " +
-                                  r.radius + "] for the inputs rounded to " +
+                                  r.radius + "] for the parameters rounded to " +
                                   precision_name<Real>() + ": a bug in one of the two routes");
-    out["value_check"] =
-        "the value lies in the enclosure for the energy and parameters rounded to " +
-        precision_name<Real>() + ", [" + r.mid + " +/- " + r.radius + "]";
+    out["value_check"] = "the value lies in the enclosure for the parameters rounded to " +
+                         precision_name<Real>() + ", [" + r.mid + " +/- " + r.radius + "]";
     return out;
 }
 
@@ -111,7 +109,7 @@ json eval_json(const eval_state& s) {
     if (!s.model.is_default()) {
         out["model"] = parameters_json(model);
     }
-    if (s.certify) out["enclosure"] = enclosure_json(s, q, a, model, energy, v);
+    if (s.certify) out["enclosure"] = enclosure_json(s, q, a, model, v);
     return out;
 }
 

@@ -160,13 +160,19 @@ TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
     EXPECT_GE(j["enclosure"]["proven_digits"].get<int>(), 20);
     const std::string interval = j["enclosure"]["interval"];
     EXPECT_EQ(interval.front(), '[');
-    // just above the saddle the value is for the energy rounded to mp:30 (it differs from the
-    // exact value for the decimal in the 20th digit): checked against the enclosure for the
-    // rounded inputs, and said so
+    // just above the saddle the value is exact for the decimal energy (model/energy_level.hpp)
     const test::command_result near = test::run_flipflux(
         "eval flux-upright --energy 2.00000000000000000001 --precision mp:30 --certify");
     ASSERT_EQ(near.status, 0) << near.err;
-    EXPECT_TRUE(nlohmann::json::parse(near.out)["enclosure"].contains("value_check")) << near.out;
+    EXPECT_FALSE(nlohmann::json::parse(near.out)["enclosure"].contains("value_check")) << near.out;
+    // with g = 0.1 the saddle energy 2 beta = 0.2 is rounded to mp:30 and moves the value at
+    // E_s + 1e-20 in its 21st digit: checked against the enclosure for the rounded parameters,
+    // and said so
+    const test::command_result rounded = test::run_flipflux(
+        "eval flux-upright --energy 0.20000000000000000001 --g 0.1 --precision mp:30 --certify");
+    ASSERT_EQ(rounded.status, 0) << rounded.err;
+    EXPECT_TRUE(nlohmann::json::parse(rounded.out)["enclosure"].contains("value_check"))
+        << rounded.out;
     const test::command_result bad =
         test::run_flipflux("eval flux-approx --energy 5.5 --precision mp:30 --certify");
     EXPECT_EQ(bad.status, 2);
