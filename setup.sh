@@ -16,7 +16,7 @@ JOBS=${JOBS:-$(nproc)}
 PACKAGES=(
   g++ cmake ninja-build pkg-config git clang-format
   libboost-dev libmpfr-dev libgmp-dev libeigen3-dev libceres-dev
-  libgtest-dev libbenchmark-dev lcov
+  libgtest-dev libbenchmark-dev lcov libflint-arb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev
   libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath python3-scipy
   pybind11-dev python3-dev python3-numpy python3-pytest

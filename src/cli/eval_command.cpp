@@ -1,7 +1,12 @@
-// flipflux eval QUANTITY --energy E [--arm 1|2] [--precision P] [--method M]: one quantity as JSON.
+// flipflux eval QUANTITY --energy E [--arm 1|2] [--precision P] [--method M] [--certify]: one
+// quantity as JSON; --certify adds a proven enclosure (certified/) and checks that the value lies
+// in it.
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include "common.hpp"
+#include "flipflux/certified/enclosure.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/quantities/registry.hpp"
 
@@ -12,7 +17,69 @@ struct eval_state {
     std::string quantity, energy, arm_text = "2", method;
     model_options model;
     precision_option precision;
+    bool certify = false;
 };
+
+/// The decimal text of a value with every digit of its binary representation that matters here
+/// (twice the digits it resolves): the input the non-rigorous route actually computed with.
+template <class Real>
+std::string binary_decimal(const Real& x, int digits) {
+    return to_decimal(x, 2 * digits + 20);
+}
+
+/// The "enclosure" member of --certify: the proven ball at the precision's digits, and the check
+/// that the non-rigorous value lies in it, widened by the value's own error estimate (which the
+/// ball may be narrower than); certification_error (exit status 1) if not. The non-rigorous route
+/// computes with the parameters rounded to Real (the energy is carried as its decimal,
+/// model/energy_level.hpp); where that rounding moves the value by more than the widened ball
+/// (just above an inexact saddle energy, where f1 ~ E - E_s), the check is repeated with the
+/// enclosure for the rounded parameters.
+template <class Real>
+json enclosure_json(const eval_state& s, const quantity& q, arm a,
+                    const double_pendulum<Real>& model, const quantity_value<Real>& v) {
+    if (!has_certified_enclosure(q.name))
+        throw input_error::about("--certify", q.name +
+                                                  " has no certified route (certified: omega, "
+                                                  "flux-upright, rate-upright)");
+    const int digits = decimal_digits(precision_of<Real>());
+    const auto start = std::chrono::steady_clock::now();
+    const certified_enclosure e = certified_value(q.name, s.model, a, s.energy, digits);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // the value with every digit it has (mp: its working digits), the slack its error estimate
+    // plus the rounding of that decimal
+    int shown = std::numeric_limits<Real>::max_digits10;
+    if constexpr (has_variable_precision_v<Real>) shown = mp_working_digits(digits) + 2;
+    using std::abs;
+    using std::pow;
+    const std::string value = to_decimal(v.value, shown);
+    const std::string slack =
+        to_decimal(Real(abs(v.error_estimate) + abs(v.value) * pow(Real(10), 1 - shown)), 3);
+    json out{{"interval", "[" + e.mid + " +/- " + e.radius + "]"},
+             {"mid", e.mid},
+             {"radius", e.radius},
+             {"proven_digits", e.proven_digits},
+             {"bits", e.bits},
+             {"seconds", seconds}};
+    if (enclosure_contains(e, value, slack)) return out;
+    const physical_parameters<Real>& p = model.parameters();
+    model_text rounded;
+    rounded.m1 = binary_decimal(p.m1, shown), rounded.m2 = binary_decimal(p.m2, shown);
+    rounded.L1 = binary_decimal(p.L1, shown), rounded.L2 = binary_decimal(p.L2, shown);
+    rounded.a1 = binary_decimal(p.a1, shown), rounded.a2 = binary_decimal(p.a2, shown);
+    rounded.I1 = binary_decimal(p.I1, shown), rounded.I2 = binary_decimal(p.I2, shown);
+    rounded.g = binary_decimal(p.g, shown);
+    const certified_enclosure r = certified_value(q.name, rounded, a, s.energy, digits);
+    if (!enclosure_contains(r, value, slack))
+        throw certification_error(q.name + " at E = " + s.energy + ": the value " + value +
+                                  " (error estimate " + slack +
+                                  ") lies outside the proven enclosure [" + r.mid + " +/- " +
+                                  r.radius + "] for the parameters rounded to " +
+                                  precision_name<Real>() + ": a bug in one of the two routes");
+    out["value_check"] = "the value lies in the enclosure for the parameters rounded to " +
+                         precision_name<Real>() + ", [" + r.mid + " +/- " + r.radius + "]";
+    return out;
+}
 
 template <class Real>
 json eval_json(const eval_state& s) {
@@ -42,6 +109,7 @@ json eval_json(const eval_state& s) {
     if (!s.model.is_default()) {
         out["model"] = parameters_json(model);
     }
+    if (s.certify) out["enclosure"] = enclosure_json(s, q, a, model, v);
     return out;
 }
 
@@ -70,6 +138,9 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--arm", s->arm_text, "the arm whose flips are counted: 1 or 2")
         ->capture_default_str();
     sub->add_option("--method", s->method, "evaluation method (default: the quantity's first)");
+    sub->add_flag("--certify", s->certify,
+                  "also prove an enclosure [mid +/- radius] with Arb (omega, flux-upright, "
+                  "rate-upright) and check that the value lies in it (exit status 1 if not)");
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
     sub->callback([s] {

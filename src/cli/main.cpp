@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
 
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
     } catch (const input_error& e) {
         std::fprintf(stderr, "flipflux: error: %s\n", cli::error_text(e).c_str());
         return 2;
+    } catch (const certification_error& e) {
+        std::fprintf(stderr, "flipflux: error: %s\n", e.what());
+        return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "flipflux: internal error: %s\n", e.what());
         return 1;

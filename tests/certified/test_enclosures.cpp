@@ -1,0 +1,183 @@
+// Proven enclosures (certified/): each must contain the value of the existing (non-rigorous)
+// routes computed 20 digits beyond the enclosure's precision, an independent route, and reach the
+// relative radius 10^(-N + 10) at mp:N; for the paper's pendulum and a rigid-link pendulum with
+// unequal masses, at energies in every regime of the energy surface (below both saddles, between
+// them, between the upper saddle and E_max, above E_max, just below E_max) and exactly at the
+// kinks. Just above a saddle (E_s + 1e-20) and the timings: verification/certified.cpp (verify).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "flipflux/certified/enclosure.hpp"
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/quantities/registry.hpp"
+#include "support.hpp"
+
+namespace flipflux {
+namespace {
+
+/// A rigid-link pendulum with unequal masses: alpha = 2, beta = 0.9 (saddles 1.8 and 4, E_max
+/// 5.8), A = 1.0833 + 0.25 + 1.5 = 2.8333, B = 0.18 + 0.54 = 0.72, C = 0.9.
+model_text rigid_pendulum() {
+    model_text t;
+    t.m1 = "1", t.m2 = "1.5", t.L1 = "1", t.L2 = "1.2", t.a1 = "0.5", t.a2 = "0.6";
+    t.I1 = "0.0833", t.I2 = "0.18";
+    return t;
+}
+
+struct enclosure_case {
+    const char* name;
+    bool rigid;
+    const char* energy;
+};
+
+/// The non-rigorous value of `quantity` at mp:digits (default method), as a decimal.
+std::string reference_value(const std::string& quantity, const model_text& t, arm a,
+                            const std::string& energy, int digits) {
+    return dispatch(mp_precision(digits), [&]<class Real>() {
+        const double_pendulum<Real> model = make_model<Real>(t);
+        const quantity_value<Real> v =
+            find_quantity(quantity).evaluate(model, a, parse_real<Real>(energy, "energy"), "");
+        return to_decimal(v.value);
+    });
+}
+
+class EnclosureRegimes : public ::testing::TestWithParam<enclosure_case> {};
+
+TEST_P(EnclosureRegimes, ContainTheValueOfTheExistingRoutesAndReachTheRadius) {
+    const enclosure_case c = GetParam();
+    const model_text t = c.rigid ? rigid_pendulum() : model_text{};
+    constexpr int digits = 30;
+    struct item {
+        const char* quantity;
+        arm a;
+    };
+    for (const item& it : {item{"omega", arm::two}, item{"flux-upright", arm::two},
+                           item{"flux-upright", arm::one}, item{"rate-upright", arm::two}}) {
+        SCOPED_TRACE(std::string(it.quantity) + " arm " + to_string(it.a) + " at E = " + c.energy);
+        const certified_enclosure e = certified_value(it.quantity, t, it.a, c.energy, digits);
+        const std::string ref = reference_value(it.quantity, t, it.a, c.energy, digits + 20);
+        EXPECT_TRUE(enclosure_contains(e, ref))
+            << "[" << e.mid << " +/- " << e.radius << "] does not contain " << ref;
+        if (e.mid != "0") {
+            EXPECT_GE(e.proven_digits, digits - 10) << e.radius;
+        } else {
+            EXPECT_EQ(e.radius, "0");  // a flux at or below its saddle is exactly 0
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Paper, EnclosureRegimes,
+                         ::testing::Values(enclosure_case{"BelowBothSaddles", false, "1.5"},
+                                           enclosure_case{"BetweenTheSaddles", false, "3.2"},
+                                           enclosure_case{"BelowTheMaximum", false, "5.5"},
+                                           enclosure_case{"AboveTheMaximum", false, "7.25"},
+                                           enclosure_case{"JustBelowTheMaximum", false,
+                                                          "5.99999999999999999999"},
+                                           enclosure_case{"AtTheLowerSaddle", false, "2"},
+                                           enclosure_case{"AtTheMaximum", false, "6"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+INSTANTIATE_TEST_SUITE_P(RigidLinks, EnclosureRegimes,
+                         ::testing::Values(enclosure_case{"BelowBothSaddles", true, "1.1"},
+                                           enclosure_case{"BetweenTheSaddles", true, "2.9"},
+                                           enclosure_case{"BelowTheMaximum", true, "5.1"},
+                                           enclosure_case{"AboveTheMaximum", true, "9.3"},
+                                           enclosure_case{"AtTheUpperSaddle", true, "4"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Enclosure, RadiusShrinksWithTheRequestedDigits) {
+    for (int digits : {30, 45, 60}) {
+        const certified_enclosure e =
+            certified_value("omega", model_text{}, arm::two, "3.2", digits);
+        EXPECT_GE(e.proven_digits, digits - 10) << digits << ": " << e.radius;
+        EXPECT_LE(e.proven_digits, digits + 40) << digits;  // the precision follows the request
+    }
+}
+
+TEST(Enclosure, AWrongValueLiesOutside) {
+    // the test double: the phase volume with a relative error of 1e-25 (a wrong formula that
+    // agrees to 25 digits) must fail the containment check at 30 digits
+    const certified_enclosure e = certified_value("omega", model_text{}, arm::two, "3.2", 30);
+    const std::string ref = reference_value("omega", model_text{}, arm::two, "3.2", 50);
+    const std::string wrong = dispatch(mp_precision(50), [&]<class Real>() {
+        const Real v = parse_real<Real>(ref, "v");
+        return to_decimal(Real(v + v * parse_real<Real>("1e-25", "relative error")));
+    });
+    EXPECT_TRUE(enclosure_contains(e, ref));
+    EXPECT_FALSE(enclosure_contains(e, wrong));
+    EXPECT_TRUE(enclosure_contains(e, wrong, "1e-20"));  // the slack widens the check
+}
+
+TEST(Enclosure, PrintedBallContainsTheComputedBall) {
+    // E = 7.25 >= E_max: Omega = 16 pi^2 E(-1), an independent closed form (mpmath:
+    // 16 pi^2 ellipe(-1) = 301.63...), checked to the 30 digits written here
+    const certified_enclosure e = certified_value("omega", model_text{}, arm::two, "7.25", 40);
+    EXPECT_TRUE(enclosure_contains(e, "301.630727292957949127804185819", "1e-27")) << e.mid;
+    EXPECT_FALSE(enclosure_contains(e, "301.6307", "1e-6"));
+}
+
+TEST(Enclosure, AnEnergyAtAnInexactKinkIsTheUnionOfBothSides) {
+    // g = 0.1: E_max = 0.6 and E = 0.6 are the same decimal, neither a dyadic, so the energy ball
+    // cannot be placed on one side of the maximum: Omega and f1 are the unions of the enclosures
+    // on both sides (both are monotone in E). At the saddle (E = 2 beta = 0.2) f1 is a ball
+    // [0, f1(E + 2^-prec)] that contains 0: no relative radius, the proof fails (exit status 1
+    // in the CLI).
+    model_text t;
+    t.g = "0.1";
+    for (const char* q : {"omega", "flux-upright"}) {
+        const certified_enclosure e = certified_value(q, t, arm::two, "0.6", 30);
+        EXPECT_GE(e.proven_digits, 20) << q << ": " << e.radius;
+        EXPECT_TRUE(enclosure_contains(e, reference_value(q, t, arm::two, "0.6", 50))) << q;
+    }
+    EXPECT_THROW(certified_value("flux-upright", t, arm::two, "0.2", 30), certification_error);
+}
+
+TEST(Enclosure, BadInputIsAnInputError) {
+    EXPECT_THROW(certified_value("period", model_text{}, arm::two, "3", 30), input_error);
+    EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "-1", 30), input_error);
+    EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "0", 30), input_error);
+    EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "abc", 30), input_error);
+    EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "3", 0), input_error);
+    model_text bad;
+    bad.m1 = "-1";
+    EXPECT_THROW(certified_value("omega", bad, arm::two, "3", 30), input_error);
+    bad = model_text{};
+    bad.I2 = "x";
+    EXPECT_THROW(certified_value("omega", bad, arm::two, "3", 30), input_error);
+    EXPECT_TRUE(has_certified_enclosure("rate-upright"));
+    EXPECT_FALSE(has_certified_enclosure("flux-approx"));
+}
+
+TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
+    const test::command_result r =
+        test::run_flipflux("eval rate-upright --energy 5.5 --arm 1 --precision mp:30 --certify");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("enclosure")) << r.out;
+    EXPECT_GE(j["enclosure"]["proven_digits"].get<int>(), 20);
+    const std::string interval = j["enclosure"]["interval"];
+    EXPECT_EQ(interval.front(), '[');
+    // just above the saddle the value is exact for the decimal energy (model/energy_level.hpp)
+    const test::command_result near = test::run_flipflux(
+        "eval flux-upright --energy 2.00000000000000000001 --precision mp:30 --certify");
+    ASSERT_EQ(near.status, 0) << near.err;
+    EXPECT_FALSE(nlohmann::json::parse(near.out)["enclosure"].contains("value_check")) << near.out;
+    // with g = 0.1 the saddle energy 2 beta = 0.2 is rounded to mp:30 and moves the value at
+    // E_s + 1e-20 in its 21st digit: checked against the enclosure for the rounded parameters,
+    // and said so
+    const test::command_result rounded = test::run_flipflux(
+        "eval flux-upright --energy 0.20000000000000000001 --g 0.1 --precision mp:30 --certify");
+    ASSERT_EQ(rounded.status, 0) << rounded.err;
+    EXPECT_TRUE(nlohmann::json::parse(rounded.out)["enclosure"].contains("value_check"))
+        << rounded.out;
+    const test::command_result bad =
+        test::run_flipflux("eval flux-approx --energy 5.5 --precision mp:30 --certify");
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("--certify"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace flipflux
