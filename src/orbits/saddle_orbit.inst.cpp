@@ -162,10 +162,10 @@ struct polish {
 
     /// One shot at (beta, T): residual norm, monodromy and Jacobian recorded; the Newton update
     /// (dbeta, dT), or nullopt if the integration failed.
-    std::optional<std::array<Real, 2>> shoot(bool per, long n) {
+    std::optional<std::array<Real, 2>> shoot(bool per, long n, int columns = 2) {
         using std::sqrt;
         if (per) {
-            const auto pr = detail::periodic_shooting(setup, beta, period, n);
+            const auto pr = detail::periodic_shooting(setup, beta, period, n, columns);
             if (!pr.end.success) return std::nullopt;
             Real rn = 0;
             for (const Real& v : pr.r)
@@ -176,7 +176,7 @@ struct polish {
             beta_at_jacobian = beta;
             return detail::least_squares_4x2(pr.jacobian, pr.r);
         }
-        const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n);
+        const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n, columns);
         if (!sr.end.success) return std::nullopt;
         orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
         phi = sr.end.phi;
@@ -242,7 +242,7 @@ struct polish {
 /// The final orbit at (beta, T): the quarter grid, the action F, the strip check, the energy
 /// drift and the turning points. False if the integration failed or the orbit left its strip.
 template <class Real>
-bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps, int stages,
+bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps,
                  saddle_orbit<Real>& orbit) {
     using std::abs;
     const auto x0 = setup.start(orbit.beta);
@@ -251,11 +251,19 @@ bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps, 
     orbit.quarter.push_back(x0);
     {
         std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
-        gauss_legendre<Real, 5> gl(stages);
-        const auto r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, orbit.quarter_step,
-                                    quarter_steps, [&](long, const std::array<Real, 5>& z) {
-                                        orbit.quarter.push_back({z[0], z[1], z[2], z[3]});
-                                    });
+        const auto keep = [&](long, const std::array<Real, 5>& z) {
+            orbit.quarter.push_back({z[0], z[1], z[2], z[3]});
+        };
+        integration_result r;
+        if (setup.integrator == orbit_integrator::taylor) {
+            taylor_integrator<Real, 5> ti(setup.order);
+            saddle_taylor_flow<Real> f(setup.frame, setup.order);
+            r = ti.integrate(f, y, orbit.quarter_step, quarter_steps, keep);
+        } else {
+            gauss_legendre<Real, 5> gl(setup.stages);
+            r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, orbit.quarter_step, quarter_steps,
+                             keep);
+        }
         if (!r.success) return false;
         // NOTE: F = 4 x the quarter's action (time reversal and reflection map the quarter onto
         // the other three). Integrating the whole period instead would follow the unstable orbit
@@ -349,8 +357,10 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     using std::max;
     check_orbit_energy(model, a, energy);
     const bool periodic = options.method == orbit_method::periodic;
-    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
+    const bool taylor = options.integrator == orbit_integrator::taylor;
     const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
+    const int stages = taylor ? 0 : (options.stages > 0 ? options.stages : default_stages<Real>());
+    const int order = taylor ? taylor_order_for(tol) : 2 * stages;
     const Real excess = energy - model.saddle_energy(a);
     const Real eps = std::numeric_limits<Real>::epsilon();
 
@@ -359,7 +369,9 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     orbit.energy = energy;
     orbit.excess = excess;
     orbit.method = options.method;
+    orbit.integrator = options.integrator;
     orbit.stages = stages;
+    orbit.order = order;
     orbit.tolerance = tol;
 
     const double_solution<Real> start = solve_at_double(model, a, excess, guess, periodic);
@@ -373,17 +385,26 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     }
 
     // ---- polish in Real ----------------------------------------------------------------------
-    const detail::shooting_setup<Real> setup(model, a, excess, stages);
+    const detail::shooting_setup<Real> setup(model, a, excess, stages, options.integrator, order);
     long quarter_steps;
     Real integration_error;
     {
         const auto scale = orbit_scales(setup, start.beta, start.period);
         const auto x0 = setup.start(start.beta);
         const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
-        const auto est = steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
-                                                      start.period / 4, tol, stages, scale, 4);
+        const auto est =
+            taylor ? taylor_steps_for_tolerance<Real, 5>(
+                         [&setup](int p) { return saddle_taylor_flow<Real>(setup.frame, p); }, y0,
+                         start.period / 4, tol, scale, 4)
+                   : steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
+                                                  start.period / 4, tol, stages, scale, 4);
         quarter_steps = est.steps;
         integration_error = est.error_estimate;
+        if (quarter_steps <= 0) {
+            orbit.status = orbit_status::not_converged;
+            orbit.double_stage += "; the step-size selection failed (non-finite Taylor series)";
+            return orbit;
+        }
     }
     orbit.steps = periodic ? 4 * quarter_steps : quarter_steps;
     polish<Real> p{setup, options, tol, quarter_steps, orbit, start.beta, start.period};
@@ -431,12 +452,11 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
     // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
     orbit.steps = periodic_used ? 4 * quarter_steps : quarter_steps;
-    (void)p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps);
+    (void)p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps, 4);
     orbit.beta = p.beta;
     orbit.period = p.period;
 
-    if (!(orbit.period > 0) || !final_orbit(setup, quarter_steps, stages, orbit) ||
-        !(orbit.action > 0)) {
+    if (!(orbit.period > 0) || !final_orbit(setup, quarter_steps, orbit) || !(orbit.action > 0)) {
         orbit.status = orbit_status::not_converged;
         return orbit;
     }
@@ -554,8 +574,15 @@ phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_o
     if (dt != 0) {
         const saddle_frame<Real> frame(model, orbit.flip_arm);
         std::array<Real, 5> y{x[0], x[1], x[2], x[3], Real(0)};
-        gauss_legendre<Real, 5> gl(orbit.stages > 0 ? orbit.stages : default_stages<Real>());
-        gl.integrate(orbit_flow<Real>{&frame}, y, dt, 1);
+        if (orbit.integrator == orbit_integrator::taylor && orbit.order > 0) {
+            // dense output: the step's Taylor polynomial at dt
+            taylor_integrator<Real, 5> ti(orbit.order);
+            saddle_taylor_flow<Real> f(frame, orbit.order);
+            ti.integrate(f, y, dt, 1);
+        } else {
+            gauss_legendre<Real, 5> gl(orbit.stages > 0 ? orbit.stages : default_stages<Real>());
+            gl.integrate(orbit_flow<Real>{&frame}, y, dt, 1);
+        }
         x = {y[0], y[1], y[2], y[3]};
     }
     if (reversed) {

@@ -40,7 +40,10 @@ std::string method_text(const saddle_orbit<Real>& orbit) {
                 ? std::string("periodic shooting (Ceres, then Gauss-Newton in the working "
                               "precision)")
                 : std::string("symmetric shooting to the brake point (Newton)")) +
-           ", " + std::to_string(orbit.stages) + "-stage Gauss-Legendre, " +
+           ", " +
+           (orbit.integrator == orbit_integrator::taylor
+                ? "order-" + std::to_string(orbit.order) + " Taylor series, "
+                : std::to_string(orbit.stages) + "-stage Gauss-Legendre, ") +
            std::to_string(orbit.steps) + " steps" +
            (orbit.status == orbit_status::stalled ? ", stalled at the rounding floor" : "");
 }
