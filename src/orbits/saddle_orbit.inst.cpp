@@ -7,6 +7,7 @@
 #include <string>
 
 #include "flipflux/core/constants.hpp"
+#include "flipflux/core/convert.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/instantiate.hpp"
@@ -148,6 +149,10 @@ struct polish {
     std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
     Real beta_at_jacobian;
     bool converged = false, stalled = false, failed = false;
+    /// Chord iteration: jac4 / jac2 stay as given (from a lower precision), each iteration is a
+    /// shot without the variational equations (linear convergence at a rate of about the
+    /// Jacobian's relative error times its condition).
+    bool chord = false;
 
     polish(const detail::shooting_setup<Real>& s, const orbit_options<Real>& o, const Real& t,
            long q, saddle_orbit<Real>& out, const Real& b, const Real& T)
@@ -187,7 +192,32 @@ struct polish {
         return d;
     }
 
-    /// Newton / Gauss-Newton on one formulation from (beta, period), updating them.
+    /// The chord update at (beta, T): the residual from a state-only shot, the kept Jacobian.
+    std::optional<std::array<Real, 2>> chord_step(bool per, long n) {
+        using std::sqrt;
+        const auto x0 = setup.start(beta);
+        const Real inv = 1 / setup.momentum_scale;
+        const auto e = detail::integrate_state(setup, x0, per ? period : period / 4, n);
+        if (!e.success) return std::nullopt;
+        if (per) {
+            std::array<Real, 4> r;
+            Real rn = 0;
+            for (int i = 0; i < 4; ++i) {
+                r[i] = (e.x[i] - x0[i]) * inv;
+                rn += r[i] * r[i];
+            }
+            orbit.residual = sqrt(rn);
+            return detail::least_squares_4x2(jac4, r);
+        }
+        const std::array<Real, 2> r{e.x[2] * inv, e.x[3] * inv};
+        orbit.residual = sqrt(r[0] * r[0] + r[1] * r[1]);
+        auto d = detail::solve_2x2(jac2, r);
+        d[1] *= 4;  // tau -> T
+        return d;
+    }
+
+    /// Newton / Gauss-Newton (or the chord iteration) on one formulation from (beta, period),
+    /// updating them.
     void newton(bool per) {
         using std::abs;
         using std::max;
@@ -197,7 +227,7 @@ struct polish {
         const long n = per ? 4 * quarter_steps : quarter_steps;
         int it = 0;
         for (it = 1; it <= options.max_newton_iterations; ++it) {
-            const auto step = shoot(per, n);
+            const auto step = chord ? chord_step(per, n) : shoot(per, n);
             if (!step) {
                 failed = true;
                 break;
@@ -215,8 +245,9 @@ struct polish {
             orbit.last_update = size;
             // NOTE: Newton converges quadratically (up to the O(tol) inexactness of the T
             // column); the next update is predicted at the observed rate (conservative for
-            // quadratic convergence), and the iteration stops when it would be below the
-            // tolerance. A stall (no halving) means the rounding floor of the residual.
+            // quadratic convergence, exact for the chord's linear one), and the iteration stops
+            // when it would be below the tolerance. A stall (no halving) means the rounding floor
+            // of the residual.
             const Real predicted = it >= 2 ? size * size / last : std::numeric_limits<Real>::max();
             if (size <= tol || predicted <= tol / 4) {
                 converged = true;
@@ -238,6 +269,47 @@ struct polish {
         orbit.newton_iterations += it;
     }
 };
+
+/// The first iterations in quad, for a Real of more digits with the Taylor integrator: Newton in
+/// quad from the double stage's (beta, T) to quad's accuracy, then p continues from there by the
+/// chord iteration with quad's last Jacobian (converted). False (p unchanged) if quad did not
+/// converge.
+/// NOTE: the residual's Jacobian need not be exact: with quad's (relative error ~ 1e-32 times
+/// the problem's condition) each chord iteration gains ~ 30 digits at the cost of a shot without
+/// the variational equations (a quarter of the work of one with them); the monodromy, which
+/// must be exact, comes from one variational shot at the solution (refine_saddle_orbit).
+template <class Real>
+bool polish_in_quad(const double_pendulum<Real>& model, arm a, const Real& excess, bool periodic,
+                    polish<Real>& p, std::string& report) {
+    const double_pendulum<quad> mq(convert_parameters<quad>(model.parameters()));
+    const quad tq = default_tolerance<quad>();
+    const detail::shooting_setup<quad> sq(mq, a, convert<quad>(excess), 0, orbit_integrator::taylor,
+                                          taylor_order_for(tq));
+    const quad bq = convert<quad>(p.beta), Tq = convert<quad>(p.period);
+    const auto x0 = sq.start(bq);
+    const std::array<quad, 5> y0{x0[0], x0[1], x0[2], x0[3], quad(0)};
+    const auto est = taylor_steps_for_tolerance<quad, 5>(
+        [&sq](int order) { return saddle_taylor_flow<quad>(sq.frame, order); }, y0, Tq / 4, tq,
+        orbit_scales(sq, bq, Tq), 4);
+    if (est.steps <= 0) return false;
+    saddle_orbit<quad> oq;
+    const orbit_options<quad> options_q;
+    polish<quad> pq{sq, options_q, tq, est.steps, oq, bq, Tq};
+    pq.newton(periodic);
+    if (!pq.converged) return false;
+    p.beta = convert<Real>(pq.beta);
+    p.period = convert<Real>(pq.period);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 2; ++j)
+            p.jac4[i][j] = convert<Real>(pq.jac4[i][j]);
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+            p.jac2[i][j] = convert<Real>(pq.jac2[i][j]);
+    p.chord = true;
+    report += "; Newton in quad (" + std::to_string(oq.newton_iterations) +
+              " iterations), then the chord iteration with quad's Jacobian";
+    return true;
+}
 
 /// The final orbit at (beta, T): the quarter grid, the action F, the strip check, the energy
 /// drift and the turning points. False if the integration failed or the orbit left its strip.
@@ -417,11 +489,22 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         orbit.double_stage += p.failed ? "; the symmetric pre-polish failed too"
                                        : "; guess pre-polished by the symmetric formulation";
     }
+    bool chorded = false;
+    if constexpr (has_variable_precision_v<Real>) {
+        if (taylor && start.ok && binary_digits<Real>() > std::numeric_limits<quad>::digits)
+            chorded = polish_in_quad(model, a, excess, periodic, p, orbit.double_stage);
+    }
     // the symmetric solution, kept in case the periodic residual cannot be resolved
     const bool pre_polished = periodic && !start.ok && !p.failed && (p.converged || p.stalled);
     const Real pre_beta = p.beta, pre_period = p.period, pre_update = orbit.last_update;
     const bool pre_converged = p.converged;
     if (!p.failed) p.newton(periodic);
+    if (chorded && (p.failed || (!p.converged && !p.stalled))) {
+        orbit.double_stage += "; the chord iteration did not converge: Newton";
+        p.chord = false;
+        p.newton(periodic);
+    }
+    p.chord = false;
     bool periodic_used = periodic;
     // (a periodic iterate far from the symmetric solution is another root of the residual:
     // regression, arm 1 at E = 6 - 1e-6 in double reached T < 0)
@@ -452,7 +535,14 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
     // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
     orbit.steps = periodic_used ? 4 * quarter_steps : quarter_steps;
-    (void)p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps, 4);
+    const auto final_update =
+        p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps, 4);
+    // NOTE: after the chord iteration the distance to the root is measured, not bounded by the
+    // last correction applied (the chord's rate is ~ 1e-30: that bound would be 30 digits too
+    // pessimistic): it is the Newton correction at the reported point (exact Jacobian; not
+    // applied: the monodromy is that point's), accurate to its square
+    if (chorded && final_update)
+        orbit.last_update = max(abs((*final_update)[0]), abs((*final_update)[1]) / p.period);
     orbit.beta = p.beta;
     orbit.period = p.period;
 

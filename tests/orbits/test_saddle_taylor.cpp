@@ -132,7 +132,7 @@ TYPED_TEST(SaddleTaylor, ShotAgreesWithGaussLegendre) {
                                               taylor_order_for(tol));
         const auto x0 = gl.start(guess.beta);
         const Real tau = guess.period / 4;
-        const long n = 40;
+        const long n = 8;
         const auto eg = detail::integrate_variational(gl, x0, tau, 4 * n);
         const auto et = detail::integrate_variational(ty, x0, tau, n);
         const auto e2 = detail::integrate_variational(ty, x0, tau, n, 2);
