@@ -270,6 +270,23 @@ struct polish {
     }
 };
 
+/// Equal steps on the quarter orbit from (beta, T) for the tolerance, by the setup's integrator.
+/// NOTE: steps are chosen on the quarter orbit for both formulations: the endpoint error of a
+/// full period is amplified by the multiplier, which says nothing about the local accuracy
+template <class Real>
+step_count_estimate<Real> quarter_steps_for(const detail::shooting_setup<Real>& setup,
+                                            const Real& beta, const Real& period, const Real& tol) {
+    const auto scale = orbit_scales(setup, beta, period);
+    const auto x0 = setup.start(beta);
+    const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
+    if (setup.integrator == orbit_integrator::taylor)
+        return taylor_steps_for_tolerance<Real, 5>(
+            [&setup](int order) { return saddle_taylor_flow<Real>(setup.frame, order); }, y0,
+            period / 4, tol, scale, 4);
+    return steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0, period / 4, tol,
+                                        setup.stages, scale, 4);
+}
+
 /// The first iterations in quad, for a Real of more digits with the Taylor integrator: Newton in
 /// quad from the double stage's (beta, T) to quad's accuracy, then p continues from there by the
 /// chord iteration with quad's last Jacobian (converted). False (p unchanged) if quad did not
@@ -286,11 +303,7 @@ bool polish_in_quad(const double_pendulum<Real>& model, arm a, const Real& exces
     const detail::shooting_setup<quad> sq(mq, a, convert<quad>(excess), 0, orbit_integrator::taylor,
                                           taylor_order_for(tq));
     const quad bq = convert<quad>(p.beta), Tq = convert<quad>(p.period);
-    const auto x0 = sq.start(bq);
-    const std::array<quad, 5> y0{x0[0], x0[1], x0[2], x0[3], quad(0)};
-    const auto est = taylor_steps_for_tolerance<quad, 5>(
-        [&sq](int order) { return saddle_taylor_flow<quad>(sq.frame, order); }, y0, Tq / 4, tq,
-        orbit_scales(sq, bq, Tq), 4);
+    const auto est = quarter_steps_for(sq, bq, Tq, tq);
     if (est.steps <= 0) return false;
     saddle_orbit<quad> oq;
     const orbit_options<quad> options_q;
@@ -309,6 +322,47 @@ bool polish_in_quad(const double_pendulum<Real>& model, arm a, const Real& exces
     report += "; Newton in quad (" + std::to_string(oq.newton_iterations) +
               " iterations), then the chord iteration with quad's Jacobian";
     return true;
+}
+
+/// Newton from p's (beta, T); for a Real above quad with the Taylor integrator (`ladder`), quad's
+/// Newton first, then the chord iteration in Real (Newton if it does not converge). True if the
+/// chord iteration was used.
+template <class Real>
+bool run_polish(const double_pendulum<Real>& model, arm a, const Real& excess, bool periodic,
+                bool ladder, polish<Real>& p, std::string& report) {
+    bool chorded = false;
+    if constexpr (has_variable_precision_v<Real>) {
+        if (ladder && !p.failed && binary_digits<Real>() > std::numeric_limits<quad>::digits)
+            chorded = polish_in_quad(model, a, excess, periodic, p, report);
+    } else {
+        (void)model, (void)a, (void)excess, (void)ladder, (void)report;
+    }
+    if (!p.failed) p.newton(periodic);
+    if (chorded && (p.failed || (!p.converged && !p.stalled))) {
+        report += "; the chord iteration did not converge: Newton";
+        p.chord = false;
+        p.failed = false;
+        p.newton(periodic);
+    }
+    p.chord = false;
+    return chorded;
+}
+
+/// The variational shot at the final (beta, T): the monodromy, the Jacobian (for dT/dE) and the
+/// residual are those of the reported orbit (those of the last Newton iterate are off by its
+/// correction, amplified by |mu| in the monodromy: quad's stability index was 1e-24 off at
+/// E = 4, mu = 3.7e3).
+template <class Real>
+void final_shot(polish<Real>& p, bool periodic, long quarter_steps, bool chorded) {
+    using std::abs;
+    using std::max;
+    const auto update = p.shoot(periodic, periodic ? 4 * quarter_steps : quarter_steps, 4);
+    // NOTE: after the chord iteration the distance to the root is measured, not bounded by the
+    // last correction applied (the chord's rate is ~ 1e-30: that bound would be 30 digits too
+    // pessimistic): it is the Newton correction at the reported point (exact Jacobian; not
+    // applied: the monodromy is that point's), accurate to its square
+    if (chorded && update)
+        p.orbit.last_update = max(abs((*update)[0]), abs((*update)[1]) / p.period);
 }
 
 /// The final orbit at (beta, T): the quarter grid, the action F, the strip check, the energy
@@ -458,25 +512,13 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 
     // ---- polish in Real ----------------------------------------------------------------------
     const detail::shooting_setup<Real> setup(model, a, excess, stages, options.integrator, order);
-    long quarter_steps;
-    Real integration_error;
-    {
-        const auto scale = orbit_scales(setup, start.beta, start.period);
-        const auto x0 = setup.start(start.beta);
-        const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
-        const auto est =
-            taylor ? taylor_steps_for_tolerance<Real, 5>(
-                         [&setup](int p) { return saddle_taylor_flow<Real>(setup.frame, p); }, y0,
-                         start.period / 4, tol, scale, 4)
-                   : steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
-                                                  start.period / 4, tol, stages, scale, 4);
-        quarter_steps = est.steps;
-        integration_error = est.error_estimate;
-        if (quarter_steps <= 0) {
-            orbit.status = orbit_status::not_converged;
-            orbit.double_stage += "; the step-size selection failed (non-finite Taylor series)";
-            return orbit;
-        }
+    const auto est = quarter_steps_for(setup, start.beta, start.period, tol);
+    const long quarter_steps = est.steps;
+    const Real integration_error = est.error_estimate;
+    if (quarter_steps <= 0) {
+        orbit.status = orbit_status::not_converged;
+        orbit.double_stage += "; the step-size selection failed (non-finite Taylor series)";
+        return orbit;
     }
     orbit.steps = periodic ? 4 * quarter_steps : quarter_steps;
     polish<Real> p{setup, options, tol, quarter_steps, orbit, start.beta, start.period};
@@ -489,22 +531,12 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         orbit.double_stage += p.failed ? "; the symmetric pre-polish failed too"
                                        : "; guess pre-polished by the symmetric formulation";
     }
-    bool chorded = false;
-    if constexpr (has_variable_precision_v<Real>) {
-        if (taylor && start.ok && binary_digits<Real>() > std::numeric_limits<quad>::digits)
-            chorded = polish_in_quad(model, a, excess, periodic, p, orbit.double_stage);
-    }
     // the symmetric solution, kept in case the periodic residual cannot be resolved
     const bool pre_polished = periodic && !start.ok && !p.failed && (p.converged || p.stalled);
     const Real pre_beta = p.beta, pre_period = p.period, pre_update = orbit.last_update;
     const bool pre_converged = p.converged;
-    if (!p.failed) p.newton(periodic);
-    if (chorded && (p.failed || (!p.converged && !p.stalled))) {
-        orbit.double_stage += "; the chord iteration did not converge: Newton";
-        p.chord = false;
-        p.newton(periodic);
-    }
-    p.chord = false;
+    const bool chorded =
+        run_polish(model, a, excess, periodic, taylor && start.ok, p, orbit.double_stage);
     bool periodic_used = periodic;
     // (a periodic iterate far from the symmetric solution is another root of the residual:
     // regression, arm 1 at E = 6 - 1e-6 in double reached T < 0)
@@ -531,18 +563,8 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         return orbit;
     }
     orbit.status = p.converged ? orbit_status::converged : orbit_status::stalled;
-    // NOTE: the monodromy, the Jacobian (for dT/dE) and the residual are re-evaluated at the
-    // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
-    // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
     orbit.steps = periodic_used ? 4 * quarter_steps : quarter_steps;
-    const auto final_update =
-        p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps, 4);
-    // NOTE: after the chord iteration the distance to the root is measured, not bounded by the
-    // last correction applied (the chord's rate is ~ 1e-30: that bound would be 30 digits too
-    // pessimistic): it is the Newton correction at the reported point (exact Jacobian; not
-    // applied: the monodromy is that point's), accurate to its square
-    if (chorded && final_update)
-        orbit.last_update = max(abs((*final_update)[0]), abs((*final_update)[1]) / p.period);
+    final_shot(p, periodic_used, quarter_steps, chorded);
     orbit.beta = p.beta;
     orbit.period = p.period;
 

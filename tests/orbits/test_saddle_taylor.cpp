@@ -127,13 +127,18 @@ TYPED_TEST(SaddleTaylor, ShotAgreesWithGaussLegendre) {
     for (arm a : {arm::one, arm::two}) {
         const auto guess = linear_guess(model, a);
         const Real tol = 64 * eps<Real>();
-        const detail::shooting_setup<Real> gl(model, a, Real(1), default_stages<Real>());
+        // (more stages than the solver's: the steps are longer than its)
+        const int stages = std::is_same_v<Real, double> ? 12 : std::is_same_v<Real, quad> ? 24 : 32;
+        const detail::shooting_setup<Real> gl(model, a, Real(1), stages);
         const detail::shooting_setup<Real> ty(model, a, Real(1), 0, orbit_integrator::taylor,
                                               taylor_order_for(tol));
         const auto x0 = gl.start(guess.beta);
-        const Real tau = guess.period / 4;
-        const long n = 8;
-        const auto eg = detail::integrate_variational(gl, x0, tau, 4 * n);
+        // equal steps of T / 128 for both (within the Taylor series' Jorba-Zou step); at mp a
+        // shorter shot keeps the Gauss-Legendre side cheap
+        const bool mp_type = has_variable_precision_v<Real>;
+        const Real tau = guess.period / (mp_type ? 64 : 16);
+        const long n = mp_type ? 2 : 8;
+        const auto eg = detail::integrate_variational(gl, x0, tau, n);
         const auto et = detail::integrate_variational(ty, x0, tau, n);
         const auto e2 = detail::integrate_variational(ty, x0, tau, n, 2);
         ASSERT_TRUE(eg.success && et.success && e2.success);
@@ -150,14 +155,69 @@ TYPED_TEST(SaddleTaylor, ShotAgreesWithGaussLegendre) {
             }
         }
         EXPECT_LE(static_cast<double>(abs(eg.action - et.action)), bound);
-        const auto sg = detail::integrate_state(gl, x0, tau, 4 * n);
+        const auto sg = detail::integrate_state(gl, x0, tau, n);
         const auto st = detail::integrate_state(ty, x0, tau, n);
         for (int i = 0; i < 4; ++i)
             EXPECT_LE(static_cast<double>(abs(sg.x[i] - st.x[i])), bound) << i;
-        const auto mg = detail::quarter_extent(gl, guess.beta, tau, 4 * n);
+        const auto mg = detail::quarter_extent(gl, guess.beta, tau, n);
         const auto mt = detail::quarter_extent(ty, guess.beta, tau, n);
         EXPECT_LE(static_cast<double>(abs(mg[0] - mt[0]) + abs(mg[1] - mt[1])), bound);
     }
+}
+
+/// An orbit's T, F and stability index by one integrator (symmetric shooting: the cheaper one).
+template <class Real>
+saddle_orbit<Real> orbit_by(arm a, const Real& energy, orbit_integrator integrator,
+                            orbit_method method = orbit_method::symmetric) {
+    orbit_options<Real> options;
+    options.method = method;
+    options.integrator = integrator;
+    return solve_saddle_orbit(double_pendulum<Real>(), a, energy, options);
+}
+
+TEST(SaddleTaylorOrbit, AgreesWithGaussLegendreAtQuad) {
+    using std::abs;
+    using std::sqrt;
+    // both arms; T and F agree within the sum of the two error estimates, the stability index
+    // within 64 eps |mu|^(1/4) relative (the quarter orbit's amplification, docs/theory.md)
+    const quad e = std::numeric_limits<quad>::epsilon();
+    for (const auto& [a, E] : {std::pair{arm::two, quad(3)}, std::pair{arm::one, quad(5)}}) {
+        const auto t = orbit_by(a, E, orbit_integrator::taylor);
+        const auto g = orbit_by(a, E, orbit_integrator::gauss_legendre);
+        ASSERT_EQ(t.status, orbit_status::converged) << t.double_stage;
+        ASSERT_EQ(g.status, orbit_status::converged) << g.double_stage;
+        EXPECT_EQ(t.integrator, orbit_integrator::taylor);
+        EXPECT_EQ(t.order, taylor_order_for(64 * e));
+        EXPECT_EQ(g.integrator, orbit_integrator::gauss_legendre);
+        EXPECT_LE(abs(t.period - g.period), t.error_estimate_period + g.error_estimate_period);
+        EXPECT_LE(abs(t.action - g.action), t.error_estimate_action + g.error_estimate_action);
+        EXPECT_LE(t.error_estimate_period / t.period, 16384 * e);
+        const quad mu = abs(g.floquet.multiplier);
+        EXPECT_LE(abs(t.floquet.stability_index - g.floquet.stability_index) / mu,
+                  64 * e * sqrt(sqrt(mu)));
+        // the orbit's states between the stored ones come from the Taylor polynomial
+        const double_pendulum<quad> model;
+        const auto x = orbit_state(model, t, t.period / 7);
+        const auto y = orbit_state(model, g, g.period / 7);
+        for (int i = 0; i < 4; ++i)
+            EXPECT_LE(abs(x[i] - y[i]), 1e-28) << i;
+    }
+}
+
+TEST(SaddleTaylorOrbit, Mp60AgreesWithGaussLegendreAtQuad) {
+    // mp:60: quad's Newton, then the chord iteration in mp (the ladder), against the independent
+    // route at quad: T and F to quad's error estimate
+    const auto g = orbit_by(arm::two, quad(3), orbit_integrator::gauss_legendre);
+    ASSERT_EQ(g.status, orbit_status::converged);
+    const precision_scope scope(mp_precision(60));
+    const auto t = orbit_by(arm::two, mp(3), orbit_integrator::taylor);
+    ASSERT_EQ(t.status, orbit_status::converged) << t.double_stage;
+    EXPECT_NE(t.double_stage.find("chord"), std::string::npos) << t.double_stage;
+    using std::abs;
+    EXPECT_LE(abs(t.period - convert<mp>(g.period)), convert<mp>(2 * g.error_estimate_period));
+    EXPECT_LE(abs(t.action - convert<mp>(g.action)), convert<mp>(2 * g.error_estimate_action));
+    // its own estimate is at mp:60's level
+    EXPECT_LE(t.error_estimate_period / t.period, mp(1) / mp("1e55"));
 }
 
 }  // namespace
