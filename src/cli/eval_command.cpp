@@ -1,15 +1,17 @@
-// flipflux eval QUANTITY --energy E [--arm 1|2] [--precision P] [--method M]: one quantity as JSON.
+// flipflux eval QUANTITY --energy E [--arm 1|2] [--precision P] [--method M] [--integrator I]: one
+// quantity as JSON. --integrator (saddle-orbit quantities only) qualifies the method: "M/I".
 #include <chrono>
 
 #include "common.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux::cli {
 namespace {
 
 struct eval_state {
-    std::string quantity, energy, arm_text = "2", method;
+    std::string quantity, energy, arm_text = "2", method, integrator;
     model_options model;
     precision_option precision;
 };
@@ -21,8 +23,16 @@ json eval_json(const eval_state& s) {
     const double_pendulum<Real> model(parse_parameters<Real>(s.model));
     const Real energy = parse_real<Real>(s.energy, "--energy");
     check_magnitude(energy, "--energy");
+    std::string method = s.method;
+    if (!s.integrator.empty()) {
+        if (!q.needs_saddle_orbit)
+            throw input_error("--integrator: '" + s.integrator + "' applies to the saddle-orbit " +
+                              "quantities only, not to " + q.name);
+        (void)parse_name<orbit_integrator>(s.integrator, "--integrator");
+        method = (method.empty() ? q.methods.front() : method) + "/" + s.integrator;
+    }
     const auto start = std::chrono::steady_clock::now();
-    const quantity_value<Real> v = q.evaluate(model, a, energy, s.method);
+    const quantity_value<Real> v = q.evaluate(model, a, energy, method);
     using std::isfinite;
     if (!isfinite(v.value))  // never print an overflow as a value
         throw input_error("--energy: '" + s.energy + "': " + q.name + " is not finite in " +
@@ -69,6 +79,9 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--arm", s->arm_text, "the arm whose flips are counted: 1 or 2")
         ->capture_default_str();
     sub->add_option("--method", s->method, "evaluation method (default: the quantity's first)");
+    sub->add_option("--integrator", s->integrator,
+                    "saddle-orbit quantities: taylor or gauss-legendre (default: gauss-legendre "
+                    "at double, taylor above)");
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
     sub->callback([s] {
