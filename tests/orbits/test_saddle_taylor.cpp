@@ -4,6 +4,7 @@
 // Gauss-Legendre shot (state, action, Phi), and the saddle orbit solved with either integrator.
 #include <cmath>
 
+#include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/orbits/saddle_taylor.hpp"
 #include "flipflux/orbits/shooting.hpp"
@@ -201,6 +202,13 @@ TEST(SaddleTaylorOrbit, AgreesWithGaussLegendreAtQuad) {
         const auto y = orbit_state(model, g, g.period / 7);
         for (int i = 0; i < 4; ++i)
             EXPECT_LE(abs(x[i] - y[i]), 1e-28) << i;
+        // the saddle curve's root finder runs on the Taylor polynomials (dense output)
+        if (a == arm::two) {
+            const auto ct = make_saddle_curve(model, t), cg = make_saddle_curve(model, g);
+            const quad s = ct.domain()[1] * 3 / 5;
+            EXPECT_LE(abs(ct.offset(s) - cg.offset(s)), 1e-28);
+            EXPECT_LE(abs(ct.domain()[1] - cg.domain()[1]), 1e-28);
+        }
     }
 }
 
