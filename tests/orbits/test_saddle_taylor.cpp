@@ -200,6 +200,11 @@ TEST(SaddleTaylorOrbit, AgreesWithGaussLegendreAtQuad) {
         const quad mu = abs(g.floquet.multiplier);
         EXPECT_LE(abs(t.floquet.stability_index - g.floquet.stability_index) / mu,
                   64 * e * sqrt(sqrt(mu)));
+        // the periodic formulation by Taylor: the monodromy from half the period, squared
+        const auto tp = orbit_by(a, E, orbit_integrator::taylor, orbit_method::periodic);
+        ASSERT_EQ(tp.status, orbit_status::converged) << tp.double_stage;
+        EXPECT_LE(abs(tp.period - g.period), tp.error_estimate_period + g.error_estimate_period);
+        EXPECT_LE(abs(tp.floquet.stability_index - g.floquet.stability_index) / mu, 2 * e * mu);
         // the orbit's states between the stored ones come from the Taylor polynomial
         const double_pendulum<quad> model;
         const auto x = orbit_state(model, t, t.period / 7);
