@@ -9,13 +9,16 @@
 // Method: the shooting problem is solved at double with Ceres (periodic formulation; analytic
 // Jacobian from the variational equations) or a Newton iteration (symmetric formulation), after
 // a continuation from the linearised centre mode when no guess is given; then polished in Real
-// by Gauss-Newton / Newton to the working precision, with Gauss-Legendre steps chosen for the
-// requested tolerance. Convergence is reported in `status`, never thrown.
+// by Gauss-Newton / Newton to the working precision, with equal steps of the chosen integrator
+// (orbit_options::integrator: Gauss-Legendre, or Taylor series; above quad with Taylor, Newton in
+// quad then the chord iteration in Real) chosen for the requested tolerance. Convergence is
+// reported in `status`, never thrown.
 //
 // Accuracy (verified in verification/orbits*.cpp against a higher-precision solve): T and F to a
-// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp:50); error_estimate_* state the
-// per-orbit estimate. Near E_max the multiplier grows like (E_max - E)^(-lambda/...) and the
-// attainable accuracy degrades accordingly (see docs/theory.md).
+// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp:50), 1e-108 (mp:100, Taylor:
+// verification/orbits_taylor.cpp); error_estimate_* state the per-orbit estimate. Near E_max the
+// multiplier grows like (E_max - E)^(-lambda/...) and the attainable accuracy degrades
+// accordingly (see docs/theory.md).
 #pragma once
 
 #include <array>
