@@ -161,7 +161,12 @@ py::dict saddle_orbit_text(const std::string& energy_text, const std::string& ar
             const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
             const Real& energy = level.value;
             orbit_options<Real> options;
-            options.method = parse_name<orbit_method>(method_text, "--method");
+            // "periodic", or qualified by the integrator: "symmetric/gauss-legendre"
+            const std::size_t slash = method_text.find('/');
+            options.method = parse_name<orbit_method>(method_text.substr(0, slash), "--method");
+            if (slash != std::string::npos)
+                options.integrator =
+                    parse_name<orbit_integrator>(method_text.substr(slash + 1), "--integrator");
             check_orbit_energy(model, a, level);
             const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
             if (orbit.status == orbit_status::not_converged)

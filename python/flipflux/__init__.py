@@ -155,7 +155,10 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
     """The saddle orbit at energy E -- `flipflux orbit`. Returns a dict: "samples" (N rows t,
     theta1, theta2, l1, l2 at t = k T / (N - 1): a NumPy float array at double, else a list of
     rows of decimal strings), "period" (T), "action" (F), "flux" (2F), "multiplier" and
-    "stability_index" (Floquet), their error estimates, "status"; numbers as in evaluate()."""
+    "stability_index" (Floquet), their error estimates, "status"; numbers as in evaluate().
+    `method` may name the integrator after a slash: "periodic/gauss-legendre", "symmetric/taylor"
+    (default: Gauss-Legendre at double, Taylor series above; the same for evaluate()'s orbit
+    quantities)."""
     r = _flipflux.saddle_orbit(_text(energy, "--energy"), _text(arm, "--arm"), precision, int(samples),
                                method, _parameters(pendulum))
     p = r["precision"]

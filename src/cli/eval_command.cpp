@@ -1,6 +1,7 @@
-// flipflux eval QUANTITY --energy E [--arm 1|2] [--precision P] [--method M] [--certify]: one
-// quantity as JSON; --certify adds a proven enclosure (certified/) and checks that the value lies
-// in it.
+// flipflux eval QUANTITY --energy E [--arm 1|2] [--precision P] [--method M] [--integrator I]
+//     [--certify]: one quantity as JSON. --integrator (saddle-orbit quantities only) qualifies the
+// method: "M/I"; --certify adds a proven enclosure (certified/) and checks that the value lies in
+// it.
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -8,13 +9,14 @@
 #include "common.hpp"
 #include "flipflux/certified/enclosure.hpp"
 #include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux::cli {
 namespace {
 
 struct eval_state {
-    std::string quantity, energy, arm_text = "2", method;
+    std::string quantity, energy, arm_text = "2", method, integrator;
     model_options model;
     precision_option precision;
     bool certify = false;
@@ -89,8 +91,16 @@ json eval_json(const eval_state& s) {
     const energy_level<Real> level = parse_energy_level<Real>(s.energy, "--energy");
     const Real& energy = level.value;
     check_magnitude(energy, "--energy");
+    std::string method = s.method;
+    if (!s.integrator.empty()) {
+        if (!q.needs_saddle_orbit)
+            throw input_error("--integrator: '" + s.integrator + "' applies to the saddle-orbit " +
+                              "quantities only, not to " + q.name);
+        (void)parse_name<orbit_integrator>(s.integrator, "--integrator");
+        method = (method.empty() ? q.methods.front() : method) + "/" + s.integrator;
+    }
     const auto start = std::chrono::steady_clock::now();
-    const quantity_value<Real> v = q.evaluate(model, a, level, s.method);
+    const quantity_value<Real> v = q.evaluate(model, a, level, method);
     using std::isfinite;
     if (!isfinite(v.value))  // never print an overflow as a value
         throw input_error("--energy: '" + s.energy + "': " + q.name + " is not finite in " +
@@ -138,6 +148,9 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--arm", s->arm_text, "the arm whose flips are counted: 1 or 2")
         ->capture_default_str();
     sub->add_option("--method", s->method, "evaluation method (default: the quantity's first)");
+    sub->add_option("--integrator", s->integrator,
+                    "saddle-orbit quantities: taylor or gauss-legendre (default: gauss-legendre "
+                    "at double, taylor above)");
     sub->add_flag("--certify", s->certify,
                   "also prove an enclosure [mid +/- radius] with Arb (omega, flux-upright, "
                   "rate-upright) and check that the value lies in it (exit status 1 if not)");

@@ -1,4 +1,5 @@
-// flipflux orbit --energy E [--arm 1|2] [--precision P] [--samples N] [--method M] [--out FILE]:
+// flipflux orbit --energy E [--arm 1|2] [--precision P] [--samples N] [--method M]
+// [--integrator I] [--out FILE]:
 // the saddle orbit at energy E as CSV rows t,theta1,theta2,l1,l2 (every digit of the working
 // precision), N samples at t_k = k T / (N - 1), k = 0..N-1 (the first and last rows coincide).
 // With --out the file is written to a temporary name and renamed: never half-written.
@@ -16,7 +17,7 @@ namespace flipflux::cli {
 namespace {
 
 struct orbit_state_options {
-    std::string energy, arm_text = "2", samples = "101", method = "periodic", out;
+    std::string energy, arm_text = "2", samples = "101", method = "periodic", integrator, out;
     model_options model;
     precision_option precision;
 };
@@ -43,6 +44,8 @@ std::string orbit_csv(const orbit_state_options& o) {
     const Real& energy = level.value;
     orbit_options<Real> options;
     options.method = parse_name<orbit_method>(o.method, "--method");
+    if (!o.integrator.empty())
+        options.integrator = parse_name<orbit_integrator>(o.integrator, "--integrator");
     check_orbit_energy(model, a, level);
     const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
     if (orbit.status == orbit_status::not_converged)
@@ -92,6 +95,8 @@ const register_command registration([](CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--method", s->method, "shooting formulation: periodic or symmetric")
         ->capture_default_str();
+    sub->add_option("--integrator", s->integrator,
+                    "taylor or gauss-legendre (default: gauss-legendre at double, taylor above)");
     sub->add_option("--out", s->out, "write to FILE (atomically) instead of stdout");
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);

@@ -47,14 +47,17 @@ struct memo {
     }
     /// E and E - E_s: two decimal inputs that round to one E are two orbits (energy_level).
     static std::string key(const double_pendulum<Real>& model, arm a, const Real& energy,
-                           const Real& excess, orbit_method method) {
+                           const Real& excess, orbit_method method, orbit_integrator integrator) {
         return model_text_key(model) + precision_name<Real>() + ";" + to_string(a) + ";" +
                to_decimal(energy, full_digits(energy)) + ";" +
-               to_decimal(excess, full_digits(excess)) + ";" + to_string(method);
+               to_decimal(excess, full_digits(excess)) + ";" + to_string(method) + ";" +
+               to_string(integrator);
     }
     static std::string key(const double_pendulum<Real>& model, arm a,
-                           const energy_level<Real>& energy, orbit_method method) {
-        return key(model, a, energy.value, energy.above(model.saddle_energy(a)), method);
+                           const energy_level<Real>& energy, orbit_method method,
+                           orbit_integrator integrator) {
+        return key(model, a, energy.value, energy.above(model.saddle_energy(a)), method,
+                   integrator);
     }
     void refresh() {  // under the lock
         const unsigned g = saddle_orbit_memo_generation();
@@ -93,19 +96,20 @@ void read_array(const json& j, Real* out, std::size_t n, const std::string& wher
         out[i] = real_of<Real>(j[i], where);
 }
 
-// 2: monodromy at the final (beta, T); 3: a checksum of the record
-constexpr int format_version = 3;
+// 2: monodromy at the final (beta, T); 3: a checksum of the record; 4: the integrator and its order
+constexpr int format_version = 4;
 
 }  // namespace
 
 template <class Real>
 std::optional<saddle_orbit<Real>> recall_saddle_orbit(const double_pendulum<Real>& model, arm a,
                                                       const level_arg<Real>& energy,
-                                                      orbit_method method) {
+                                                      orbit_method method,
+                                                      orbit_integrator integrator) {
     auto& m = memo<Real>::instance();
     const std::lock_guard<std::mutex> lock(m.mutex);
     m.refresh();
-    const auto it = m.orbits.find(memo<Real>::key(model, a, energy, method));
+    const auto it = m.orbits.find(memo<Real>::key(model, a, energy, method, integrator));
     if (it == m.orbits.end()) return std::nullopt;
     return it->second;
 }
@@ -115,8 +119,9 @@ void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbi
     auto& m = memo<Real>::instance();
     const std::lock_guard<std::mutex> lock(m.mutex);
     m.refresh();
-    m.orbits.insert_or_assign(
-        memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.excess, orbit.method), orbit);
+    m.orbits.insert_or_assign(memo<Real>::key(model, orbit.flip_arm, orbit.energy, orbit.excess,
+                                              orbit.method, orbit.integrator),
+                              orbit);
 }
 
 template <class Real>
@@ -132,7 +137,7 @@ saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model
     // Recall; else, when another thread is solving the same orbit, wait for its result rather
     // than solve it a second time (mp:100 orbits take minutes); else solve it here.
     auto& m = memo<Real>::instance();
-    const std::string key = memo<Real>::key(model, a, energy, options.method);
+    const std::string key = memo<Real>::key(model, a, energy, options.method, options.integrator);
     {
         std::unique_lock<std::mutex> lock(m.mutex);
         for (;;) {
@@ -201,7 +206,9 @@ std::string orbit_to_json(const saddle_orbit<Real>& o) {
     j["monodromy"] = mono;
     j["status"] = to_string(o.status);
     j["method"] = to_string(o.method);
+    j["integrator"] = to_string(o.integrator);
     j["stages"] = o.stages;
+    j["order"] = o.order;
     j["steps"] = o.steps;
     j["tolerance"] = exact_decimal(o.tolerance);
     j["newton_iterations"] = o.newton_iterations;
@@ -286,7 +293,10 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
         }
         if (!known) throw input_error(where + ": status '" + status + "' is unknown");
         o.method = parse_name<orbit_method>(j.at("method").get<std::string>(), where + ": method");
+        o.integrator = parse_name<orbit_integrator>(j.at("integrator").get<std::string>(),
+                                                    where + ": integrator");
         o.stages = j.at("stages").get<int>();
+        o.order = j.at("order").get<int>();
         o.steps = j.at("steps").get<long>();
         o.tolerance = r("tolerance");
         o.newton_iterations = j.at("newton_iterations").get<int>();
@@ -312,10 +322,14 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
 template <class Real>
 std::string orbit_cache_key(const double_pendulum<Real>& model,
                             const orbit_options<Real>& options) {
-    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
+    // NOTE: the integrator is part of the key: the two give the same orbit to within their error
+    // estimates, not to the last digit
+    const bool taylor = options.integrator == orbit_integrator::taylor;
+    const int stages = taylor ? 0 : options.stages > 0 ? options.stages : default_stages<Real>();
     const std::string text = model_text_key(model) + precision_name<Real>() + ";" +
-                             to_string(options.method) + ";" + std::to_string(stages) + ";" +
-                             to_decimal(options.tolerance) + ";" + std::to_string(format_version);
+                             to_string(options.method) + ";" + to_string(options.integrator) + ";" +
+                             std::to_string(stages) + ";" + to_decimal(options.tolerance) + ";" +
+                             std::to_string(format_version);
     std::string name = precision_name<Real>();  // "mp:120" -> "mp120"
     std::erase(name, ':');
     return name + "-" + orbit_record_checksum(text);
@@ -378,7 +392,8 @@ std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a,
 
 using R = inst_real;
 template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(const double_pendulum<R>&, arm,
-                                                               const level_arg<R>&, orbit_method);
+                                                               const level_arg<R>&, orbit_method,
+                                                               orbit_integrator);
 template void remember_saddle_orbit<R>(const double_pendulum<R>&, const saddle_orbit<R>&);
 template saddle_orbit<R> find_or_solve_saddle_orbit<R>(const double_pendulum<R>&, arm,
                                                        const level_arg<R>&,

@@ -11,8 +11,10 @@
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/integrators/taylor.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_frame.hpp"
+#include "flipflux/orbits/saddle_taylor.hpp"
 
 namespace flipflux {
 
@@ -36,13 +38,20 @@ void require_orbit(const saddle_orbit<Real>& orbit) {
 }  // namespace
 
 /// Finds points of the stored quarter orbit by their s-angle. Consecutive queries in the same
-/// stored interval reuse the last Gauss-Legendre step's collocation polynomial (restep), which
+/// stored interval reuse the last Gauss-Legendre step's collocation polynomial (restep), or, for
+/// an orbit integrated by Taylor series, the interval's Taylor polynomial (its dense output), which
 /// makes the Newton iteration in t cheap at high precision.
 template <class Real>
 class quarter_locator {
   public:
     quarter_locator(const double_pendulum<Real>& model, const saddle_orbit<Real>& orbit)
-        : frame_(model, orbit.flip_arm), orbit_(orbit), gl_(orbit.stages), si_(frame_.s_index()) {
+        : frame_(model, orbit.flip_arm),
+          orbit_(orbit),
+          gl_(orbit.stages > 0 ? orbit.stages : default_stages<Real>()),
+          taylor_(orbit.integrator == orbit_integrator::taylor && orbit.order > 0),
+          ti_(taylor_ ? orbit.order : 1),
+          tf_(frame_, taylor_ ? orbit.order : 1),
+          si_(frame_.s_index()) {
         require_orbit(orbit);
     }
 
@@ -116,6 +125,13 @@ class quarter_locator {
         const auto& xj = orbit_.quarter[j];
         y_ = {xj[0], xj[1], xj[2], xj[3], Real(0)};
         if (dt == 0) return;
+        if (taylor_) {
+            // the interval's Taylor polynomial, expanded once (the integrator's own step)
+            const bool ok = j == last_j_ || ti_.expand(tf_, y_);
+            last_j_ = ok ? j : static_cast<std::size_t>(-1);
+            if (ok) y_ = ti_.evaluate(dt);
+            return;
+        }
         bool ok = j == last_j_ ? gl_.restep(orbit_flow<Real>{&frame_}, y_, dt)
                                : gl_.step(orbit_flow<Real>{&frame_}, y_, dt);
         if (!ok) {  // very rare: fall back to the robust path (split steps)
@@ -128,6 +144,9 @@ class quarter_locator {
     saddle_frame<Real> frame_;
     const saddle_orbit<Real>& orbit_;
     gauss_legendre<Real, 5> gl_;
+    bool taylor_;
+    taylor_integrator<Real, 5> ti_;
+    saddle_taylor_flow<Real> tf_;
     int si_;
     std::size_t last_j_ = static_cast<std::size_t>(-1);
     std::array<Real, 5> y_{};

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "flipflux/core/constants.hpp"
+#include "flipflux/core/convert.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/instantiate.hpp"
@@ -149,6 +150,14 @@ struct polish {
     std::array<std::array<Real, 2>, 2> jac2{};  // last Jacobian (symmetric)
     Real beta_at_jacobian;
     bool converged = false, stalled = false, failed = false;
+    /// Chord iteration: jac4 / jac2 stay as given (from a lower precision), each iteration is a
+    /// shot without the variational equations (linear convergence at a rate of about the
+    /// Jacobian's relative error times its condition).
+    bool chord = false;
+    /// With the chord iteration: when set, the Jacobian is refreshed at every iterate by a shot
+    /// of this (lower-order, cheaper) setup: about a third of the digits, so the iteration
+    /// gains a factor ~ min(error, 10^(-digits/3)) per step instead of quad's 1e-30.
+    const detail::shooting_setup<Real>* jacobian_setup = nullptr;
 
     polish(const detail::shooting_setup<Real>& s, const orbit_options<Real>& o, const Real& t,
            long q, saddle_orbit<Real>& out, const Real& b, const Real& T)
@@ -163,10 +172,10 @@ struct polish {
 
     /// One shot at (beta, T): residual norm, monodromy and Jacobian recorded; the Newton update
     /// (dbeta, dT), or nullopt if the integration failed.
-    std::optional<std::array<Real, 2>> shoot(bool per, long n) {
+    std::optional<std::array<Real, 2>> shoot(bool per, long n, int columns = 2) {
         using std::sqrt;
         if (per) {
-            const auto pr = detail::periodic_shooting(setup, beta, period, n);
+            const auto pr = detail::periodic_shooting(setup, beta, period, n, columns);
             if (!pr.end.success) return std::nullopt;
             Real rn = 0;
             for (const Real& v : pr.r)
@@ -177,7 +186,7 @@ struct polish {
             beta_at_jacobian = beta;
             return detail::least_squares_4x2(pr.jacobian, pr.r);
         }
-        const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n);
+        const auto sr = detail::symmetric_shooting(setup, beta, period / 4, n, columns);
         if (!sr.end.success) return std::nullopt;
         orbit.residual = sqrt(sr.r[0] * sr.r[0] + sr.r[1] * sr.r[1]);
         phi = sr.end.phi;
@@ -188,7 +197,82 @@ struct polish {
         return d;
     }
 
-    /// Newton / Gauss-Newton on one formulation from (beta, period), updating them.
+    /// The final periodic shot with the monodromy from half the period (Taylor route): the frame's
+    /// flow is odd (f(-x) = -f(x), so J(-x) = J(x)) and the orbit is P-invariant,
+    /// x(t + T/2) = -x(t), hence Phi(T, T/2) = Phi(T/2, 0) and M = Phi(T/2)^2; the second half is
+    /// integrated without the variational equations for the residual x(T) - x(0).
+    /// NOTE: half the variational work; the rounding error of M is ~ eps |mu|^(1/2) relative
+    /// instead of eps |mu| (the published estimate 2 eps |mu| bounds both).
+    std::optional<std::array<Real, 2>> shoot_periodic_by_halves(long n) {
+        using std::sqrt;
+        const auto x0 = setup.start(beta);
+        const auto half = detail::integrate_variational(setup, x0, period / 2, n / 2, 4);
+        if (!half.success) return std::nullopt;
+        const auto rest = detail::integrate_state(setup, half.x, period / 2, n / 2);
+        if (!rest.success) return std::nullopt;
+        std::array<std::array<Real, 4>, 4> m{};
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                m[i][j] = 0;
+                for (int k = 0; k < 4; ++k)
+                    m[i][j] += half.phi[i][k] * half.phi[k][j];
+            }
+        std::array<Real, 4> f, r;
+        setup.frame.rhs(rest.x, f);
+        const auto dl = setup.momentum_derivative(beta);
+        const Real inv = 1 / setup.momentum_scale;
+        Real rn = 0;
+        for (int i = 0; i < 4; ++i) {
+            r[i] = (rest.x[i] - x0[i]) * inv;
+            rn += r[i] * r[i];
+            Real v = m[i][2] * dl[0] + m[i][3] * dl[1];  // (M - I) dx0/dbeta
+            if (i >= 2) v -= dl[i - 2];
+            jac4[i][0] = v * inv;
+            jac4[i][1] = f[i] * inv;
+        }
+        orbit.residual = sqrt(rn);
+        phi = m;
+        beta_at_jacobian = beta;
+        return detail::least_squares_4x2(jac4, r);
+    }
+
+    /// The chord update at (beta, T): the residual from a state-only shot, the kept Jacobian.
+    std::optional<std::array<Real, 2>> chord_step(bool per, long n) {
+        using std::sqrt;
+        const auto x0 = setup.start(beta);
+        const Real inv = 1 / setup.momentum_scale;
+        if (jacobian_setup != nullptr) {
+            if (per) {
+                const auto pr = detail::periodic_shooting(*jacobian_setup, beta, period, n, 2);
+                if (!pr.end.success) return std::nullopt;
+                jac4 = pr.jacobian;
+            } else {
+                const auto sr = detail::symmetric_shooting(*jacobian_setup, beta, period / 4, n, 2);
+                if (!sr.end.success) return std::nullopt;
+                jac2 = sr.jacobian;
+            }
+        }
+        const auto e = detail::integrate_state(setup, x0, per ? period : period / 4, n);
+        if (!e.success) return std::nullopt;
+        if (per) {
+            std::array<Real, 4> r;
+            Real rn = 0;
+            for (int i = 0; i < 4; ++i) {
+                r[i] = (e.x[i] - x0[i]) * inv;
+                rn += r[i] * r[i];
+            }
+            orbit.residual = sqrt(rn);
+            return detail::least_squares_4x2(jac4, r);
+        }
+        const std::array<Real, 2> r{e.x[2] * inv, e.x[3] * inv};
+        orbit.residual = sqrt(r[0] * r[0] + r[1] * r[1]);
+        auto d = detail::solve_2x2(jac2, r);
+        d[1] *= 4;  // tau -> T
+        return d;
+    }
+
+    /// Newton / Gauss-Newton (or the chord iteration) on one formulation from (beta, period),
+    /// updating them.
     void newton(bool per) {
         using std::abs;
         using std::max;
@@ -198,7 +282,7 @@ struct polish {
         const long n = per ? 4 * quarter_steps : quarter_steps;
         int it = 0;
         for (it = 1; it <= options.max_newton_iterations; ++it) {
-            const auto step = shoot(per, n);
+            const auto step = chord ? chord_step(per, n) : shoot(per, n);
             if (!step) {
                 failed = true;
                 break;
@@ -216,8 +300,9 @@ struct polish {
             orbit.last_update = size;
             // NOTE: Newton converges quadratically (up to the O(tol) inexactness of the T
             // column); the next update is predicted at the observed rate (conservative for
-            // quadratic convergence), and the iteration stops when it would be below the
-            // tolerance. A stall (no halving) means the rounding floor of the residual.
+            // quadratic convergence, exact for the chord's linear one), and the iteration stops
+            // when it would be below the tolerance. A stall (no halving) means the rounding floor
+            // of the residual.
             const Real predicted = it >= 2 ? size * size / last : std::numeric_limits<Real>::max();
             if (size <= tol || predicted <= tol / 4) {
                 converged = true;
@@ -240,10 +325,119 @@ struct polish {
     }
 };
 
+/// Equal steps on the quarter orbit from (beta, T) for the tolerance, by the setup's integrator.
+/// NOTE: steps are chosen on the quarter orbit for both formulations: the endpoint error of a
+/// full period is amplified by the multiplier, which says nothing about the local accuracy
+template <class Real>
+step_count_estimate<Real> quarter_steps_for(const detail::shooting_setup<Real>& setup,
+                                            const Real& beta, const Real& period, const Real& tol) {
+    const auto scale = orbit_scales(setup, beta, period);
+    const auto x0 = setup.start(beta);
+    const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
+    if (setup.integrator == orbit_integrator::taylor)
+        return taylor_steps_for_tolerance<Real, 5>(
+            [&setup](int order) { return saddle_taylor_flow<Real>(setup.frame, order); }, y0,
+            period / 4, tol, scale, 4);
+    return steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0, period / 4, tol,
+                                        setup.stages, scale, 4);
+}
+
+/// The first iterations in quad, for a Real of more digits with the Taylor integrator: Newton in
+/// quad from the double stage's (beta, T) to quad's accuracy, then p continues from there by the
+/// chord iteration with quad's last Jacobian (converted). False (p unchanged) if quad did not
+/// converge.
+/// NOTE: the residual's Jacobian need not be exact: with quad's (relative error ~ 1e-32 times
+/// the problem's condition) each chord iteration gains ~ 30 digits at the cost of a shot without
+/// the variational equations (a quarter of the work of one with them); the monodromy, which
+/// must be exact, comes from one variational shot at the solution (refine_saddle_orbit).
+template <class Real>
+bool polish_in_quad(const double_pendulum<Real>& model, arm a, const Real& excess, bool periodic,
+                    polish<Real>& p, std::string& report) {
+    const double_pendulum<quad> mq(convert_parameters<quad>(model.parameters()));
+    const quad tq = default_tolerance<quad>();
+    const detail::shooting_setup<quad> sq(mq, a, convert<quad>(excess), 0, orbit_integrator::taylor,
+                                          taylor_order_for(tq));
+    const quad bq = convert<quad>(p.beta), Tq = convert<quad>(p.period);
+    const auto est = quarter_steps_for(sq, bq, Tq, tq);
+    if (est.steps <= 0) return false;
+    saddle_orbit<quad> oq;
+    const orbit_options<quad> options_q;
+    polish<quad> pq{sq, options_q, tq, est.steps, oq, bq, Tq};
+    pq.newton(periodic);
+    if (!pq.converged) return false;
+    p.beta = convert<Real>(pq.beta);
+    p.period = convert<Real>(pq.period);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 2; ++j)
+            p.jac4[i][j] = convert<Real>(pq.jac4[i][j]);
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+            p.jac2[i][j] = convert<Real>(pq.jac2[i][j]);
+    p.chord = true;
+    report += "; Newton in quad (" + std::to_string(oq.newton_iterations) +
+              " iterations), then the chord iteration with quad's Jacobian";
+    return true;
+}
+
+/// Newton from p's (beta, T); for a Real above quad with the Taylor integrator (`ladder`), quad's
+/// Newton first, then the chord iteration in Real (Newton if it does not converge). True if the
+/// chord iteration was used.
+template <class Real>
+bool run_polish(const double_pendulum<Real>& model, arm a, const Real& excess, bool periodic,
+                bool ladder, polish<Real>& p, std::string& report) {
+    bool chorded = false;
+    detail::shooting_setup<Real> lower = p.setup;
+    if constexpr (has_variable_precision_v<Real>) {
+        if (ladder && !p.failed && binary_digits<Real>() > std::numeric_limits<quad>::digits)
+            chorded = polish_in_quad(model, a, excess, periodic, p, report);
+        // NOTE: above ~ 4 x quad's digits quad's Jacobian gains too few digits per iteration
+        // (ten iterations at mp:300): the Jacobian is then refreshed at each iterate by a shot
+        // of a third of the order (a third of the digits, ~ 1/9 of the work)
+        if (chorded && binary_digits<Real>() > 4 * std::numeric_limits<quad>::digits) {
+            using std::cbrt;
+            lower.order = taylor_order_for(cbrt(p.tol));
+            p.jacobian_setup = &lower;
+            report +=
+                " refreshed at every iterate by an order-" + std::to_string(lower.order) + " shot";
+        }
+    } else {
+        (void)model, (void)a, (void)excess, (void)ladder, (void)report;
+    }
+    if (!p.failed) p.newton(periodic);
+    if (chorded && (p.failed || (!p.converged && !p.stalled))) {
+        report += "; the chord iteration did not converge: Newton";
+        p.chord = false;
+        p.failed = false;
+        p.newton(periodic);
+    }
+    p.chord = false;
+    p.jacobian_setup = nullptr;
+    return chorded;
+}
+
+/// The variational shot at the final (beta, T): the monodromy, the Jacobian (for dT/dE) and the
+/// residual are those of the reported orbit (those of the last Newton iterate are off by its
+/// correction, amplified by |mu| in the monodromy: quad's stability index was 1e-24 off at
+/// E = 4, mu = 3.7e3).
+template <class Real>
+void final_shot(polish<Real>& p, bool periodic, long quarter_steps, bool chorded) {
+    using std::abs;
+    using std::max;
+    const bool halves = periodic && p.setup.integrator == orbit_integrator::taylor;
+    const auto update = halves ? p.shoot_periodic_by_halves(4 * quarter_steps)
+                               : p.shoot(periodic, periodic ? 4 * quarter_steps : quarter_steps, 4);
+    // NOTE: after the chord iteration the distance to the root is measured, not bounded by the
+    // last correction applied (the chord's rate is ~ 1e-30: that bound would be 30 digits too
+    // pessimistic): it is the Newton correction at the reported point (exact Jacobian; not
+    // applied: the monodromy is that point's), accurate to its square
+    if (chorded && update)
+        p.orbit.last_update = max(abs((*update)[0]), abs((*update)[1]) / p.period);
+}
+
 /// The final orbit at (beta, T): the quarter grid, the action F, the strip check, the energy
 /// drift and the turning points. False if the integration failed or the orbit left its strip.
 template <class Real>
-bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps, int stages,
+bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps,
                  saddle_orbit<Real>& orbit) {
     using std::abs;
     const auto x0 = setup.start(orbit.beta);
@@ -252,11 +446,19 @@ bool final_orbit(const detail::shooting_setup<Real>& setup, long quarter_steps, 
     orbit.quarter.push_back(x0);
     {
         std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
-        gauss_legendre<Real, 5> gl(stages);
-        const auto r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, orbit.quarter_step,
-                                    quarter_steps, [&](long, const std::array<Real, 5>& z) {
-                                        orbit.quarter.push_back({z[0], z[1], z[2], z[3]});
-                                    });
+        const auto keep = [&](long, const std::array<Real, 5>& z) {
+            orbit.quarter.push_back({z[0], z[1], z[2], z[3]});
+        };
+        integration_result r;
+        if (setup.integrator == orbit_integrator::taylor) {
+            taylor_integrator<Real, 5> ti(setup.order);
+            saddle_taylor_flow<Real> f(setup.frame, setup.order);
+            r = ti.integrate(f, y, orbit.quarter_step, quarter_steps, keep);
+        } else {
+            gauss_legendre<Real, 5> gl(setup.stages);
+            r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, orbit.quarter_step, quarter_steps,
+                             keep);
+        }
         if (!r.success) return false;
         // NOTE: F = 4 x the quarter's action (time reversal and reflection map the quarter onto
         // the other three). Integrating the whole period instead would follow the unstable orbit
@@ -351,8 +553,10 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     using std::max;
     check_orbit_energy(model, a, energy);
     const bool periodic = options.method == orbit_method::periodic;
-    const int stages = options.stages > 0 ? options.stages : default_stages<Real>();
+    const bool taylor = options.integrator == orbit_integrator::taylor;
     const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
+    const int stages = taylor ? 0 : (options.stages > 0 ? options.stages : default_stages<Real>());
+    const int order = taylor ? taylor_order_for(tol) : 2 * stages;
     const Real excess = energy.above(model.saddle_energy(a));
     const Real eps = std::numeric_limits<Real>::epsilon();
 
@@ -361,7 +565,9 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     orbit.energy = energy.value;
     orbit.excess = excess;
     orbit.method = options.method;
+    orbit.integrator = options.integrator;
     orbit.stages = stages;
+    orbit.order = order;
     orbit.tolerance = tol;
 
     const double_solution<Real> start = solve_at_double(model, a, excess, guess, periodic);
@@ -375,17 +581,14 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     }
 
     // ---- polish in Real ----------------------------------------------------------------------
-    const detail::shooting_setup<Real> setup(model, a, excess, stages);
-    long quarter_steps;
-    Real integration_error;
-    {
-        const auto scale = orbit_scales(setup, start.beta, start.period);
-        const auto x0 = setup.start(start.beta);
-        const std::array<Real, 5> y0{x0[0], x0[1], x0[2], x0[3], Real(0)};
-        const auto est = steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0,
-                                                      start.period / 4, tol, stages, scale, 4);
-        quarter_steps = est.steps;
-        integration_error = est.error_estimate;
+    const detail::shooting_setup<Real> setup(model, a, excess, stages, options.integrator, order);
+    const auto est = quarter_steps_for(setup, start.beta, start.period, tol);
+    const long quarter_steps = est.steps;
+    const Real integration_error = est.error_estimate;
+    if (quarter_steps <= 0) {
+        orbit.status = orbit_status::not_converged;
+        orbit.double_stage += "; the step-size selection failed (non-finite Taylor series)";
+        return orbit;
     }
     orbit.steps = periodic ? 4 * quarter_steps : quarter_steps;
     polish<Real> p{setup, options, tol, quarter_steps, orbit, start.beta, start.period};
@@ -402,7 +605,8 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     const bool pre_polished = periodic && !start.ok && !p.failed && (p.converged || p.stalled);
     const Real pre_beta = p.beta, pre_period = p.period, pre_update = orbit.last_update;
     const bool pre_converged = p.converged;
-    if (!p.failed) p.newton(periodic);
+    const bool chorded =
+        run_polish(model, a, excess, periodic, taylor && start.ok, p, orbit.double_stage);
     bool periodic_used = periodic;
     // (a periodic iterate far from the symmetric solution is another root of the residual:
     // regression, arm 1 at E = 6 - 1e-6 in double reached T < 0)
@@ -429,16 +633,12 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
         return orbit;
     }
     orbit.status = p.converged ? orbit_status::converged : orbit_status::stalled;
-    // NOTE: the monodromy, the Jacobian (for dT/dE) and the residual are re-evaluated at the
-    // final (beta, T): those of the last Newton iterate are off by its correction, amplified by
-    // |mu| in the monodromy (quad: the stability index was 1e-24 off at E = 4, mu = 3.7e3).
     orbit.steps = periodic_used ? 4 * quarter_steps : quarter_steps;
-    (void)p.shoot(periodic_used, periodic_used ? 4 * quarter_steps : quarter_steps);
+    final_shot(p, periodic_used, quarter_steps, chorded);
     orbit.beta = p.beta;
     orbit.period = p.period;
 
-    if (!(orbit.period > 0) || !final_orbit(setup, quarter_steps, stages, orbit) ||
-        !(orbit.action > 0)) {
+    if (!(orbit.period > 0) || !final_orbit(setup, quarter_steps, orbit) || !(orbit.action > 0)) {
         orbit.status = orbit_status::not_converged;
         return orbit;
     }
@@ -558,8 +758,15 @@ phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_o
     if (dt != 0) {
         const saddle_frame<Real> frame(model, orbit.flip_arm);
         std::array<Real, 5> y{x[0], x[1], x[2], x[3], Real(0)};
-        gauss_legendre<Real, 5> gl(orbit.stages > 0 ? orbit.stages : default_stages<Real>());
-        gl.integrate(orbit_flow<Real>{&frame}, y, dt, 1);
+        if (orbit.integrator == orbit_integrator::taylor && orbit.order > 0) {
+            // dense output: the step's Taylor polynomial at dt
+            taylor_integrator<Real, 5> ti(orbit.order);
+            saddle_taylor_flow<Real> f(frame, orbit.order);
+            ti.integrate(f, y, dt, 1);
+        } else {
+            gauss_legendre<Real, 5> gl(orbit.stages > 0 ? orbit.stages : default_stages<Real>());
+            gl.integrate(orbit_flow<Real>{&frame}, y, dt, 1);
+        }
         x = {y[0], y[1], y[2], y[3]};
     }
     if (reversed) {

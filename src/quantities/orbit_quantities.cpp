@@ -1,7 +1,9 @@
 // Quantities of the saddle-orbit module: period T, action F, saddle flux f3 = 2 F, the Floquet
 // multiplier and stability index (and, with the prediction module, the rate f3 / Omega).
 // Methods: "periodic" (the paper's shooting, Ceres then Gauss-Newton in Real) and "symmetric"
-// (time-reversal shooting to the brake point, Newton); both give the same orbit.
+// (time-reversal shooting to the brake point, Newton); both give the same orbit. Either may name
+// the integrator after a slash, "periodic/gauss-legendre", "symmetric/taylor" (default: the
+// type's, default_orbit_integrator; `flipflux eval --integrator`).
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -23,8 +25,12 @@ template <class Real>
 saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a,
                              const energy_level<Real>& energy, const std::string& method) {
     orbit_options<Real> options;
+    const std::size_t slash = method.find('/');
+    const std::string name = method.substr(0, slash);
     options.method =
-        method.empty() ? orbit_method::periodic : parse_name<orbit_method>(method, "method");
+        name.empty() ? orbit_method::periodic : parse_name<orbit_method>(name, "method");
+    if (slash != std::string::npos)
+        options.integrator = parse_name<orbit_integrator>(method.substr(slash + 1), "integrator");
     check_orbit_energy(model, a, energy);
     saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy, options);
     if (orbit.status == orbit_status::not_converged) {
@@ -40,7 +46,10 @@ std::string method_text(const saddle_orbit<Real>& orbit) {
                 ? std::string("periodic shooting (Ceres, then Gauss-Newton in the working "
                               "precision)")
                 : std::string("symmetric shooting to the brake point (Newton)")) +
-           ", " + std::to_string(orbit.stages) + "-stage Gauss-Legendre, " +
+           ", " +
+           (orbit.integrator == orbit_integrator::taylor
+                ? "order-" + std::to_string(orbit.order) + " Taylor series, "
+                : std::to_string(orbit.stages) + "-stage Gauss-Legendre, ") +
            std::to_string(orbit.steps) + " steps" +
            (orbit.status == orbit_status::stalled ? ", stalled at the rounding floor" : "");
 }

@@ -85,11 +85,20 @@ json model_json(const double_pendulum<Real>& model) {
 
 // ---- saddle-orbit families ------------------------------------------------------------------
 
+/// The orbit options of the scene: the defaults, with [scene] orbit_integrator if given.
+template <class Real>
+orbit_options<Real> scene_orbit_options(const scene& s) {
+    orbit_options<Real> options;
+    if (!s.orbit_integrator.empty())
+        options.integrator = parse_name<orbit_integrator>(s.orbit_integrator, "orbit_integrator");
+    return options;
+}
+
 template <class Real>
 void run_orbit_family(context& ctx, const plan_step& step) {
     const double_pendulum<Real> model = make_model<Real>(ctx.s.model);
     const arm a = arm_of(step.arm);
-    const orbit_options<Real> options;
+    const orbit_options<Real> options = scene_orbit_options<Real>(ctx.s);
     std::filesystem::path dir;
     if (!ctx.options.cache_dir.empty()) {
         dir = ctx.options.cache_dir / "saddle-orbits" / orbit_cache_key(model, options) /
@@ -100,7 +109,7 @@ void run_orbit_family(context& ctx, const plan_step& step) {
     std::vector<std::string> missing_text;
     for (const std::string& text : step.energies) {
         const energy_level<Real> energy = parse_energy_level<Real>(text, "energy");
-        if (recall_saddle_orbit(model, a, energy, options.method)) continue;
+        if (recall_saddle_orbit(model, a, energy, options.method, options.integrator)) continue;
         const auto file = dir / ("E" + text + ".json");
         if (!dir.empty() && std::filesystem::exists(file)) {
             std::ifstream in(file);
@@ -173,7 +182,8 @@ void write_orbit_tables(context& ctx, int arm_number) {
     const Real pi_r = boost::math::constants::pi<Real>();
     for (const energy_level<Real>& level : energies_of<Real>(spec.energies, "orbits.energies")) {
         if (!(level.above(es) > 0 && level.below(emax) > 0)) continue;
-        const auto o = recall_saddle_orbit(model, a, level, orbit_method::periodic);
+        const auto o = recall_saddle_orbit(model, a, level, orbit_method::periodic,
+                                           scene_orbit_options<Real>(ctx.s).integrator);
         if (!o) continue;  // the continuation stopped short (run.json says why)
         const std::string e = to_decimal(level.value);
         csv << e << "," << to_decimal(o->period) << "," << to_decimal(o->action) << ","
@@ -253,7 +263,12 @@ void run_predictions(context& ctx, const plan_step& step) {
         for (const std::string& text : step.energies) {
             const energy_level<Real> energy = parse_energy_level<Real>(text, "energy");
             try {
-                const quantity_value<Real> v = q.evaluate(model, a, energy, "");
+                // the scene's orbit integrator qualifies the orbit quantities' default method
+                const quantity_value<Real> v =
+                    q.evaluate(model, a, energy,
+                               q.needs_saddle_orbit && !ctx.s.orbit_integrator.empty()
+                                   ? q.methods.front() + "/" + ctx.s.orbit_integrator
+                                   : std::string());
                 ++ctx.counters.quantity_evaluations;
                 values[entry][text] = v.value;
                 csv << name << "," << (q.per_arm ? to_string(a) : "") << "," << text << ","

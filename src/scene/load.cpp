@@ -10,6 +10,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "flipflux/study/criteria.hpp"
@@ -233,6 +234,14 @@ void read_head(table_reader& top, const std::filesystem::path& file, scene& s) {
         } catch (const input_error& e) {
             r.fail(r.get("precision"), "precision", e.what());
         }
+    }
+    if (auto i = r.string("orbit_integrator")) {
+        try {
+            (void)parse_name<orbit_integrator>(*i, "orbit_integrator");
+        } catch (const input_error& e) {
+            r.fail(r.get("orbit_integrator"), "orbit_integrator", e.what());
+        }
+        s.orbit_integrator = *i;
     }
     r.finish();
 }

@@ -66,6 +66,32 @@ TEST(OrbitCommand, ArmOneQuadAndSymmetricMethod) {
     EXPECT_NE(r.out.find("3.1415926535897932384626433832795028,"), std::string::npos);
 }
 
+TEST(OrbitCommand, IntegratorOptionChoosesTheRoute) {
+    // the same orbit (double, arm 2, E = 3.5) by Taylor series and by Gauss-Legendre (the
+    // default at double): the rows agree to the orbit's error, and eval names the integrator
+    const auto t = run_flipflux("orbit --energy 3.5 --samples 3 --integrator taylor");
+    const auto g = run_flipflux("orbit --energy 3.5 --samples 3 --method symmetric");
+    ASSERT_EQ(t.status, 0) << t.err;
+    ASSERT_EQ(g.status, 0) << g.err;
+    const auto rt = parse_csv(t.out, nullptr), rg = parse_csv(g.out, nullptr);
+    ASSERT_EQ(rt.size(), rg.size());
+    for (std::size_t i = 0; i < rt.size(); ++i)
+        for (std::size_t j = 0; j < rt[i].size(); ++j)
+            EXPECT_NEAR(rt[i][j], rg[i][j], 1e-12) << i << "," << j;
+    const auto et = run_flipflux("eval period --energy 3.5 --method symmetric --integrator taylor");
+    const auto eg = run_flipflux("eval period --energy 3.5 --method symmetric");
+    ASSERT_EQ(et.status, 0) << et.err;
+    ASSERT_EQ(eg.status, 0) << eg.err;
+    const auto jt = nlohmann::json::parse(et.out), jg = nlohmann::json::parse(eg.out);
+    EXPECT_NE(jt["method"].get<std::string>().find("Taylor"), std::string::npos) << et.out;
+    EXPECT_NE(jg["method"].get<std::string>().find("Gauss-Legendre"), std::string::npos) << eg.out;
+    const double Tt = std::stod(jt["value"].get<std::string>());
+    const double Tg = std::stod(jg["value"].get<std::string>());
+    const double err = std::stod(jt["error_estimate"].get<std::string>()) +
+                       std::stod(jg["error_estimate"].get<std::string>());
+    EXPECT_LE(std::abs(Tt - Tg), err);
+}
+
 TEST(OrbitCommand, OutWritesTheFileAtomically) {
     const std::string path = ::testing::TempDir() + "flipflux_orbit_test.csv";
     std::remove(path.c_str());
@@ -85,20 +111,24 @@ TEST(OrbitCommand, BadInputExitsWithStatusTwo) {
     struct bad_case {
         std::string args, option;
     };
-    for (const auto& c : std::vector<bad_case>{{"orbit --energy 2", "--energy"},
-                                               {"orbit --energy 1.9", "--energy"},
-                                               {"orbit --energy 6", "--energy"},
-                                               {"orbit --energy 6.5", "--energy"},
-                                               {"orbit --energy 3.9 --arm 1", "--energy"},
-                                               {"orbit --energy nan", "--energy"},
-                                               {"orbit --energy 3 --arm 3", "--arm"},
-                                               {"orbit --energy 3 --samples 1", "--samples"},
-                                               {"orbit --energy 3 --samples x", "--samples"},
-                                               {"orbit --energy 3 --method ceres", "--method"},
-                                               {"eval period --energy 2", "--energy"},
-                                               {"eval action --energy 6 --arm 1", "--energy"},
-                                               {"eval period --energy 3 --method x", "--method"},
-                                               {"orbit --energy 3 --m1 -1", "--m1"}}) {
+    for (const auto& c :
+         std::vector<bad_case>{{"orbit --energy 2", "--energy"},
+                               {"orbit --energy 1.9", "--energy"},
+                               {"orbit --energy 6", "--energy"},
+                               {"orbit --energy 6.5", "--energy"},
+                               {"orbit --energy 3.9 --arm 1", "--energy"},
+                               {"orbit --energy nan", "--energy"},
+                               {"orbit --energy 3 --arm 3", "--arm"},
+                               {"orbit --energy 3 --samples 1", "--samples"},
+                               {"orbit --energy 3 --samples x", "--samples"},
+                               {"orbit --energy 3 --method ceres", "--method"},
+                               {"eval period --energy 2", "--energy"},
+                               {"eval action --energy 6 --arm 1", "--energy"},
+                               {"eval period --energy 3 --method x", "--method"},
+                               {"orbit --energy 3 --m1 -1", "--m1"},
+                               {"orbit --energy 3 --integrator rk4", "--integrator"},
+                               {"eval period --energy 3 --integrator rk4", "--integrator"},
+                               {"eval omega --energy 3 --integrator taylor", "--integrator"}}) {
         const auto r = run_flipflux(c.args);
         EXPECT_EQ(r.status, 2) << c.args;
         EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;

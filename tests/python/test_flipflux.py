@@ -102,6 +102,18 @@ def test_saddle_orbit_equals_cli_at_quad():
     assert isinstance(o["period"], mpmath.mpf) and o["period"] == mpmath.mpf(o["period_text"])
 
 
+def test_saddle_orbit_integrator_in_the_method():
+    # the independent route at double is Taylor (Gauss-Legendre is the default there)
+    t = flipflux.saddle_orbit("2.2", arm=2, samples=2, method="symmetric/taylor")
+    g = flipflux.saddle_orbit("2.2", arm=2, samples=2, method="symmetric/gauss-legendre")
+    assert abs(t["period"] - g["period"]) <= t["error_estimate_period"] + g["error_estimate_period"]
+    v = flipflux.evaluate("period", "2.2", method="symmetric/taylor")
+    assert "Taylor" in v.method
+    with pytest.raises(ValueError) as e:
+        flipflux.saddle_orbit("2.2", method="periodic/rk4")
+    assert "--integrator" in str(e.value)
+
+
 @pytest.mark.parametrize("call,args", [
     ("eval", lambda: flipflux.evaluate("omega", "-x")),
     ("eval", lambda: flipflux.evaluate("omega", "3", arm=3)),

@@ -154,6 +154,36 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
     fs::remove_all(cache);
 }
 
+TEST(Execute, OrbitIntegratorAppliesToFamiliesTablesAndQuantities) {
+    // [scene] orbit_integrator = "taylor" at double (where Gauss-Legendre is the default): the
+    // family is solved once by Taylor series, the quantity reuses it, and the values agree with
+    // the default route's to the orbit's accuracy
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("integrator");
+    const scene s = scene_in(out,
+                             "orbit_integrator = \"taylor\"\n"
+                             "[predictions]\nquantities = [\"period\"]\nenergies = [3]\n"
+                             "[orbits]\narms = [2]\nenergies = [3]\n");
+    const run_counters c = run(s);
+    EXPECT_EQ(c.orbit_solves, 1u);
+    const auto rows = read_csv(out / "predictions.csv");
+    ASSERT_EQ(rows.rows.size(), 1u);
+    EXPECT_NE(rows.rows[0].fields.at(5).find("Taylor"), std::string::npos)
+        << rows.rows[0].fields.at(5);
+    const auto table = read_csv(out / "orbits-arm2.csv");
+    ASSERT_EQ(table.rows.size(), 1u);
+    EXPECT_EQ(table.rows[0].fields.at(1), rows.rows[0].fields.at(3));
+    const double T = parse_real<double>(rows.rows[0].fields.at(3), "T");
+    EXPECT_NEAR(T, 5.97481755607803, 1e-11);  // scipy DOP853 reference (see above)
+    fs::remove_all(out);
+    try {
+        (void)scene_in(out, "orbit_integrator = \"rk4\"\n");
+        ADD_FAILURE() << "an unknown integrator was accepted";
+    } catch (const scene_error& e) {
+        EXPECT_NE(std::string(e.what()).find("orbit_integrator"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     forget_saddle_orbits();
     const fs::path out = fresh_dir("ensemble");

@@ -1,8 +1,8 @@
 // Saddle orbits solved once: a process-wide memo and an on-disk cache.
 //
 // Memo: `find_or_solve_saddle_orbit` returns a remembered orbit of the same pendulum (its
-// Lagrangian coefficients, compared exactly), arm, energy (exactly) and shooting method, or
-// solves it (solve_saddle_orbit) and remembers it. The registry's saddle quantities
+// Lagrangian coefficients, compared exactly), arm, energy (exactly), shooting method and
+// integrator, or solves it (solve_saddle_orbit) and remembers it. The registry's saddle quantities
 // (src/quantities/orbit_quantities.cpp) and the Monte Carlo saddle criterion
 // (src/study/criteria.cpp) both go through it, so a scene that continues a family once never solves
 // its orbits again. Thread-safe (one mutex per Real); threads asking for an orbit another thread is
@@ -11,8 +11,8 @@
 // Disk: `orbit_to_json` / `orbit_from_json` serialise every field of a saddle_orbit, the reals as
 // decimal strings with all digits of Real, so that an orbit read back is bit-identical to the one
 // written. `orbit_cache_key` names the cache directory: a hash of the coefficients (decimal text),
-// the precision, the method, the stage count and tolerance, and the format version, so a change
-// of any of them misses the cache.
+// the precision, the method, the integrator, the stage count and tolerance, and the format
+// version, so a change of any of them misses the cache.
 #pragma once
 
 #include <optional>
@@ -22,11 +22,11 @@
 
 namespace flipflux {
 
-/// The remembered orbit, or nullopt.
+/// The remembered orbit (of that method and integrator), or nullopt.
 template <class Real>
-std::optional<saddle_orbit<Real>> recall_saddle_orbit(const double_pendulum<Real>& model, arm a,
-                                                      const level_arg<Real>& energy,
-                                                      orbit_method method);
+std::optional<saddle_orbit<Real>> recall_saddle_orbit(
+    const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy, orbit_method method,
+    orbit_integrator integrator = default_orbit_integrator<Real>());
 
 /// Remembers an orbit (of its arm and energy) for `model`.
 template <class Real>
@@ -87,7 +87,7 @@ std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_opti
 
 #define FLIPFLUX_ORBIT_STORE_EXTERN(R)                                                          \
     extern template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(                      \
-        const double_pendulum<R>&, arm, const level_arg<R>&, orbit_method);                     \
+        const double_pendulum<R>&, arm, const level_arg<R>&, orbit_method, orbit_integrator);   \
     extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                    \
                                                   const saddle_orbit<R>&);                      \
     extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                              \

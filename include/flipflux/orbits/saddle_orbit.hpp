@@ -9,18 +9,22 @@
 // Method: the shooting problem is solved at double with Ceres (periodic formulation; analytic
 // Jacobian from the variational equations) or a Newton iteration (symmetric formulation), after
 // a continuation from the linearised centre mode when no guess is given; then polished in Real
-// by Gauss-Newton / Newton to the working precision, with Gauss-Legendre steps chosen for the
-// requested tolerance. Convergence is reported in `status`, never thrown.
+// by Gauss-Newton / Newton to the working precision, with equal steps of the chosen integrator
+// (orbit_options::integrator: Gauss-Legendre, or Taylor series; above quad with Taylor, Newton in
+// quad then the chord iteration in Real) chosen for the requested tolerance. Convergence is
+// reported in `status`, never thrown.
 //
 // Accuracy (verified in verification/orbits*.cpp against a higher-precision solve): T and F to a
-// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp:50); error_estimate_* state the
-// per-orbit estimate. Near E_max the multiplier grows like (E_max - E)^(-lambda/...) and the
-// attainable accuracy degrades accordingly (see docs/theory.md).
+// relative error of about 1e-13 (double), 1e-31 (quad), 1e-46 (mp:50), 1e-108 (mp:100, Taylor:
+// verification/orbits_taylor.cpp); error_estimate_* state the per-orbit estimate. Near E_max the
+// multiplier grows like (E_max - E)^(-lambda/...) and the attainable accuracy degrades
+// accordingly (see docs/theory.md).
 #pragma once
 
 #include <array>
 #include <complex>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "flipflux/core/names.hpp"
@@ -41,6 +45,29 @@ struct enum_table<orbit_method> {
         {{orbit_method::periodic, "periodic"}, {orbit_method::symmetric, "symmetric"}}};
 };
 
+/// Which integrator the shooting, the monodromy and the action integral use (fixed equal steps
+/// either way, so the residual is smooth in the unknowns).
+enum class orbit_integrator {
+    taylor,          ///< Taylor series (integrators/taylor.hpp): the default at quad and mp
+    gauss_legendre,  ///< symplectic Gauss-Legendre (integrators/gauss_legendre.hpp): the
+                     ///< default at double, and the independent (certifying) route elsewhere
+};
+template <>
+struct enum_table<orbit_integrator> {
+    static constexpr std::string_view noun = "a saddle-orbit integrator";
+    static constexpr std::array<std::pair<orbit_integrator, std::string_view>, 2> entries{
+        {{orbit_integrator::taylor, "taylor"},
+         {orbit_integrator::gauss_legendre, "gauss-legendre"}}};
+};
+
+/// The default integrator at Real: Gauss-Legendre at double (faster there), Taylor above
+/// (measured in bench/bench_orbit_integrators.cpp).
+template <class Real>
+constexpr orbit_integrator default_orbit_integrator() {
+    return std::is_same_v<Real, double> ? orbit_integrator::gauss_legendre
+                                        : orbit_integrator::taylor;
+}
+
 enum class orbit_status {
     converged,      ///< Newton converged to the working precision
     stalled,        ///< Newton stopped improving above the working precision (see residual)
@@ -58,6 +85,7 @@ struct enum_table<orbit_status> {
 template <class Real>
 struct orbit_options {
     orbit_method method = orbit_method::periodic;
+    orbit_integrator integrator = default_orbit_integrator<Real>();
     int stages = 0;     ///< Gauss-Legendre stages; 0 = the type's default (default_stages)
     Real tolerance{0};  ///< integration tolerance (relative to the orbit's scale); 0 = 64 eps
     int max_newton_iterations = 30;
@@ -113,8 +141,10 @@ struct saddle_orbit {
     // ---- numerical record -------------------------------------------------------------------
     orbit_status status = orbit_status::not_converged;
     orbit_method method = orbit_method::periodic;
-    int stages = 0;
-    long steps = 0;  ///< Gauss-Legendre steps over the shooting interval
+    orbit_integrator integrator = orbit_integrator::gauss_legendre;
+    int stages = 0;  ///< Gauss-Legendre stages (0 with the Taylor integrator)
+    int order = 0;   ///< the integrator's order: 2 stages (Gauss-Legendre), the series' (Taylor)
+    long steps = 0;  ///< equal integration steps over the shooting interval
     Real tolerance{0};
     int newton_iterations = 0;
     Real residual{0};      ///< scaled residual norm at the solution

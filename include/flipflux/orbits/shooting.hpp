@@ -11,8 +11,9 @@
 // at a quarter period, T = 4 tau), Jacobian [Phi_ll(tau) dl0/dbeta, l'(tau)].
 // Residuals are divided by sqrt(2 (E - E_s)), which makes the problem O(1) at every energy.
 //
-// Both integrate with equal Gauss-Legendre steps h = duration / steps, so the residual is a
-// smooth function of the unknowns (an adaptive step sequence would not be).
+// Both integrate with equal steps h = duration / steps of one integrator (Gauss-Legendre, or
+// Taylor series of a fixed order: setup.integrator), so the residual is a smooth function of the
+// unknowns (an adaptive step sequence would not be).
 #pragma once
 
 #include <array>
@@ -20,7 +21,10 @@
 #include <utility>
 
 #include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/integrators/taylor.hpp"
 #include "flipflux/orbits/saddle_frame.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
+#include "flipflux/orbits/saddle_taylor.hpp"
 
 namespace flipflux::detail {
 
@@ -30,10 +34,13 @@ struct shooting_setup {
     Real excess;           ///< E - E_s > 0
     Real momentum_scale;   ///< sqrt(2 (E - E_s))
     sym2<Real> root_mass;  ///< S = M*^{1/2}
-    int stages;
+    int stages;            ///< Gauss-Legendre stages
+    orbit_integrator integrator;
+    int order;  ///< Taylor order (integrator == taylor)
 
-    shooting_setup(const double_pendulum<Real>& model, arm a, const Real& excess_energy, int s)
-        : frame(model, a), excess(excess_energy), stages(s) {
+    shooting_setup(const double_pendulum<Real>& model, arm a, const Real& excess_energy, int s,
+                   orbit_integrator i = orbit_integrator::gauss_legendre, int taylor_order = 0)
+        : frame(model, a), excess(excess_energy), stages(s), integrator(i), order(taylor_order) {
         using std::sqrt;
         momentum_scale = sqrt(2 * excess);
         const auto& k = frame.coefficients();
@@ -82,10 +89,45 @@ struct variational_end {
     bool success = false;
 };
 
+/// The Taylor route of integrate_variational: Phi's last `Columns` columns only (the others 0).
+template <class Real, int Columns>
+variational_end<Real> integrate_variational_taylor(const shooting_setup<Real>& setup,
+                                                   const std::array<Real, 4>& x0,
+                                                   const Real& duration, long steps) {
+    using flow = saddle_taylor_flow<Real, Columns>;
+    typename flow::state y;
+    for (int k = 0; k < 4; ++k)
+        y[k] = x0[k];
+    y[4] = 0;
+    constexpr int first = 4 - Columns;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < Columns; ++j)
+            y[static_cast<std::size_t>(5 + Columns * i + j)] = (i == first + j) ? Real(1) : Real(0);
+    taylor_integrator<Real, flow::size> ti(setup.order);
+    flow f(setup.frame, setup.order);
+    variational_end<Real> out;
+    const auto r = ti.integrate(f, y, duration / steps, steps);
+    out.success = r.success;
+    out.statistics = r.statistics;
+    for (int k = 0; k < 4; ++k)
+        out.x[k] = y[k];
+    out.action = y[4];
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            out.phi[i][j] =
+                j < first ? Real(0) : y[static_cast<std::size_t>(5 + Columns * i + j - first)];
+    return out;
+}
+
+/// The shot with the variational equations; with the Taylor integrator and columns == 2 only
+/// Phi's momentum columns 2, 3 are computed (all a Newton step needs; the others are 0).
 template <class Real>
 variational_end<Real> integrate_variational(const shooting_setup<Real>& setup,
                                             const std::array<Real, 4>& x0, const Real& duration,
-                                            long steps) {
+                                            long steps, int columns = 4) {
+    if (setup.integrator == orbit_integrator::taylor)
+        return columns == 2 ? integrate_variational_taylor<Real, 2>(setup, x0, duration, steps)
+                            : integrate_variational_taylor<Real, 4>(setup, x0, duration, steps);
     std::array<Real, 21> y;
     for (int k = 0; k < 4; ++k)
         y[k] = x0[k];
@@ -120,8 +162,15 @@ template <class Real>
 state_end<Real> integrate_state(const shooting_setup<Real>& setup, const std::array<Real, 4>& x0,
                                 const Real& duration, long steps) {
     std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
-    gauss_legendre<Real, 5> gl(setup.stages);
-    const auto r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, duration / steps, steps);
+    integration_result r;
+    if (setup.integrator == orbit_integrator::taylor) {
+        taylor_integrator<Real, 5> ti(setup.order);
+        saddle_taylor_flow<Real> f(setup.frame, setup.order);
+        r = ti.integrate(f, y, duration / steps, steps);
+    } else {
+        gauss_legendre<Real, 5> gl(setup.stages);
+        r = gl.integrate(orbit_flow<Real>{&setup.frame}, y, duration / steps, steps);
+    }
     state_end<Real> out;
     out.success = r.success;
     out.statistics = r.statistics;
@@ -142,12 +191,18 @@ std::array<Real, 2> quarter_extent(const shooting_setup<Real>& setup, const Real
     const auto x0 = setup.start(beta);
     std::array<Real, 5> y{x0[0], x0[1], x0[2], x0[3], Real(0)};
     std::array<Real, 2> m{Real(0), Real(0)};
-    gauss_legendre<Real, 5> gl(setup.stages);
-    gl.integrate(orbit_flow<Real>{&setup.frame}, y, tau / steps, steps,
-                 [&m](long, const std::array<Real, 5>& z) {
-                     if (abs(z[0]) > m[0]) m[0] = abs(z[0]);
-                     if (abs(z[1]) > m[1]) m[1] = abs(z[1]);
-                 });
+    const auto observe = [&m](long, const std::array<Real, 5>& z) {
+        if (abs(z[0]) > m[0]) m[0] = abs(z[0]);
+        if (abs(z[1]) > m[1]) m[1] = abs(z[1]);
+    };
+    if (setup.integrator == orbit_integrator::taylor) {
+        taylor_integrator<Real, 5> ti(setup.order);
+        saddle_taylor_flow<Real> f(setup.frame, setup.order);
+        ti.integrate(f, y, tau / steps, steps, observe);
+    } else {
+        gauss_legendre<Real, 5> gl(setup.stages);
+        gl.integrate(orbit_flow<Real>{&setup.frame}, y, tau / steps, steps, observe);
+    }
     return m;
 }
 
@@ -172,10 +227,10 @@ struct shot {
 
 template <class Real>
 shot<Real> shoot(const shooting_setup<Real>& setup, const Real& beta, const Real& duration,
-                 long steps) {
+                 long steps, int columns = 4) {
     shot<Real> s;
     s.x0 = setup.start(beta);
-    s.end = integrate_variational(setup, s.x0, duration, steps);
+    s.end = integrate_variational(setup, s.x0, duration, steps, columns);
     setup.frame.rhs(s.end.x, s.f);
     s.dl = setup.momentum_derivative(beta);
     s.inv = 1 / setup.momentum_scale;
@@ -184,9 +239,9 @@ shot<Real> shoot(const shooting_setup<Real>& setup, const Real& beta, const Real
 
 template <class Real>
 periodic_residual<Real> periodic_shooting(const shooting_setup<Real>& setup, const Real& beta,
-                                          const Real& period, long steps) {
+                                          const Real& period, long steps, int columns = 4) {
     periodic_residual<Real> out;
-    shot<Real> s = shoot(setup, beta, period, steps);
+    shot<Real> s = shoot(setup, beta, period, steps, columns);
     const auto& e = s.end;
     const auto& x0 = s.x0;
     const auto& f = s.f;
@@ -214,9 +269,9 @@ struct symmetric_residual {
 
 template <class Real>
 symmetric_residual<Real> symmetric_shooting(const shooting_setup<Real>& setup, const Real& beta,
-                                            const Real& quarter, long steps) {
+                                            const Real& quarter, long steps, int columns = 4) {
     symmetric_residual<Real> out;
-    shot<Real> s = shoot(setup, beta, quarter, steps);
+    shot<Real> s = shoot(setup, beta, quarter, steps, columns);
     const auto& e = s.end;
     for (int i = 0; i < 2; ++i) {
         out.r[i] = e.x[2 + i] * s.inv;

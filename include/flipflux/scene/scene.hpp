@@ -104,6 +104,9 @@ struct scene {
     int output_line = 0;           ///< the line of [scene] output (error messages)
     std::string precision_text = "double";
     precision prec = precision{real_kind::double_};
+    /// [scene] orbit_integrator: "taylor" or "gauss-legendre" for every saddle orbit of the scene
+    /// (families, tables, orbit quantities); "" = the precision's default
+    std::string orbit_integrator;
     model_spec model;
     bool custom_model = false;
     std::optional<predictions_spec> predictions;
