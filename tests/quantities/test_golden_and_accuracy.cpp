@@ -1,6 +1,8 @@
 // Golden data (data/golden/, include/flipflux/quantities/golden.hpp): the committed rows are
 // regenerated on a sample and compared, their certification and grid are checked, and the
 // `golden` and `accuracy` commands are run on small selections.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -77,9 +79,10 @@ TEST(Golden, SampleOfRowsRegeneratesInQuad) {
 }
 
 // Issue 14: the golden sets of the other pendulums (data/golden/<name>/), each with its parameters
-// in its provenance: a sample of each regenerates in quad from those parameters, and its critical
+// in its provenance: a sample of each regenerates in double (another precision than the set's,
+// quad or mp) from those parameters, to the set's certified digits or double's, and its critical
 // energies are the model's.
-TEST(Golden, EveryPendulumsSetRegeneratesASampleInQuad) {
+TEST(Golden, EveryPendulumsSetRegeneratesASampleInDouble) {
     namespace fs = std::filesystem;
     std::size_t sets = 0;
     for (const auto& entry :
@@ -94,7 +97,7 @@ TEST(Golden, EveryPendulumsSetRegeneratesASampleInQuad) {
         model_text t;
         t.m1 = p.at("m1"), t.m2 = p.at("m2"), t.L1 = p.at("L1"), t.L2 = p.at("L2");
         t.a1 = p.at("a1"), t.a2 = p.at("a2"), t.I1 = p.at("I1"), t.I2 = p.at("I2"), t.g = p.at("g");
-        const double_pendulum<quad> model = make_model<quad>(t);
+        const double_pendulum<double> model = make_model<double>(t);
         const nlohmann::json& c = prov.at("critical_energies");
         EXPECT_LE(relative_error(model.maximum_energy(), c.at("maximum").get<std::string>()),
                   1e-15);
@@ -108,12 +111,15 @@ TEST(Golden, EveryPendulumsSetRegeneratesASampleInQuad) {
         std::size_t checked = 0;
         for (std::size_t i = 0; i < rows.size(); i += rows.size() / 7) {
             const golden_row& r = rows[i];
-            EXPECT_GE(r.digits, 40) << name << " " << r.quantity << " E " << r.energy;
+            EXPECT_GE(r.digits, 12) << name << " " << r.quantity << " E " << r.energy;
             const quantity& q = find_quantity(r.quantity);
             const arm a = r.arm == "1" ? arm::one : arm::two;
-            const quantity_value<quad> v =
-                q.evaluate(model, a, parse_energy_level<quad>(r.energy, "E"), "");
-            EXPECT_LE(relative_error(v.value, r.value), 1e-31)
+            const quantity_value<double> v =
+                q.evaluate(model, a, parse_energy_level<double>(r.energy, "E"), "");
+            // double's own accuracy (its error estimate, at least 64 eps) or the set's digits
+            const double tol = std::max(std::pow(10.0, 1 - r.digits),
+                                        std::max(64 * 2.2e-16, 4 * v.error_estimate / v.value));
+            EXPECT_LE(relative_error(v.value, r.value), tol)
                 << name << " " << r.quantity << " arm " << r.arm << " E " << r.energy;
             ++checked;
         }
