@@ -1,8 +1,9 @@
-// flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N] [--progress]: reference
-// data for every registered quantity on the golden energy grid, with certified digits, written
-// atomically to DIR/golden.csv and DIR/provenance.json (see
+// flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N] [--progress] [--merge]:
+// reference data for every registered quantity on the golden energy grid, with certified digits,
+// written atomically to DIR/golden.csv and DIR/provenance.json (see
 // include/flipflux/quantities/golden.hpp).
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "common.hpp"
@@ -24,7 +25,17 @@ struct golden_state {
     precision_option precision{"mp:100"};
     model_options model;
     std::string pendulum;
+    bool merge = false;
 };
+
+/// A file's text, or input_error naming it.
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw input_error("--merge: cannot read '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
 
 /// The model options as the command line gives them back (for the provenance's command).
 std::string model_flags(const model_options& m) {
@@ -69,6 +80,10 @@ const register_command registration([](CLI::App& app) {
                     "the pendulum's name in the provenance (and the folder name under data/golden "
                     "that validate --pendulum reads) [default: egalitarian for the paper's, else "
                     "required]");
+    sub->add_flag("--merge", s->merge,
+                  "extend the set in --out: its rows of the other quantities are kept, those of "
+                  "--quantities replaced (same pendulum and precision; the provenance lists the "
+                  "runs)");
     sub->callback([s] {
         golden_options options;
         options.model = s->model;
@@ -104,10 +119,20 @@ const register_command registration([](CLI::App& app) {
             ++skipped;
             std::fprintf(stderr, "golden: skipped %s\n", what.c_str());
         };
+        std::vector<golden_row> kept;
+        std::string merged_into;
+        if (s->merge) {  // read and check before hours of computation, not after
+            merged_into = read_text(s->out + "/provenance.json");
+            check_golden_merge(merged_into, options.value_precision, options.model);
+            kept = parse_golden_csv(read_text(s->out + "/golden.csv"));
+            for (const golden_row& r : kept)
+                find_quantity(r.quantity);  // input_error naming an unknown quantity
+        }
         std::error_code ec;
         std::filesystem::create_directories(s->out, ec);
         if (ec) throw input_error("--out: cannot create '" + s->out + "': " + ec.message());
-        const std::vector<golden_row> rows = generate_golden(options);
+        std::vector<golden_row> rows = generate_golden(options);
+        if (s->merge) rows = merge_golden(kept, rows, options.quantities);
         bar.finish();
         std::string command =
             "flipflux golden --out " + s->out + " --jobs " + std::to_string(s->jobs);
@@ -116,10 +141,11 @@ const register_command registration([](CLI::App& app) {
         if (s->precision.text != "mp:100") command += " --precision " + s->precision.text;
         if (!s->pendulum.empty()) command += " --pendulum " + s->pendulum;
         command += model_flags(s->model);
+        if (s->merge) command += " --merge";
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
         write_file_atomically(s->out + "/provenance.json",
                               golden_provenance(command, rows.size(), options.value_precision,
-                                                options.model, options.pendulum));
+                                                options.model, options.pendulum, merged_into));
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);

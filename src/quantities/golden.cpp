@@ -5,6 +5,7 @@
 #include <mpfr.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <boost/version.hpp>
 #include <chrono>
 #include <cmath>
@@ -137,6 +138,11 @@ std::vector<std::string> golden_orbit_energies(double start, double maximum) {
     for (long k = first - 1 + 20; k < last; k += 20)
         grid.push_back(twentieths(k));
     if (last > first) grid.push_back(twentieths(last));
+    // closer to the maximum, where the orbits graze the upright state: E_max - 1/100, - 1/1000
+    for (double d : {0.01, 0.001}) {
+        const std::string text = round_decimal(to_decimal(maximum - d, 17), 10);
+        if (maximum - d > start + 0.05 && text != grid.back()) grid.push_back(text);
+    }
     return grid;
 }
 
@@ -182,7 +188,7 @@ std::vector<std::string> golden_relative_energies(double start, double maximum) 
 
 std::vector<std::string> golden_relative_orbit_energies(double start, double maximum) {
     std::vector<std::string> grid;
-    for (double f : {0.01, 0.25, 0.5, 0.75, 0.99})
+    for (double f : {0.01, 0.25, 0.5, 0.75, 0.99, 0.999})
         grid.push_back(round_decimal(to_decimal(start + (maximum - start) * f, 17), 10));
     return grid;
 }
@@ -298,7 +304,7 @@ std::vector<golden_row> parse_golden_csv(const std::string& text) {
 
 std::string golden_provenance(const std::string& command, std::size_t rows,
                               const precision& value_precision, const model_text& model,
-                              const std::string& pendulum) {
+                              const std::string& pendulum, const std::string& merged_into) {
     const precision check = golden_check_precision(value_precision);
     nlohmann::ordered_json j;
     j["command"] = command;
@@ -308,6 +314,25 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
     char date[32];
     std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
     j["generated_utc"] = date;
+    if (!merged_into.empty()) {
+        check_golden_merge(merged_into, value_precision, model);
+        const nlohmann::json earlier = nlohmann::json::parse(merged_into);
+        nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+        const auto run_of = [](const nlohmann::json& r) {
+            nlohmann::ordered_json o;
+            for (const char* key : {"command", "git_commit", "generated_utc"})
+                o[key] = r.contains(key) && r[key].is_string() ? r[key].get<std::string>() : "";
+            return o;
+        };
+        if (earlier.contains("runs") && earlier["runs"].is_array()) {
+            for (const auto& r : earlier["runs"])
+                if (r.is_object()) runs.push_back(run_of(r));
+        } else {
+            runs.push_back(run_of(earlier));
+        }
+        runs.push_back(run_of(j));
+        j["runs"] = runs;
+    }
     j["compiler"] = std::string("g++ ") + __VERSION__;
     j["libraries"] = {
         {"boost", BOOST_LIB_VERSION},
@@ -354,6 +379,13 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
             "U, each with 10 significant digits; energies are decimal text parsed in each "
             "precision";
     }
+    j["orbit_grid"] =
+        model.is_default()
+            ? "quantities of the saddle orbit (period, action, flux-saddle, rate-saddle, "
+              "multiplier, stability-index), per arm: E_s + 0.05, every whole unit above it, "
+              "E_max - 0.05, E_max - 0.01, E_max - 0.001"
+            : "quantities of the saddle orbit, per arm: E_s + (E_max - E_s) x 1/100, 1/4, 1/2, "
+              "3/4, 99/100, 999/1000, each with 10 significant digits";
     j["columns"] = {{"quantity", "registered name (flipflux eval --help)"},
                     {"arm", "1 or 2; empty for quantities that are not per arm"},
                     {"energy", "E as decimal text"},
@@ -362,6 +394,74 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
                     {"method", "default method | independent method that certified it"}};
     j["rows"] = rows;
     return j.dump(2) + "\n";
+}
+
+void check_golden_merge(const std::string& provenance_text, const precision& value_precision,
+                        const model_text& model) {
+    nlohmann::json earlier;
+    try {
+        earlier = nlohmann::json::parse(provenance_text);
+    } catch (const nlohmann::json::exception& e) {
+        throw input_error(std::string("golden provenance: not JSON (") + e.what() + ")");
+    }
+    const auto text_at = [&earlier](const char* object, const char* key) -> std::string {
+        if (!earlier.is_object() || !earlier.contains(object) || !earlier[object].is_object() ||
+            !earlier[object].contains(key) || !earlier[object][key].is_string())
+            throw input_error(std::string("golden provenance: no text \"") + object + "." + key +
+                              "\"");
+        return earlier[object][key].get<std::string>();
+    };
+    const std::string hi = precision_name(value_precision);
+    const std::string values = text_at("precision", "values");
+    if (values.substr(0, values.find(' ')) != hi)
+        throw input_error("golden --merge: the set's values are in '" +
+                          values.substr(0, values.find(' ')) + "', this run's in '" + hi + "'");
+    const std::pair<const char*, std::string> parameters[] = {
+        {"m1", model.m1},
+        {"m2", model.m2},
+        {"L1", model.L1},
+        {"L2", model.L2},
+        {"a1", model.a1.empty() ? model.L1 : model.a1},
+        {"a2", model.a2.empty() ? model.L2 : model.a2},
+        {"I1", model.I1},
+        {"I2", model.I2},
+        {"g", model.g}};
+    if (!earlier.contains("parameters")) {  // a set written before parameters were recorded
+        const bool paper = earlier.contains("model") && earlier["model"].is_string() &&
+                           earlier["model"].get<std::string>().rfind("egalitarian", 0) == 0;
+        if (paper && model.is_default()) return;
+        throw input_error(paper
+                              ? "golden --merge: the set is the paper's pendulum, this run's is not"
+                              : "golden provenance: no \"parameters\"");
+    }
+    for (const auto& [name, value] : parameters) {
+        const std::string theirs = text_at("parameters", name);
+        if (theirs != value)
+            throw input_error(std::string("golden --merge: the set's ") + name + " is '" + theirs +
+                              "', this run's '" + value + "'");
+    }
+}
+
+std::vector<golden_row> merge_golden(const std::vector<golden_row>& existing,
+                                     const std::vector<golden_row>& fresh,
+                                     const std::vector<std::string>& regenerated) {
+    std::vector<golden_row> out;
+    for (const golden_row& r : existing) {
+        if (!regenerated.empty() &&
+            std::find(regenerated.begin(), regenerated.end(), r.quantity) == regenerated.end())
+            out.push_back(r);
+    }
+    out.insert(out.end(), fresh.begin(), fresh.end());
+    std::vector<std::string> order;
+    for (const quantity& q : quantities())
+        order.push_back(q.name);
+    const auto rank = [&order](const golden_row& r) {
+        return std::find(order.begin(), order.end(), r.quantity) - order.begin();
+    };
+    std::stable_sort(out.begin(), out.end(), [&rank](const golden_row& a, const golden_row& b) {
+        return rank(a) < rank(b);
+    });
+    return out;
 }
 
 }  // namespace flipflux

@@ -137,9 +137,11 @@ TEST(Golden, GridCsvAndDigits) {
     EXPECT_EQ(grid.back(), "100");
     EXPECT_EQ(golden_energies(0, 6).front(), "0.05");
     EXPECT_EQ(golden_orbit_energies(2, 6),
-              (std::vector<std::string>{"2.05", "3", "4", "5", "5.95"}));
-    EXPECT_EQ(golden_orbit_energies(4, 6), (std::vector<std::string>{"4.05", "5", "5.95"}));
-    EXPECT_EQ(golden_orbit_energies(1.1, 2.1), (std::vector<std::string>{"1.15", "2.05"}));
+              (std::vector<std::string>{"2.05", "3", "4", "5", "5.95", "5.99", "5.999"}));
+    EXPECT_EQ(golden_orbit_energies(4, 6),
+              (std::vector<std::string>{"4.05", "5", "5.95", "5.99", "5.999"}));
+    EXPECT_EQ(golden_orbit_energies(1.1, 2.1),
+              (std::vector<std::string>{"1.15", "2.05", "2.09", "2.099"}));
     EXPECT_EQ(agreement_digits("1.2345", "1.2345"), 50);
     EXPECT_EQ(agreement_digits("1.2346", "1.2345"), 4);
     EXPECT_EQ(agreement_digits("3", "1"), 0);

@@ -38,8 +38,9 @@ struct golden_row {
 std::vector<std::string> golden_energies(double start, double maximum);
 
 /// The coarser grid of quantities that need the saddle orbit (a periodic-shooting orbit costs
-/// minutes in mp:100): start + 0.05, then every whole unit above start, and maximum - 0.05
-/// (egalitarian arm 2: 2.05, 3, 4, 5, 5.95; arm 1: 4.05, 5, 5.95).
+/// seconds to a minute in mp:100): start + 0.05, then every whole unit above start, maximum - 0.05,
+/// maximum - 0.01 and maximum - 0.001 (egalitarian arm 2: 2.05, 3, 4, 5, 5.95, 5.99, 5.999; arm 1:
+/// 4.05, 5, 5.95, 5.99, 5.999).
 std::vector<std::string> golden_orbit_energies(double start, double maximum);
 
 /// The grid of any other pendulum, relative to its critical energies (U = E_max): the fractions
@@ -47,7 +48,8 @@ std::vector<std::string> golden_orbit_energies(double start, double maximum);
 /// quantities not per arm), U (1 - 1/1000) (just below the maximum), and 1.25, 1.5, 2, 3, 5 and 10
 /// times U; each written with 10 significant digits.
 std::vector<std::string> golden_relative_energies(double start, double maximum);
-/// Its orbit grid: start + (U - start) x {1/100, 1/4, 1/2, 3/4, 99/100}, 10 significant digits.
+/// Its orbit grid: start + (U - start) x {1/100, 1/4, 1/2, 3/4, 99/100, 999/1000}, 10 significant
+/// digits.
 std::vector<std::string> golden_relative_orbit_energies(double start, double maximum);
 
 struct golden_options {
@@ -79,10 +81,26 @@ std::string golden_csv(const std::vector<golden_row>& rows);
 std::vector<golden_row> parse_golden_csv(const std::string& text);
 
 /// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
-/// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count.
+/// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count. With
+/// `merged_into` (the provenance text of the set that this run extends, `golden --merge`), its
+/// "runs" list the earlier runs' commands, commits and dates, then this one's.
 std::string golden_provenance(const std::string& command, std::size_t rows,
                               const precision& value_precision, const model_text& model = {},
-                              const std::string& pendulum = "egalitarian");
+                              const std::string& pendulum = "egalitarian",
+                              const std::string& merged_into = "");
+
+/// Checks that a golden set's provenance text (possibly corrupt) describes the same pendulum
+/// (parameters, as text) and value precision as a run that would extend it; throws input_error
+/// naming what differs.
+void check_golden_merge(const std::string& provenance_text, const precision& value_precision,
+                        const model_text& model);
+
+/// The rows of a golden set extended by a run (`golden --merge`): the rows of `existing` whose
+/// quantity is not among `regenerated` (every quantity when empty), then `fresh`, in the
+/// registry's order of quantities (rows of one quantity keep their order).
+std::vector<golden_row> merge_golden(const std::vector<golden_row>& existing,
+                                     const std::vector<golden_row>& fresh,
+                                     const std::vector<std::string>& regenerated);
 
 /// The precision that certifies golden values computed in `value_precision`: mp:N -> mp:(N/2),
 /// quad -> double. Throws input_error for double (and mp:1).
