@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
@@ -64,7 +65,8 @@ evaluation evaluate_text(const golden_task& t, const std::string& method) {
         const double_pendulum<Real> model = make_model<Real>(*t.model);
         const energy_level<Real> energy = parse_energy_level<Real>(t.energy, "energy");
         const quantity_value<Real> v = t.q->evaluate(model, t.a, energy, method);
-        return {to_decimal(v.value), v.method, ""};
+        // the method's name, not its description (which may hold commas)
+        return {to_decimal(v.value), method.empty() ? t.q->methods.front() : method, ""};
     } catch (const input_error& e) {
         return {"", "", e.what()};  // outside the quantity's (or method's) domain
     } catch (const std::runtime_error& e) {
@@ -82,8 +84,12 @@ evaluation value_of(const golden_task& t, const precision& p) {
 std::pair<evaluation, evaluation> checks_of(const golden_task& t, const precision& p) {
     return dispatch(p, [&]<class Real>() {
         std::pair<evaluation, evaluation> out{evaluate_text<Real>(t, ""), {}};
-        for (std::size_t i = 1; i < t.q->methods.size() && out.second.value.empty(); ++i)
-            out.second = evaluate_text<Real>(t, t.q->methods[i]);
+        const std::vector<std::string> others =
+            t.q->check_methods.empty()
+                ? std::vector<std::string>(t.q->methods.begin() + 1, t.q->methods.end())
+                : t.q->check_methods;
+        for (std::size_t i = 0; i < others.size() && out.second.value.empty(); ++i)
+            out.second = evaluate_text<Real>(t, others[i]);
         return out;
     });
 }
@@ -266,6 +272,9 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
 std::string golden_csv(const std::vector<golden_row>& rows) {
     std::string text = "quantity,arm,energy,value,digits,method\n";
     for (const golden_row& r : rows) {
+        for (const std::string* field : {&r.quantity, &r.arm, &r.energy, &r.value, &r.method})
+            if (field->find_first_of(",\n\r") != std::string::npos)
+                throw std::logic_error("golden csv: a field holds a separator: '" + *field + "'");
         text += r.quantity + "," + r.arm + "," + r.energy + "," + r.value + "," +
                 std::to_string(r.digits) + "," + r.method + "\n";
     }
@@ -344,8 +353,11 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
     j["precision"] = {{"values", hi + " (the quantity's default method)"},
                       {"certification",
                        "digits = min(agreement of the default method in " + lo + " with " + hi +
-                           ", agreement of the first other applicable method in " + lo + " with " +
-                           hi + "), capped at " + std::to_string(decimal_digits(check))}};
+                           ", agreement of the first applicable independent method in " + lo +
+                           " with " + hi + "), capped at " + std::to_string(decimal_digits(check)) +
+                           "; the saddle-orbit quantities: periodic shooting with the Taylor "
+                           "integrator (the default), certified by symmetric shooting with "
+                           "Gauss-Legendre"}};
     j["boost_math_policy"] =
         "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
         "(domain and evaluation errors throw)";

@@ -173,8 +173,11 @@ void add_orbit_quantities(std::vector<quantity>& list) {
     list.push_back(make_quantity("stability-index",
                                  "mu + 1/mu = tr(monodromy) - 2 of the saddle orbit", orbit_methods,
                                  true, stability_fn{}));
-    for (std::size_t i = first; i < list.size(); ++i)
+    for (std::size_t i = first; i < list.size(); ++i) {
         list[i].needs_saddle_orbit = true;
+        // certified by the other shooting with the other integrator: no step shared
+        list[i].check_methods = {"symmetric/gauss-legendre"};
+    }
 }
 
 }  // namespace flipflux

@@ -16,6 +16,7 @@
 #include "flipflux/model/model_json.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/prediction/curve_flux.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
@@ -175,7 +176,7 @@ void write_orbit_tables(context& ctx, int arm_number) {
     const arm a = arm_of(arm_number);
     const auto& spec = *ctx.s.orbits;
     std::ostringstream csv, curves;
-    csv << "energy,period,action,flux,stability_index,multiplier,period_derivative,"
+    csv << "energy,period,action,flux,curve_flux,stability_index,multiplier,period_derivative,"
            "error_estimate_period,error_estimate_action,status\n";
     curves << "energy,theta1,theta2\n";
     const Real es = model.saddle_energy(a), emax = model.maximum_energy();
@@ -186,14 +187,18 @@ void write_orbit_tables(context& ctx, int arm_number) {
                                            scene_orbit_options<Real>(ctx.s).integrator);
         if (!o) continue;  // the continuation stopped short (run.json says why)
         const std::string e = to_decimal(level.value);
+        // the flux through the orbit's configuration curve by the general curve-flux quadrature:
+        // an independent check of f3 = 2 F (which `flux` is, by definition)
+        const saddle_curve<Real> curve = make_saddle_curve(model, *o);
+        const Real through = curve_flux(model, level, curve).value;
         csv << e << "," << to_decimal(o->period) << "," << to_decimal(o->action) << ","
-            << to_decimal(o->flux()) << "," << to_decimal(o->floquet.stability_index) << ","
+            << to_decimal(o->flux()) << "," << to_decimal(through) << ","
+            << to_decimal(o->floquet.stability_index) << ","
             << (o->floquet.hyperbolic ? to_decimal(o->floquet.multiplier) : std::string()) << ","
             << to_decimal(o->period_derivative) << "," << to_decimal(o->error_estimate_period, 3)
             << "," << to_decimal(o->error_estimate_action, 3) << "," << to_string(o->status)
             << "\n";
         if (spec.curve_samples > 0) {
-            const saddle_curve<Real> curve = make_saddle_curve(model, *o);
             const Real smax = curve.domain()[1];
             const int n = spec.curve_samples;
             for (int k = 0; k < n; ++k) {

@@ -51,6 +51,21 @@ TEST(Golden, CommittedRowsAreCertifiedAndCoverTheGrid) {
             }
         }
     }
+    // issue 14: the saddle-orbit rows, both arms, up to E_max - 0.001, each certified to >= 45
+    // digits by mp:50 and by the other shooting with the other integrator
+    for (const std::string name :
+         {"period", "action", "flux-saddle", "rate-saddle", "multiplier", "stability-index"}) {
+        for (const std::string a : {"1", "2"}) {
+            for (const std::string& e : golden_orbit_energies(a == "2" ? 2 : 4, 6)) {
+                const auto it = std::find_if(rows.begin(), rows.end(), [&](const golden_row& r) {
+                    return r.quantity == name && r.arm == a && r.energy == e;
+                });
+                ASSERT_NE(it, rows.end()) << name << " arm " << a << " E " << e;
+                EXPECT_GE(it->digits, 45) << name << " arm " << a << " E " << e;
+                EXPECT_EQ(it->method, "periodic|symmetric/gauss-legendre");
+            }
+        }
+    }
     const nlohmann::json provenance = nlohmann::json::parse(
         read_text(std::string(FLIPFLUX_SOURCE_DIR) + "/data/golden/provenance.json"));
     for (const char* key : {"command", "git_commit", "compiler", "libraries", "precision",
@@ -76,6 +91,25 @@ TEST(Golden, SampleOfRowsRegeneratesInQuad) {
         ++checked;
     }
     EXPECT_GE(checked, 10u);
+}
+
+// The saddle-orbit rows at E = 5 (both arms) regenerate in double, by the symmetric shooting
+// with Gauss-Legendre, to double's accuracy (the orbit's error estimate, at least 64 eps times
+// the quantity's condition: the multiplier's is its size relative to 1/mu's, ~1).
+TEST(Golden, OrbitRowsRegenerateInDouble) {
+    const std::vector<golden_row> rows = committed_rows();
+    std::size_t checked = 0;
+    for (const golden_row& r : rows) {
+        if (is_prediction(r.quantity) || r.energy != "5") continue;
+        const quantity& q = find_quantity(r.quantity);
+        const quantity_value<double> v =
+            q.evaluate(double_pendulum<double>(), r.arm == "1" ? arm::one : arm::two,
+                       parse_energy_level<double>(r.energy, "E"), "symmetric/gauss-legendre");
+        const double tol = std::max(64 * 2.2e-16, 4 * std::abs(v.error_estimate / v.value));
+        EXPECT_LE(relative_error(v.value, r.value), tol) << r.quantity << " arm " << r.arm;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 12u);  // six quantities, two arms
 }
 
 // Issue 14: the golden sets of the other pendulums (data/golden/<name>/), each with its parameters

@@ -175,6 +175,11 @@ TEST(Execute, OrbitIntegratorAppliesToFamiliesTablesAndQuantities) {
     EXPECT_EQ(table.rows[0].fields.at(1), rows.rows[0].fields.at(3));
     const double T = parse_real<double>(rows.rows[0].fields.at(3), "T");
     EXPECT_NEAR(T, 5.97481755607803, 1e-11);  // scipy DOP853 reference (see above)
+    // curve_flux (the curve-flux quadrature over the orbit's curve) against flux = 2 F
+    const double flux = parse_real<double>(table.rows[0].fields.at(3), "flux");
+    const double through = parse_real<double>(table.rows[0].fields.at(4), "curve_flux");
+    EXPECT_NEAR(through / flux, 1.0, 1e-11);
+    EXPECT_NEAR(flux, 2 * parse_real<double>(table.rows[0].fields.at(2), "action"), 1e-14 * flux);
     fs::remove_all(out);
     try {
         (void)scene_in(out, "orbit_integrator = \"rk4\"\n");

@@ -4,7 +4,8 @@
 // A row's value is computed by the quantity's default method in mp:N (by default mp:100). Its
 // certified digits are
 //     min( agreement of the default method in mp:(N/2) with mp:N,
-//          agreement of the first other method that applies, in mp:(N/2), with mp:N ),
+//          agreement of the first independent method that applies (the quantity's
+//          check_methods, else its other methods), in mp:(N/2), with mp:N ),
 // agreement = floor(-log10(|a - b| / |b|)), at most N/2; the value is written with that many
 // significant digits. Rows whose quantity is zero (a flux below its saddle) or whose energy is
 // outside the quantity's domain (input_error) are left out. Driven by the registry: quantities

@@ -42,6 +42,9 @@ struct quantity {
     /// true when every evaluation needs the saddle orbit at E (scenes plan an orbit family for
     /// it; golden data use a coarser grid, the orbit costing minutes in mp:100)
     bool needs_saddle_orbit = false;
+    /// the independent routes that certify the default method (golden data): the first that
+    /// applies is used; empty: the other entries of `methods`
+    std::vector<std::string> check_methods;
     /// the evaluation in every supported real type
     per_real_type<quantity_function> functions;
 
@@ -56,7 +59,7 @@ struct quantity {
 template <class F>
 quantity make_quantity(std::string name, std::string description, std::vector<std::string> methods,
                        bool per_arm, F f) {
-    quantity q{std::move(name), std::move(description), std::move(methods), per_arm, false, {}};
+    quantity q{std::move(name), std::move(description), std::move(methods), per_arm, false, {}, {}};
     for_each_real_type([&]<class Real>() {
         std::get<quantity_function<Real>>(q.functions) = [f](auto&&... a) {
             return f.template operator()<Real>(a...);
