@@ -14,6 +14,7 @@
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/study/saddle_viewer.hpp"
 #include "flipflux/study/simulation.hpp"
 
 namespace flipflux {
@@ -41,6 +42,10 @@ struct energy_entry {
     double value;
     std::string text;
 };
+
+arm arm_of_number(int a) {
+    return a == 1 ? arm::one : arm::two;
+}
 
 std::vector<energy_entry> expand(const energy_grid& g, const std::string& where) {
     std::vector<energy_entry> out;
@@ -234,6 +239,18 @@ plan make_plan(const scene& s) {
         for (int a : s.orbits->arms)
             want_orbits(a, energies, s.prec);
     }
+    std::vector<std::string> viewer_energies;  // "arm:E" per orbit of the viewer
+    if (s.viewer) {
+        for (int a : s.viewer->arms) {
+            std::vector<energy_entry> energies;
+            for (const std::string& text :
+                 viewer_energy_texts(model, arm_of_number(a), s.viewer->energies_per_arm)) {
+                energies.push_back({parse_real<double>(text, "viewer"), text});
+                viewer_energies.push_back(text);
+            }
+            want_orbits(a, energies, s.prec);
+        }
+    }
     std::vector<std::vector<energy_entry>> ensemble_energies;
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
@@ -282,6 +299,18 @@ plan make_plan(const scene& s) {
                            " at " + range_text(step.energies) + ", criteria " + join(x.criteria) +
                            ", " + x.integrator + " rtol " + x.rtol + ", estimator " + x.estimator +
                            (x.chaos ? ", chaos indicator" : "");
+        p.steps.push_back(step);
+    }
+    if (s.viewer) {
+        std::vector<std::string> arms;
+        for (int a : s.viewer->arms)
+            arms.push_back(std::to_string(a));
+        plan_step step{plan_step::kind::viewer, 0, {}, {}, {}, 0, {}, s.prec};
+        step.energies = viewer_energies;
+        step.description = "saddle-orbit viewer -> " + (s.output / "viewer.html").string() +
+                           " (arms " + join(arms) + ", " +
+                           std::to_string(s.viewer->energies_per_arm) + " orbits each, " +
+                           std::to_string(s.viewer->samples) + " points per orbit)";
         p.steps.push_back(step);
     }
     if (s.golden) {
