@@ -36,7 +36,7 @@ svg { border: 1px solid #ccc; background: #fcfcfc; }
   <label>speed <select id="speed"><option value="0.5">0.5</option><option value="1" selected>1</option><option value="2">2</option><option value="4">4</option></select> time units per second</label>
 </div>
 <div id="views">
-  <svg id="configuration" width="560" height="560" viewBox="0 0 560 560" role="img" aria-label="the orbit in configuration space"></svg>
+  <svg id="configuration" width="560" height="590" viewBox="0 0 560 590" role="img" aria-label="the orbit in configuration space"></svg>
   <svg id="pendulum" width="420" height="420" viewBox="0 0 420 420" role="img" aria-label="the pendulum along the orbit"></svg>
 </div>
 <div id="readout">
@@ -58,7 +58,7 @@ const char* const page_tail = R"HTML(</script>
   const DATA = JSON.parse(document.getElementById("viewer-data").textContent);
   const SVGNS = "http://www.w3.org/2000/svg";
   const $ = (id) => document.getElementById(id);
-  const fmt = (x, p) => Number(x).toPrecision(p || 12);
+  const fmt = (x, p) => String(Number(Number(x).toPrecision(p || 12)));
   function el(parent, name, attrs, text) {
     const e = document.createElementNS(SVGNS, name);
     for (const k in attrs) e.setAttribute(k, attrs[k]);

@@ -356,8 +356,8 @@ void run_viewer(context& ctx) {
         if (!f.stop_reason.empty())
             ctx.log << "  arm " << to_string(f.flip_arm) << ": " << f.stop_reason << "\n";
     }
-    ctx.write("viewer.html",
-              viewer_page(viewer_json(data), ctx.s.name + ": saddle orbits of the double pendulum"));
+    ctx.write("viewer.html", viewer_page(viewer_json(data),
+                                         ctx.s.name + ": saddle orbits of the double pendulum"));
     ctx.summary["viewer"] = record;
 }
 

@@ -23,8 +23,8 @@ void check_viewer_request(const viewer_request& request) {
     for (std::size_t i = 0; i < request.arms.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (request.arms[i] == request.arms[j])
-                throw input_error::about("arms", "arm " + to_string(request.arms[i]) +
-                                                     " is given twice");
+                throw input_error::about("arms",
+                                         "arm " + to_string(request.arms[i]) + " is given twice");
     check_count("energies", request.energies, 1, 1000);
     check_count("samples", request.samples, 8, 100000);
     check_count("grid", request.grid, 7, 2001);

@@ -48,8 +48,7 @@ viewer_family<Real> family_data(const double_pendulum<Real>& model, arm a,
     fam.saddle = a == arm::two ? std::array<Real, 2>{Real(0), pi<Real>()}
                                : std::array<Real, 2>{pi<Real>(), Real(0)};
     const double_pendulum<double> model_double(convert_parameters<double>(model.parameters()));
-    const std::vector<std::string> texts =
-        viewer_energy_texts(model_double, a, request.energies);
+    const std::vector<std::string> texts = viewer_energy_texts(model_double, a, request.energies);
     std::vector<energy_level<Real>> levels, missing;
     for (const std::string& text : texts) {
         levels.push_back(parse_energy_level<Real>(text, "energy"));
@@ -64,8 +63,7 @@ viewer_family<Real> family_data(const double_pendulum<Real>& model, arm a,
         fam.stop_reason = f.stop_reason;
     }
     for (std::size_t i = 0; i < levels.size(); ++i) {
-        const auto o =
-            recall_saddle_orbit(model, a, levels[i], options.method, options.integrator);
+        const auto o = recall_saddle_orbit(model, a, levels[i], options.method, options.integrator);
         if (o && o->status != orbit_status::not_converged)
             fam.orbits.push_back(make_viewer_orbit(model, *o, texts[i], request.samples));
         else if (fam.stop_reason.empty())
@@ -129,8 +127,9 @@ viewer_data<Real> saddle_viewer_data(const double_pendulum<Real>& model,
 template <class Real>
 std::string viewer_json(const viewer_data<Real>& d) {
     const physical_parameters<Real>& p = d.parameters;
-    std::string s = "{\"format\":\"flipflux-viewer-1\",\"precision\":" +
-                    json_string(precision_name<Real>()) + ",\"parameters\":{";
+    std::string s =
+        "{\"format\":\"flipflux-viewer-1\",\"precision\":" + json_string(precision_name<Real>()) +
+        ",\"parameters\":{";
     const std::pair<const char*, const Real*> fields[] = {
         {"m1", &p.m1}, {"m2", &p.m2}, {"L1", &p.L1}, {"L2", &p.L2}, {"a1", &p.a1},
         {"a2", &p.a2}, {"I1", &p.I1}, {"I2", &p.I2}, {"g", &p.g}};

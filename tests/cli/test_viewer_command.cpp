@@ -11,8 +11,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh(const std::string& name) {
-    const fs::path d =
-        fs::path(::testing::TempDir()) / ("flipflux_viewer_" + name + "_" + std::to_string(getpid()));
+    const fs::path d = fs::path(::testing::TempDir()) /
+                       ("flipflux_viewer_" + name + "_" + std::to_string(getpid()));
     fs::remove_all(d);
     return d;
 }

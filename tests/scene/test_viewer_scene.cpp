@@ -39,8 +39,8 @@ TEST(ViewerScene, BadKeysNameTheLine) {
 
 TEST(ViewerScene, PlanContinuesTheFamilyAndThePageIsWritten) {
     forget_saddle_orbits();
-    const fs::path out = fs::path(::testing::TempDir()) /
-                         ("flipflux_viewer_scene_" + std::to_string(getpid()));
+    const fs::path out =
+        fs::path(::testing::TempDir()) / ("flipflux_viewer_scene_" + std::to_string(getpid()));
     fs::remove_all(out);
     const scene s = parse_scene("[scene]\noutput = \"" + out.string() +
                                     "\"\n[viewer]\narms = [2]\nenergies_per_arm = 1\n"

@@ -2,9 +2,10 @@
 //
 //   orbit family (arm a)   only when a saddle quantity (period, action, flux-saddle, rate-saddle,
 //                          multiplier, stability-index) is requested for arm a or [orbits] or
-//                          [viewer] asks for arm a (in the scene's precision), or when an ensemble of arm a
-//                          counts the saddle criterion (in double); at the union of the energies
-//                          those need inside (E_s, E_max). Read from the on-disk cache when there.
+//                          [viewer] asks for arm a (in the scene's precision), or when an ensemble
+//                          of arm a counts the saddle criterion (in double); at the union of the
+//                          energies those need inside (E_s, E_max). Read from the on-disk cache
+//                          when there.
 //   predictions            the requested quantities at the requested arms and energies
 //   ensemble               one step per [[ensemble]] and energy, counting only the listed criteria
 //   viewer                 the saddle-orbit viewer page (its families are orbit-family steps above)

@@ -89,10 +89,9 @@ viewer_data<Real> saddle_viewer_data(const double_pendulum<Real>& model,
 template <class Real>
 std::string viewer_json(const viewer_data<Real>& data);
 
-#define FLIPFLUX_VIEWER_EXTERN(R)                                                              \
-    extern template viewer_data<R> saddle_viewer_data<R>(const double_pendulum<R>&,           \
-                                                         const viewer_request&,               \
-                                                         const orbit_options<R>&);            \
+#define FLIPFLUX_VIEWER_EXTERN(R)                                                   \
+    extern template viewer_data<R> saddle_viewer_data<R>(                           \
+        const double_pendulum<R>&, const viewer_request&, const orbit_options<R>&); \
     extern template std::string viewer_json<R>(const viewer_data<R>&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_VIEWER_EXTERN)
 #undef FLIPFLUX_VIEWER_EXTERN
