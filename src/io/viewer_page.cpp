@@ -47,7 +47,7 @@ svg { border: 1px solid #ccc; background: #fcfcfc; }
   Floquet multiplier <span id="multiplier"></span> (stability index &mu; + 1/&mu; = <span id="stability"></span>)<br>
   t / T = <span id="phase"></span>
 </div>
-<p class="note" id="notes">Left: contours of the potential V(&theta;<sub>1</sub>, &theta;<sub>2</sub>) (grey), the level V = E bounding the allowed region (blue, dashed), the saddle orbit (red) and the current configuration (black dot); angles from the downward vertical. Right: the pendulum moving along the orbit (the paths of both masses faint). Data: flipflux, precision <span id="precision"></span>; every number embedded with all its digits.</p>
+<p class="note" id="notes">Left: contours of the potential V(&theta;<sub>1</sub>, &theta;<sub>2</sub>) (grey), the level V = E bounding the allowed region (blue; the orbit turns on it), the saddle orbit (red) and the current configuration (black dot); angles from the downward vertical. Right: the pendulum moving along the orbit (the paths of both masses faint). Data: flipflux, precision <span id="precision"></span>; every number embedded with all its digits.</p>
 <noscript>This page draws with JavaScript.</noscript>
 <script type="application/json" id="viewer-data">)HTML";
 
@@ -119,7 +119,7 @@ const char* const page_tail = R"HTML(</script>
   for (const f of DATA.families) levels.push(f.saddle_energy);
   for (const level of levels)
     el(contours, "path", {d: contourPath(level), stroke: "#bbb", "stroke-width": 1, class: "contour"});
-  const boundary = el(contours, "path", {id: "boundary", stroke: "#1f77b4", "stroke-width": 1.5, "stroke-dasharray": "5 3"});
+  const boundary = el(contours, "path", {id: "boundary", stroke: "#1f77b4", "stroke-width": 1.5});
   const orbit = el(config, "path", {id: "orbit", fill: "none", stroke: "#d62728", "stroke-width": 3, "clip-path": "url(#plot-area)"});
   const point = el(config, "circle", {id: "orbit-point", r: 5, fill: "#000"});
 
