@@ -28,8 +28,9 @@ nlohmann::json embedded_data(const std::string& page) {
 TEST(ViewerCommand, WritesOnePageWithTheFamilyOfTheGivenPendulum) {
     const fs::path out = fresh("page");
     // arm 2 of a pendulum with m2 = 1/2: alpha = 3/2, beta = 1/2, E_s = 1, E_max = 4: E = 2.5
-    const auto r = run_flipflux("viewer --out " + out.string() +
-                                " --arms 2 --energies 1 --samples 12 --grid 13 --m2 0.5");
+    const auto r = run_flipflux(
+        "viewer --out " + out.string() +
+        " --arms 2 --energies 1 --samples 12 --grid 13 --m2 0.5 --integrator gauss-legendre");
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string page = read_text(out / "viewer.html");
     EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
@@ -58,6 +59,7 @@ TEST(ViewerCommand, BadInputIsOneLineStatusTwoAndNoFile) {
         {"--arms 2,2", "--arms: arm 2 is given twice"},
         {"--m1 0", "--m1"},
         {"--precision mp:x", "--precision"},
+        {"--integrator rk4", "--integrator"},
     };
     for (const auto& [args, message] : cases) {
         const auto r = run_flipflux(base + args);

@@ -162,8 +162,9 @@ TEST(SaddleViewer, QuadNumbersKeepEveryDigit) {
     EXPECT_EQ(parse_real<quad>(number, "maximum_energy"), quad(1) / 3) << number;
     EXPECT_GE(number.size(), 38u) << number;
     // the page: the data embedded with '<' escaped, so the only "</script>" are the page's own
-    const std::string page = viewer_page(text, "a <title> & more");
-    EXPECT_NE(page.find("<title>a &lt;title&gt; &amp; more</title>"), std::string::npos);
+    const std::string page = viewer_page(text, "a <title> & \"more\"");
+    EXPECT_NE(page.find("<title>a &lt;title&gt; &amp; &quot;more&quot;</title>"),
+              std::string::npos);
     EXPECT_NE(page.find("stopped at \\u003c/script> \\u003c!--"), std::string::npos);
     std::size_t closes = 0;
     for (std::size_t pos = page.find("</script>"); pos != std::string::npos;
