@@ -2,6 +2,7 @@
 // [--precision P] [--integrator I]: the interactive saddle-orbit viewer, DIR/viewer.html, one
 // self-contained page (study/saddle_viewer.hpp computes the data, io/viewer_page.hpp the page).
 // The output is checked before anything is computed and written atomically after.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
