@@ -250,15 +250,17 @@ const char* const page_tail = R"HTML(</script>
     $("phase").textContent = phase.toFixed(3);
   }
 
-  let playing = true, last = null;
-  function tick(now) {
-    if (last !== null && playing && current) {
+  // NOTE: a timer, not requestAnimationFrame: headless browsers (the test's) and background tabs
+  // may never schedule animation frames; 20 ms steps advance the phase by the time elapsed
+  let playing = true, last = performance.now();
+  function tick() {
+    const now = performance.now();
+    if (playing && current) {
       const speed = Number($("speed").value);
       phase = (phase + (now - last) / 1000 * speed / current.period) % 1;
       draw();
     }
     last = now;
-    window.requestAnimationFrame(tick);
   }
   $("play").addEventListener("click", () => {
     playing = !playing;
@@ -270,7 +272,7 @@ const char* const page_tail = R"HTML(</script>
   const start = Math.max(0, DATA.families.findIndex((f) => f.arm === 2 && f.orbits.length));
   armSelect.value = String(start);
   selectFamily(start);
-  window.requestAnimationFrame(tick);
+  window.setInterval(tick, 20);
 })();
 </script>
 </body>
