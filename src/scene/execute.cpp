@@ -12,6 +12,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/io/viewer_page.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/model/model_json.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
@@ -21,6 +22,7 @@
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/scene/plan.hpp"
+#include "flipflux/study/saddle_viewer.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
 
@@ -336,6 +338,34 @@ void run_ensemble(context& ctx, const plan_step& step) {
         {{"name", x.name}, {"file", base + ".json"}, {"csv_dir", request.csv_dir.string()}});
 }
 
+// ---- the saddle-orbit viewer ----------------------------------------------------------------
+
+/// viewer.html from the families the plan's orbit-family steps continued (in the memo).
+template <class Real>
+void run_viewer(context& ctx) {
+    const viewer_spec& v = *ctx.s.viewer;
+    viewer_request request;
+    request.arms.clear();
+    for (int a : v.arms)
+        request.arms.push_back(arm_of(a));
+    request.energies = v.energies_per_arm;
+    request.samples = v.samples;
+    request.grid = v.grid;
+    const viewer_data<Real> data = saddle_viewer_data(make_model<Real>(ctx.s.model), request,
+                                                      scene_orbit_options<Real>(ctx.s));
+    json record = {{"file", "viewer.html"}, {"families", json::array()}};
+    for (const viewer_family<Real>& f : data.families) {
+        record["families"].push_back({{"arm", to_string(f.flip_arm)},
+                                      {"orbits", f.orbits.size()},
+                                      {"stop_reason", f.stop_reason}});
+        if (!f.stop_reason.empty())
+            ctx.log << "  arm " << to_string(f.flip_arm) << ": " << f.stop_reason << "\n";
+    }
+    ctx.write("viewer.html", viewer_page(viewer_json(data),
+                                         ctx.s.name + ": saddle orbits of the double pendulum"));
+    ctx.summary["viewer"] = record;
+}
+
 // ---- golden data, accuracy, report ----------------------------------------------------------
 
 void run_golden(context& ctx) {
@@ -486,6 +516,9 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                 break;
             case plan_step::kind::ensemble:
                 run_ensemble(ctx, step);
+                break;
+            case plan_step::kind::viewer:
+                dispatch(s.prec, [&]<class Real>() { run_viewer<Real>(ctx); });
                 break;
             case plan_step::kind::golden:
                 run_golden(ctx);

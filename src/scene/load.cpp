@@ -373,6 +373,23 @@ accuracy_spec read_accuracy(table_reader& r) {
     return a;
 }
 
+viewer_spec read_viewer(table_reader& r) {
+    viewer_spec v;
+    v.line = r.line();
+    v.arms = r.arms("arms").value_or(v.arms);
+    v.energies_per_arm =
+        static_cast<int>(r.integer("energies_per_arm", 1, 1000).value_or(v.energies_per_arm));
+    v.samples = static_cast<int>(r.integer("samples", 8, 100000).value_or(v.samples));
+    v.grid = static_cast<int>(r.integer("grid", 7, 2001).value_or(v.grid));
+    if (v.grid % 6 != 1)
+        r.fail(r.get("grid"), "grid",
+               std::to_string(v.grid) +
+                   " is not 1 more than a multiple of 6 (the grid's nodes fall on the multiples "
+                   "of pi/2)");
+    r.finish();
+    return v;
+}
+
 report_spec read_report(table_reader& r) {
     report_spec rep;
     rep.line = r.line();
@@ -443,6 +460,10 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     if (const toml::table* t = top.subtable("report")) {
         table_reader r(*t, fname, "report");
         s.report = read_report(r);
+    }
+    if (const toml::table* t = top.subtable("viewer")) {
+        table_reader r(*t, fname, "viewer");
+        s.viewer = read_viewer(r);
     }
     top.finish();
     return s;

@@ -14,6 +14,7 @@
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/study/saddle_viewer.hpp"
 #include "flipflux/study/simulation.hpp"
 
 namespace flipflux {
@@ -41,6 +42,10 @@ struct energy_entry {
     double value;
     std::string text;
 };
+
+arm arm_of_number(int a) {
+    return a == 1 ? arm::one : arm::two;
+}
 
 std::vector<energy_entry> expand(const energy_grid& g, const std::string& where) {
     std::vector<energy_entry> out;
@@ -194,6 +199,30 @@ void check_scene(const scene& s, const double_pendulum<double>& model) {
     }
 }
 
+/// The energies of arm a's orbits in the scene's [viewer] (study/saddle_viewer.hpp).
+std::vector<energy_entry> viewer_energies(const scene& s, const double_pendulum<double>& model,
+                                          int a) {
+    std::vector<energy_entry> out;
+    for (const std::string& text :
+         viewer_energy_texts(model, arm_of_number(a), s.viewer->energies_per_arm))
+        out.push_back({parse_real<double>(text, "viewer"), text});
+    return out;
+}
+
+plan_step viewer_step(const scene& s, const double_pendulum<double>& model) {
+    std::vector<std::string> arms;
+    plan_step step{plan_step::kind::viewer, 0, {}, {}, {}, 0, {}, s.prec};
+    for (int a : s.viewer->arms) {
+        arms.push_back(std::to_string(a));
+        for (const energy_entry& e : viewer_energies(s, model, a))
+            step.energies.push_back(e.text);
+    }
+    step.description = "saddle-orbit viewer -> " + (s.output / "viewer.html").string() + " (arms " +
+                       join(arms) + ", " + std::to_string(s.viewer->energies_per_arm) +
+                       " orbits each, " + std::to_string(s.viewer->samples) + " points per orbit)";
+    return step;
+}
+
 }  // namespace
 
 plan make_plan(const scene& s) {
@@ -205,11 +234,9 @@ plan make_plan(const scene& s) {
     auto want_orbits = [&](int arm_number, const std::vector<energy_entry>& energies,
                            precision prec) {
         const arm a = arm_number == 1 ? arm::one : arm::two;
-        for (const auto& e : energies) {
-            if (e.value > model.saddle_energy(a) && e.value < model.maximum_energy()) {
+        for (const auto& e : energies)
+            if (e.value > model.saddle_energy(a) && e.value < model.maximum_energy())
                 family[{arm_number, prec}].emplace(e.value, e.text);
-            }
-        }
     };
 
     std::vector<energy_entry> prediction_energies;
@@ -223,17 +250,18 @@ plan make_plan(const scene& s) {
             }
         }
         prediction_energies = expand(s.predictions->energies, "predictions.energies");
-        for (int a : s.predictions->arms) {
-            for (const auto& q : s.predictions->quantities) {
+        for (int a : s.predictions->arms)
+            for (const auto& q : s.predictions->quantities)
                 if (needs_saddle_orbit(q)) want_orbits(a, prediction_energies, s.prec);
-            }
-        }
     }
     if (s.orbits) {
         const auto energies = expand(s.orbits->energies, "orbits.energies");
         for (int a : s.orbits->arms)
             want_orbits(a, energies, s.prec);
     }
+    if (s.viewer)
+        for (int a : s.viewer->arms)
+            want_orbits(a, viewer_energies(s, model, a), s.prec);
     std::vector<std::vector<energy_entry>> ensemble_energies;
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
         const auto& x = s.ensembles[i];
@@ -284,6 +312,7 @@ plan make_plan(const scene& s) {
                            (x.chaos ? ", chaos indicator" : "");
         p.steps.push_back(step);
     }
+    if (s.viewer) p.steps.push_back(viewer_step(s, model));
     if (s.golden) {
         p.steps.push_back({plan_step::kind::golden,
                            0,

@@ -1,12 +1,14 @@
 // The plan of a scene: exactly the computations its requested outputs need, in dependency order.
 //
 //   orbit family (arm a)   only when a saddle quantity (period, action, flux-saddle, rate-saddle,
-//                          multiplier, stability-index) is requested for arm a or [orbits] asks
-//                          for arm a (in the scene's precision), or when an ensemble of arm a
-//                          counts the saddle criterion (in double); at the union of the energies
-//                          those need inside (E_s, E_max). Read from the on-disk cache when there.
+//                          multiplier, stability-index) is requested for arm a or [orbits] or
+//                          [viewer] asks for arm a (in the scene's precision), or when an ensemble
+//                          of arm a counts the saddle criterion (in double); at the union of the
+//                          energies those need inside (E_s, E_max). Read from the on-disk cache
+//                          when there.
 //   predictions            the requested quantities at the requested arms and energies
 //   ensemble               one step per [[ensemble]] and energy, counting only the listed criteria
+//   viewer                 the saddle-orbit viewer page (its families are orbit-family steps above)
 //   golden / accuracy / report
 //
 // `flipflux run --dry-run SCENE` prints the plan without computing anything.
@@ -23,7 +25,7 @@
 namespace flipflux {
 
 struct plan_step {
-    enum class kind { orbit_family, predictions, ensemble, golden, accuracy, report };
+    enum class kind { orbit_family, predictions, ensemble, viewer, golden, accuracy, report };
     kind what;
     int arm = 0;                          ///< orbit families and ensembles
     std::vector<std::string> energies;    ///< decimal text, in order

@@ -92,6 +92,15 @@ struct accuracy_spec {
     int line = 0;
 };
 
+/// [viewer]: the interactive saddle-orbit viewer, <output>/viewer.html (study/saddle_viewer.hpp).
+struct viewer_spec {
+    std::vector<int> arms{1, 2};
+    int energies_per_arm = 30;  ///< orbits per arm, evenly over (E_s, E_max)
+    int samples = 161;          ///< points per orbit over one period
+    int grid = 121;             ///< potential grid points per axis (1 mod 6)
+    int line = 0;
+};
+
 struct report_spec {
     std::string dir = "docs/reproduction";
     int line = 0;
@@ -115,6 +124,7 @@ struct scene {
     std::optional<golden_spec> golden;
     std::optional<accuracy_spec> accuracy;
     std::optional<report_spec> report;
+    std::optional<viewer_spec> viewer;
 };
 
 /// Reads and validates a scene file; throws scene_error ("FILE:LINE: KEY: ...").
