@@ -21,6 +21,7 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath python3-scipy
   pybind11-dev python3-dev python3-numpy python3-pytest
   clang-14 libclang-rt-14-dev libomp-14-dev
+  chromium fonts-liberation
 )
 
 install_deps() {
