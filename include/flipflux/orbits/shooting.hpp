@@ -89,24 +89,29 @@ struct variational_end {
     bool success = false;
 };
 
-/// The Taylor route of integrate_variational: Phi's last `Columns` columns only (the others 0).
-template <class Real, int Columns>
-variational_end<Real> integrate_variational_taylor(const shooting_setup<Real>& setup,
-                                                   const std::array<Real, 4>& x0,
-                                                   const Real& duration, long steps) {
-    using flow = saddle_taylor_flow<Real, Columns>;
-    typename flow::state y;
+/// The variational state's layout, shared by both integrators: x (4), the action, then Phi's last
+/// `Columns` columns row by row, y[5 + Columns i + (j - first)] = Phi[i][j] for j >= first =
+/// 4 - Columns (Columns = 4: all of Phi, row-major). The start: Phi's columns of the identity.
+template <class Real, int Columns, std::size_t N>
+std::array<Real, N> variational_start(const std::array<Real, 4>& x0) {
+    static_assert(N == 5 + 4 * Columns);
+    constexpr int first = 4 - Columns;
+    std::array<Real, N> y;
     for (int k = 0; k < 4; ++k)
         y[k] = x0[k];
     y[4] = 0;
-    constexpr int first = 4 - Columns;
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < Columns; ++j)
             y[static_cast<std::size_t>(5 + Columns * i + j)] = (i == first + j) ? Real(1) : Real(0);
-    taylor_integrator<Real, flow::size> ti(setup.order);
-    flow f(setup.frame, setup.order);
+    return y;
+}
+
+/// The end of a variational shot from its state (the columns not integrated are 0).
+template <class Real, int Columns, std::size_t N>
+variational_end<Real> variational_end_of(const std::array<Real, N>& y,
+                                         const integration_result& r) {
+    constexpr int first = 4 - Columns;
     variational_end<Real> out;
-    const auto r = ti.integrate(f, y, duration / steps, steps);
     out.success = r.success;
     out.statistics = r.statistics;
     for (int k = 0; k < 4; ++k)
@@ -119,6 +124,19 @@ variational_end<Real> integrate_variational_taylor(const shooting_setup<Real>& s
     return out;
 }
 
+/// The Taylor route of integrate_variational: Phi's last `Columns` columns only (the others 0).
+template <class Real, int Columns>
+variational_end<Real> integrate_variational_taylor(const shooting_setup<Real>& setup,
+                                                   const std::array<Real, 4>& x0,
+                                                   const Real& duration, long steps) {
+    using flow = saddle_taylor_flow<Real, Columns>;
+    auto y = variational_start<Real, Columns, flow::size>(x0);
+    taylor_integrator<Real, flow::size> ti(setup.order);
+    flow f(setup.frame, setup.order);
+    const auto r = ti.integrate(f, y, duration / steps, steps);
+    return variational_end_of<Real, Columns>(y, r);
+}
+
 /// The shot with the variational equations; with the Taylor integrator and columns == 2 only
 /// Phi's momentum columns 2, 3 are computed (all a Newton step needs; the others are 0).
 template <class Real>
@@ -128,25 +146,11 @@ variational_end<Real> integrate_variational(const shooting_setup<Real>& setup,
     if (setup.integrator == orbit_integrator::taylor)
         return columns == 2 ? integrate_variational_taylor<Real, 2>(setup, x0, duration, steps)
                             : integrate_variational_taylor<Real, 4>(setup, x0, duration, steps);
-    std::array<Real, 21> y;
-    for (int k = 0; k < 4; ++k)
-        y[k] = x0[k];
-    y[4] = 0;
-    for (int i = 0; i < 16; ++i)
-        y[5 + i] = (i % 5 == 0) ? Real(1) : Real(0);
+    auto y = variational_start<Real, 4, 21>(x0);
     gauss_legendre<Real, 21> gl(setup.stages);
-    variational_end<Real> out;
     const auto r =
         gl.integrate(orbit_variational_flow<Real>{&setup.frame}, y, duration / steps, steps);
-    out.success = r.success;
-    out.statistics = r.statistics;
-    for (int k = 0; k < 4; ++k)
-        out.x[k] = y[k];
-    out.action = y[4];
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j)
-            out.phi[i][j] = y[5 + 4 * i + j];
-    return out;
+    return variational_end_of<Real, 4>(y, r);
 }
 
 /// The end of a plain integration (state and action, no variational equations).
