@@ -466,30 +466,27 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     arb_zero(integral.x);
     arb_set(a.x, ends.th_full.x);
     arb_set(b.x, ends.th_edge.x);
-    if (singular_left) {
+    // the u-piece at a singular end, th1 = anchor +- u^2 for u in [0, U]; that end moves to
+    // anchor +- U^2 for the plain piece
+    const auto add_end_piece = [&](piece kind, const arb_ball& anchor, const arb_ball& supplement,
+                                   bool kink, arb_ball& end) {
         volume_integrand f = base;
-        f.kind = piece::from_full;
-        f.anchor = ends.th_full.x;
-        f.anchor_supplement = ends.psi_full.x;
-        f.anchor_is_kink = vs_full == 0;
+        f.kind = kind;
+        f.anchor = anchor.x;
+        f.anchor_supplement = supplement.x;
+        f.anchor_is_kink = kink;
         integrate_exact(piece_value.x, f, zero, U, prec);
         arb_add(integral.x, integral.x, piece_value.x, prec);
         arb_set_arf(t.x, U);
         arb_sqr(t.x, t.x, prec);
-        arb_add(a.x, ends.th_full.x, t.x, prec);
-    }
-    if (singular_right) {
-        volume_integrand f = base;
-        f.kind = piece::to_edge;
-        f.anchor = ends.th_edge.x;
-        f.anchor_supplement = ends.psi_edge.x;
-        f.anchor_is_kink = vs_edge == 0;
-        integrate_exact(piece_value.x, f, zero, U, prec);
-        arb_add(integral.x, integral.x, piece_value.x, prec);
-        arb_set_arf(t.x, U);
-        arb_sqr(t.x, t.x, prec);
-        arb_sub(b.x, ends.th_edge.x, t.x, prec);
-    }
+        if (kind == piece::from_full)
+            arb_add(end.x, anchor.x, t.x, prec);
+        else
+            arb_sub(end.x, anchor.x, t.x, prec);
+    };
+    if (singular_left)
+        add_end_piece(piece::from_full, ends.th_full, ends.psi_full, vs_full == 0, a);
+    if (singular_right) add_end_piece(piece::to_edge, ends.th_edge, ends.psi_edge, vs_edge == 0, b);
     {
         volume_integrand f = base;
         f.kind = piece::plain;
