@@ -729,9 +729,7 @@ def fig_approx_vs_saddle(data, out):
         err.append(se / m if se is not None and m > 0 else np.nan)
     err = np.array(err)
     fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(common, 100 * pred_rel, "-", color=COLORS["approx"], label="theory (predictions.csv)")
-    ax.plot(ss["energy"], 100 * (sa["predicted"] / ss["predicted"] - 1), "s", mfc="none",
-            color=COLORS["approx"], label="theory (ensemble's predicted rates)")
+    ax.plot(common, 100 * pred_rel, "-", color=COLORS["approx"], label="theory")
     ax.errorbar(ss["energy"], 100 * sim_rel, yerr=100 * np.nan_to_num(err), fmt="o", ms=3,
                 capsize=2, color="k", label="simulation means (paired SE)")
     ax.axhline(0, color="k", lw=0.6)
@@ -774,8 +772,10 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
     reference = [q["reference"] for q in entries.values() if q and "reference" in q]
     rescale = kind == "PQI" and bool(reference) and \
         abs(float(reference[0]["time"]) - ens["time"]) > 1e-12 * ens["time"]
+    # the IQI is the RMS of R(E) by definition: its table does not repeat it as a column
+    rms_r = kind != "IQI"
     header = ["regime", "energies", "%s [%%]" % kind, "± (bootstrap)", "paper [%]", "comparison",
-              "noise floor [%]", "RMS R(E) [%]", "RMS S(E) [%]"]
+              "noise floor [%]"] + (["RMS R(E) [%]"] if rms_r else []) + ["RMS S(E) [%]"]
     if rescale:
         header.append("PQI with S rescaled to T = %s [%%]" % reference[0]["time"])
     rows = []
@@ -786,8 +786,8 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
         label = REGIME_LABELS[a][reg] if is_egalitarian(data["model"]) else \
             "%s (%.4g ≤ E < %.4g)" % (reg, lo, hi)
         if q is None:
-            rows.append([label, 0, "—", "—", paper_values[reg], "no energies", "", "", ""] +
-                        (["—"] if rescale else []))
+            rows.append([label, 0, "—", "—", paper_values[reg], "no energies", ""] +
+                        ([""] if rms_r else []) + [""] + (["—"] if rescale else []))
             continue
         ours, sd = 100 * num(q[kind]), 100 * num(q[kind + "_sd"])
         if rescale:
@@ -800,8 +800,9 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
         else:
             z, verdict = compare(ours, sd, paper_values[reg], ens, kind)
         rows.append([label, q["energies"], "%.2f" % ours, "%.2f" % sd, "%.2f" % paper_values[reg],
-                     verdict, "%.2f" % (100 * num(q["noise_floor"])),
-                     "%.2f" % (100 * num(q["IQI"])), "%.2f" % (100 * num(q["rms_S"]))] +
+                     verdict, "%.2f" % (100 * num(q["noise_floor"]))] +
+                    (["%.2f" % (100 * num(q["IQI"]))] if rms_r else []) +
+                    ["%.2f" % (100 * num(q["rms_S"]))] +
                     (["%.2f ± %.2f" % (100 * num(q["reference"]["PQI"]),
                                        100 * num(q["reference"]["PQI_sd"]))] if rescale else []))
     return write_table(out, name, header, rows), header, rows
