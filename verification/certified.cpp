@@ -50,11 +50,13 @@ void check(const std::string& quantity, const model_text& t, arm a, const std::s
 
 TEST(CertifiedVerify, JustAboveEachSaddle) {
     for (const char* energy : {"2.00000000000000000001", "4.00000000000000000001"})
-        for (const char* q : {"omega", "flux-upright", "rate-upright"})
+        for (const char* q :
+             {"omega", "flux-upright", "rate-upright", "flux-approx", "rate-approx"})
             for (arm a : {arm::one, arm::two})
                 check(q, model_text{}, a, energy, 30);
     for (const char* energy : {"1.80000000000000000001", "4.00000000000000000001"})
-        for (const char* q : {"omega", "flux-upright", "rate-upright"})
+        for (const char* q :
+             {"omega", "flux-upright", "rate-upright", "flux-approx", "rate-approx"})
             for (arm a : {arm::one, arm::two})
                 check(q, rigid_pendulum(), a, energy, 30);
 }
@@ -62,14 +64,18 @@ TEST(CertifiedVerify, JustAboveEachSaddle) {
 TEST(CertifiedVerify, RadiusFollowsThePrecision) {
     for (int digits : {30, 40, 50, 60})
         for (const char* energy : {"1.5", "3.2", "5.5", "7.25"})
-            for (const char* q : {"omega", "flux-upright", "rate-upright"})
-                check(q, rigid_pendulum(), arm::two, energy, digits);
+            for (const char* q :
+                 {"omega", "flux-upright", "rate-upright", "flux-approx", "rate-approx"})
+                for (arm a : {arm::one, arm::two})
+                    if (a == arm::two || std::string(q) != "omega")  // omega has no arm
+                        check(q, rigid_pendulum(), a, energy, digits);
 }
 
 TEST(CertifiedVerify, SecondsPerProof) {
     // the energies; each proof timed alone (one core), with its proven digits
     for (int digits : {50, 100, 300}) {
-        for (const char* q : {"omega", "flux-upright", "rate-upright"}) {
+        for (const char* q :
+             {"omega", "flux-upright", "rate-upright", "flux-approx", "rate-approx"}) {
             double worst = 0;
             int fewest = 1 << 30;
             for (const char* energy : {"0.5", "2.5", "3.2", "4.3", "5.5", "5.99", "6.01", "12"}) {
