@@ -1,7 +1,8 @@
 // Proven enclosures (certified/), the expensive checks (label "verify"): just above each saddle
 // (E_s + 1e-20, where the energy ball's radius is amplified and the precision loop raises the
-// precision), the radius at mp:30 ... mp:60, and the cost of a proof at mp:50, mp:100 and mp:300
-// per quantity, printed for docs/verification.md. Each enclosure must contain the value of the
+// precision), the radius at mp:30 ... mp:60 (both arms), and the cost of a proof at mp:50,
+// mp:100 and mp:300 per quantity (omega, flux-upright, rate-upright, flux-approx, rate-approx),
+// printed for docs/verification.md. Each enclosure must contain the value of the
 // existing (non-rigorous) route at 20 more digits.
 #include <gtest/gtest.h>
 

@@ -56,6 +56,7 @@ void enclose(arb_t res, certified_quantity q, const model_text& model, arm a,
         case certified_quantity::rate_approx: {
             arb_ball omega;
             certified_detail::enclose_approximate_flux(res, p, a, E.x, prec);
+            if (arb_is_zero(res)) return;  // an inaccessible curve: 0 / Omega = 0 (Omega > 0)
             certified_detail::enclose_phase_volume(omega.x, p, E.x, prec);
             arb_div(res, res, omega.x, prec);
             return;
