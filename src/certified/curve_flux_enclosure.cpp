@@ -404,37 +404,15 @@ void flux_decided(arb_t res, curve_data& c, slong prec) {
     arb_mul_ui(res, res, 8, prec);
 }
 
-/// G(s) = -w_s + w_f A^2 cos^2(s/2) sinc^2(A sin(s) / 2) < 0 on [lo, hi] (subdividing up to
-/// `depth` times): then K = (E - E_s) + 2 sin^2(s/2) G(s) < 0 on (0, pi] at E = E_s, i.e. the
-/// curve is inaccessible at the saddle energy and f2(E_s) = 0.
-bool saddle_isolated(const curve_data& c, const arf_t lo, const arf_t hi, int depth, slong prec) {
-    arb_ball s, g, t;
-    arb_set_arf(s.x, lo);
-    arb_set_arf(t.x, hi);
-    arb_union(s.x, s.x, t.x, prec);
-    arb_sin(t.x, s.x, prec);
-    arb_mul(t.x, t.x, c.A.x, prec);
-    arb_mul_2exp_si(t.x, t.x, -1);
-    arb_sinc(t.x, t.x, prec);
-    arb_sqr(t.x, t.x, prec);
-    arb_mul_2exp_si(g.x, s.x, -1);
-    arb_cos(g.x, g.x, prec);
-    arb_sqr(g.x, g.x, prec);
-    arb_mul(g.x, g.x, t.x, prec);
-    arb_sqr(t.x, c.A.x, prec);
-    arb_mul(g.x, g.x, t.x, prec);
+/// True when w_f A^2 < w_s (proven on the balls). Then, at E = E_s, K = 2 sin^2(s/2) G(s) with
+/// G = -w_s + w_f A^2 cos^2(s/2) sinc^2(A sin(s) / 2) <= -w_s + w_f A^2 < 0 on the real line: the
+/// curve is inaccessible except at the saddle and f2(E_s) = 0. (w_s - w_f A^2 = x (M_ss - 2 C A +
+/// M_ff A^2) > 0 for the centre mode, x > 0; the balls decide it unless it is below their radii.)
+bool saddle_isolated(const curve_data& c, slong prec) {
+    arb_ball g;
+    arb_sqr(g.x, c.A.x, prec);
     arb_mul(g.x, g.x, c.wf.x, prec);
-    arb_sub(g.x, g.x, c.ws.x, prec);
-    if (arb_is_negative(g.x)) return true;
-    if (depth == 0 || !arb_contains_negative(g.x)) return false;
-    arf_t m;
-    arf_init(m);
-    arf_add(m, lo, hi, ARF_PREC_EXACT, ARF_RND_DOWN);
-    arf_mul_2exp_si(m, m, -1);
-    const bool ok =
-        saddle_isolated(c, lo, m, depth - 1, prec) && saddle_isolated(c, m, hi, depth - 1, prec);
-    arf_clear(m);
-    return ok;
+    return arb_lt(g.x, c.ws.x);
 }
 
 /// The union of f2 at exact energies 2^20 |K| 2^-prec below and above the exact kink K (f2 is
@@ -507,16 +485,9 @@ void enclose_approximate_flux(arb_t res, const pendulum_balls& p, arm a, const a
         res,
         [&](arb_t out, const arb_t e) {
             const int vs_saddle = compare_energy(e, e_s.x), vs_max = compare_energy(e, e_max.x);
-            if (vs_saddle == 0) {  // exactly at the saddle energy: 0 when G < 0 on [0, pi]
-                arf_t lo, hi;
-                arf_init(lo), arf_init(hi);
-                arb_get_ubound_arf(hi, c.pi.x, prec);
-                const bool isolated = saddle_isolated(c, lo, hi, 24, prec);
-                arf_clear(lo), arf_clear(hi);
-                if (isolated) {
-                    arb_zero(out);
-                    return;
-                }
+            if (vs_saddle == 0 && saddle_isolated(c, prec)) {  // exactly at the saddle energy
+                arb_zero(out);
+                return;
             }
             if (vs_saddle == 0 || vs_max == 0) {
                 straddle_exact_kink(out, c, e, e_s.x, e_max.x, prec);
