@@ -4,7 +4,7 @@
 // TOMS 748, no ball arithmetic), and reach the relative radius 10^(-N + 10) at mp:N; both arms,
 // the paper's pendulum and a rigid-link pendulum with unequal masses, in every regime of the
 // energy (below the saddle, between the saddles, between the upper saddle and E_max, above E_max,
-// just above a saddle, exactly at the saddle and at E_max).
+// just above a saddle, exactly at the saddle and at E_max, at an inexact E_max).
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -84,7 +84,10 @@ INSTANTIATE_TEST_SUITE_P(RigidLinks, ApproxFluxRegimes,
                                            approx_case{"BelowTheMaximum", true, "5.1"},
                                            approx_case{"AboveTheMaximum", true, "9.3"},
                                            approx_case{"JustAboveTheUpperSaddle", true,
-                                                       "4.00000000000000000001"}),
+                                                       "4.00000000000000000001"},
+                                           // E_max = 5.8 is not a dyadic: the energy ball
+                                           // straddles it (the union of both sides)
+                                           approx_case{"AtTheInexactMaximum", true, "5.8"}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 TEST(ApproxFluxEnclosure, RadiusFollowsTheRequestedDigits) {
