@@ -27,11 +27,11 @@ model_text rigid_pendulum() {  // alpha = 2, beta = 0.9: saddles 1.8 and 4, E_ma
 }
 
 std::string reference_value(const std::string& quantity, const model_text& t, arm a,
-                            const std::string& energy, int digits) {
+                            const std::string& energy, int digits, const std::string& method = "") {
     return dispatch(mp_precision(digits), [&]<class Real>() {
         const double_pendulum<Real> model = make_model<Real>(t);
         return to_decimal(find_quantity(quantity)
-                              .evaluate(model, a, parse_real<Real>(energy, "energy"), "")
+                              .evaluate(model, a, parse_real<Real>(energy, "energy"), method)
                               .value);
     });
 }
@@ -70,6 +70,21 @@ TEST(CertifiedVerify, RadiusFollowsThePrecision) {
                 for (arm a : {arm::one, arm::two})
                     if (a == arm::two || std::string(q) != "omega")  // omega has no arm
                         check(q, rigid_pendulum(), a, energy, digits);
+}
+
+TEST(CertifiedVerify, ApproxFluxContainsTheMomentumRoute) {
+    // the momentum route shares only K with the enclosure (its momentum integral is done by
+    // Gauss-Kronrod in the velocity angle, not by the closed form sqrt(2K Q))
+    for (const model_text& t : {model_text{}, rigid_pendulum()})
+        for (arm a : {arm::one, arm::two})
+            for (const char* energy : {"4.3", "5.5", "7.25"}) {
+                SCOPED_TRACE(std::string("arm ") + to_string(a) + " at E = " + energy);
+                const certified_enclosure e = certified_value("flux-approx", t, a, energy, 30);
+                const std::string ref =
+                    reference_value("flux-approx", t, a, energy, 50, "momentum");
+                EXPECT_TRUE(enclosure_contains(e, ref))
+                    << "[" << e.mid << " +/- " << e.radius << "] does not contain " << ref;
+            }
 }
 
 TEST(CertifiedVerify, SecondsPerProof) {
