@@ -13,7 +13,7 @@ using certified_detail::take_arb_string;
 
 constexpr double bits_per_digit = 3.3219280948873623;  // log2(10)
 
-enum class certified_quantity { omega, flux_upright, rate_upright };
+enum class certified_quantity { omega, flux_upright, rate_upright, flux_approx, rate_approx };
 
 bool quantity_named(std::string_view name, certified_quantity& q) {
     if (name == "omega")
@@ -22,6 +22,10 @@ bool quantity_named(std::string_view name, certified_quantity& q) {
         q = certified_quantity::flux_upright;
     else if (name == "rate-upright")
         q = certified_quantity::rate_upright;
+    else if (name == "flux-approx")
+        q = certified_quantity::flux_approx;
+    else if (name == "rate-approx")
+        q = certified_quantity::rate_approx;
     else
         return false;
     return true;
@@ -42,6 +46,17 @@ void enclose(arb_t res, certified_quantity q, const model_text& model, arm a,
         case certified_quantity::rate_upright: {
             arb_ball omega;
             certified_detail::enclose_upright_flux(res, p, a, E.x, prec);
+            certified_detail::enclose_phase_volume(omega.x, p, E.x, prec);
+            arb_div(res, res, omega.x, prec);
+            return;
+        }
+        case certified_quantity::flux_approx:
+            certified_detail::enclose_approximate_flux(res, p, a, E.x, prec);
+            return;
+        case certified_quantity::rate_approx: {
+            arb_ball omega;
+            certified_detail::enclose_approximate_flux(res, p, a, E.x, prec);
+            if (arb_is_zero(res)) return;  // an inaccessible curve: 0 / Omega = 0 (Omega > 0)
             certified_detail::enclose_phase_volume(omega.x, p, E.x, prec);
             arb_div(res, res, omega.x, prec);
             return;
@@ -122,7 +137,8 @@ certified_enclosure certified_value(std::string_view quantity, const model_text&
     if (!quantity_named(quantity, q))
         throw input_error::about("quantity", "'" + std::string(quantity) +
                                                  "' has no certified route (known: omega, "
-                                                 "flux-upright, rate-upright)");
+                                                 "flux-upright, rate-upright, flux-approx, "
+                                                 "rate-approx)");
     if (digits < 1) throw input_error::about("digits", std::to_string(digits) + " is not >= 1");
     const double target = -digits, accepted = -digits + 10;
     slong prec = static_cast<slong>(std::ceil(digits * bits_per_digit)) + 32;

@@ -504,6 +504,8 @@ void phase_volume_decided(arb_t res, const pendulum_balls& p, const arb_t E, int
     arb_mul_2exp_si(res, res, 2);
 }
 
+}  // namespace
+
 /// -1, 0 (both exact and equal), +1, or 2 (undecided) for E against the kink K.
 int compare_energy(const arb_t E, const arb_t K) {
     if (arb_lt(E, K)) return -1;
@@ -512,12 +514,10 @@ int compare_energy(const arb_t E, const arb_t K) {
     return 2;
 }
 
-using energy_function = std::function<void(arb_t, const arb_t)>;
-
 /// f(E) for f non-decreasing in E whose formula changes at the kinks: when E is undecided
 /// against a kink, the union of f at exact energies strictly below and above both.
 void monotone_enclosure(arb_t res, const energy_function& f, const arb_t E,
-                        const std::vector<const arb_struct*>& kinks, slong prec, int depth = 0) {
+                        const std::vector<const arb_struct*>& kinks, slong prec, int depth) {
     bool decided = true;
     for (const arb_struct* K : kinks)
         decided = decided && compare_energy(E, K) != 2;
@@ -558,8 +558,6 @@ void monotone_enclosure(arb_t res, const energy_function& f, const arb_t E,
     monotone_enclosure(v_hi.x, f, e_hi.x, kinks, prec, depth + 1);
     arb_union(res, v_lo.x, v_hi.x, prec);
 }
-
-}  // namespace
 
 pendulum_balls pendulum_from_text(const model_text& t, slong prec) {
     auto parse = [prec](arb_ball& out, const std::string& text, const char* name, bool zero_ok) {

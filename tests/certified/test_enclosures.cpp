@@ -148,7 +148,7 @@ TEST(Enclosure, BadInputIsAnInputError) {
     bad.I2 = "x";
     EXPECT_THROW(certified_value("omega", bad, arm::two, "3", 30), input_error);
     EXPECT_TRUE(has_certified_enclosure("rate-upright"));
-    EXPECT_FALSE(has_certified_enclosure("flux-approx"));
+    EXPECT_FALSE(has_certified_enclosure("period"));
 }
 
 TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
@@ -174,7 +174,7 @@ TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
     EXPECT_TRUE(nlohmann::json::parse(rounded.out)["enclosure"].contains("value_check"))
         << rounded.out;
     const test::command_result bad =
-        test::run_flipflux("eval flux-approx --energy 5.5 --precision mp:30 --certify");
+        test::run_flipflux("eval period --energy 5.5 --precision mp:30 --certify");
     EXPECT_EQ(bad.status, 2);
     EXPECT_NE(bad.err.find("--certify"), std::string::npos) << bad.err;
 }

@@ -36,7 +36,8 @@ struct certified_enclosure {
     long bits = 0;  ///< Arb working precision of the last (successful) attempt
 };
 
-/// The quantities with a certified route: omega, flux-upright, rate-upright.
+/// The quantities with a certified route: omega, flux-upright, rate-upright, flux-approx,
+/// rate-approx.
 bool has_certified_enclosure(std::string_view quantity);
 
 /// An enclosure of `quantity` at `energy` (decimal text) for the pendulum `model` and arm `a`
