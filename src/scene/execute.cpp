@@ -183,12 +183,16 @@ void write_orbit_tables(context& ctx, int arm_number) {
     curves << "energy,theta1,theta2\n";
     const Real es = model.saddle_energy(a), emax = model.maximum_energy();
     const Real pi_r = boost::math::constants::pi<Real>();
-    for (const energy_level<Real>& level : energies_of<Real>(spec.energies, "orbits.energies")) {
+    const std::vector<std::string> texts = energy_texts(spec.energies, "orbits.energies");
+    const std::vector<energy_level<Real>> levels =
+        energies_of<Real>(spec.energies, "orbits.energies");
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        const energy_level<Real>& level = levels[i];
         if (!(level.above(es) > 0 && level.below(emax) > 0)) continue;
         const auto o = recall_saddle_orbit(model, a, level, orbit_method::periodic,
                                            scene_orbit_options<Real>(ctx.s).integrator);
-        if (!o) continue;  // the continuation stopped short (run.json says why)
-        const std::string e = to_decimal(level.value);
+        if (!o) continue;                 // the continuation stopped short (run.json says why)
+        const std::string& e = texts[i];  // the energy as the scene gives it (not rounded)
         // the flux through the orbit's configuration curve by the general curve-flux quadrature:
         // an independent check of f3 = 2 F (which `flux` is, by definition)
         const saddle_curve<Real> curve = make_saddle_curve(model, *o);

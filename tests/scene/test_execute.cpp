@@ -172,6 +172,7 @@ TEST(Execute, OrbitIntegratorAppliesToFamiliesTablesAndQuantities) {
         << rows.rows[0].fields.at(5);
     const auto table = read_csv(out / "orbits-arm2.csv");
     ASSERT_EQ(table.rows.size(), 1u);
+    EXPECT_EQ(table.rows[0].fields.at(0), "3");  // the scene's text, not a rounded binary
     EXPECT_EQ(table.rows[0].fields.at(1), rows.rows[0].fields.at(3));
     const double T = parse_real<double>(rows.rows[0].fields.at(3), "T");
     EXPECT_NEAR(T, 5.97481755607803, 1e-11);  // scipy DOP853 reference (see above)
