@@ -350,14 +350,15 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
         {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) +
                       "." + std::to_string(EIGEN_MINOR_VERSION)}};
     const std::string hi = precision_name(value_precision), lo = precision_name(check);
-    j["precision"] = {{"values", hi + " (the quantity's default method)"},
-                      {"certification",
-                       "digits = min(agreement of the default method in " + lo + " with " + hi +
-                           ", agreement of the first applicable independent method in " + lo +
-                           " with " + hi + "), capped at " + std::to_string(decimal_digits(check)) +
-                           "; the saddle-orbit quantities: periodic shooting with the Taylor "
-                           "integrator (the default), certified by symmetric shooting with "
-                           "Gauss-Legendre"}};
+    j["precision"] = {
+        {"values", hi + " (the quantity's default method)"},
+        {"certification",
+         "digits = min(agreement of the default method in " + lo + " with " + hi +
+             ", agreement of the first applicable independent method in " + lo + " with " + hi +
+             "), capped at " + std::to_string(decimal_digits(check)) +
+             "; the saddle-orbit quantities: periodic shooting (the paper's) with the "
+             "Taylor integrator, certified by the symmetric shooting to the brake "
+             "point"}};
     j["boost_math_policy"] =
         "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
         "(domain and evaluation errors throw)";

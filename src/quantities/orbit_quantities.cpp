@@ -175,8 +175,10 @@ void add_orbit_quantities(std::vector<quantity>& list) {
                                  true, stability_fn{}));
     for (std::size_t i = first; i < list.size(); ++i) {
         list[i].needs_saddle_orbit = true;
-        // certified by the other shooting with the other integrator: no step shared
-        list[i].check_methods = {"symmetric/gauss-legendre"};
+        // certified by the other shooting (another unknown, another condition, another Newton)
+        // with the Taylor integrator named: Gauss-Legendre in mp:50 takes over an hour for the
+        // golden grid near E_max (it is the route of verification/ and of the double check)
+        list[i].check_methods = {"symmetric/taylor"};
     }
 }
 
