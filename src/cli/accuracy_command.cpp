@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
@@ -17,6 +18,7 @@ struct accuracy_state {
     std::string precisions = "double,quad,mp:50,mp:100";
     double min_seconds = 0.2;
     double max_seconds = 120;
+    int threads = 1;
 };
 
 const register_command registration([](CLI::App& app) {
@@ -38,6 +40,10 @@ const register_command registration([](CLI::App& app) {
                     "a method whose evaluation takes longer in one precision (measured, or "
                     "estimated from the lower precisions) is not measured in it or higher ones")
         ->capture_default_str();
+    sub->add_option("--threads", s->threads,
+                    "cells of one precision measured concurrently (each timed by its own "
+                    "thread's CPU clock)")
+        ->capture_default_str();
     sub->callback([s] {
         accuracy_options options;
         std::stringstream in(s->quantities);
@@ -58,6 +64,10 @@ const register_command registration([](CLI::App& app) {
             throw input_error("--max-seconds: '" + to_decimal(s->max_seconds) + "' must be > 0");
         }
         options.max_seconds = s->max_seconds;
+        if (s->threads < 1) {
+            throw input_error("--threads: '" + std::to_string(s->threads) + "' must be >= 1");
+        }
+        options.threads = checked_threads(static_cast<std::uint64_t>(s->threads), "--threads");
         options.progress = [](const std::string& line) {
             std::fprintf(stderr, "accuracy: %s\n", line.c_str());
         };

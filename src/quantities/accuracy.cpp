@@ -7,11 +7,14 @@
 #include <ctime>
 #include <map>
 #include <optional>
+#include <tuple>
 
+#include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux {
@@ -105,86 +108,216 @@ precision accuracy_reference_precision(const precision& column) {
     return mp_precision(std::max(100, decimal_digits(column)) + 20);
 }
 
+namespace {
+
+/// The methods a quantity is measured with: its registry methods; a saddle-orbit quantity's
+/// with each orbit integrator ("periodic/taylor", "periodic/gauss-legendre", ...), the first
+/// integrator being the one its default method uses above double.
+std::vector<std::string> measured_methods(const quantity& q) {
+    if (!q.needs_saddle_orbit) return q.methods;
+    std::vector<std::string> out;
+    for (const std::string& m : q.methods)
+        for (const std::string& i : names_of<orbit_integrator>())
+            out.push_back(m + "/" + i);
+    return out;
+}
+
+/// One row of the report while it is measured: a (quantity, method) pair, or a quantity's proof.
+struct row_state {
+    row_state(const quantity& quantity_, std::string method_, bool proof_)
+        : q(&quantity_),
+          method(std::move(method_)),
+          proof(proof_),
+          probes(flipflux::probes(quantity_)),
+          entry{quantity_.name, quantity_.description, method, {}} {}
+
+    const quantity* q;
+    std::string method;
+    bool proof;
+    std::vector<probe> probes;
+    accuracy_entry entry;
+    bool too_slow = false;
+    std::vector<double> measured_digits, measured_seconds;  // the columns timed so far
+    /// the current column's values (by probe index; empty: not evaluated or outside the domain)
+    std::vector<std::string> values;
+    std::vector<certified_enclosure> balls;  // proof rows
+};
+
+/// A proof at one probe: the enclosure at the column's digits, and its CPU time.
+std::optional<std::pair<certified_enclosure, double>> prove(const precision& p, const quantity& q,
+                                                            const probe& pr) {
+    try {
+        const double start = thread_cpu_seconds();
+        certified_enclosure e =
+            certified_value(q.name, model_text{}, pr.a, pr.energy, decimal_digits(p));
+        return std::make_pair(std::move(e), thread_cpu_seconds() - start);
+    } catch (const input_error&) {
+        return std::nullopt;  // outside the quantity's domain
+    }
+}
+
+/// Measures row r's cell in column p: evaluates (or proves) at its probes in order, stopping
+/// after the first when that one is slow; times the first applicable probe (repeated up to
+/// min_seconds). Fills r.values / r.balls; the digits follow once the references exist.
+void measure_cell(row_state& r, const precision& p, const accuracy_options& options) {
+    accuracy_cell& cell = r.entry.cells.back();
+    r.values.assign(r.probes.size(), std::string());
+    r.balls.assign(r.probes.size(), certified_enclosure{});
+    bool timed = false;
+    for (std::size_t i = 0; i < r.probes.size(); ++i) {
+        double seconds = 0;
+        if (r.proof) {
+            auto b = prove(p, *r.q, r.probes[i]);
+            if (!b) continue;
+            r.balls[i] = b->first;
+            r.values[i] = b->first.mid;
+            seconds = b->second;
+        } else {
+            std::optional<timed_value> v = evaluate(p, *r.q, r.method, r.probes[i], true);
+            if (!v) continue;
+            r.values[i] = v->value;
+            seconds = v->seconds;
+        }
+        if (!timed) {
+            double total = seconds;
+            int reps = 1;
+            while (total < options.min_seconds && seconds < options.slow_seconds) {
+                total += r.proof ? prove(p, *r.q, r.probes[i])->second
+                                 : evaluate(p, *r.q, r.method, r.probes[i], true)->seconds;
+                ++reps;
+            }
+            cell.seconds = total / reps;
+            timed = true;
+        }
+        if (cell.seconds > options.slow_seconds) break;  // one energy is enough
+    }
+}
+
+/// The decimal text x times 10^k (k an exponent shift), exactly.
+std::string scaled_decimal(const std::string& x, int k) {
+    const std::size_t e = x.find_first_of("eE");
+    if (e == std::string::npos) return x + "e" + std::to_string(k);
+    return x.substr(0, e) + "e" + std::to_string(std::stol(x.substr(e + 1)) + k);
+}
+
+/// Runs f(i) for i in [0, n) on `threads` threads, longest first as `order` gives them.
+template <class F>
+void parallel_for(const std::vector<std::size_t>& order, int threads, F f) {
+    const long n = static_cast<long>(order.size());
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    for (long k = 0; k < n; ++k)
+        f(order[static_cast<std::size_t>(k)]);
+}
+
+}  // namespace
+
 std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
-    std::vector<accuracy_entry> entries;
+    std::vector<row_state> rows;
     for (const quantity& q : quantities()) {
         if (!options.quantities.empty() &&
             std::find(options.quantities.begin(), options.quantities.end(), q.name) ==
                 options.quantities.end()) {
             continue;
         }
-        const std::vector<probe> ps = probes(q);
-        // references: the default method in a column's reference precision, computed when a cell
-        // first needs them (a slow method in mp:1000 is checked at one energy only, and so needs
-        // one mp:1020 reference). Empty: outside the default method's domain.
-        // NOTE: plain strings, not optionals: GCC 12 reports a false -Wfree-nonheap-object on
-        // destroying a vector of optional strings at -O3.
-        std::map<std::pair<int, std::size_t>, std::string> references;
-        const auto reference = [&](const precision& column, std::size_t i) -> const std::string& {
-            const precision rp = accuracy_reference_precision(column);
-            const auto key = std::make_pair(rp.digits, i);
-            auto it = references.find(key);
-            if (it == references.end()) {
-                std::optional<timed_value> v = evaluate(rp, q, q.methods[0], ps[i]);
-                it = references.emplace(key, v ? v->value : std::string()).first;
+        for (const std::string& m : measured_methods(q))
+            rows.emplace_back(q, m, false);
+        if (has_certified_enclosure(q.name)) rows.emplace_back(q, std::string(proof_method), true);
+    }
+    const int threads = std::max(1, options.threads);
+    // references: a quantity's default method in a column's reference precision, by (quantity,
+    // reference digits, probe), computed when a cell first needs them (a slow method in mp:1000
+    // is checked at one energy only, and so needs one mp:1020 reference). Empty: outside the
+    // default method's domain.
+    // NOTE: plain strings, not optionals: GCC 12 reports a false -Wfree-nonheap-object on
+    // destroying a vector of optional strings at -O3.
+    std::map<std::tuple<const quantity*, int, std::size_t>, std::string> references;
+    for (const precision& p : options.precisions) {
+        // which rows are measured in this column: not those too slow in a lower one, nor those
+        // estimated to be (t ~ digits^k); the longest first, so that two threads end together
+        std::vector<std::pair<double, std::size_t>> active;
+        for (std::size_t k = 0; k < rows.size(); ++k) {
+            row_state& r = rows[k];
+            accuracy_cell& cell = r.entry.cells.emplace_back();
+            if (!r.too_slow && !r.measured_seconds.empty()) {
+                cell.estimated_seconds =
+                    extrapolated_seconds(r.measured_digits, r.measured_seconds, working_digits(p));
+                r.too_slow = cell.estimated_seconds > options.max_seconds;
             }
-            return it->second;
-        };
-        for (std::size_t m = 0; m < q.methods.size(); ++m) {
-            accuracy_entry e{q.name, q.description, q.methods[m], {}};
-            bool too_slow = false;
-            std::vector<double> measured_digits, measured_seconds;  // the columns timed so far
-            for (const precision& p : options.precisions) {
-                accuracy_cell& cell = e.cells.emplace_back();
-                if (!too_slow && !measured_seconds.empty()) {
-                    cell.estimated_seconds =
-                        extrapolated_seconds(measured_digits, measured_seconds, working_digits(p));
-                    too_slow = cell.estimated_seconds > options.max_seconds;
-                }
-                if (too_slow) {
-                    cell.skipped = true;
-                    continue;
-                }
-                const int cap = column_cap(p);
-                bool timed = false;
-                for (std::size_t i = 0; i < ps.size(); ++i) {
-                    std::optional<timed_value> v = evaluate(p, q, q.methods[m], ps[i], true);
-                    if (!v) continue;
-                    const std::string& ref = reference(p, i);
-                    if (ref.empty()) continue;
-                    const double d = digits_between(v->value, ref, cap);
-                    cell.digits = cell.applies ? std::min(cell.digits, d) : d;
-                    cell.applies = true;
-                    ++cell.energies;
-                    if (!timed) {
-                        // time at the first applicable energy: repeat up to min_seconds
-                        double total = v->seconds;
-                        int reps = 1;
-                        while (total < options.min_seconds && v->seconds < options.slow_seconds) {
-                            total += evaluate(p, q, q.methods[m], ps[i], true)->seconds;
-                            ++reps;
-                        }
-                        cell.seconds = total / reps;
-                        timed = true;
-                    }
-                    if (cell.seconds > options.slow_seconds) break;  // one energy is enough
-                }
-                too_slow = cell.seconds > options.max_seconds;
-                if (cell.applies) {
-                    measured_digits.push_back(working_digits(p));
-                    measured_seconds.push_back(cell.seconds);
-                }
-                if (options.progress) {
-                    char line[240];
-                    std::snprintf(line, sizeof line, "%s %s %s: %.1f digits, %.3g s (%d energies)",
-                                  q.name.c_str(), q.methods[m].c_str(), precision_name(p).c_str(),
-                                  cell.digits, cell.seconds, cell.energies);
-                    options.progress(line);
-                }
+            if (r.too_slow) {
+                cell.skipped = true;
+                continue;
             }
-            entries.push_back(e);
+            active.emplace_back(cell.estimated_seconds, k);
+        }
+        std::sort(active.begin(), active.end(), std::greater<>());
+        std::vector<std::size_t> order;
+        for (const auto& a : active)
+            order.push_back(a.second);
+        parallel_for(order, threads, [&](std::size_t k) { measure_cell(rows[k], p, options); });
+
+        // the references these cells need, in one precision (a second precision waits for the
+        // first: core/real.hpp, precision_scope)
+        const precision rp = accuracy_reference_precision(p);
+        std::vector<std::tuple<const quantity*, int, std::size_t>> missing;
+        for (std::size_t k : order)
+            for (std::size_t i = 0; i < rows[k].values.size(); ++i) {
+                const auto key = std::make_tuple(rows[k].q, rp.digits, i);
+                if (!rows[k].values[i].empty() && !references.count(key) &&
+                    std::find(missing.begin(), missing.end(), key) == missing.end())
+                    missing.push_back(key);
+            }
+        std::vector<std::string> computed(missing.size());
+        std::vector<std::size_t> all(missing.size());
+        for (std::size_t j = 0; j < all.size(); ++j)
+            all[j] = j;
+        parallel_for(all, threads, [&](std::size_t j) {
+            const auto& [q, digits, i] = missing[j];
+            std::optional<timed_value> v = evaluate(rp, *q, q->methods[0], probes(*q)[i]);
+            computed[j] = v ? v->value : std::string();
+        });
+        for (std::size_t j = 0; j < missing.size(); ++j)
+            references.emplace(missing[j], computed[j]);
+
+        const int cap = column_cap(p);
+        for (std::size_t k : order) {
+            row_state& r = rows[k];
+            accuracy_cell& cell = r.entry.cells.back();
+            for (std::size_t i = 0; i < r.values.size(); ++i) {
+                if (r.values[i].empty()) continue;
+                const std::string& ref = references.at(std::make_tuple(r.q, rp.digits, i));
+                if (ref.empty()) continue;
+                double d = 0;
+                if (r.proof) {
+                    d = r.balls[i].proven_digits;
+                    // the reference is good to rp's digits: slack |ref| 10^-rp.digits
+                    const std::string slack = scaled_decimal(ref, -rp.digits);
+                    if (!enclosure_contains(r.balls[i], ref, slack))
+                        cell.contains_reference = false;
+                } else {
+                    d = digits_between(r.values[i], ref, cap);
+                }
+                cell.digits = cell.applies ? std::min(cell.digits, d) : d;
+                cell.applies = true;
+                ++cell.energies;
+            }
+            r.too_slow = cell.seconds > options.max_seconds;
+            if (cell.applies) {
+                r.measured_digits.push_back(working_digits(p));
+                r.measured_seconds.push_back(cell.seconds);
+            }
+            if (options.progress) {
+                char line[240];
+                std::snprintf(line, sizeof line, "%s %s %s: %.1f digits, %.3g s (%d energies)%s",
+                              r.q->name.c_str(), r.method.c_str(), precision_name(p).c_str(),
+                              cell.digits, cell.seconds, cell.energies,
+                              cell.contains_reference ? "" : " REFERENCE OUTSIDE THE BALL");
+                options.progress(line);
+            }
         }
     }
+    std::vector<accuracy_entry> entries;
+    for (row_state& r : rows)
+        entries.push_back(std::move(r.entry));
     return entries;
 }
 
@@ -254,6 +387,16 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         "(t ~ digits^k, k the exponent between the last two measured columns; the estimate is "
         "given). A closed form that holds only above "
         "the potential maximum is checked at E = 20 only.\n\n"
+        "A saddle-orbit quantity's methods are measured with each orbit integrator "
+        "(`periodic/taylor`, `periodic/gauss-legendre`, ...; the default at quad and mp is "
+        "Taylor, at double Gauss-Legendre); its test energies are those in the orbit's domain "
+        "(arm 2 at E = 2.5 and 4.5, arm 1 at E = 5). **proof (Arb)** rows give the *proven* "
+        "digits, floor(-log10(radius / |mid|)) of a ball that contains the exact value "
+        "(`eval --certify`, [certified.md](certified.md)), asked for the column's digits (double "
+        "15, quad 33, mp:N N), minimum over the test energies, and the CPU time of one proof; "
+        "each ball is checked to contain the column's higher-precision reference (a ball that "
+        "does not is marked FAILED). Cells of one precision are measured concurrently "
+        "(`--threads`, `run --threads`), each timed by its own thread's CPU clock.\n\n"
         "Targets: double <= 1e-14 (14 digits), quad <= 1e-31 (31), mp:N <= 1e-(N-10) relative. "
         "Google Benchmark timings of the same evaluations: `bench_prediction`. The saddle-orbit "
         "quantities at high precision (the period and action at mp:150 against mp:200, with "
@@ -279,10 +422,13 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
                 md += " | n/a";
                 continue;
             }
-            char buf[96];
+            const bool proof = e.method == proof_method;
+            char buf[160];
             std::snprintf(
-                buf, sizeof buf, " | %.1f digits, %s%s", c.digits, format_time(c.seconds).c_str(),
-                c.energies < 2 ? (" (" + std::to_string(c.energies) + " energy)").c_str() : "");
+                buf, sizeof buf, " | %.*f %s, %s%s%s", proof ? 0 : 1, c.digits,
+                proof ? "proven digits" : "digits", format_time(c.seconds).c_str(),
+                c.energies < 2 ? (" (" + std::to_string(c.energies) + " energy)").c_str() : "",
+                c.contains_reference ? "" : " **FAILED: the reference lies outside the ball**");
             md += buf;
         }
         md += " |\n";

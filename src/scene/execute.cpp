@@ -419,6 +419,7 @@ void run_accuracy(context& ctx) {
     options.quantities = a.quantities;
     options.precisions = a.precisions;
     options.max_seconds = std::strtod(a.max_seconds.c_str(), nullptr);
+    options.threads = ctx.options.threads > 0 ? ctx.options.threads : 2;
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
     const std::string md =

@@ -1,7 +1,11 @@
 // What accuracy costs: for every registered quantity and method, the significant digits achieved
 // and the time per evaluation in each requested precision (by default double, quad, mp:50 and
 // mp:100), as a Markdown report (`flipflux accuracy --out docs/accuracy.md`). Registry-driven,
-// like golden data.
+// like golden data. A saddle-orbit quantity's methods are measured with each orbit integrator
+// ("periodic/taylor", "periodic/gauss-legendre", ...); a quantity with a proven enclosure
+// (certified/) gets a row "proof (Arb)": the proven digits (the ball's relative radius) and the
+// CPU time of the proof, next to what agreement costs, with a check that the higher-precision
+// reference lies in the ball.
 //
 // Digits of a (method, precision) cell: the minimum over test energies (and both arms) of
 // -log10(|x - ref| / |ref|), ref the quantity's default method in the column's reference
@@ -16,6 +20,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "flipflux/core/real.hpp"
@@ -36,6 +41,9 @@ struct accuracy_options {
     /// a method slower than this in one precision (measured, or estimated from the lower
     /// precisions' times) is not measured in it and the higher ones
     double max_seconds = 120;
+    /// cells of one precision are measured concurrently on this many threads (each cell's time is
+    /// its own thread's CPU time, so the figures do not depend on it)
+    int threads = 1;
     std::function<void(const std::string&)> progress;  ///< called with a line per cell
 };
 
@@ -50,11 +58,17 @@ struct accuracy_cell {
     /// skipped cells: the time one evaluation was estimated to take (0: slower in a lower one)
     double estimated_seconds = 0;
     int energies = 0;  ///< energies (and arms) checked
+    /// proof rows: false when a higher-precision reference lay outside a proven ball (a bug in
+    /// one of the two routes; the report says so)
+    bool contains_reference = true;
 };
 
+/// The method name of the proof rows.
+inline constexpr std::string_view proof_method = "proof (Arb)";
+
 struct accuracy_entry {
-    std::string quantity, description, method;
-    std::vector<accuracy_cell> cells;  ///< one per column (accuracy_options::precisions)
+    std::string quantity, description, method;  ///< method: a registry method or proof_method
+    std::vector<accuracy_cell> cells;           ///< one per column (accuracy_options::precisions)
 };
 
 /// Measures every (quantity, method, precision).

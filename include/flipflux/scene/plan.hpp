@@ -69,7 +69,7 @@ struct run_counters {
 struct run_options {
     /// saddle-orbit cache directory; empty: no disk cache (the in-process memo still applies)
     std::filesystem::path cache_dir;
-    int threads = 0;  ///< OpenMP threads for ensembles and golden data (0: all)
+    int threads = 0;  ///< OpenMP threads for ensembles, golden data and accuracy (0: all)
     /// seconds between appends of finished trajectories to an ensemble's checkpoint (0: after
     /// every trajectory)
     double checkpoint_interval = 2;
