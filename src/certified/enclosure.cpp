@@ -352,6 +352,33 @@ certified_enclosure certified_value(std::string_view quantity, const model_text&
     return e;
 }
 
+certified_enclosure recentre_enclosure(const certified_enclosure& e, const std::string& mid) {
+    const slong prec = 64 + static_cast<slong>(4 * (e.mid.size() + mid.size()));
+    arb_ball m, r, v, ball;
+    if (arb_set_str(m.x, e.mid.c_str(), prec) || arb_set_str(r.x, e.radius.c_str(), prec) ||
+        arb_set_str(v.x, mid.c_str(), prec))
+        throw input_error("recentre_enclosure: a decimal does not parse ('" + e.mid + "', '" +
+                          e.radius + "', '" + mid + "')");
+    // the ball v +/- (|v - m| + r), written as e's printing writes a ball: the radius rounded up
+    arb_sub(ball.x, v.x, m.x, prec);
+    arb_abs(ball.x, ball.x);
+    arb_add(ball.x, ball.x, r.x, prec);
+    arf_t u;
+    arf_init(u);
+    arb_get_ubound_arf(u, ball.x, prec);
+    arb_set(ball.x, v.x);
+    mag_zero(arb_radref(ball.x));
+    arb_add_error_arf(ball.x, u);
+    arf_clear(u);
+    certified_enclosure out = to_decimal_ball(ball.x, static_cast<int>(mid.size()) + 2, prec);
+    out.mid = mid;
+    out.bits = e.bits;
+    const double rel = log10_relative_radius(ball.x);
+    out.proven_digits =
+        std::isinf(rel) && rel < 0 ? e.proven_digits : static_cast<int>(std::floor(-rel));
+    return out;
+}
+
 bool enclosure_contains(const certified_enclosure& e, const std::string& value,
                         const std::string& slack) {
     const slong prec = 64 + static_cast<slong>(4 * (e.mid.size() + value.size()));

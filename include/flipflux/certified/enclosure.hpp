@@ -52,6 +52,11 @@ bool has_certified_enclosure(std::string_view quantity);
 certified_enclosure certified_value(std::string_view quantity, const model_text& model, arm a,
                                     const std::string& energy, int digits);
 
+/// The ball centred at the decimal `mid` that contains e: radius |mid - e.mid| + e.radius (rounded
+/// up, 3 digits), proven_digits of that radius (golden --certify: an enclosure around the row's
+/// rounded value). Throws input_error when a decimal does not parse.
+certified_enclosure recentre_enclosure(const certified_enclosure& e, const std::string& mid);
+
 /// True when the decimal `value` lies in [mid - radius - slack, mid + radius + slack] (all
 /// decimal; slack >= 0, e.g. the error estimate of a non-rigorous value), decided exactly.
 bool enclosure_contains(const certified_enclosure& e, const std::string& value,
