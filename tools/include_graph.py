@@ -29,8 +29,11 @@ LAYERS = [
     ["scene"],
     ["cli"],
 ]
-# Same-layer arrows that are part of the design (a module above its sibling).
-ALLOWED_SIDEWAYS = {("orbits", "prediction"), ("special", "quadrature"), ("io", "quadrature")}
+# Same-layer arrows that are part of the design (a module above its sibling). certified -> orbits:
+# a saddle-orbit proof takes the non-rigorous orbit as its centre (src/certified/
+# saddle_orbit_proof.cpp); orbits never includes certified.
+ALLOWED_SIDEWAYS = {("orbits", "prediction"), ("special", "quadrature"), ("io", "quadrature"),
+                    ("certified", "orbits")}
 
 LEVEL = {m: i for i, layer in enumerate(LAYERS) for m in layer}
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.M)

@@ -1,9 +1,14 @@
 // The certified route: quantity names, the precision loop, decimal output and containment.
 #include "flipflux/certified/enclosure.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <optional>
 
 #include "prediction_enclosures.hpp"
+#include "saddle_orbit_proof.hpp"
 
 namespace flipflux {
 namespace {
@@ -13,7 +18,24 @@ using certified_detail::take_arb_string;
 
 constexpr double bits_per_digit = 3.3219280948873623;  // log2(10)
 
-enum class certified_quantity { omega, flux_upright, rate_upright, flux_approx, rate_approx };
+enum class certified_quantity {
+    omega,
+    flux_upright,
+    rate_upright,
+    flux_approx,
+    rate_approx,
+    // the saddle-orbit quantities (saddle_orbit_proof.hpp)
+    period,
+    action,
+    flux_saddle,
+    rate_saddle,
+    multiplier,
+    stability_index,
+};
+
+bool is_orbit_quantity(certified_quantity q) {
+    return q >= certified_quantity::period;
+}
 
 bool quantity_named(std::string_view name, certified_quantity& q) {
     if (name == "omega")
@@ -26,9 +48,148 @@ bool quantity_named(std::string_view name, certified_quantity& q) {
         q = certified_quantity::flux_approx;
     else if (name == "rate-approx")
         q = certified_quantity::rate_approx;
+    else if (name == "period")
+        q = certified_quantity::period;
+    else if (name == "action")
+        q = certified_quantity::action;
+    else if (name == "flux-saddle")
+        q = certified_quantity::flux_saddle;
+    else if (name == "rate-saddle")
+        q = certified_quantity::rate_saddle;
+    else if (name == "multiplier")
+        q = certified_quantity::multiplier;
+    else if (name == "stability-index")
+        q = certified_quantity::stability_index;
     else
         return false;
     return true;
+}
+
+/// The proofs done in this process, by pendulum, arm, energy and precision (golden --certify asks
+/// for six quantities of each orbit; a proof with the monodromy serves every quantity).
+class proof_memo {
+  public:
+    std::optional<certified_detail::orbit_proof> find(const std::string& key, bool monodromy) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = proofs_.find(key);
+        if (it == proofs_.end() || (monodromy && !it->second.with_monodromy)) return std::nullopt;
+        return it->second;
+    }
+    void keep(const std::string& key, const certified_detail::orbit_proof& p) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        auto it = proofs_.find(key);
+        if (it == proofs_.end())
+            proofs_.emplace(key, p);
+        else if (p.with_monodromy || !it->second.with_monodromy)
+            it->second = p;
+    }
+
+  private:
+    std::mutex mutex_;
+    std::map<std::string, certified_detail::orbit_proof> proofs_;
+};
+
+proof_memo& memo() {
+    static proof_memo m;
+    return m;
+}
+
+/// The proof of the saddle orbit at prec bits: its centre is the non-rigorous orbit in mp:D, D the
+/// decimal digits of prec - 32 bits, and the box's relative radius at most 10^-D.
+certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
+                                                 const std::string& energy, bool monodromy,
+                                                 slong prec) {
+    const std::string key = model.m1 + "," + model.m2 + "," + model.L1 + "," + model.L2 + "," +
+                            model.a1 + "," + model.a2 + "," + model.I1 + "," + model.I2 + "," +
+                            model.g + "|" + to_string(a) + "|" + energy + "|" +
+                            std::to_string(prec);
+    if (auto p = memo().find(key, monodromy)) return *p;
+    certified_detail::orbit_proof_input in;
+    in.pendulum = certified_detail::pendulum_from_text(model, prec);
+    in.flip_arm = a;
+    in.energy_text = energy;
+    certified_detail::energy_from_text(in.energy.x, energy, prec);
+    // the family's range E_s < E < E_max, decided on the balls
+    arb_ball es, emax;
+    const certified_detail::pendulum_balls& p = in.pendulum;
+    arb_mul_2exp_si(es.x, a == arm::two ? p.beta.x : p.alpha.x, 1);
+    arb_add(emax.x, p.alpha.x, p.beta.x, prec);
+    arb_mul_2exp_si(emax.x, emax.x, 1);
+    if (arb_le(in.energy.x, es.x) || arb_ge(in.energy.x, emax.x))
+        throw input_error::about("energy", "'" + energy + "' is outside the arm-" + to_string(a) +
+                                               " saddle-orbit family's range (E_s, E_max), open "
+                                               "at both ends");
+    if (!arb_gt(in.energy.x, es.x) || !arb_lt(in.energy.x, emax.x))
+        throw certification_error("saddle orbit at E = " + energy +
+                                  ": the energy cannot be separated from the ends of the family's "
+                                  "range (E_s, E_max)");
+    const int digits =
+        std::max(1, static_cast<int>(std::floor(static_cast<double>(prec - 32) / bits_per_digit)));
+    in.centre = certified_detail::saddle_orbit_centre(model, a, energy, digits);
+    // the box: 4 |Y G(z^)| (the centre's actual distance from the zero, times 4) between
+    // 10^-(D + 10) (the mp:D orbit's working digits) and 10^-D (the digits it claims); the
+    // multiplier's radius follows the box's
+    in.box_digits = digits + 10;
+    in.fallback_box_digits = digits;
+    const certified_detail::orbit_proof proof =
+        certified_detail::prove_saddle_orbit(in, prec, monodromy);
+    memo().keep(key, proof);
+    return proof;
+}
+
+void enclose_orbit_quantity(arb_t res, certified_quantity q, const model_text& model, arm a,
+                            const std::string& energy, slong prec) {
+    // NOTE: always with the monodromy (the box integration with Phi's four columns costs about
+    // 1.75 times the one with the tangent along beta alone, and one proof then serves all six
+    // quantities of the orbit, as golden --certify asks for)
+    const certified_detail::orbit_proof proof = saddle_orbit_proof(model, a, energy, true, prec);
+    switch (q) {
+        case certified_quantity::period:
+            arb_set(res, proof.period.x);
+            return;
+        case certified_quantity::action:
+            arb_set(res, proof.action.x);
+            return;
+        case certified_quantity::flux_saddle:
+            arb_mul_2exp_si(res, proof.action.x, 1);
+            return;
+        case certified_quantity::rate_saddle: {
+            const certified_detail::pendulum_balls p =
+                certified_detail::pendulum_from_text(model, prec);
+            arb_ball E, omega;
+            certified_detail::energy_from_text(E.x, energy, prec);
+            certified_detail::enclose_phase_volume(omega.x, p, E.x, prec);
+            arb_mul_2exp_si(res, proof.action.x, 1);
+            arb_div(res, res, omega.x, prec);
+            return;
+        }
+        case certified_quantity::stability_index:
+            arb_set(res, proof.stability_index.x);
+            return;
+        case certified_quantity::multiplier: {
+            // mu = (k + sign(k) sqrt(k^2 - 4)) / 2 for |k| > 2 (orbits/floquet: the real |mu| > 1)
+            const arb_struct* k = proof.stability_index.x;
+            arb_ball two, root;
+            arb_set_ui(two.x, 2);
+            const bool positive = arb_gt(k, two.x);
+            arb_neg(two.x, two.x);
+            if (!positive && !arb_lt(k, two.x))
+                throw certification_error("saddle orbit at E = " + energy +
+                                          ": the orbit is not proven hyperbolic (|tr M - 2| > 2)");
+            arb_sqr(root.x, k, prec);
+            arb_sub_ui(root.x, root.x, 4, prec);
+            arb_sqrt(root.x, root.x, prec);
+            if (positive)
+                arb_add(res, k, root.x, prec);
+            else
+                arb_sub(res, k, root.x, prec);
+            arb_mul_2exp_si(res, res, -1);
+            return;
+        }
+        default:
+            arb_indeterminate(res);
+            return;
+    }
 }
 
 void enclose(arb_t res, certified_quantity q, const model_text& model, arm a,
@@ -61,7 +222,10 @@ void enclose(arb_t res, certified_quantity q, const model_text& model, arm a,
             arb_div(res, res, omega.x, prec);
             return;
         }
+        default:
+            break;
     }
+    enclose_orbit_quantity(res, q, model, a, energy, prec);
 }
 
 /// Relative radius as a power of ten: log10(radius / |mid|) (-inf for a zero radius, +inf for a
@@ -138,14 +302,25 @@ certified_enclosure certified_value(std::string_view quantity, const model_text&
         throw input_error::about("quantity", "'" + std::string(quantity) +
                                                  "' has no certified route (known: omega, "
                                                  "flux-upright, rate-upright, flux-approx, "
-                                                 "rate-approx)");
+                                                 "rate-approx, period, action, flux-saddle, "
+                                                 "rate-saddle, multiplier, stability-index)");
     if (digits < 1) throw input_error::about("digits", std::to_string(digits) + " is not >= 1");
     const double target = -digits, accepted = -digits + 10;
     slong prec = static_cast<slong>(std::ceil(digits * bits_per_digit)) + 32;
     arb_ball x;
     double rel = INFINITY;
+    int failures = 0;
     for (int attempt = 0; attempt < 6; ++attempt) {
-        enclose(x.x, q, model, a, energy, prec);
+        try {
+            enclose(x.x, q, model, a, energy, prec);
+        } catch (const certification_error&) {
+            // a saddle-orbit proof that failed (the Krawczyk test, a rigorous integration): once
+            // more at half as many bits again (a more accurate centre, narrower balls; near E_max
+            // the multiplier amplifies every error), then the failure is reported
+            if (!is_orbit_quantity(q) || ++failures > 1) throw;
+            prec += prec / 2 + 32;
+            continue;
+        }
         rel = log10_relative_radius(x.x);
         if (rel <= target) break;
         // raise the precision by the missing digits (at least doubling the guard) and retry
@@ -161,11 +336,47 @@ certified_enclosure certified_value(std::string_view quantity, const model_text&
             std::to_string(prec) + " bits)");
     certified_enclosure e = to_decimal_ball(x.x, digits + 5, prec);
     e.bits = prec;
-    if (std::isinf(rel) && rel < 0)
+    if (std::isinf(rel) && rel < 0) {
         e.proven_digits = digits + 5;
-    else
-        e.proven_digits = static_cast<int>(std::floor(-rel));
+    } else {
+        // of the printed ball (its radius covers the midpoint's rounding to digits + 5 digits,
+        // which dominates when the loop raised the precision beyond the request)
+        arb_ball printed;
+        arb_set_str(printed.x, e.mid.c_str(), prec + 64);
+        arb_ball r;
+        arb_set_str(r.x, e.radius.c_str(), 64);
+        arb_add_error(printed.x, r.x);
+        e.proven_digits =
+            static_cast<int>(std::floor(-std::max(rel, log10_relative_radius(printed.x))));
+    }
     return e;
+}
+
+certified_enclosure recentre_enclosure(const certified_enclosure& e, const std::string& mid) {
+    const slong prec = 64 + static_cast<slong>(4 * (e.mid.size() + mid.size()));
+    arb_ball m, r, v, ball;
+    if (arb_set_str(m.x, e.mid.c_str(), prec) || arb_set_str(r.x, e.radius.c_str(), prec) ||
+        arb_set_str(v.x, mid.c_str(), prec))
+        throw input_error("recentre_enclosure: a decimal does not parse ('" + e.mid + "', '" +
+                          e.radius + "', '" + mid + "')");
+    // the ball v +/- (|v - m| + r), written as e's printing writes a ball: the radius rounded up
+    arb_sub(ball.x, v.x, m.x, prec);
+    arb_abs(ball.x, ball.x);
+    arb_add(ball.x, ball.x, r.x, prec);
+    arf_t u;
+    arf_init(u);
+    arb_get_ubound_arf(u, ball.x, prec);
+    arb_set(ball.x, v.x);
+    mag_zero(arb_radref(ball.x));
+    arb_add_error_arf(ball.x, u);
+    arf_clear(u);
+    certified_enclosure out = to_decimal_ball(ball.x, static_cast<int>(mid.size()) + 2, prec);
+    out.mid = mid;
+    out.bits = e.bits;
+    const double rel = log10_relative_radius(ball.x);
+    out.proven_digits =
+        std::isinf(rel) && rel < 0 ? e.proven_digits : static_cast<int>(std::floor(-rel));
+    return out;
 }
 
 bool enclosure_contains(const certified_enclosure& e, const std::string& value,

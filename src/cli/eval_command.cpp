@@ -97,10 +97,7 @@ json eval_json(const eval_state& s) {
     }
     // before the evaluation: a saddle orbit at mp:N is not computed for nothing
     if (s.certify && !has_certified_enclosure(q.name))
-        throw input_error::about("--certify", q.name +
-                                                  " has no certified route (certified: omega, "
-                                                  "flux-upright, rate-upright, flux-approx, "
-                                                  "rate-approx)");
+        throw input_error::about("--certify", q.name + " has no certified route");
     const auto start = std::chrono::steady_clock::now();
     const quantity_value<Real> v = q.evaluate(model, a, level, method);
     using std::isfinite;
@@ -154,9 +151,9 @@ const register_command registration([](CLI::App& app) {
                     "saddle-orbit quantities: taylor or gauss-legendre (default: gauss-legendre "
                     "at double, taylor above)");
     sub->add_flag("--certify", s->certify,
-                  "also prove an enclosure [mid +/- radius] with Arb (omega, flux-upright, "
-                  "rate-upright, flux-approx, rate-approx) and check that the value lies in it "
-                  "(exit status 1 if not)");
+                  "also prove an enclosure [mid +/- radius] with Arb and check that the value "
+                  "lies in it (exit status 1 if not, or if the proof fails); the saddle-orbit "
+                  "quantities by a Krawczyk proof of the orbit");
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
     sub->callback([s] {

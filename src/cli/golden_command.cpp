@@ -1,7 +1,9 @@
-// flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N] [--progress] [--merge]:
+// flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N] [--progress] [--merge]
+// [--certify]:
 // reference data for every registered quantity on the golden energy grid, with certified digits,
 // written atomically to DIR/golden.csv and DIR/provenance.json (see
 // include/flipflux/quantities/golden.hpp).
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -26,6 +28,7 @@ struct golden_state {
     model_options model;
     std::string pendulum;
     bool merge = false;
+    bool certify = false;
 };
 
 /// A file's text, or input_error naming it.
@@ -80,6 +83,11 @@ const register_command registration([](CLI::App& app) {
                     "the pendulum's name in the provenance (and the folder name under data/golden "
                     "that validate --pendulum reads) [default: egalitarian for the paper's, else "
                     "required]");
+    sub->add_flag("--certify", s->certify,
+                  "also prove an enclosure of every row whose quantity has one (certified/: the "
+                  "prediction quantities, and the saddle orbit's by a Krawczyk proof) at the row's "
+                  "certified digits: columns radius and proven_digits (exit status 1 if a proof "
+                  "fails or a value lies outside its enclosure)");
     sub->add_flag("--merge", s->merge,
                   "extend the set in --out: its rows of the other quantities are kept, those of "
                   "--quantities replaced (same pendulum and precision; the provenance lists the "
@@ -108,6 +116,7 @@ const register_command registration([](CLI::App& app) {
         }
         options.jobs = checked_threads(static_cast<std::uint64_t>(s->jobs), "--jobs");
         options.max_rows = s->max_rows;
+        options.certify = s->certify;
         progress_bar bar(s->progress);
         options.progress = [&bar](const golden_row& r, std::size_t done, std::size_t total) {
             bar.update(done, total, "rows", 0,
@@ -142,6 +151,7 @@ const register_command registration([](CLI::App& app) {
         if (!s->pendulum.empty()) command += " --pendulum " + s->pendulum;
         command += model_flags(s->model);
         if (s->merge) command += " --merge";
+        if (s->certify) command += " --certify";
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
         write_file_atomically(s->out + "/provenance.json",
                               golden_provenance(command, rows.size(), options.value_precision,
@@ -149,7 +159,10 @@ const register_command registration([](CLI::App& app) {
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);
+        const auto proven = std::count_if(rows.begin(), rows.end(),
+                                          [](const golden_row& r) { return !r.radius.empty(); });
         const json summary{{"rows", rows.size()},
+                           {"proven_rows", proven},
                            {"skipped", skipped},
                            {"least_digits", least},
                            {"csv", s->out + "/golden.csv"},

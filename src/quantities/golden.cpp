@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -19,6 +20,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
@@ -117,6 +119,31 @@ golden_outcome certify(const golden_task& t, const evaluation& high,
     row.value = round_decimal(high.value, std::max(digits, 1));
     row.method = high.method + (checks.second.value.empty() ? "" : "|" + checks.second.method);
     return {row, ""};
+}
+
+/// golden --certify: the row's enclosure (certified/), aiming at its certified digits; the row's
+/// value (rounded to them: half a unit of its last digit of slack) must lie in it. The radius
+/// written is that of the ball around the row's value: [value +/- radius] contains the exact
+/// value.
+void prove_row(golden_row& row, const model_text& model) {
+    if (!has_certified_enclosure(row.quantity)) return;
+    const arm a = row.arm == "1" ? arm::one : arm::two;
+    const certified_enclosure e =
+        certified_value(row.quantity, model, a, row.energy, std::max(row.digits, 1));
+    const std::string slack = dispatch(mp_precision(row.digits + 10), [&]<class Real>() {
+        using std::abs;
+        using std::pow;
+        const Real v = parse_real<Real>(row.value, "value");
+        return to_decimal(Real(abs(v) * pow(Real(10), 1 - row.digits) / 2), 3);
+    });
+    if (!enclosure_contains(e, row.value, slack))
+        throw certification_error("golden: " + row.quantity + " arm " + row.arm +
+                                  " at E = " + row.energy + ": the value " + row.value +
+                                  " lies outside its proven enclosure [" + e.mid + " +/- " +
+                                  e.radius + "]: a bug in one of the two routes");
+    const certified_enclosure around = recentre_enclosure(e, row.value);
+    row.radius = around.radius;
+    row.proven_digits = around.proven_digits;
 }
 
 }  // namespace
@@ -266,17 +293,40 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
     std::vector<golden_row> out;
     for (auto& r : rows)
         if (r.row) out.push_back(std::move(*r.row));
+    if (options.certify) {
+        // NOTE: an exception must not leave an OpenMP region: kept, the first rethrown after it
+        const long m = static_cast<long>(out.size());
+        std::vector<std::exception_ptr> failed(out.size());
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+        for (long i = 0; i < m; ++i) {
+            try {
+                prove_row(out[static_cast<std::size_t>(i)], options.model);
+            } catch (...) {
+                failed[static_cast<std::size_t>(i)] = std::current_exception();
+            }
+        }
+        for (const std::exception_ptr& e : failed)
+            if (e) std::rethrow_exception(e);
+    }
     return out;
 }
 
 std::string golden_csv(const std::vector<golden_row>& rows) {
-    std::string text = "quantity,arm,energy,value,digits,method\n";
+    const bool proven = std::any_of(rows.begin(), rows.end(),
+                                    [](const golden_row& r) { return !r.radius.empty(); });
+    std::string text = "quantity,arm,energy,value,digits,method";
+    text += proven ? ",radius,proven_digits\n" : "\n";
     for (const golden_row& r : rows) {
-        for (const std::string* field : {&r.quantity, &r.arm, &r.energy, &r.value, &r.method})
+        for (const std::string* field :
+             {&r.quantity, &r.arm, &r.energy, &r.value, &r.method, &r.radius})
             if (field->find_first_of(",\n\r") != std::string::npos)
                 throw std::logic_error("golden csv: a field holds a separator: '" + *field + "'");
         text += r.quantity + "," + r.arm + "," + r.energy + "," + r.value + "," +
-                std::to_string(r.digits) + "," + r.method + "\n";
+                std::to_string(r.digits) + "," + r.method;
+        if (proven)
+            text += "," + r.radius + "," +
+                    (r.radius.empty() ? std::string() : std::to_string(r.proven_digits));
+        text += "\n";
     }
     return text;
 }
@@ -289,22 +339,32 @@ std::vector<golden_row> parse_golden_csv(const std::string& text) {
     while (std::getline(in, line)) {
         ++number;
         if (number == 1 || line.empty()) continue;  // header
-        std::vector<std::string> fields;
-        std::string field;
-        std::istringstream cells(line);
-        while (std::getline(cells, field, ','))
-            fields.push_back(field);
-        if (fields.size() == 5 && line.back() == ',') fields.emplace_back();
-        if (fields.size() != 6) {
-            throw input_error("golden csv: line " + std::to_string(number) +
-                              " does not have 6 fields");
+        std::vector<std::string> fields{""};        // every comma separates, trailing empties kept
+        for (char c : line) {
+            if (c == ',')
+                fields.emplace_back();
+            else
+                fields.back() += c;
         }
-        golden_row r{fields[0], fields[1], fields[2], fields[3], 0, fields[5]};
-        try {
-            r.digits = std::stoi(fields[4]);
-        } catch (const std::exception&) {
-            throw input_error("golden csv: line " + std::to_string(number) + ": digits '" +
-                              fields[4] + "' is not an integer");
+        if (fields.size() != 6 && fields.size() != 8) {
+            throw input_error("golden csv: line " + std::to_string(number) +
+                              " does not have 6 fields (or 8 with radius and proven_digits)");
+        }
+        golden_row r{fields[0], fields[1], fields[2], fields[3], 0, fields[5], "", -1};
+        const auto integer = [number](const std::string& text, const char* what) {
+            try {
+                std::size_t used = 0;
+                const int v = std::stoi(text, &used);
+                if (used == text.size()) return v;
+            } catch (const std::exception&) {
+            }
+            throw input_error("golden csv: line " + std::to_string(number) + ": " + what + " '" +
+                              text + "' is not an integer");
+        };
+        r.digits = integer(fields[4], "digits");
+        if (fields.size() == 8 && !fields[6].empty()) {
+            r.radius = fields[6];
+            r.proven_digits = integer(fields[7], "proven_digits");
         }
         rows.push_back(std::move(r));
     }
@@ -404,7 +464,12 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
                     {"energy", "E as decimal text"},
                     {"value", hi + " value rounded to `digits` significant digits"},
                     {"digits", "certified significant digits"},
-                    {"method", "default method | independent method that certified it"}};
+                    {"method", "default method | independent method that certified it"},
+                    {"radius",
+                     "golden --certify only: radius of a proven enclosure [value +/- radius] of "
+                     "the exact value (Arb; the saddle orbits by a Krawczyk proof), empty where "
+                     "the quantity has none"},
+                    {"proven_digits", "golden --certify only: floor(-log10(radius / |value|))"}};
     j["rows"] = rows;
     return j.dump(2) + "\n";
 }

@@ -136,7 +136,7 @@ TEST(Enclosure, AnEnergyAtAnInexactKinkIsTheUnionOfBothSides) {
 }
 
 TEST(Enclosure, BadInputIsAnInputError) {
-    EXPECT_THROW(certified_value("period", model_text{}, arm::two, "3", 30), input_error);
+    EXPECT_THROW(certified_value("volume", model_text{}, arm::two, "3", 30), input_error);
     EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "-1", 30), input_error);
     EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "0", 30), input_error);
     EXPECT_THROW(certified_value("omega", model_text{}, arm::two, "abc", 30), input_error);
@@ -148,7 +148,7 @@ TEST(Enclosure, BadInputIsAnInputError) {
     bad.I2 = "x";
     EXPECT_THROW(certified_value("omega", bad, arm::two, "3", 30), input_error);
     EXPECT_TRUE(has_certified_enclosure("rate-upright"));
-    EXPECT_FALSE(has_certified_enclosure("period"));
+    EXPECT_FALSE(has_certified_enclosure("volume"));
 }
 
 TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
@@ -173,10 +173,12 @@ TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
     ASSERT_EQ(rounded.status, 0) << rounded.err;
     EXPECT_TRUE(nlohmann::json::parse(rounded.out)["enclosure"].contains("value_check"))
         << rounded.out;
+    // a saddle-orbit quantity outside its family's range: bad input (exit status 2), before any
+    // proof
     const test::command_result bad =
-        test::run_flipflux("eval period --energy 5.5 --precision mp:30 --certify");
+        test::run_flipflux("eval period --energy 6.5 --precision mp:30 --certify");
     EXPECT_EQ(bad.status, 2);
-    EXPECT_NE(bad.err.find("--certify"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("energy"), std::string::npos) << bad.err;
 }
 
 }  // namespace

@@ -181,15 +181,51 @@ TEST(Golden, GridCsvAndDigits) {
     EXPECT_EQ(agreement_digits("1.2346", "1.2345"), 4);
     EXPECT_EQ(agreement_digits("3", "1"), 0);
     EXPECT_EQ(agreement_digits("1", "0"), 0);
-    const std::vector<golden_row> rows{{"omega", "", "1", "3.25", 3, "a|b"},
-                                       {"flux-upright", "2", "3", "13.0", 3, "elliptic|integral"}};
-    const std::vector<golden_row> back = parse_golden_csv(golden_csv(rows));
+    std::vector<golden_row> rows{
+        {"omega", "", "1", "3.25", 3, "a|b", "", -1},
+        {"flux-upright", "2", "3", "13.0", 3, "elliptic|integral", "", -1}};
+    std::vector<golden_row> back = parse_golden_csv(golden_csv(rows));
     ASSERT_EQ(back.size(), 2u);
     EXPECT_EQ(back[0].arm, "");
     EXPECT_EQ(back[1].method, "elliptic|integral");
     EXPECT_EQ(back[1].digits, 3);
+    EXPECT_EQ(golden_csv(rows).substr(0, golden_csv(rows).find('\n')),
+              "quantity,arm,energy,value,digits,method");  // no proof: the 6 columns as before
+    // golden --certify: radius and proven_digits, empty in a row without an enclosure
+    rows[1].radius = "4.1e-3";
+    rows[1].proven_digits = 3;
+    const std::string proven = golden_csv(rows);
+    EXPECT_EQ(proven.substr(0, proven.find('\n')),
+              "quantity,arm,energy,value,digits,method,radius,proven_digits");
+    back = parse_golden_csv(proven);
+    ASSERT_EQ(back.size(), 2u);
+    EXPECT_EQ(back[0].radius, "");
+    EXPECT_EQ(back[0].proven_digits, -1);
+    EXPECT_EQ(back[1].radius, "4.1e-3");
+    EXPECT_EQ(back[1].proven_digits, 3);
     EXPECT_THROW(parse_golden_csv("header\na,b\n"), input_error);
     EXPECT_THROW(parse_golden_csv("header\na,b,c,d,x,f\n"), input_error);
+    EXPECT_THROW(parse_golden_csv("header\na,b,c,d,3,f,1e-3,x\n"), input_error);
+    EXPECT_THROW(parse_golden_csv("header\na,b,c,d,3,f,1e-3\n"), input_error);
+}
+
+TEST(Golden, CertifyAddsTheProvenRadius) {
+    // a prediction row and a saddle-orbit row (the action just above the saddle, in mp:20): each
+    // [value +/- radius] is a proven enclosure, its proven digits those of the rounded value
+    for (const char* q : {"flux-upright", "action"}) {
+        const std::string dir =
+            ::testing::TempDir() + "flipflux_golden_certify_" + std::to_string(getpid()) + "_" + q;
+        const test::command_result r =
+            test::run_flipflux("golden --out " + dir + " --quantities " + q +
+                               " --max-rows 1 --jobs 1 --precision mp:20 --certify");
+        ASSERT_EQ(r.status, 0) << r.err;
+        const std::vector<golden_row> rows = parse_golden_csv(read_text(dir + "/golden.csv"));
+        ASSERT_EQ(rows.size(), 1u) << r.err;
+        EXPECT_FALSE(rows[0].radius.empty()) << q;
+        EXPECT_GE(rows[0].proven_digits, rows[0].digits - 1) << q << ": " << rows[0].radius;
+        EXPECT_EQ(nlohmann::json::parse(r.out)["proven_rows"], 1);
+        std::filesystem::remove_all(dir);
+    }
 }
 
 TEST(Golden, CommandWritesASmallSelection) {

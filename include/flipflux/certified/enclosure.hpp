@@ -37,7 +37,9 @@ struct certified_enclosure {
 };
 
 /// The quantities with a certified route: omega, flux-upright, rate-upright, flux-approx,
-/// rate-approx.
+/// rate-approx, and the saddle orbit's period, action, flux-saddle, rate-saddle, multiplier,
+/// stability-index (a computer-assisted proof of the orbit: a Krawczyk test on the symmetric
+/// shooting map with a rigorous Taylor integrator).
 bool has_certified_enclosure(std::string_view quantity);
 
 /// An enclosure of `quantity` at `energy` (decimal text) for the pendulum `model` and arm `a`
@@ -45,9 +47,15 @@ bool has_certified_enclosure(std::string_view quantity);
 /// <= 10^(-digits + 10). Works at digits * log2(10) + guard bits and raises the precision when the
 /// radius is too wide (near a kink of the energy surface). Throws input_error for an unknown
 /// quantity, a malformed or non-positive energy or model parameter; certification_error when the
-/// radius cannot be reached.
+/// radius cannot be reached or a saddle-orbit proof fails ("Krawczyk test failed at E = ...: the
+/// box did not contract", after one retry at a higher precision).
 certified_enclosure certified_value(std::string_view quantity, const model_text& model, arm a,
                                     const std::string& energy, int digits);
+
+/// The ball centred at the decimal `mid` that contains e: radius |mid - e.mid| + e.radius (rounded
+/// up, 3 digits), proven_digits of that radius (golden --certify: an enclosure around the row's
+/// rounded value). Throws input_error when a decimal does not parse.
+certified_enclosure recentre_enclosure(const certified_enclosure& e, const std::string& mid);
 
 /// True when the decimal `value` lies in [mid - radius - slack, mid + radius + slack] (all
 /// decimal; slack >= 0, e.g. the error estimate of a non-rigorous value), decided exactly.

@@ -30,6 +30,11 @@ struct golden_row {
     std::string value;   ///< the value with `digits` significant digits
     int digits = 0;      ///< certified significant digits
     std::string method;  ///< "default|checked" methods, e.g. "elliptic|quadrature-2d"
+    /// golden --certify: the radius of a proven enclosure [value +/- radius] of the exact value
+    /// (certified/: its midpoint rounded to the row's digits, the rounding included), and its
+    /// proven digits; "" and -1 for rows without one.
+    std::string radius;
+    int proven_digits = -1;
 };
 
 /// The energy grid of a quantity for the egalitarian pendulum (or any model: E_s and E_max are
@@ -60,6 +65,10 @@ struct golden_options {
     precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
     int jobs = 1;                                   ///< OpenMP threads
     std::size_t max_rows = 0;                       ///< 0: all (for quick runs and tests)
+    /// prove an enclosure of every row whose quantity has one (certified/: the prediction
+    /// quantities and the saddle orbit's), aiming at the row's certified digits; the row's value
+    /// must lie in it (certification_error otherwise)
+    bool certify = false;
     /// called after each row (from one thread at a time), for progress reports
     std::function<void(const golden_row&, std::size_t done, std::size_t total)> progress;
     /// called for each task that gives no row ("QUANTITY arm A E ENERGY: reason"), one thread at
@@ -75,10 +84,12 @@ std::vector<golden_row> generate_golden(const golden_options& options);
 /// clamped to [0, cap]; cap when they are equal.
 int agreement_digits(const std::string& value, const std::string& reference, int cap = 50);
 
-/// Writes rows.csv-style text: header "quantity,arm,energy,value,digits,method".
+/// Writes rows.csv-style text: header "quantity,arm,energy,value,digits,method", and
+/// ",radius,proven_digits" when a row has an enclosure (empty in the rows without one).
 std::string golden_csv(const std::vector<golden_row>& rows);
 
-/// Parses golden_csv text; throws input_error naming the line on malformed input.
+/// Parses golden_csv text (6 columns, or 8 with radius and proven_digits); throws input_error
+/// naming the line on malformed input.
 std::vector<golden_row> parse_golden_csv(const std::string& text);
 
 /// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
