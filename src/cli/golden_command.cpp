@@ -1,5 +1,5 @@
 // flipflux golden [--out DIR] [--quantities a,b] [--jobs N] [--max-rows N] [--progress] [--merge]
-// [--certify]:
+// [--certify] [--certify-existing]:
 // reference data for every registered quantity on the golden energy grid, with certified digits,
 // written atomically to DIR/golden.csv and DIR/provenance.json (see
 // include/flipflux/quantities/golden.hpp).
@@ -29,12 +29,13 @@ struct golden_state {
     std::string pendulum;
     bool merge = false;
     bool certify = false;
+    bool certify_existing = false;
 };
 
 /// A file's text, or input_error naming it.
-std::string read_text(const std::string& path) {
+std::string read_text(const std::string& path, const std::string& option) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw input_error("--merge: cannot read '" + path + "'");
+    if (!in) throw input_error(option + ": cannot read '" + path + "'");
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
@@ -88,6 +89,10 @@ const register_command registration([](CLI::App& app) {
                   "prediction quantities, and the saddle orbit's by a Krawczyk proof) at the row's "
                   "certified digits: columns radius and proven_digits (exit status 1 if a proof "
                   "fails or a value lies outside its enclosure)");
+    sub->add_flag("--certify-existing", s->certify_existing,
+                  "add the proven enclosures (radius, proven_digits) to the rows of the set in "
+                  "--out without recomputing any value (same pendulum and precision, checked as "
+                  "for --merge; the provenance lists the runs)");
     sub->add_flag("--merge", s->merge,
                   "extend the set in --out: its rows of the other quantities are kept, those of "
                   "--quantities replaced (same pendulum and precision; the provenance lists the "
@@ -128,20 +133,32 @@ const register_command registration([](CLI::App& app) {
             ++skipped;
             std::fprintf(stderr, "golden: skipped %s\n", what.c_str());
         };
+        if (s->certify_existing &&
+            (s->merge || s->certify || !s->quantities.empty() || s->max_rows > 0))
+            throw input_error(
+                "--certify-existing: proves the set in --out as it is; it takes no --merge, "
+                "--certify, --quantities or --max-rows");
         std::vector<golden_row> kept;
         std::string merged_into;
-        if (s->merge) {  // read and check before hours of computation, not after
-            merged_into = read_text(s->out + "/provenance.json");
+        if (s->merge || s->certify_existing) {  // read and check before hours of computation
+            const std::string option = s->merge ? "--merge" : "--certify-existing";
+            merged_into = read_text(s->out + "/provenance.json", option);
             check_golden_merge(merged_into, options.value_precision, options.model);
-            kept = parse_golden_csv(read_text(s->out + "/golden.csv"));
+            kept = parse_golden_csv(read_text(s->out + "/golden.csv", option));
             for (const golden_row& r : kept)
                 find_quantity(r.quantity);  // input_error naming an unknown quantity
         }
         std::error_code ec;
         std::filesystem::create_directories(s->out, ec);
         if (ec) throw input_error("--out: cannot create '" + s->out + "': " + ec.message());
-        std::vector<golden_row> rows = generate_golden(options);
-        if (s->merge) rows = merge_golden(kept, rows, options.quantities);
+        std::vector<golden_row> rows;
+        if (s->certify_existing) {
+            rows = std::move(kept);
+            prove_golden_rows(rows, options.model, options.jobs);
+        } else {
+            rows = generate_golden(options);
+            if (s->merge) rows = merge_golden(kept, rows, options.quantities);
+        }
         bar.finish();
         std::string command =
             "flipflux golden --out " + s->out + " --jobs " + std::to_string(s->jobs);
@@ -152,6 +169,7 @@ const register_command registration([](CLI::App& app) {
         command += model_flags(s->model);
         if (s->merge) command += " --merge";
         if (s->certify) command += " --certify";
+        if (s->certify_existing) command += " --certify-existing";
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
         write_file_atomically(s->out + "/provenance.json",
                               golden_provenance(command, rows.size(), options.value_precision,

@@ -293,22 +293,24 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
     std::vector<golden_row> out;
     for (auto& r : rows)
         if (r.row) out.push_back(std::move(*r.row));
-    if (options.certify) {
-        // NOTE: an exception must not leave an OpenMP region: kept, the first rethrown after it
-        const long m = static_cast<long>(out.size());
-        std::vector<std::exception_ptr> failed(out.size());
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-        for (long i = 0; i < m; ++i) {
-            try {
-                prove_row(out[static_cast<std::size_t>(i)], options.model);
-            } catch (...) {
-                failed[static_cast<std::size_t>(i)] = std::current_exception();
-            }
-        }
-        for (const std::exception_ptr& e : failed)
-            if (e) std::rethrow_exception(e);
-    }
+    if (options.certify) prove_golden_rows(out, options.model, threads);
     return out;
+}
+
+void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, int jobs) {
+    // NOTE: an exception must not leave an OpenMP region: kept, the first rethrown after it
+    const long m = static_cast<long>(rows.size());
+    std::vector<std::exception_ptr> failed(rows.size());
+#pragma omp parallel for schedule(dynamic) num_threads(jobs > 0 ? jobs : 1)
+    for (long i = 0; i < m; ++i) {
+        try {
+            prove_row(rows[static_cast<std::size_t>(i)], model);
+        } catch (...) {
+            failed[static_cast<std::size_t>(i)] = std::current_exception();
+        }
+    }
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
 }
 
 std::string golden_csv(const std::vector<golden_row>& rows) {

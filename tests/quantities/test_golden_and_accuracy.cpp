@@ -245,6 +245,30 @@ TEST(Golden, CommandWritesASmallSelection) {
     EXPECT_EQ(summary["skipped"], 0) << r.err;
     EXPECT_TRUE(std::filesystem::exists(dir + "/provenance.json"));
     EXPECT_FALSE(std::filesystem::exists(dir + "/golden.csv.tmp"));
+
+    // --certify-existing proves the committed rows without recomputing them: same values, each
+    // with a ball around it that proves its digits; a value wrong in its last digits fails
+    const std::string csv = read_text(dir + "/golden.csv");
+    EXPECT_EQ(test::run_flipflux("golden --out " + dir + " --certify-existing --merge").status, 2);
+    EXPECT_EQ(
+        test::run_flipflux("golden --out " + dir + " --certify-existing --precision quad").status,
+        2);  // not the set's precision
+    const test::command_result proved =
+        test::run_flipflux("golden --out " + dir + " --certify-existing --jobs 2");
+    ASSERT_EQ(proved.status, 0) << proved.err;
+    const std::vector<golden_row> proven = parse_golden_csv(read_text(dir + "/golden.csv"));
+    ASSERT_EQ(proven.size(), rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        EXPECT_EQ(proven[i].value, rows[i].value);
+        EXPECT_FALSE(proven[i].radius.empty());
+        EXPECT_GE(proven[i].proven_digits, rows[i].digits - 1) << proven[i].radius;
+    }
+    EXPECT_NE(read_text(dir + "/provenance.json").find("--certify-existing"), std::string::npos);
+    std::string wrong = csv;
+    const std::size_t at = wrong.find(rows[0].value) + rows[0].value.size() - 3;
+    wrong[at] = wrong[at] == '1' ? '2' : '1';  // the value off by ~1e-(digits - 2) relative
+    { std::ofstream(dir + "/golden.csv", std::ios::binary) << wrong; }
+    EXPECT_EQ(test::run_flipflux("golden --out " + dir + " --certify-existing").status, 1);
     std::filesystem::remove_all(dir);
     const test::command_result bad =
         test::run_flipflux("golden --quantities nonsense --out " + dir);

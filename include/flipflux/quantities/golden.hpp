@@ -80,6 +80,14 @@ struct golden_options {
 /// any other on the relative grid.
 std::vector<golden_row> generate_golden(const golden_options& options);
 
+/// Proves an enclosure of every row whose quantity has one (certified/), aiming at the row's
+/// certified digits, on `jobs` threads, and fills its radius and proven_digits (the ball around
+/// the row's value). The value must lie in the proof's ball (half a unit of its last digit of
+/// slack): certification_error otherwise, as when a proof fails. `golden --certify` calls it on
+/// the rows it generates, `golden --certify-existing` on a committed set's rows (no value is
+/// recomputed).
+void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, int jobs);
+
 /// Certified significant digits of `value` given a reference: floor(-log10 |a - b| / |b|),
 /// clamped to [0, cap]; cap when they are equal.
 int agreement_digits(const std::string& value, const std::string& reference, int cap = 50);
