@@ -345,8 +345,13 @@ template <class Lane, int s, class V>
     const pendulum_flow& flow = active[0]->flow();
     for (std::size_t i = 0; i < m; i += W) {
         const std::size_t g = std::min<std::size_t>(W, m - i);
-        double y[W][N] = {};  // (zeroed: the compiler cannot see that g >= 1)
-        for (std::size_t l = 0; l < g; ++l)
+        // (not zeroed: every row is written below, lane 0's first; zeroing cost a `rep stos` per
+        // stage, ~5 % of the ensemble's time)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+        double y[W][N];
+        active[i]->rk().template stage_input<s>(y[0]);
+        for (std::size_t l = 1; l < g; ++l)
             active[i + l]->rk().template stage_input<s>(y[l]);
         for (std::size_t l = g; l < W; ++l)
             for (std::size_t c = 0; c < N; ++c)
@@ -358,6 +363,7 @@ template <class Lane, int s, class V>
                 column[l] = y[l][c];
             std::memcpy(&x[c], column, sizeof(V));
         }
+#pragma GCC diagnostic pop
         if constexpr (N == 4)
             flow.lanes(x, f);
         else
