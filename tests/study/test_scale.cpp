@@ -323,6 +323,36 @@ TEST(FastTrig, TwoLaneRightHandSideEqualsTheSingleOne) {
     }
 }
 
+// The energy check's H at the trial step's end, two and four states at a time (the ensemble's last
+// stage): per lane the bits of hamiltonian_absolute, including the libm fallback for a huge angle.
+TEST(FastTrig, VectorEnergyEqualsTheSingleOne) {
+    random_reals rnd(11);
+    const pendulum_flow flow(double_pendulum<double>(
+        physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
+    for (int k = 0; k < 1000; ++k) {
+        std::array<std::array<double, 4>, 4> y{};
+        for (auto& one : y)
+            one = {rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3)};
+        if (k == 0) y[1][1] = 5e6;
+        v4d x4[4], h4{};
+        v2d x2[4], h2{};
+        for (int i = 0; i < 4; ++i)
+            for (int l = 0; l < 4; ++l) {
+                x4[i][l] = y[l][i];
+                if (l < 2) x2[i][l] = y[l][i];
+            }
+        flow.hamiltonian_lanes(x4, h4);
+        flow.hamiltonian_lanes(x2, h2);
+        for (int l = 0; l < 4; ++l) {
+            const double h = flow.hamiltonian_absolute(y[l]);
+            EXPECT_TRUE(same_bits(h4[l], h)) << k << " " << l;
+            if (l < 2) {
+                EXPECT_TRUE(same_bits(h2[l], h)) << k << " " << l;
+            }
+        }
+    }
+}
+
 // Four states per vector, and the tangent equations two and four at a time: per lane the bits of
 // one state at a time, including the libm fallback for a huge angle in one lane.
 TEST(FastTrig, VectorTangentAndFourLaneRightHandSidesEqualTheSingleOnes) {
