@@ -11,7 +11,13 @@
 //     right-hand side is Hamilton's equations as written from the paper (libm sin/cos of
 //     th1 - th2, sin th1, sin th2: plain_rhs). speedup = its CPU time / ours.
 //   - odeint with our right-hand side (pendulum_flow, inline sin/cos): speedup_same_rhs
-//     separates what the right-hand side gains from what integrator and detection gain.
+//     separates what the right-hand side gains from what integrator and detection gain;
+//   - ours with the chaos indicator (the tangent equations, ensemble_options::chaos):
+//     speedup_chaos = odeint's CPU time / this one's;
+//   - the right-hand-side bound: the CPU time of one Hamilton right-hand side per lane in the
+//     four-lane AVX2 path (pendulum_flow::lanes on independent states) times our evaluations per
+//     time unit gives the throughput if nothing but right-hand sides cost anything
+//     (rhs_bound_units_per_cpu_s); ours / that is fraction_of_rhs_bound.
 // Counters: throughputs (time units per CPU-second), the ratios, flips of each criterion for
 // ours and odeint, and z = (n_ours - n_odeint) / sqrt(n_ours + n_odeint) per criterion (|z| of
 // a few at most: both integrate the same initial conditions).
@@ -139,6 +145,28 @@ odeint_result odeint_trajectory(const Rhs& rhs, const state4& x0, double T,
     return r;
 }
 
+// CPU seconds per right-hand side and lane: pendulum_flow::lanes on 4 x 16 independent states
+// (AVX2, four lanes per vector; the SSE2 path when the processor has no AVX2).
+__attribute__((target("avx2"), flatten)) double rhs_seconds_avx2(const pendulum_flow& flow,
+                                                                 const std::vector<state4>& x,
+                                                                 int rounds) {
+    constexpr int groups = 16;
+    v4d in[groups][4], out[groups][4];
+    for (int g = 0; g < groups; ++g)
+        for (int c = 0; c < 4; ++c)
+            for (int l = 0; l < 4; ++l)
+                in[g][c][l] = x[(4 * g + l) % x.size()][c];
+    const double c0 = cpu_seconds();
+    for (int r = 0; r < rounds; ++r) {
+        for (int g = 0; g < groups; ++g) {
+            flow.lanes(in[g], out[g]);
+            benchmark::DoNotOptimize(out[g]);
+        }
+        benchmark::ClobberMemory();
+    }
+    return (cpu_seconds() - c0) / (static_cast<double>(rounds) * groups * 4);
+}
+
 void ensemble_vs_odeint(benchmark::State& state) {
     const double_pendulum<double> m;
     const double E = 5, T = 100;
@@ -160,8 +188,12 @@ void ensemble_vs_odeint(benchmark::State& state) {
     o.threads = 1;
     o.chaos = false;
     o.method = state.range(0) == 0 ? integration_method::dop853 : integration_method::dopri5;
+    ensemble_options chaos = o;
+    chaos.chaos = true;
     std::array<long, 3> ours{}, theirs{};
-    double cpu_ours = 0, cpu_theirs = 0, cpu_fast = 0, units = 0;
+    double cpu_ours = 0, cpu_theirs = 0, cpu_fast = 0, cpu_chaos = 0, units = 0;
+    long evaluations_ours = 0;
+    std::vector<state4> starts;
     const plain_rhs user_rhs{m.coefficients()};
     const fast_rhs our_rhs{flow};
     long steps_ours = 0, steps_theirs = 0;
@@ -175,10 +207,17 @@ void ensemble_vs_odeint(benchmark::State& state) {
             for (std::size_t c = 0; c < 3; ++c)
                 ours[c] += static_cast<long>(r.flips(c));
             steps_ours += r.steps;
+            evaluations_ours += r.evaluations;
         });
         double c1 = cpu_seconds();
         cpu_ours += c1 - c0;
+        run_trajectories(m, chaos, criteria, indices,
+                         [&](trajectory_result&& r) { benchmark::DoNotOptimize(r.lyapunov); });
+        const double c1c = cpu_seconds();
+        cpu_chaos += c1c - c1;
+        c1 = c1c;
         for (const std::uint64_t i : indices) {
+            if (starts.size() < 64) starts.push_back(sampler.sample(o.seed, i));
             const odeint_result r =
                 odeint_trajectory(user_rhs, sampler.sample(o.seed, i), T, curves);
             for (std::size_t c = 0; c < 3; ++c)
@@ -193,7 +232,16 @@ void ensemble_vs_odeint(benchmark::State& state) {
         cpu_fast += cpu_seconds() - c2;
         units += static_cast<double>(batch) * T;
     }
+    const double evaluations_per_unit = static_cast<double>(evaluations_ours) / units;
+    const double rhs_seconds = rhs_seconds_avx2(flow, starts, 200000);
+    const double bound = 1 / (evaluations_per_unit * rhs_seconds);
     state.counters["ours_units_per_cpu_s"] = units / cpu_ours;
+    state.counters["ours_chaos_units_per_cpu_s"] = units / cpu_chaos;
+    state.counters["speedup_chaos"] = cpu_theirs / cpu_chaos;
+    state.counters["rhs_ns_per_lane"] = 1e9 * rhs_seconds;
+    state.counters["ours_evaluations_per_unit"] = evaluations_per_unit;
+    state.counters["rhs_bound_units_per_cpu_s"] = bound;
+    state.counters["fraction_of_rhs_bound"] = units / cpu_ours / bound;
     state.counters["odeint_units_per_cpu_s"] = units / cpu_theirs;
     state.counters["odeint_fast_rhs_units_per_cpu_s"] = units / cpu_fast;
     state.counters["speedup"] = cpu_theirs / cpu_ours;

@@ -300,15 +300,15 @@ void run_predictions(context& ctx, const plan_step& step) {
 
 // ---- ensembles ------------------------------------------------------------------------------
 
-void run_ensemble(context& ctx, const plan_step& step) {
-    const ensemble_spec& x = ctx.s.ensembles[step.ensemble_index];
+/// The simulation request of [[ensemble]] `index` (its checkpoint and CSV directory set).
+simulation_request ensemble_request(context& ctx, std::size_t index) {
+    const ensemble_spec& x = ctx.s.ensembles[index];
     const std::string where =
         ctx.s.file.string() + ":" + std::to_string(x.line) + ": ensemble '" + x.name + "'";
-    const double_pendulum<double> model = make_model<double>(ctx.s.model);
     simulation_request request;
     request.flip_arm = arm_of(x.arm);
     request.criteria = x.criteria;
-    for (const std::string& text : step.energies)
+    for (const std::string& text : energy_texts(x.energies, where + ": energies"))
         request.energies.emplace_back(text, parse_real<double>(text, where + ": energies"));
     ensemble_options& o = request.options;
     o.trajectories = static_cast<std::uint64_t>(x.trajectories);
@@ -320,26 +320,49 @@ void run_ensemble(context& ctx, const plan_step& step) {
     o.threads = ctx.options.threads;
     request.estimator = parse_name<rate_estimator>(x.estimator, where + ": estimator");
     request.reference_time = parse_real<double>(x.reference_time, where + ": reference_time");
-    const std::string base = "ensemble-" + x.name;
-    request.csv_dir = ctx.s.output / base;  // per-trajectory CSVs always (the report reads them)
-    // an interrupted run resumes where it stopped (finished trajectories are not integrated
-    // again); the checkpoint is removed once the ensemble is complete
-    request.checkpoint = ctx.s.output / (base + ".checkpoint");
+    request.csv_dir = ctx.s.output / ("ensemble-" + x.name);  // per-trajectory CSVs always (the
+                                                              // report reads them)
     request.checkpoint_interval = ctx.options.checkpoint_interval;
-    const study_result result = *simulate(model, request);
-    std::filesystem::remove(request.checkpoint);
-    // what was integrated and detected
-    for (const energy_result& e : result.energies) {
-        if (e.failed_trajectories > 0)
-            ctx.log << "  warning: E = " << e.label << ": " << e.failed_trajectories
-                    << " trajectories failed and are excluded from the statistics\n";
-        ctx.counters.trajectories += result.options.trajectories;
-        for (const criterion_result& c : e.criteria)
-            if (c.statistics.criterion != "upright") ++ctx.counters.curve_criteria;
+    return request;
+}
+
+/// The step's ensembles on one set of trajectories (study/simulation.hpp): each trajectory
+/// integrated once, each ensemble's result written as if it had run alone.
+void run_ensemble(context& ctx, const plan_step& step) {
+    const double_pendulum<double> model = make_model<double>(ctx.s.model);
+    std::vector<simulation_request> requests;
+    std::string names;
+    for (std::size_t i : step.ensemble_indices) {
+        requests.push_back(ensemble_request(ctx, i));
+        names += (names.empty() ? "" : "+") + ctx.s.ensembles[i].name;
     }
-    ctx.write(base + ".json", study_json(result).dump(2) + "\n");
-    ctx.summary["ensembles"].push_back(
-        {{"name", x.name}, {"file", base + ".json"}, {"csv_dir", request.csv_dir.string()}});
+    // an interrupted run resumes where it stopped (finished trajectories are not integrated
+    // again); the checkpoint is removed once the ensembles are complete
+    const std::filesystem::path checkpoint = ctx.s.output / ("ensemble-" + names + ".checkpoint");
+    for (simulation_request& q : requests)
+        q.checkpoint = checkpoint;
+    const std::vector<study_result> results = *simulate(model, requests);
+    std::filesystem::remove(checkpoint);
+    // what was integrated (once per energy of the step) and detected
+    ctx.counters.trajectories += results.front().options.trajectories * step.energies.size();
+    for (std::size_t r = 0; r < results.size(); ++r) {
+        const study_result& result = results[r];
+        const ensemble_spec& x = ctx.s.ensembles[step.ensemble_indices[r]];
+        for (const energy_result& e : result.energies) {
+            if (e.failed_trajectories > 0)
+                ctx.log << "  warning: ensemble '" << x.name << "', E = " << e.label << ": "
+                        << e.failed_trajectories
+                        << " trajectories failed and are excluded from the statistics\n";
+            for (const criterion_result& c : e.criteria)
+                if (c.statistics.criterion != "upright") ++ctx.counters.curve_criteria;
+        }
+        const std::string base = "ensemble-" + x.name;
+        ctx.write(base + ".json", study_json(result).dump(2) + "\n");
+        ctx.summary["ensembles"].push_back({{"name", x.name},
+                                            {"file", base + ".json"},
+                                            {"csv_dir", requests[r].csv_dir.string()},
+                                            {"shared_with", names}});
+    }
 }
 
 // ---- the saddle-orbit viewer ----------------------------------------------------------------

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/quantities/registry.hpp"
@@ -211,7 +212,7 @@ std::vector<energy_entry> viewer_energies(const scene& s, const double_pendulum<
 
 plan_step viewer_step(const scene& s, const double_pendulum<double>& model) {
     std::vector<std::string> arms;
-    plan_step step{plan_step::kind::viewer, 0, {}, {}, {}, 0, {}, s.prec};
+    plan_step step{plan_step::kind::viewer, 0, {}, {}, {}, 0, {}, s.prec, {}};
     for (int a : s.viewer->arms) {
         arms.push_back(std::to_string(a));
         for (const energy_entry& e : viewer_energies(s, model, a))
@@ -221,6 +222,20 @@ plan_step viewer_step(const scene& s, const double_pendulum<double>& model) {
                        join(arms) + ", " + std::to_string(s.viewer->energies_per_arm) +
                        " orbits each, " + std::to_string(s.viewer->samples) + " points per orbit)";
     return step;
+}
+
+/// Whether two ensembles integrate the same trajectories (then one run serves both).
+bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b) {
+    const auto same = [](const std::string& x, const std::string& y) {
+        try {
+            return parse_real<double>(x, "") == parse_real<double>(y, "");
+        } catch (const input_error&) {
+            return x == y;  // refused when the ensemble runs, naming its key
+        }
+    };
+    return a.trajectories == b.trajectories && same(a.time, b.time) && a.seed == b.seed &&
+           same(a.rtol, b.rtol) && a.integrator == b.integrator && a.estimator == b.estimator &&
+           a.chaos == b.chaos;
 }
 
 }  // namespace
@@ -274,7 +289,7 @@ plan make_plan(const scene& s) {
 
     for (const auto& [key, energies] : family) {
         const auto [a, prec] = key;
-        plan_step step{plan_step::kind::orbit_family, a, {}, {}, {}, 0, {}, prec};
+        plan_step step{plan_step::kind::orbit_family, a, {}, {}, {}, 0, {}, prec, {}};
         for (const auto& [v, text] : energies)
             step.energies.push_back(text);
         step.description = "saddle-orbit family of arm " + std::to_string(a) + " in " +
@@ -283,7 +298,7 @@ plan make_plan(const scene& s) {
         p.steps.push_back(step);
     }
     if (s.predictions) {
-        plan_step step{plan_step::kind::predictions, 0, {}, {}, {}, 0, {}, s.prec};
+        plan_step step{plan_step::kind::predictions, 0, {}, {}, {}, 0, {}, s.prec, {}};
         for (const auto& e : prediction_energies)
             step.energies.push_back(e.text);
         for (const auto& q : s.predictions->quantities) {
@@ -299,17 +314,39 @@ plan make_plan(const scene& s) {
                            " (energies outside a quantity's domain are skipped and listed)";
         p.steps.push_back(step);
     }
+    // ensembles with the same trajectories share them (one step, in the order of the first)
+    std::vector<bool> grouped(s.ensembles.size(), false);
     for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
+        if (grouped[i]) continue;
         const auto& x = s.ensembles[i];
-        plan_step step{plan_step::kind::ensemble,    x.arm, {}, {}, x.criteria, i, {},
-                       precision{real_kind::double_}};
-        for (const auto& e : ensemble_energies[i])
-            step.energies.push_back(e.text);
-        step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) + ", " +
-                           std::to_string(x.trajectories) + " trajectories x T = " + x.time +
-                           " at " + range_text(step.energies) + ", criteria " + join(x.criteria) +
-                           ", " + x.integrator + " rtol " + x.rtol + ", estimator " + x.estimator +
-                           (x.chaos ? ", chaos indicator" : "");
+        plan_step step{plan_step::kind::ensemble,     x.arm, {}, {}, x.criteria, i, {},
+                       precision{real_kind::double_}, {}};
+        std::set<double> seen;
+        std::vector<std::string> parts;
+        for (std::size_t j = i; j < s.ensembles.size(); ++j) {
+            if (grouped[j] || !same_trajectories(x, s.ensembles[j])) continue;
+            grouped[j] = true;
+            step.ensemble_indices.push_back(j);
+            const auto& y = s.ensembles[j];
+            for (const auto& e : ensemble_energies[j])
+                if (seen.insert(e.value).second) step.energies.push_back(e.text);
+            parts.push_back("'" + y.name + "' (arm " + std::to_string(y.arm) + ", " +
+                            range_text(energy_texts(y.energies, "ensemble")) + ", criteria " +
+                            join(y.criteria) + ")");
+        }
+        const std::string what = std::to_string(x.trajectories) + " trajectories x T = " + x.time +
+                                 " at " + range_text(step.energies) + ", " + x.integrator +
+                                 " rtol " + x.rtol + ", estimator " + x.estimator +
+                                 (x.chaos ? ", chaos indicator" : "");
+        if (parts.size() == 1)
+            step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) + ", " +
+                               std::to_string(x.trajectories) + " trajectories x T = " + x.time +
+                               " at " + range_text(step.energies) + ", criteria " +
+                               join(x.criteria) + ", " + x.integrator + " rtol " + x.rtol +
+                               ", estimator " + x.estimator + (x.chaos ? ", chaos indicator" : "");
+        else
+            step.description =
+                "ensembles " + join(parts, " and ") + " on one set of trajectories: " + what;
         p.steps.push_back(step);
     }
     if (s.viewer) p.steps.push_back(viewer_step(s, model));
@@ -321,7 +358,8 @@ plan make_plan(const scene& s) {
                            {},
                            0,
                            "golden data -> " + s.golden->dir,
-                           s.golden->value_precision});
+                           s.golden->value_precision,
+                           {}});
     }
     if (s.accuracy) {
         p.steps.push_back({plan_step::kind::accuracy,
@@ -331,7 +369,8 @@ plan make_plan(const scene& s) {
                            {},
                            0,
                            "accuracy report -> " + s.accuracy->out,
-                           s.prec});
+                           s.prec,
+                           {}});
     }
     if (s.report) {
         p.steps.push_back({plan_step::kind::report,
@@ -341,7 +380,8 @@ plan make_plan(const scene& s) {
                            {},
                            0,
                            "reproduction report -> " + s.report->dir,
-                           s.prec});
+                           s.prec,
+                           {}});
     }
     return p;
 }

@@ -305,8 +305,24 @@ std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists
     return ss.str();
 }
 
+checkpoint_layout checkpoint_layout::single(std::size_t energies, std::size_t criteria) {
+    checkpoint_layout l;
+    l.trajectory_criteria.assign(energies, criteria);
+    l.energy_criteria.assign(energies, criteria);
+    return l;
+}
+
 checkpoint_content parse_checkpoint(const std::string& text, const json& header,
                                     std::size_t criteria, const std::filesystem::path& file) {
+    const auto it = header.find("energies");
+    return parse_checkpoint(
+        text, header, checkpoint_layout::single(it == header.end() ? 0 : it->size(), criteria),
+        file);
+}
+
+checkpoint_content parse_checkpoint(const std::string& text, const json& header,
+                                    const checkpoint_layout& layout,
+                                    const std::filesystem::path& file) {
     checkpoint_content c;
     c.exists = true;
     const std::string name = "'" + file.string() + "'";
@@ -348,20 +364,31 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
             throw input_error::about("checkpoint", name +
                                                        " belongs to another run: it has a field " +
                                                        key + " this run does not have");
-    const std::size_t energies = header.at("energies").size();
+    const std::size_t energies = layout.trajectory_criteria.size();
+    // the record's energy (or slot) index, before its fields are parsed against its criteria
+    const auto index_of = [](std::string_view line) {
+        std::size_t k = 0;
+        const std::size_t from = std::min<std::size_t>(2, line.size());
+        const auto r = std::from_chars(line.data() + from, line.data() + line.size(), k);
+        if (r.ec != std::errc() || line.size() < 2 || line[1] != ' ')
+            throw std::runtime_error("no energy index");
+        return k;
+    };
     for (std::size_t i = 1; i < lines.size(); ++i) {
         const bool last = i + 1 == lines.size();
         try {
             if (!lines[i].empty() && lines[i][0] == 'T') {
-                std::size_t k = 0;
-                trajectory_result r = parse_trajectory_record(lines[i], criteria, k);
+                std::size_t k = index_of(lines[i]);
                 if (k >= energies) throw std::runtime_error("energy index out of range");
+                trajectory_result r =
+                    parse_trajectory_record(lines[i], layout.trajectory_criteria[k], k);
                 const std::uint64_t index = r.index;
                 c.trajectories[k][index] = std::move(r);
             } else {
-                std::size_t k = 0;
-                energy_result e = parse_energy_record(lines[i], criteria, k);
-                if (k >= energies) throw std::runtime_error("energy index out of range");
+                std::size_t k = index_of(lines[i]);
+                if (k >= layout.energy_criteria.size() || layout.energy_criteria[k] == 0)
+                    throw std::runtime_error("energy index out of range");
+                energy_result e = parse_energy_record(lines[i], layout.energy_criteria[k], k);
                 c.completed[k] = std::move(e);
             }
         } catch (const std::exception& e) {
@@ -374,8 +401,8 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
                 name + " is damaged (line " + std::to_string(i + 1) + ": " + e.what() + ")");
         }
     }
-    for (const auto& [k, done] : c.completed)
-        c.trajectories.erase(k);
+    for (const auto& [slot, done] : c.completed)
+        c.trajectories.erase(slot / std::max<std::size_t>(layout.studies, 1));
     return c;
 }
 
@@ -444,8 +471,14 @@ void checkpoint_writer::flush() {
 }
 
 void checkpoint_writer::complete(std::size_t energy, const energy_result& done) {
+    complete({{energy, &done}});
+}
+
+void checkpoint_writer::complete(
+    const std::vector<std::pair<std::size_t, const energy_result*>>& slots) {
     flush();
-    completed_lines_ += energy_record(energy, done);
+    for (const auto& [slot, done] : slots)
+        completed_lines_ += energy_record(slot, *done);
     saved_ = 0;
     rewrite("");
 }

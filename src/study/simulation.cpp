@@ -1,6 +1,7 @@
 // A Monte Carlo study: ensembles, statistics, JSON report and CSVs (study/simulation.hpp).
 #include "flipflux/study/simulation.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -79,21 +80,33 @@ class single_process final : public process_group {
     bool any(bool flag) override { return flag; }
 };
 
-// The run's identity, as recorded in (and compared with) a checkpoint header.
-json checkpoint_header(const double_pendulum<double>& model, const simulation_request& q,
-                       const ensemble_options& o) {
+// The run's identity, as recorded in (and compared with) a checkpoint header. One study: its
+// arm, criteria, energies and bins; several on one set of trajectories: the arrays of these, by
+// study (so that neither is mistaken for the other).
+json checkpoint_header(const double_pendulum<double>& model,
+                       const std::vector<simulation_request>& studies, const ensemble_options& o) {
     const auto& p = model.parameters();
-    json energies = json::array();
-    for (const auto& [label, e] : q.energies)
-        energies.push_back(to_decimal(e));
+    const simulation_request& q = studies.front();
+    json arms = json::array(), criteria = json::array(), energies = json::array(),
+         bins = json::array();
+    for (const simulation_request& s : studies) {
+        json e = json::array();
+        for (const auto& [label, value] : s.energies)
+            e.push_back(to_decimal(value));
+        arms.push_back(to_string(s.flip_arm));
+        criteria.push_back(s.criteria);
+        energies.push_back(e);
+        bins.push_back(s.bins);
+    }
+    const bool one = studies.size() == 1;
     return json{{"format", checkpoint_format_version},
                 {"version", version_string()},
                 {"model", json::array({to_decimal(p.m1), to_decimal(p.m2), to_decimal(p.L1),
                                        to_decimal(p.L2), to_decimal(p.a1), to_decimal(p.a2),
                                        to_decimal(p.I1), to_decimal(p.I2), to_decimal(p.g)})},
-                {"arm", to_string(q.flip_arm)},
-                {"criteria", q.criteria},
-                {"energies", energies},
+                {"arm", one ? arms[0] : arms},
+                {"criteria", one ? criteria[0] : criteria},
+                {"energies", one ? energies[0] : energies},
                 {"estimator", to_string(q.estimator)},
                 {"trajectories", o.trajectories},
                 {"first_index", o.first_index},
@@ -104,7 +117,7 @@ json checkpoint_header(const double_pendulum<double>& model, const simulation_re
                 {"atol", to_decimal(o.atol)},
                 {"chaos", o.chaos},
                 {"chaos_threshold", to_decimal(o.chaos_threshold)},
-                {"bins", q.bins}};
+                {"bins", one ? bins[0] : bins}};
 }
 
 }  // namespace
@@ -226,7 +239,8 @@ struct resumption {
     std::unique_ptr<checkpoint_writer> writer;
 };
 
-resumption resume(const simulation_request& request, const json& header, process_group& group) {
+resumption resume(const simulation_request& request, const json& header,
+                  const checkpoint_layout& layout, process_group& group) {
     resumption r;
     if (request.checkpoint.empty()) return r;
     const bool root = group.rank() == 0;
@@ -245,8 +259,7 @@ resumption resume(const simulation_request& request, const json& header, process
         if (exists && status == "ok") text = group.broadcast(text);
     }
     if (status != "ok") throw input_error(status);
-    if (exists)
-        r.saved = parse_checkpoint(text, header, request.criteria.size(), request.checkpoint);
+    if (exists) r.saved = parse_checkpoint(text, header, layout, request.checkpoint);
     if (root)
         r.writer = std::make_unique<checkpoint_writer>(request.checkpoint, header, r.saved,
                                                        request.checkpoint_interval);
@@ -416,8 +429,9 @@ ensemble_result collect(const ensemble_options& o, const std::vector<std::string
     return r;
 }
 
-simulation_interrupted interruption(const simulation_request& request, std::size_t k,
-                                    const ensemble_options& o, checkpoint_writer* writer) {
+simulation_interrupted interruption(const simulation_request& request, const std::string& label,
+                                    std::size_t k, const ensemble_options& o,
+                                    checkpoint_writer* writer) {
     std::uint64_t kept = 0;
     if (writer) {
         writer->flush();
@@ -428,51 +442,170 @@ simulation_interrupted interruption(const simulation_request& request, std::size
         request.checkpoint.empty()
             ? "interrupted (without a checkpoint: the finished trajectories are lost)"
             : "interrupted: " + std::to_string(k) + " energies complete and " +
-                  std::to_string(kept) + " trajectories of E = " + request.energies[k].first +
-                  " saved in '" + request.checkpoint.string() +
-                  "'; rerun the same command to resume",
+                  std::to_string(kept) + " trajectories of E = " + label + " saved in '" +
+                  request.checkpoint.string() + "'; rerun the same command to resume",
         signal, kept);
 }
 
 }  // namespace
 
-std::optional<study_result> simulate(const double_pendulum<double>& model,
-                                     const simulation_request& request) {
-    const auto& energies = request.energies;
-    const std::vector<std::string>& names = request.criteria;
+namespace {
+
+/// The energies of several studies run on one set of trajectories: their union (in the order of
+/// first appearance, study by study), and per union energy the criteria counted there -- each
+/// (arm, criterion) once, whichever studies ask for it -- and which study uses which of them.
+struct shared_energies {
+    struct member {
+        std::size_t study = 0, position = 0;  ///< the study and the energy's place in it
+        std::vector<std::size_t> columns;     ///< per criterion of the study: its column
+    };
+    struct energy {
+        std::string label;  ///< the first study's text of it
+        double value = 0;
+        std::vector<ensemble_criterion> criteria;  ///< the columns of the trajectory results
+        std::vector<member> members;
+    };
+    std::vector<energy> energies;
+};
+
+shared_energies share_energies(const std::vector<simulation_request>& requests,
+                               const std::vector<study_criteria>& setups) {
+    shared_energies out;
+    for (std::size_t p = 0; p < requests.size(); ++p) {
+        const simulation_request& q = requests[p];
+        for (std::size_t j = 0; j < q.energies.size(); ++j) {
+            const double value = q.energies[j].second;
+            auto it =
+                std::find_if(out.energies.begin(), out.energies.end(),
+                             [&](const shared_energies::energy& e) { return e.value == value; });
+            if (it == out.energies.end()) {
+                out.energies.push_back({q.energies[j].first, value, {}, {}});
+                it = std::prev(out.energies.end());
+            }
+            shared_energies::member m{p, j, {}};
+            for (std::size_t c = 0; c < q.criteria.size(); ++c) {
+                const std::string key = to_string(q.flip_arm) + ":" + q.criteria[c];
+                std::size_t column = 0;
+                while (column < it->criteria.size() && it->criteria[column].name != key)
+                    ++column;
+                if (column == it->criteria.size())
+                    it->criteria.push_back({key, setups[p].criteria[j][c].detector});
+                m.columns.push_back(column);
+            }
+            it->members.push_back(std::move(m));
+        }
+    }
+    return out;
+}
+
+/// Study `m`'s view of an energy's trajectories: its criteria's columns, under its names.
+ensemble_result project(const ensemble_result& all, const shared_energies::member& m,
+                        const std::vector<std::string>& names) {
+    ensemble_result r = all;
+    r.criteria = names;
+    for (trajectory_result& t : r.trajectories) {
+        std::vector<std::vector<double>> times;
+        std::vector<std::vector<crossing>> crossings;
+        for (std::size_t column : m.columns) {
+            times.push_back(t.crossing_times[column]);
+            if (!t.crossings.empty()) crossings.push_back(t.crossings[column]);
+        }
+        t.crossing_times = std::move(times);
+        t.crossings = std::move(crossings);
+    }
+    return r;
+}
+
+/// Several requests may share trajectories when everything that determines the trajectories and
+/// how the run is driven is the same.
+void check_shareable(const simulation_request& a, const simulation_request& b) {
+    const ensemble_options &x = a.options, &y = b.options;
+    const bool same =
+        x.trajectories == y.trajectories && x.first_index == y.first_index && x.time == y.time &&
+        x.seed == y.seed && x.rtol == y.rtol && x.atol == y.atol && x.method == y.method &&
+        x.chaos == y.chaos && x.chaos_threshold == y.chaos_threshold && x.threads == y.threads &&
+        x.keep_crossings == y.keep_crossings && x.sample_interval == y.sample_interval &&
+        x.unwrapped_angles == y.unwrapped_angles && a.estimator == b.estimator &&
+        a.short_time == b.short_time && a.checkpoint == b.checkpoint &&
+        a.checkpoint_interval == b.checkpoint_interval && a.timing == b.timing &&
+        a.group == b.group;
+    if (!same)
+        throw std::invalid_argument(
+            "simulate: studies sharing trajectories need the same ensemble options, estimator, "
+            "checkpoint and process group");
+}
+
+}  // namespace
+
+std::optional<std::vector<study_result>> simulate(const double_pendulum<double>& model,
+                                                  const std::vector<simulation_request>& requests) {
+    if (requests.empty()) throw std::invalid_argument("simulate: no study");
+    for (const simulation_request& q : requests)
+        check_shareable(requests.front(), q);
+    const simulation_request& request = requests.front();  // the shared settings
+    const std::size_t studies = requests.size();
     single_process alone;
     process_group& group = request.group ? *request.group : alone;
     const bool root = group.rank() == 0;
-    ensemble_options o = checked_options(request, group);
+    ensemble_options o;
     // every input is checked, and every curve built, before anything is simulated
-    const study_criteria setup = build_criteria(model, request, o);
-    resumption resumed = resume(request, checkpoint_header(model, request, o), group);
+    std::vector<study_criteria> setups;
+    for (const simulation_request& q : requests) {
+        o = checked_options(q, group);
+        setups.push_back(build_criteria(model, q, o));
+    }
+    const shared_energies shared = share_energies(requests, setups);
+    const auto& energies = shared.energies;
+    checkpoint_layout layout;
+    layout.studies = studies;
+    layout.energy_criteria.assign(energies.size() * studies, 0);
+    for (std::size_t k = 0; k < energies.size(); ++k) {
+        layout.trajectory_criteria.push_back(energies[k].criteria.size());
+        for (const shared_energies::member& m : energies[k].members)
+            layout.energy_criteria[k * studies + m.study] = m.columns.size();
+    }
+    resumption resumed = resume(request, checkpoint_header(model, requests, o), layout, group);
     checkpoint_content& saved = resumed.saved;
     checkpoint_writer* writer = resumed.writer.get();
+    // an energy is complete when every study that has it is (their records are written together)
+    const auto complete = [&](std::size_t k) {
+        for (const shared_energies::member& m : energies[k].members)
+            if (!saved.completed.count(k * studies + m.study)) return false;
+        return true;
+    };
 
-    study_result out = result_head(model, request, o);
+    std::vector<study_result> out;
+    std::vector<std::vector<std::optional<energy_result>>> done(studies);
+    for (std::size_t p = 0; p < studies; ++p) {
+        out.push_back(result_head(model, requests[p], o));
+        done[p].resize(requests[p].energies.size());
+    }
     simulation_progress progress;
     progress.energies = energies.size();
     progress.total = o.trajectories * energies.size();
-    progress.done += o.trajectories * saved.completed.size();
+    for (std::size_t k = 0; k < energies.size(); ++k)
+        progress.done += complete(k) ? o.trajectories : 0;
     for (const auto& [k, t] : saved.trajectories)
         progress.done += t.size();
     progress.resumed = progress.done;
     const auto ranks = static_cast<std::uint64_t>(group.size());
 
     for (std::size_t k = 0; k < energies.size(); ++k) {
-        o.energy = energies[k].second;
-        if (const auto it = saved.completed.find(k); it != saved.completed.end()) {
+        o.energy = energies[k].value;
+        if (complete(k)) {
             // the checkpoint stores the statistics; the label, energy and predictions are this
             // run's (the header guarantees they are the same)
-            energy_result e = std::move(it->second);
-            e.label = energies[k].first;
-            e.energy = o.energy;
-            for (std::size_t c = 0; c < names.size(); ++c) {
-                e.criteria[c].prediction = setup.predictions[k][c];
-                e.criteria[c].statistics.criterion = names[c];
+            for (const shared_energies::member& m : energies[k].members) {
+                const simulation_request& q = requests[m.study];
+                energy_result e = std::move(saved.completed.at(k * studies + m.study));
+                e.label = q.energies[m.position].first;
+                e.energy = o.energy;
+                for (std::size_t c = 0; c < q.criteria.size(); ++c) {
+                    e.criteria[c].prediction = setups[m.study].predictions[m.position][c];
+                    e.criteria[c].statistics.criterion = q.criteria[c];
+                }
+                done[m.study][m.position] = std::move(e);
             }
-            if (root) out.energies.push_back(std::move(e));
             continue;
         }
         const auto start = std::chrono::steady_clock::now();
@@ -489,7 +622,7 @@ std::optional<study_result> simulate(const double_pendulum<double>& model,
         progress.energy = k;
         std::string outgoing;
         const batch_outcome b =
-            run_trajectories(model, o, setup.criteria[k], mine, [&](trajectory_result&& r) {
+            run_trajectories(model, o, energies[k].criteria, mine, [&](trajectory_result&& r) {
                 if (root) {
                     if (writer) writer->add(trajectory_record(k, r));
                     const std::uint64_t index = r.index;
@@ -502,27 +635,48 @@ std::optional<study_result> simulate(const double_pendulum<double>& model,
             });
         const bool interrupted = group.size() > 1 ? group.any(b.interrupted) : b.interrupted;
         if (group.size() > 1)
-            receive_trajectories(group.gather(outgoing), names.size(), have, writer);
-        if (interrupted) throw interruption(request, k, o, writer);
+            receive_trajectories(group.gather(outgoing), energies[k].criteria.size(), have, writer);
+        if (interrupted) throw interruption(request, energies[k].label, k, o, writer);
         if (!root) {
             saved.trajectories.erase(k);
             continue;
         }
         if (have.size() != o.trajectories)
             throw std::logic_error("simulate: trajectories missing after the gather");
-        ensemble_result r = collect(o, names, b.threads, have);
+        std::vector<std::string> columns;
+        for (const ensemble_criterion& c : energies[k].criteria)
+            columns.push_back(c.name);
+        ensemble_result all = collect(o, columns, b.threads, have);
         saved.trajectories.erase(k);
-        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        energy_result e =
-            summarise_energy(r, energies[k].first, request, group, setup.predictions[k]);
-        if (!request.csv_dir.empty()) write_energy_csvs(request.csv_dir, r, e);
-        if (writer) writer->complete(k, e);
-        out.energies.push_back(std::move(e));
+        all.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::vector<std::pair<std::size_t, const energy_result*>> records;
+        for (const shared_energies::member& m : energies[k].members) {
+            const simulation_request& q = requests[m.study];
+            const ensemble_result r = project(all, m, q.criteria);
+            energy_result e = summarise_energy(r, q.energies[m.position].first, q, group,
+                                               setups[m.study].predictions[m.position]);
+            if (!q.csv_dir.empty()) write_energy_csvs(q.csv_dir, r, e);
+            done[m.study][m.position] = std::move(e);
+            records.emplace_back(k * studies + m.study, &*done[m.study][m.position]);
+        }
+        if (writer) writer->complete(records);
     }
     if (!root) return std::nullopt;
-    add_quality(out, model);
-    add_comparisons(out);
+    for (std::size_t p = 0; p < studies; ++p) {
+        for (std::optional<energy_result>& e : done[p])
+            out[p].energies.push_back(std::move(*e));
+        add_quality(out[p], model);
+        add_comparisons(out[p]);
+    }
     return out;
+}
+
+std::optional<study_result> simulate(const double_pendulum<double>& model,
+                                     const simulation_request& request) {
+    std::optional<std::vector<study_result>> r = simulate(model, std::vector{request});
+    if (!r) return std::nullopt;
+    return std::move(r->front());
 }
 
 }  // namespace flipflux

@@ -64,7 +64,7 @@ std::vector<crossing> detect(const double_pendulum<double>& m, flip_detector_bas
     for (int i = 0; i < steps; ++i) {
         const double a = t0 + (t1 - t0) * i / steps, b = t0 + (t1 - t0) * (i + 1) / steps;
         const auto x1 = interp.state(b), f1 = flow(0, x1);
-        d.step({a, b, x1, f1, interp}, out);
+        d.step({a, b, x1, f1, interp, nullptr}, out);
     }
     return out;
 }

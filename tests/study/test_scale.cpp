@@ -323,6 +323,36 @@ TEST(FastTrig, TwoLaneRightHandSideEqualsTheSingleOne) {
     }
 }
 
+// The energy check's H at the trial step's end, two and four states at a time (the ensemble's last
+// stage): per lane the bits of hamiltonian_absolute, including the libm fallback for a huge angle.
+TEST(FastTrig, VectorEnergyEqualsTheSingleOne) {
+    random_reals rnd(11);
+    const pendulum_flow flow(double_pendulum<double>(
+        physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
+    for (int k = 0; k < 1000; ++k) {
+        std::array<std::array<double, 4>, 4> y{};
+        for (auto& one : y)
+            one = {rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3)};
+        if (k == 0) y[1][1] = 5e6;
+        v4d x4[4], h4{};
+        v2d x2[4], h2{};
+        for (int i = 0; i < 4; ++i)
+            for (int l = 0; l < 4; ++l) {
+                x4[i][l] = y[l][i];
+                if (l < 2) x2[i][l] = y[l][i];
+            }
+        flow.hamiltonian_lanes(x4, h4);
+        flow.hamiltonian_lanes(x2, h2);
+        for (int l = 0; l < 4; ++l) {
+            const double h = flow.hamiltonian_absolute(y[l]);
+            EXPECT_TRUE(same_bits(h4[l], h)) << k << " " << l;
+            if (l < 2) {
+                EXPECT_TRUE(same_bits(h2[l], h)) << k << " " << l;
+            }
+        }
+    }
+}
+
 // Four states per vector, and the tangent equations two and four at a time: per lane the bits of
 // one state at a time, including the libm fallback for a huge angle in one lane.
 TEST(FastTrig, VectorTangentAndFourLaneRightHandSidesEqualTheSingleOnes) {
@@ -628,6 +658,87 @@ TEST(ShortEstimator, SpendsTheBudgetOnShortTrajectories) {
     EXPECT_EQ(to_string(rate_estimator::long_trajectories), "long");
     EXPECT_EQ(parse_name<rate_estimator>("short", "estimator"), rate_estimator::short_trajectories);
     EXPECT_THROW(parse_name<rate_estimator>("x", "estimator"), input_error);
+}
+
+// Both arms' studies from one set of trajectories (study/simulation.hpp): at E = 5 (above both
+// saddle energies) each trajectory is integrated once and counts the flips of both arms; each
+// study's report is identical, bit for bit, to the one a separate run of it gives (the
+// trajectories depend on (seed, E, index) only), and both pass the exact check of the mean rate
+// against the prediction (the invariant ensemble's crossing count is exact for any T). An arm-1
+// energy below arm 2's list is run for arm 1 alone. Then the shared run's checkpoint: stopped
+// after 100 trajectories and resumed, the reports are the same again; a single study refuses it.
+TEST(SharedStudies, BothArmsFromOneEnsembleEqualSeparateRuns) {
+    const double_pendulum<double> m;
+    simulation_request arm2;
+    arm2.criteria = {"upright", "approx"};
+    arm2.energies = {{"5", 5.0}};
+    arm2.options.trajectories = 4;
+    arm2.options.time = 150;
+    arm2.options.seed = 3;
+    arm2.options.rtol = 1e-8;
+    arm2.options.chaos = false;
+    arm2.options.threads = 2;
+    arm2.estimator = rate_estimator::short_trajectories;
+    arm2.short_time = 3;  // 200 trajectories of T = 3
+    arm2.timing = false;
+    simulation_request arm1 = arm2;
+    arm1.flip_arm = arm::one;
+    arm1.criteria = {"approx", "upright"};
+    arm1.energies = {{"4.5", 4.5}, {"5.0", 5.0}};
+    std::uint64_t integrated = 0;
+    std::vector<simulation_request> both{arm2, arm1};
+    both[0].progress = [&](const simulation_progress& p) {
+        integrated = p.done;
+        EXPECT_EQ(p.total, 2 * 200u);  // two energies in all, not three
+    };
+    const std::vector<study_result> shared = *simulate(m, both);
+    EXPECT_EQ(integrated, 2 * 200u);
+    ASSERT_EQ(shared.size(), 2u);
+    const json j2 = study_json(shared[0]), j1 = study_json(shared[1]);
+    EXPECT_EQ(j2, study_json(*simulate(m, arm2)));
+    EXPECT_EQ(j1, study_json(*simulate(m, arm1)));
+    EXPECT_EQ(j1.at("arm"), "1");
+    EXPECT_EQ(j1.at("energies").at(1).at("energy"), "5.0");  // its own label
+    for (const json* j : {&j2, &j1})
+        for (const json& e : j->at("energies"))
+            for (const auto& [name, c] : e.at("criteria").items()) {
+                const double z = std::stod(c.at("z_score").get<std::string>());
+                EXPECT_LT(std::abs(z), 4) << name << " " << c.dump();
+                EXPECT_GT(c.at("flips").get<std::uint64_t>(), 5u) << name;
+            }
+
+    const fs::path file = fs::path(::testing::TempDir()) / "flipflux_shared.ckpt";
+    fs::remove(file);
+    std::atomic<int> stop{0};
+    for (simulation_request& q : both) {
+        q.checkpoint = file;
+        q.checkpoint_interval = 0;
+        q.options.stop = &stop;
+    }
+    both[0].progress = [&](const simulation_progress& p) {
+        if (p.done >= 100) stop = SIGTERM;
+    };
+    EXPECT_THROW(simulate(m, both), simulation_interrupted);
+    stop = 0;
+    both[0].progress = nullptr;
+    const std::vector<study_result> resumed = *simulate(m, both);
+    EXPECT_EQ(study_json(resumed[0]), j2);
+    EXPECT_EQ(study_json(resumed[1]), j1);
+    const std::vector<study_result> again = *simulate(m, both);  // from the E records
+    EXPECT_EQ(study_json(again[0]), j2);
+    EXPECT_EQ(study_json(again[1]), j1);
+    simulation_request alone = arm2;
+    alone.checkpoint = file;
+    try {
+        simulate(m, alone);
+        ADD_FAILURE() << "a single study read the shared studies' checkpoint";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("its arm is [\"2\",\"1\"]"), std::string::npos)
+            << e.what();
+    }
+    fs::remove(file);
+    both[1].options.seed = 4;  // other trajectories: not shareable
+    EXPECT_THROW(simulate(m, both), std::invalid_argument);
 }
 
 // A stop request before the run: nothing is integrated, simulate() reports the interruption.

@@ -35,6 +35,7 @@
 #include <array>
 #include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -69,7 +70,84 @@ struct step_view {
     const std::array<double, 4>& x1;  ///< state at t1 (angles continuous with the step's start)
     const std::array<double, 4>& f1;  ///< Hamilton's equations at x1
     const step_interpolant& dense;
+    /// Optional (null: the detector computes it): per angle (th1, th2), the widened range [lo, hi]
+    /// of the cubic Hermite interpolant of the angle over the step, flip_angle_range of (the
+    /// angle, its rate) at the step's start and end -- shared by the detectors of one trajectory
+    /// that test the same flip angle (the same bits as each computing it).
+    const std::array<std::array<double, 2>, 2>* angle_ranges;
 };
+
+namespace detail {
+
+inline double hermite(double p0, double p1, double m0, double m1, double u) {
+    const double u2 = u * u, u3 = u2 * u;
+    return (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 +
+           (u3 - u2) * m1;
+}
+
+// Roots in (0, 1) of the derivative of the cubic Hermite interpolant,
+// a u^2 + b u + c with a = 6 (p0 - p1) + 3 (m0 + m1), b = -6 (p0 - p1) - 4 m0 - 2 m1, c = m0.
+inline int cubic_critical_points(double p0, double p1, double m0, double m1,
+                                 std::array<double, 2>& out) {
+    const double a = 6 * (p0 - p1) + 3 * (m0 + m1);
+    const double b = -6 * (p0 - p1) - 4 * m0 - 2 * m1;
+    const double c = m0;
+    int n = 0;
+    auto keep = [&](double u) {
+        if (u > 0 && u < 1) out[n++] = u;
+    };
+    const double scale = std::abs(a) + std::abs(b) + std::abs(c);
+    if (scale == 0) return 0;
+    if (std::abs(a) <= 1e-12 * scale) {
+        if (b != 0) keep(-c / b);
+        return n;
+    }
+    const double disc = b * b - 4 * a * c;
+    if (disc < 0) return 0;
+    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    keep(q / a);
+    if (q != 0) keep(c / q);
+    if (n == 2 && out[0] > out[1]) std::swap(out[0], out[1]);
+    return n;
+}
+
+// The range of the cubic Hermite interpolant of (p, m) on the step, widened by the margin (a
+// quarter of the variation of the data plus an eighth of the cubic's largest
+// second-derivative term); returns its interior critical points.
+inline int hermite_range(double p0, double p1, double m0, double m1, double& lo, double& hi,
+                         std::array<double, 2>* critical = nullptr) {
+    lo = std::min(p0, p1);
+    hi = std::max(p0, p1);
+    std::array<double, 2> crit{};
+    const int ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
+    for (int i = 0; i < ncrit; ++i) {
+        const double c = hermite(p0, p1, m0, m1, crit[i]);
+        lo = std::min(lo, c);
+        hi = std::max(hi, c);
+    }
+    const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
+    const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
+    const double margin = 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) +
+                          0.125 * std::max(d2a, d2b) +
+                          64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
+    lo -= margin;
+    hi += margin;
+    if (critical) *critical = crit;
+    return ncrit;
+}
+
+}  // namespace detail
+
+/// The prefilter's range of angle i (0: th1, 1: th2) over a step of length h from (x0, w0) to
+/// (x1, w1), w the angular velocities: step_view::angle_ranges.
+inline std::array<double, 2> flip_angle_range(int i, double h, const std::array<double, 4>& x0,
+                                              const std::array<double, 4>& w0,
+                                              const std::array<double, 4>& x1,
+                                              const std::array<double, 4>& w1) {
+    std::array<double, 2> r{};
+    detail::hermite_range(x0[i], x1[i], h * w0[i], h * w1[i], r[0], r[1]);
+    return r;
+}
 
 /// Type-erased detector interface: the ensemble runs any set of criteria chosen at run time.
 class flip_detector_base {
@@ -142,11 +220,16 @@ class flip_detector final : public flip_detector_base {
         // evaluated when it stays away (most steps for any curve with |h| < pi)
         {
             const int fi = arm_ == arm::two ? 1 : 0;
-            const double h = v.t1 - v.t0;
-            const double p0 = last_x_[fi], p1 = v.x1[fi];
-            const double m0 = h * last_w_[fi], m1 = h * v.f1[fi];
             double lo = 0, hi = 0;
-            hermite_range(p0, p1, m0, m1, lo, hi);
+            if (v.angle_ranges) {
+                lo = (*v.angle_ranges)[fi][0];
+                hi = (*v.angle_ranges)[fi][1];
+            } else {
+                const double h = v.t1 - v.t0;
+                const double p0 = last_x_[fi], p1 = v.x1[fi];
+                const double m0 = h * last_w_[fi], m1 = h * v.f1[fi];
+                hermite_range(p0, p1, m0, m1, lo, hi);
+            }
             lo -= offset_bound_ + pi;
             hi += offset_bound_ - pi;
             const bool skip = std::ceil(lo / two_pi) > std::floor(hi / two_pi);
@@ -205,61 +288,12 @@ class flip_detector final : public flip_detector_base {
         return evaluate(x, flow_.velocities(x));
     }
 
-    // The range of the cubic Hermite interpolant of (p, m) on the step, widened by the margin (a
-    // quarter of the variation of the data plus an eighth of the cubic's largest
-    // second-derivative term); returns its interior critical points.
     static int hermite_range(double p0, double p1, double m0, double m1, double& lo, double& hi,
                              std::array<double, 2>* critical = nullptr) {
-        lo = std::min(p0, p1);
-        hi = std::max(p0, p1);
-        std::array<double, 2> crit{};
-        const int ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
-        for (int i = 0; i < ncrit; ++i) {
-            const double c = hermite(p0, p1, m0, m1, crit[i]);
-            lo = std::min(lo, c);
-            hi = std::max(hi, c);
-        }
-        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
-        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
-        const double margin = 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) +
-                              0.125 * std::max(d2a, d2b) +
-                              64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
-        lo -= margin;
-        hi += margin;
-        if (critical) *critical = crit;
-        return ncrit;
+        return detail::hermite_range(p0, p1, m0, m1, lo, hi, critical);
     }
-
     static double hermite(double p0, double p1, double m0, double m1, double u) {
-        const double u2 = u * u, u3 = u2 * u;
-        return (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 +
-               (u3 - u2) * m1;
-    }
-
-    // Roots in (0, 1) of the derivative of the cubic Hermite interpolant,
-    // a u^2 + b u + c with a = 6 (p0 - p1) + 3 (m0 + m1), b = -6 (p0 - p1) - 4 m0 - 2 m1, c = m0.
-    static int cubic_critical_points(double p0, double p1, double m0, double m1,
-                                     std::array<double, 2>& out) {
-        const double a = 6 * (p0 - p1) + 3 * (m0 + m1);
-        const double b = -6 * (p0 - p1) - 4 * m0 - 2 * m1;
-        const double c = m0;
-        int n = 0;
-        auto keep = [&](double u) {
-            if (u > 0 && u < 1) out[n++] = u;
-        };
-        const double scale = std::abs(a) + std::abs(b) + std::abs(c);
-        if (scale == 0) return 0;
-        if (std::abs(a) <= 1e-12 * scale) {
-            if (b != 0) keep(-c / b);
-            return n;
-        }
-        const double disc = b * b - 4 * a * c;
-        if (disc < 0) return 0;
-        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
-        keep(q / a);
-        if (q != 0) keep(c / q);
-        if (n == 2 && out[0] > out[1]) std::swap(out[0], out[1]);
-        return n;
+        return detail::hermite(p0, p1, m0, m1, u);
     }
 
     template <class G>

@@ -105,6 +105,27 @@ class pendulum_flow {
         f[7] = dP - k_.beta * c2 * y[5];
     }
 
+    /// hamiltonian_absolute() at lanes_of<V> states at once, x[i] = (component i of each state):
+    /// per lane the same operations, hence the same bits (tested). For the ensemble's energy
+    /// check at the step's end, evaluated with its last (FSAL) stage.
+    template <class V>
+    [[gnu::always_inline]] void hamiltonian_lanes(const V x[4], V& h) const {
+        if (!fast_sincos_in_range(x[0]) || !fast_sincos_in_range(x[1])) {
+            for (int lane = 0; lane < lanes_of<V>; ++lane)
+                h[lane] = hamiltonian_absolute({x[0][lane], x[1][lane], x[2][lane], x[3][lane]});
+            return;
+        }
+        V s1, c1, s2, c2;
+        fast_sincos_lanes(x[0], s1, c1);
+        fast_sincos_lanes(x[1], s2, c2);
+        const V sd = s1 * c2 - c1 * s2;
+        const V cd = c1 * c2 + s1 * s2;
+        const V det = k_.D0 + k_.C * k_.C * sd * sd;
+        const V kin =
+            (k_.B * x[2] * x[2] - 2 * k_.C * cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
+        h = kin + (k_.alpha * (1 - c1) + k_.beta * (1 - c2));
+    }
+
     /// Angular velocities th' = M^-1 l.
     std::array<double, 2> velocities(const std::array<double, 4>& x) const {
         double sd = 0, cd = 0;

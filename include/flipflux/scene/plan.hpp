@@ -7,7 +7,10 @@
 //                          energies those need inside (E_s, E_max). Read from the on-disk cache
 //                          when there.
 //   predictions            the requested quantities at the requested arms and energies
-//   ensemble               one step per [[ensemble]] and energy, counting only the listed criteria
+//   ensemble               one step per set of [[ensemble]]s whose trajectories are the same (same
+//                          trajectories, time, seed, rtol, integrator, estimator and chaos flag):
+//                          each trajectory integrated once at the union of their energies, counting
+//                          at each energy only the criteria the ensembles having it list
 //   viewer                 the saddle-orbit viewer page (its families are orbit-family steps above)
 //   golden / accuracy / report
 //
@@ -36,6 +39,9 @@ struct plan_step {
     /// orbit families: the precision they are computed in (the scene's for predictions and
     /// [orbits]; double for the saddle criterion of ensembles)
     precision prec = precision{real_kind::double_};
+    /// ensembles: every [[ensemble]] this step runs (ensemble_index first), on one set of
+    /// trajectories
+    std::vector<std::size_t> ensemble_indices;
 };
 
 struct plan {

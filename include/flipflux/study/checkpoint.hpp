@@ -8,6 +8,10 @@
 //            chaos options, bins, estimator (everything the results depend on);
 //   "E <k> <fields>"  energy k completed: its statistics (energy_record);
 //   "T <k> <fields>"  one finished trajectory of energy k (trajectory_record).
+// A run of several studies on one set of trajectories (study/simulation.hpp) numbers its energies
+// k over the union of the studies' energies; its T records carry the crossings of every criterion
+// counted at energy k (all studies'), and its E records are per study: "E <k * studies + p>" for
+// study p, the E records of one energy written together (checkpoint_layout).
 // Real numbers are written by std::to_chars in the shortest form that reads back to the same
 // double (std::from_chars), so a resumed run reproduces every bit of an uninterrupted one.
 // A run appends T lines as trajectories finish (write(2) of whole lines, fdatasync, at most
@@ -50,10 +54,21 @@ std::string energy_record(std::size_t energy, const energy_result& e);
 /// std::runtime_error describing the defect.
 energy_result parse_energy_record(std::string_view line, std::size_t criteria, std::size_t& energy);
 
+/// Which records a checkpoint may hold: energy k's T records carry trajectory_criteria[k]
+/// criteria; the E record of slot k * studies + p (study p at energy k) carries
+/// energy_criteria[slot] criteria, 0 where study p has no energy k (such a record is refused).
+struct checkpoint_layout {
+    std::size_t studies = 1;
+    std::vector<std::size_t> trajectory_criteria;  ///< per energy
+    std::vector<std::size_t> energy_criteria;      ///< per slot (energies x studies)
+    /// One study of `criteria` criteria at each of `energies` energies (slot = energy).
+    static checkpoint_layout single(std::size_t energies, std::size_t criteria);
+};
+
 /// What a checkpoint holds.
 struct checkpoint_content {
     bool exists = false;
-    std::map<std::size_t, energy_result> completed;
+    std::map<std::size_t, energy_result> completed;  ///< by slot (checkpoint_layout)
     /// energy -> (index -> result)
     std::map<std::size_t, std::map<std::uint64_t, trajectory_result>> trajectories;
     bool torn = false;  ///< the last line was incomplete or damaged and was dropped
@@ -61,6 +76,11 @@ struct checkpoint_content {
 
 /// Parses the text of a checkpoint against the header this run expects. Throws input_error
 /// (naming --checkpoint, the file and, for another run's file, the first field that differs).
+/// Energies with an E record have no T records left (the E records replace them).
+checkpoint_content parse_checkpoint(const std::string& text, const nlohmann::ordered_json& header,
+                                    const checkpoint_layout& layout,
+                                    const std::filesystem::path& file);
+/// One study: checkpoint_layout::single(header's energies, criteria).
 checkpoint_content parse_checkpoint(const std::string& text, const nlohmann::ordered_json& header,
                                     std::size_t criteria, const std::filesystem::path& file);
 
@@ -85,6 +105,9 @@ class checkpoint_writer {
     void flush();
     /// Energy k is complete: rewrites the file atomically as the header plus the E lines.
     void complete(std::size_t energy, const energy_result& done);
+    /// An energy is complete for every study that has it: its E records (slot, statistics),
+    /// written in one atomic rewrite.
+    void complete(const std::vector<std::pair<std::size_t, const energy_result*>>& slots);
     std::uint64_t saved_trajectories() const { return saved_; }
 
   private:

@@ -88,6 +88,18 @@ double trajectory_record_bytes(std::size_t criteria);
 std::optional<study_result> simulate(const double_pendulum<double>& model,
                                      const simulation_request& request);
 
+/// Several studies on one set of trajectories: trajectory i at energy E is integrated once and
+/// counts the crossings of every criterion of every study that has E (each (arm, criterion) once),
+/// e.g. both arms' studies of the paper above the second saddle energy. Each study's result is
+/// what simulate(model, requests[p]) returns, bit for bit (the trajectories depend on (seed, E, i)
+/// only, and a detector never changes its trajectory). The requests differ only in arm,
+/// criteria, energies, bins, csv_dir and reference_time (std::invalid_argument otherwise); the
+/// first one's checkpoint, progress and process group serve the run (the checkpoint holds every
+/// study, study/checkpoint.hpp). With a process group, rank 0 returns the results, in the order of
+/// the requests.
+std::optional<std::vector<study_result>> simulate(const double_pendulum<double>& model,
+                                                  const std::vector<simulation_request>& requests);
+
 /// "5", "2.5,3,3.5" or "FROM:TO:STEP" items (a grid by the one grid rule, core/decimal.hpp's
 /// decimal_grid: TO - FROM a multiple of STEP, at most 1e5 values), in order, each with its decimal
 /// text as label; throws input_error naming `option`.
