@@ -234,9 +234,9 @@ def make_synthetic_run(run_dir):
 
 # ---- checks -------------------------------------------------------------------------------------
 
-def run_generator(run_dir, out):
-    return subprocess.run([sys.executable, GENERATOR, "--run-dir", run_dir, "--out", out],
-                          capture_output=True, text=True)
+def run_generator(run_dir, out, extra=()):
+    return subprocess.run([sys.executable, GENERATOR, "--run-dir", run_dir, "--out", out] +
+                          list(extra), capture_output=True, text=True)
 
 
 def read_table(report, name):
@@ -360,10 +360,20 @@ def main():
         else:
             run_dir, report = os.path.join(base, "run"), os.path.join(base, "report")
             make_synthetic_run(run_dir)
-            r = run_generator(run_dir, report)
+            # another pendulum's run (Appendix C section): the synthetic one again, and a
+            # directory that was never run (noted, not an error)
+            other = os.path.join(base, "other")
+            make_synthetic_run(other)
+            r = run_generator(run_dir, report, ["--other-run-dir", other,
+                                                "--other-run-dir", os.path.join(base, "never")])
             check(r.returncode == 0, "generator exit status 0: %s" % r.stderr)
             check_report(report)
             check_synthetic_values(report)
+            text = open(os.path.join(report, "README.md"), encoding="utf-8").read()
+            check("figures/other-synthetic.png" in text and "largest |R_sim/R_pred − 1| = 5.00 %"
+                  in text, "the other pendulum's section: its largest deviation (ode45 rows 5 %)")
+            check("`%s`: not run" % os.path.join(base, "never") in text,
+                  "a missing other run is noted")
             check_errors(base)
     finally:
         if a.keep:

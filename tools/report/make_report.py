@@ -1724,6 +1724,88 @@ def sensitivity_sections(data, out):
     return "\n".join(md)
 
 
+def load_other_run(run_dir):
+    """Another scene's output (another pendulum): run.json's model, predictions.csv and its
+    ensembles; None when the directory does not exist (the report notes it)."""
+    if not os.path.isdir(run_dir):
+        return None
+    problems = []
+    run = read_json(os.path.join(run_dir, "run.json"), problems)
+    other = {"run_dir": run_dir, "run": run,
+             "model": load_model(run, os.path.join(run_dir, "run.json"), problems) if run else None,
+             "predictions": load_predictions(os.path.join(run_dir, "predictions.csv"), problems),
+             "ensembles": load_ensembles(run_dir, problems)}
+    if problems:
+        raise InputError("\n".join(problems))
+    return other
+
+
+def fig_other_run(other, out):
+    """An other pendulum's simulated rates (all trajectories, ± SE) against its predictions, per
+    arm and criterion."""
+    model, u = other["model"], units(other["model"])
+    name = (other["run"] or {}).get("scene", os.path.basename(other["run_dir"].rstrip("/")))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
+    rows = []
+    for ax, a in zip(axes, (2, 1)):
+        for c in CRITERIA:
+            pr = other["predictions"].get(("rate-" + c, a))
+            if pr is not None:
+                ax.plot(pr[:, 0], pr[:, 1], "-" if c != "approx" else "--", color=COLORS[c],
+                        label="prediction, %s" % c)
+            for ens in other["ensembles"]:
+                if ens["arm"] != a or not ens["energies"] or c not in ens["energies"][0]["criteria"]:
+                    continue
+                sr = rate_series(ens, c)
+                ax.errorbar(sr["energy"], sr["mean"], yerr=sr["se"], fmt="o", ms=4, capsize=2,
+                            color=COLORS[c], mfc="none",
+                            label="simulation, %s (N = %d, T = %s)" %
+                            (c, ens["trajectories"], as_written(ens["time"])))
+                for e, p_, m, se, z in zip(sr["energy"], sr["predicted"], sr["mean"], sr["se"],
+                                           sr["z"]):
+                    rows.append([name, a, c, as_written(e), "%.17g" % p_, "%.17g" % m,
+                                 "%.6g" % se, "%.3f" % (100 * (m / p_ - 1)), "%.2f" % z])
+        for e in (model["saddle"][a], model["maximum"]):
+            ax.axvline(e, color="0.5", ls=":", lw=0.8)
+        ax.set(xlabel=u["E"], ylabel="flip rate of arm %d %s" % (a, u["rate"]),
+               title="Arm %d of scene '%s'" % (a, name))
+        ax.legend(fontsize=6)
+    p = model["parameters"]
+    fig.suptitle("m₁ = %s, m₂ = %s, L₁ = %s, L₂ = %s, g = %s: E_s = %s (arm 2), %s (arm 1), "
+                 "E_max = %s" % tuple([as_written(p.get(k, "?")) for k in
+                                       ("m1", "m2", "L1", "L2", "g")] +
+                                      [as_written(model["saddle"][2]), as_written(model["saddle"][1]),
+                                       as_written(model["maximum"])]), fontsize=9)
+    header = ["scene", "arm", "criterion", "energy", "predicted", "mean", "standard error",
+              "deviation [%]", "z"]
+    table = write_table(out, "other-%s" % name, header, rows)
+    return save_figure(fig, out, "other-%s" % name), table, rows
+
+
+def other_run_sections(data, out):
+    md = []
+    for d in data.get("other_run_dirs") or []:
+        other = data["other_runs"].get(d)
+        if other is None:
+            md.append("*Other pendulum `%s`: not run (run its scene, e.g. "
+                      "data/scenes/appendix-c.toml, before this one).*\n" % d)
+            continue
+        paths, table, rows = fig_other_run(other, out)
+        zs = [float(r[8]) for r in rows if r[8] != "nan"]
+        md.append(figure_md(paths, "A non-egalitarian pendulum (the paper's Appendix C derives the "
+                            "upright-arm rate for general masses and lengths): predicted rates of "
+                            "every criterion against simulated means ± SE, from the run directory "
+                            "`%s`. [CSV](%s)" % (d, table)))
+        md.append("Over its %d (energy, criterion) pairs: largest |R_sim/R_pred − 1| = %.2f %%, "
+                  "Σz² = %.1f (≈ %d expected from statistics alone), worst z = %.2f. The paper "
+                  "gives formulas for this case but no numbers to compare with.\n" %
+                  (len(rows), max(abs(float(r[7])) for r in rows) if rows else float("nan"),
+                   sum(z * z for z in zs), len(zs), max(zs, key=abs) if zs else float("nan")))
+    if not md:
+        return ""
+    return "## Another pendulum (paper Appendix C)\n\n" + "\n".join(md)
+
+
 def build_report(data, out):
     t0 = time.time()
     for sub in ("", "figures", "tables"):
@@ -1892,6 +1974,7 @@ def build_report(data, out):
               (st["pred_max"], st["sim_max"]))
 
     md.append(beyond_the_paper(data, out))
+    md.append(other_run_sections(data, out))
     md.append(sensitivity_sections(data, out))
 
     # Quality tables
@@ -1940,9 +2023,14 @@ def main(argv=None):
                                 "figures, CSV tables) from a scene's run directory.")
     p.add_argument("--run-dir", required=True, help="the scene's output directory")
     p.add_argument("--out", required=True, help="the report directory (created)")
+    p.add_argument("--other-run-dir", action="append", default=[],
+                   help="another scene's output directory (another pendulum) to draw as well; "
+                        "repeatable; a missing one is noted in the report")
     args = p.parse_args(argv)
     try:
         data = load_inputs(args.run_dir)
+        data["other_run_dirs"] = args.other_run_dir
+        data["other_runs"] = {d: load_other_run(d) for d in args.other_run_dir}
         build_report(data, args.out)
     except InputError as e:
         for line in str(e).splitlines():
