@@ -8,6 +8,7 @@
 //                          when there.
 //   predictions            the requested quantities at the requested arms and energies
 //   ensemble               one step per [[ensemble]] and energy, counting only the listed criteria
+//   trajectory             one step per [[trajectory]]: one trajectory and its flip events (double)
 //   viewer                 the saddle-orbit viewer page (its families are orbit-family steps above)
 //   golden / accuracy / report
 //
@@ -25,13 +26,22 @@
 namespace flipflux {
 
 struct plan_step {
-    enum class kind { orbit_family, predictions, ensemble, viewer, golden, accuracy, report };
+    enum class kind {
+        orbit_family,
+        predictions,
+        ensemble,
+        trajectory,
+        viewer,
+        golden,
+        accuracy,
+        report
+    };
     kind what;
     int arm = 0;                          ///< orbit families and ensembles
     std::vector<std::string> energies;    ///< decimal text, in order
     std::vector<std::string> quantities;  ///< predictions: "name@arm" per requested pair
     std::vector<std::string> criteria;    ///< ensembles
-    std::size_t ensemble_index = 0;       ///< into scene::ensembles
+    std::size_t ensemble_index = 0;       ///< into scene::ensembles (trajectories: ::trajectories)
     std::string description;
     /// orbit families: the precision they are computed in (the scene's for predictions and
     /// [orbits]; double for the saddle criterion of ensembles)
