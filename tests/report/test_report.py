@@ -356,7 +356,7 @@ def main():
             sys.stdout.write(r.stdout[-3000:])
             sys.stderr.write(r.stderr[-3000:])
             check(r.returncode == 0, "flipflux run %s: exit status %d" % (a.scene, r.returncode))
-            check_report(scene_report_dir(scene, base), optional=False)
+            check_report(scene_report_dir(scene, base))
         else:
             run_dir, report = os.path.join(base, "run"), os.path.join(base, "report")
             make_synthetic_run(run_dir)

@@ -2,7 +2,7 @@
 """The reproduction report: every figure and table of the paper regenerated from a scene's run
 directory and compared with the paper's values.
 
-    make_report.py --run-dir OUT --out REPORT_DIR
+    make_report.py --run-dir OUT --out REPORT_DIR [--other-run-dir OTHER ...]
 
 Inputs (written by `flipflux run SCENE` into the scene's output directory OUT):
     run.json                       scene, scene_file, precision, git_commit, seconds, model
@@ -11,6 +11,14 @@ Inputs (written by `flipflux run SCENE` into the scene's output directory OUT):
     orbit-curves-arm<a>.csv        energy,theta1,theta2 (the saddle orbits' curves)
     ensemble-<name>.json           the JSON of `flipflux simulate` (one per [[ensemble]])
     ensemble-<name>/               the CSVs of `flipflux simulate --csv-dir`
+    trajectory-<name>.csv          optional: a scene's [[trajectory]] (states; -events.csv: flips);
+                                   'typical' and 'recrossing' are drawn (paper Figs. typical
+                                   trajectory, recrossing), their energies from run.json
+Optional studies, recognised by content: arm-2 ensembles with the main arm-2 ensemble's seed (its
+initial conditions) that count the saddle criterion and were integrated otherwise (method, rtol,
+atol: the tolerance study, e.g. MATLAB ode45's defaults) or alike with their own chaos threshold
+(the threshold study). --other-run-dir: another scene's output (another pendulum, e.g.
+data/scenes/appendix-c.toml) drawn in the Appendix C section; a missing one is noted.
 The report needs an arm-2 ensemble with the upright, approx and saddle criteria, an arm-1 ensemble
 with the saddle criterion, residence times of arm 2 (upright and saddle) at E = 5 and per-trajectory
 rates of arm 2 (saddle) at E = 5.3 (energies scaled with the model: see `special_energies`).
@@ -19,9 +27,11 @@ The report draws; flipflux computes. Every statistic in it comes from the C++ re
 indices with their bootstrap errors, noise floors and reference-length PQI, chi^2 and worst z over
 the energies, paired criterion differences, residence-time statistics, RMS differences of the
 predicted rates (ensemble JSON; run.json for the prediction grid). What the report computes itself
-is the verdict against the paper's published numbers (`compare`, with the paper's N and T) and two
-independent consistency checks of the inputs (dF/dE = T by quadrature, the approximate curve's
-slope from the saddle's centre mode).
+is the verdict against the paper's published numbers (`compare`, with the paper's N and T), two
+independent consistency checks of the inputs (dF/dE = T by quadrature, with the orbits' dT/dE; the
+approximate curve's slope from the saddle's centre mode), and closed-form combinations of the
+JSON's numbers derived in docs/theory.md ("What the report derives": Fano factor, Var(N_T)/T,
+the island correction).
 
 Outputs (REPORT_DIR): README.md (the report), figures/<name>.png and .svg, tables/<name>.csv.
 Every file is written to a temporary name and renamed. A missing or malformed input is a one-line
@@ -1279,7 +1289,7 @@ def fig_trajectory_recrossing(data, out, name="recrossing"):
     st = tr["states"]
     e = tr["energy"]
     fig, ax = plt.subplots(figsize=(6.5, 6))
-    (x0, x1), (y0, y1) = flip_window(2)
+    (x0, x1), (y0, y1) = (-math.pi / 2, math.pi / 2), (math.pi / 2, 3 * math.pi / 2)  # zoomed
     forbidden_region(ax, model, np.linspace(x0, x1, 401), np.linspace(y0, y1, 401), e, alpha=0.45)
     ax.axhline(math.pi, color="k", ls=":", lw=1.5, label="upright arm θ₂ = π")
     stats = {"energy": e}
@@ -2013,7 +2023,12 @@ def build_report(data, out):
               "quadrature, the curve flux through the saddle orbit against 2 F.\n" %
               (data["run_dir"], ", ".join("ensemble-%s.json" % e["name"] for e in data["ensembles"]),
                ", ".join(os.path.relpath(v[2], data["run_dir"]) for v in data["residence"].values()),
-               os.path.relpath(data["histogram"][3], data["run_dir"])))
+               os.path.relpath(data["histogram"][3], data["run_dir"]))
+              + (" Single trajectories: %s." % ", ".join(
+                  os.path.relpath(t["path"], data["run_dir"]) for t in data["trajectories"].values())
+                 if data["trajectories"] else "")
+              + (" Other pendulums: %s." % ", ".join(data.get("other_run_dirs") or [])
+                 if data.get("other_run_dirs") else ""))
     md.append("\n---\nReport generated in %.1f s.\n" % (time.time() - t0))
     write_text(os.path.join(out, "README.md"), "\n".join(md))
 
