@@ -1049,16 +1049,17 @@ def fig_multipliers(data, out):
             continue
         order = np.argsort(o["energy"])
         e, m = o["energy"][order], o["multiplier"][order]
-        k = o.get("stability_index", np.full_like(e, np.nan))[order]
+        period = o["period"][order]
         axes[0].semilogy(e, positive(np.abs(m)), "o-", ms=3, color=c,
                          label="arm %d: |λ| (the unstable multiplier)" % a)
-        axes[1].plot(e, k, "o-", ms=3, color=c, label="arm %d" % a)
+        axes[1].plot(e, np.log(np.abs(m)) / period, "o-", ms=3, color=c,
+                     label="arm %d: ln|λ| / T" % a)
         stats[a] = {"min": float(np.nanmin(np.abs(m))) if np.any(np.isfinite(m)) else float("nan"),
                     "max": float(np.nanmax(np.abs(m))) if np.any(np.isfinite(m)) else float("nan"),
                     "elliptic": int(np.sum(~np.isfinite(m)))}
     axes[0].set(xlabel=u["E"], ylabel="|λ|", title="Floquet multipliers of the saddle orbits")
-    axes[1].set(xlabel=u["E"], ylabel="stability index (λ + 1/λ) / 2", yscale="symlog",
-                title="Stability index (|index| > 1: hyperbolic)")
+    axes[1].set(xlabel=u["E"], ylabel="ln|λ| / T " + u["rate"].replace("flips per", "per"),
+                title="The orbits' Lyapunov exponent (instability per unit time)")
     for ax in axes:
         ax.legend(fontsize=7)
     return save_figure(fig, out, "multipliers"), stats
@@ -1908,8 +1909,9 @@ def build_report(data, out):
                                     st["max_residual"], st["max_residual_4pt"], st["richardson"],
                                     st["richardson"], check))
     paths, st = fig_multipliers(data, out)
-    md.append(figure_md(paths, "Floquet multipliers and stability indices of the saddle orbits "
-                        "(orbits-arm<a>.csv; the paper computes them but shows no figure)."))
+    md.append(figure_md(paths, "Floquet multipliers of the saddle orbits and the instability "
+                        "rate ln|λ|/T they imply (orbits-arm<a>.csv multiplier and period; the "
+                        "paper computes the multipliers but shows no figure)."))
     if st:
         md.append("Every orbit on the grid is hyperbolic (unstable): |λ| from %s. The large "
                   "multipliers are why the orbits are found by shooting with a Newton polish "
