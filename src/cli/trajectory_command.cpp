@@ -14,6 +14,7 @@
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/trajectory.hpp"
+#include "flipflux/study/trajectory_files.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -46,26 +47,6 @@ std::vector<arm> parse_arms(const std::string& text) {
     return {parse_arm(text, "--arm")};
 }
 
-template <class Real>
-std::string events_csv(const trajectory_record<Real>& r) {
-    std::string s = "time,arm,criterion,direction\n";
-    for (const flip_event<Real>& e : r.events)
-        s += to_decimal(e.time) + "," + to_string(e.flip_arm) + "," + e.criterion + "," +
-             (e.direction > 0 ? "1" : "-1") + "\n";
-    return s;
-}
-
-template <class Real>
-std::string states_csv(const trajectory_record<Real>& r) {
-    std::string s = "t,theta1,theta2,l1,l2,energy_drift\n";
-    for (const auto& x : r.states) {
-        for (std::size_t i = 0; i < x.size(); ++i)
-            s += (i ? "," : "") + to_decimal(x[i]);
-        s += "\n";
-    }
-    return s;
-}
-
 void write(const std::string& path, const std::string& option, const std::string& text) {
     try {
         write_file_atomically(path, text);
@@ -94,8 +75,8 @@ void run(const trajectory_state& s) {
         s.route == "reference" ? reference_trajectory(model, q) : integrate_trajectory(model, q);
     for (const std::string& why : r.skipped)
         std::fprintf(stderr, "flipflux: note: no flips possible for %s\n", why.c_str());
-    const std::string events = events_csv(r);
-    if (!s.out.empty()) write(s.out, "--out", states_csv(r));
+    const std::string events = trajectory_events_csv(r);
+    if (!s.out.empty()) write(s.out, "--out", trajectory_states_csv(r));
     if (s.events.empty())
         print(events);
     else

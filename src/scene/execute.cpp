@@ -25,6 +25,8 @@
 #include "flipflux/study/saddle_viewer.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
+#include "flipflux/study/trajectory.hpp"
+#include "flipflux/study/trajectory_files.hpp"
 
 #ifndef FLIPFLUX_SOURCE_DIR
 #define FLIPFLUX_SOURCE_DIR "."
@@ -315,8 +317,10 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
     o.time = parse_real<double>(x.time, where + ": time");
     o.seed = x.seed;
     o.rtol = parse_real<double>(x.rtol, where + ": rtol");
+    o.atol = parse_real<double>(x.atol, where + ": atol");
     o.method = parse_name<integration_method>(x.integrator, where + ": integrator");
     o.chaos = x.chaos;
+    o.chaos_threshold = parse_real<double>(x.chaos_threshold, where + ": chaos_threshold");
     o.threads = ctx.options.threads;
     request.estimator = parse_name<rate_estimator>(x.estimator, where + ": estimator");
     request.reference_time = parse_real<double>(x.reference_time, where + ": reference_time");
@@ -363,6 +367,41 @@ void run_ensemble(context& ctx, const plan_step& step) {
                                             {"csv_dir", requests[r].csv_dir.string()},
                                             {"shared_with", names}});
     }
+}
+
+// ---- single trajectories ------------------------------------------------------------------
+
+/// One [[trajectory]] at double by the ensemble's route: trajectory-<name>.csv (states) and
+/// trajectory-<name>-events.csv, the files of `flipflux trajectory --out/--events`.
+void run_trajectory(context& ctx, const plan_step& step) {
+    const trajectory_spec& t = ctx.s.trajectories[step.ensemble_index];
+    const std::string where =
+        ctx.s.file.string() + ":" + std::to_string(t.line) + ": trajectory '" + t.name + "'";
+    const double_pendulum<double> model = make_model<double>(ctx.s.model);
+    trajectory_request<double> q;
+    for (std::size_t k = 0; k < 4; ++k)
+        q.state[k] = parse_real<double>(t.state[k], where + ": state");
+    q.time = parse_real<double>(t.time, where + ": time");
+    q.sample_interval = parse_real<double>(t.sample_interval, where + ": sample_interval");
+    q.criteria = t.criteria;
+    for (int a : t.arms)
+        q.arms.push_back(arm_of(a));
+    q.rtol = parse_real<double>(t.rtol, where + ": rtol");
+    const trajectory_record<double> r = integrate_trajectory(model, q);
+    for (const std::string& why : r.skipped)
+        ctx.log << "  no flips possible for " << why << "\n";
+    const std::string base = "trajectory-" + t.name;
+    ctx.write(base + ".csv", trajectory_states_csv(r));
+    ctx.write(base + "-events.csv", trajectory_events_csv(r));
+    ++ctx.counters.trajectories;
+    ctx.summary["trajectories"].push_back({{"name", t.name},
+                                           {"states", base + ".csv"},
+                                           {"events", base + "-events.csv"},
+                                           {"energy", to_decimal(r.energy)},
+                                           {"events_count", r.events.size()},
+                                           {"max_energy_drift", to_decimal(r.max_energy_drift)},
+                                           {"route", r.route},
+                                           {"skipped", r.skipped}});
 }
 
 // ---- the saddle-orbit viewer ----------------------------------------------------------------
@@ -467,7 +506,12 @@ void run_report(context& ctx, double seconds_so_far) {
             (script.empty() ? std::string() : " at '" + script.string() + "'") +
             " (it is installed beside the executable: share/flipflux/report/)");
     const std::string command = "python3 '" + script.string() + "' --run-dir '" +
-                                ctx.s.output.string() + "' --out '" + r.dir + "'";
+                                ctx.s.output.string() + "' --out '" + r.dir + "'" + [&] {
+                                    std::string others;
+                                    for (const std::string& d : r.other_runs)
+                                        others += " --other-run-dir '" + d + "'";
+                                    return others;
+                                }();
     ctx.log << "  " << command << "\n";
     ctx.log.flush();
     const int status = std::system(command.c_str());
@@ -512,6 +556,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         dispatch(s.prec, [&]<class Real>() { return model_json(make_model<Real>(s.model)); });
     ctx.summary["orbit_families"] = json::array();
     ctx.summary["ensembles"] = json::array();
+    if (!s.trajectories.empty()) ctx.summary["trajectories"] = json::array();
     // the output directories before anything is computed (make_plan checked what it could
     // without creating them): a refusal names the scene's key, never a filesystem error after hours
     create_output_dir(s, s.output, s.output_line, "scene.output");
@@ -544,6 +589,9 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                 break;
             case plan_step::kind::ensemble:
                 run_ensemble(ctx, step);
+                break;
+            case plan_step::kind::trajectory:
+                run_trajectory(ctx, step);
                 break;
             case plan_step::kind::viewer:
                 dispatch(s.prec, [&]<class Real>() { run_viewer<Real>(ctx); });

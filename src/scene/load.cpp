@@ -87,6 +87,18 @@ class table_reader {
         if (!is_decimal_number(text)) fail(n, key, "'" + text + "' is not a finite decimal number");
         return text;
     }
+    /// An array of exactly `count` numbers (each as number_text validates it).
+    std::optional<std::vector<std::string>> numbers(const std::string& key, std::size_t count) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        const toml::array* a = n->as_array();
+        if (a == nullptr || a->size() != count)
+            fail(n, key, "expected an array of " + std::to_string(count) + " numbers");
+        std::vector<std::string> out;
+        for (const toml::node& e : *a)
+            out.push_back(number_text(&e, key));
+        return out;
+    }
     std::optional<std::vector<std::string>> strings(const std::string& key) {
         const toml::node* n = get(key);
         if (n == nullptr) return std::nullopt;
@@ -302,6 +314,9 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     x.seed = static_cast<unsigned long long>(
         r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(1));
     x.rtol = r.number("rtol").value_or(x.rtol);
+    x.atol = r.number("atol").value_or(x.atol);
+    if (x.atol.front() == '-' || !(parse_real<double>(x.atol, "atol") >= 0))
+        r.fail(r.get("atol"), "atol", "'" + x.atol + "' must be >= 0 (0: equal to rtol)");
     x.integrator = r.string("integrator").value_or(x.integrator);
     if (x.integrator != "dop853" && x.integrator != "dopri5") {
         r.fail(r.get("integrator"), "integrator",
@@ -313,6 +328,11 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
                "'" + x.estimator + "' is not an estimator (long, short)");
     }
     x.chaos = r.boolean("chaos").value_or(false);
+    x.chaos_threshold = r.number("chaos_threshold").value_or(x.chaos_threshold);
+    if (x.chaos_threshold.front() == '-' ||
+        !(parse_real<double>(x.chaos_threshold, "chaos_threshold") > 0))
+        r.fail(r.get("chaos_threshold"), "chaos_threshold",
+               "'" + x.chaos_threshold + "' must be > 0");
     x.reference_time = r.number("reference_time").value_or(x.reference_time);
     if (x.reference_time.front() == '-' ||
         !(parse_real<double>(x.reference_time, "reference_time") >= 0)) {
@@ -329,6 +349,42 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
         r.fail(r.get("rtol"), "rtol", p);
     r.finish();
     return x;
+}
+
+/// One [[trajectory]] table; `index` counts from 1 (the default name).
+trajectory_spec read_trajectory(table_reader& r, int index) {
+    trajectory_spec t;
+    t.line = r.line();
+    t.name = r.string("name").value_or("trajectory" + std::to_string(index));
+    check_ensemble_name(r, t.name);
+    if (auto state = r.numbers("state", 4))
+        t.state = *state;
+    else
+        r.fail(nullptr, "state", "is required: [theta1, theta2, l1, l2]");
+    t.time = r.number("time").value_or(t.time);
+    if (t.time.front() == '-' || !(parse_real<double>(t.time, "time") > 0))
+        r.fail(r.get("time"), "time", "'" + t.time + "' must be > 0");
+    t.sample_interval = r.number("sample_interval").value_or(t.sample_interval);
+    if (t.sample_interval.front() == '-' ||
+        !(parse_real<double>(t.sample_interval, "sample_interval") >= 0))
+        r.fail(r.get("sample_interval"), "sample_interval",
+               "'" + t.sample_interval + "' must be >= 0");
+    if (auto c = r.unique_strings("criteria")) {
+        for (const auto& name : *c) {
+            try {
+                check_criterion_name(name);
+            } catch (const input_error& e) {
+                r.fail(r.get("criteria"), "criteria", e.detail());
+            }
+        }
+        t.criteria = *c;
+    }
+    t.arms = r.arms("arms").value_or(t.arms);
+    t.rtol = r.number("rtol").value_or(t.rtol);
+    if (const std::string p = rtol_problem(parse_real<double>(t.rtol, "rtol"), t.rtol); !p.empty())
+        r.fail(r.get("rtol"), "rtol", p);
+    r.finish();
+    return t;
 }
 
 golden_spec read_golden(table_reader& r) {
@@ -394,6 +450,12 @@ report_spec read_report(table_reader& r) {
     report_spec rep;
     rep.line = r.line();
     rep.dir = r.string("dir").value_or(rep.dir);
+    rep.other_runs = r.strings("other_runs").value_or(rep.other_runs);
+    for (const std::string& d : rep.other_runs)
+        if (d.empty() || d.find('\'') != std::string::npos)
+            r.fail(r.get("other_runs"), "other_runs",
+                   "'" + d +
+                       "' is not a directory name the report can be given (empty or with a quote)");
     r.finish();
     return rep;
 }
@@ -446,6 +508,24 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
                            "'" + s.ensembles.back().name +
                                "' is already the name of the ensemble at line " +
                                std::to_string(s.ensembles[j].line) +
+                               " (their outputs would overwrite each other)");
+        }
+    }
+    if (const toml::node* n = top.get("trajectory")) {
+        const toml::array* list = n->as_array();
+        if (list == nullptr || !list->is_array_of_tables()) {
+            top.fail(n, "trajectory", "expected [[trajectory]] tables");
+        }
+        int index = 0;
+        for (const toml::node& e : *list) {
+            table_reader r(*e.as_table(), fname, "trajectory[" + std::to_string(index++) + "]");
+            s.trajectories.push_back(read_trajectory(r, index));
+            for (std::size_t j = 0; j + 1 < s.trajectories.size(); ++j)
+                if (s.trajectories[j].name == s.trajectories.back().name)
+                    r.fail(r.get("name"), "name",
+                           "'" + s.trajectories.back().name +
+                               "' is already the name of the trajectory at line " +
+                               std::to_string(s.trajectories[j].line) +
                                " (their outputs would overwrite each other)");
         }
     }

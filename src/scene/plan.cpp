@@ -156,6 +156,21 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
     }
 }
 
+/// A [[trajectory]]: its state's energy bounds the work of its integration (as for ensembles).
+void check_trajectory(const scene& s, std::size_t i, const double_pendulum<double>& model) {
+    const trajectory_spec& t = s.trajectories[i];
+    const std::string key = "trajectory[" + std::to_string(i) + "]";
+    phase_point<double> x{};
+    for (std::size_t k = 0; k < 4; ++k)
+        x[k] = parse_real<double>(t.state[k], key + ".state");
+    try {
+        check_trajectory_work(model, model.hamiltonian(x),
+                              parse_real<double>(t.time, key + ".time"), "time");
+    } catch (const input_error& err) {
+        fail(s, t.line, key + ".time", err.detail());
+    }
+}
+
 /// The checks of a scene that need no computation (so that --dry-run promises only what run
 /// does): names, duplicates, domains, memory, output directories.
 void check_scene(const scene& s, const double_pendulum<double>& model) {
@@ -166,6 +181,8 @@ void check_scene(const scene& s, const double_pendulum<double>& model) {
     if (s.orbits) check_distinct(s.orbits->energies, s.prec, s, s.orbits->line, "orbits.energies");
     for (std::size_t i = 0; i < s.ensembles.size(); ++i)
         check_ensemble(s, i, model);
+    for (std::size_t i = 0; i < s.trajectories.size(); ++i)
+        check_trajectory(s, i, model);
     if (s.golden) {
         const golden_spec& g = *s.golden;
         if (s.custom_model)
@@ -234,8 +251,9 @@ bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b) {
         }
     };
     return a.trajectories == b.trajectories && same(a.time, b.time) && a.seed == b.seed &&
-           same(a.rtol, b.rtol) && a.integrator == b.integrator && a.estimator == b.estimator &&
-           a.chaos == b.chaos;
+           same(a.rtol, b.rtol) && same(a.atol, b.atol) && a.integrator == b.integrator &&
+           a.estimator == b.estimator && a.chaos == b.chaos &&
+           same(a.chaos_threshold, b.chaos_threshold);
 }
 
 }  // namespace
@@ -334,19 +352,27 @@ plan make_plan(const scene& s) {
                             range_text(energy_texts(y.energies, "ensemble")) + ", criteria " +
                             join(y.criteria) + ")");
         }
-        const std::string what = std::to_string(x.trajectories) + " trajectories x T = " + x.time +
-                                 " at " + range_text(step.energies) + ", " + x.integrator +
-                                 " rtol " + x.rtol + ", estimator " + x.estimator +
-                                 (x.chaos ? ", chaos indicator" : "");
+        const std::string what =
+            std::to_string(x.trajectories) + " trajectories x T = " + x.time + " at " +
+            range_text(step.energies) + ", " + x.integrator + " rtol " + x.rtol +
+            (x.atol != "0" ? " atol " + x.atol : "") + ", estimator " + x.estimator +
+            (x.chaos ? ", chaos indicator (threshold " + x.chaos_threshold + ")" : "");
         if (parts.size() == 1)
-            step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) + ", " +
-                               std::to_string(x.trajectories) + " trajectories x T = " + x.time +
-                               " at " + range_text(step.energies) + ", criteria " +
-                               join(x.criteria) + ", " + x.integrator + " rtol " + x.rtol +
-                               ", estimator " + x.estimator + (x.chaos ? ", chaos indicator" : "");
+            step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) +
+                               ", criteria " + join(x.criteria) + ", " + what;
         else
             step.description =
                 "ensembles " + join(parts, " and ") + " on one set of trajectories: " + what;
+        p.steps.push_back(step);
+    }
+    for (std::size_t i = 0; i < s.trajectories.size(); ++i) {
+        const trajectory_spec& t = s.trajectories[i];
+        plan_step step{plan_step::kind::trajectory,   0, {}, {}, t.criteria, i, {},
+                       precision{real_kind::double_}, {}};
+        step.description = "trajectory '" + t.name + "' from (" + join(t.state) +
+                           "), T = " + t.time + ", criteria " + join(t.criteria) +
+                           ", ensemble route (dop853 rtol " + t.rtol + ") -> trajectory-" + t.name +
+                           ".csv, trajectory-" + t.name + "-events.csv";
         p.steps.push_back(step);
     }
     if (s.viewer) p.steps.push_back(viewer_step(s, model));

@@ -18,6 +18,7 @@ import csv
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -32,7 +33,13 @@ GENERATOR = os.path.join(REPO, "tools", "report", "make_report.py")
 FIGURES = ["potential", "allowed-region", "criteria", "orbit-family", "period-action-arm2",
            "period-action-arm1", "fluxes", "rates-arm2-all", "rates-arm2-chaotic",
            "rates-arm1-chaotic", "rates-arm1-all", "rates-criteria", "residence-E5",
-           "rate-histogram-E5.3", "approx-vs-saddle"]
+           "rate-histogram-E5.3", "approx-vs-saddle", "schematic", "energy-regimes",
+           "keyframes-E2.5", "multipliers", "residence-gap", "chaotic-fraction", "flip-counts",
+           "island-correction"]
+# drawn from the scene's [[trajectory]] tables and the sensitivity ensembles (paper-quick.toml has
+# them; the synthetic run too)
+OPTIONAL_FIGURES = ["trajectory-typical", "trajectory-recrossing", "sensitivity-tolerance",
+                    "sensitivity-threshold"]
 TABLES = ["critical-points", "iqi-arm2", "pqi-arm2-saddle", "iqi-arm1", "pqi-arm1-saddle",
           "pqi-arm2-approx", "pqi-arm2-upright", "rms-differences", "rates-arm2", "rates-arm1"]
 
@@ -66,11 +73,13 @@ def write_csv(path, header, rows):
         w.writerows(rows)
 
 
-def ensemble_json(arm, energies, criteria, deviation, n, t):
+def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop853",
+                  rtol="1e-10", atol="1e-10", threshold="0.050000000000000003"):
     """Simulated mean = predicted (1 + deviation); sd = 0.1 predicted (chaotic: 0.05)."""
     out = {"command": "simulate", "arm": str(arm), "trajectories": n, "first_index": 0,
-           "time": str(t), "seed": 1, "method": "dop853", "rtol": "1e-10", "atol": "1e-10",
-           "chaos": {"indicator": "finite-time maximal Lyapunov exponent", "threshold": "0.05"},
+           "time": str(t), "seed": seed, "method": method, "rtol": rtol, "atol": atol,
+           "chaos": {"indicator": "finite-time maximal Lyapunov exponent",
+                     "threshold": threshold},
            "energies": [], "quality": {}, "regimes": []}
     for e in energies:
         crit = {}
@@ -140,6 +149,8 @@ def make_synthetic_run(run_dir):
                      "approximate_curve": {"1": {"offset": "3.14159", "slope": "0.29289321881345"},
                                            "2": {"offset": "3.14159", "slope": "0.58578643762690"}}}}
     run["model"]["parameters"].update({"I1": "0", "I2": "0"})
+    run["trajectories"] = [{"name": "typical", "energy": "3.6"},
+                           {"name": "recrossing", "energy": "2.5"}]
     # what the scene computes from its predictions (arm 2, 2 < E < 6)
     inside = [e for e in grid(2.05, 5.95, 0.1) if 2 < e < 6]
     run["predictions"] = {"file": "predictions.csv", "skipped": [], "rate_differences": [
@@ -167,13 +178,14 @@ def make_synthetic_run(run_dir):
         for e in grid(lo, 5.9, 0.2):
             period = 5 + 0.2 * e  # F = 5 (E - Es) + 0.1 (E^2 - Es^2): dF/dE = T exactly
             action = 5 * (e - es) + 0.1 * (e * e - es * es)
-            orbits.append([e, repr(period), repr(action), repr(2 * action), "100", "102"])
+            orbits.append([e, repr(period), repr(action), repr(2 * action), "100", "102", "0.2"])
             for k in range(33):
                 s = -1 + 2 * k / 32
                 curves.append([e, repr(s), repr(math.pi + 0.5858 * math.sin(s))] if a == 2 else
                               [e, repr(math.pi + 0.2929 * math.sin(s)), repr(s)])
         write_csv(os.path.join(run_dir, "orbits-arm%d.csv" % a),
-                  ["energy", "period", "action", "flux", "multiplier", "stability_index"], orbits)
+                  ["energy", "period", "action", "flux", "multiplier", "stability_index",
+                   "period_derivative"], orbits)
         write_csv(os.path.join(run_dir, "orbit-curves-arm%d.csv" % a),
                   ["energy", "theta1", "theta2"], curves)
     e2 = [2.5, 3.5, 5.3]
@@ -190,14 +202,41 @@ def make_synthetic_run(run_dir):
                                           [[i % 20, i, repr(gap + 0.01 * (i % 500))]
                                            for i in range(2000)])
     write_ensemble(run_dir, "residence-E5", ensemble_json(2, [5], ("upright", "saddle"), 0.0,
-                                                          20, 200), res)
+                                                          20, 200, seed=3), res)
+    # the sensitivity studies: the main arm-2 ensemble's seed, ode45's tolerances (rates 5 % high)
+    # and another chaos threshold
+    write_ensemble(run_dir, "tolerance-ode45",
+                   ensemble_json(2, [3.5, 5.3], ("saddle",), 0.05, 50, 200, method="dopri5",
+                                 rtol="0.001", atol="9.9999999999999995e-07"), {})
+    write_ensemble(run_dir, "chaos-threshold-0.05",
+                   ensemble_json(2, e2, ("saddle",), 0.01, 50, 200), {})
+    write_ensemble(run_dir, "chaos-threshold-0.2",
+                   ensemble_json(2, e2, ("saddle",), 0.01, 50, 200,
+                                 threshold="0.20000000000000001"), {})
+    # single trajectories: arm 2 at E = 3.6 turning twice (two upright and saddle flips), and one
+    # crossing the upright line at t = 0.5 and back at t = 1.5 (no saddle event)
+    states = [[repr(0.1 * k), repr(0.3 * math.sin(0.1 * k)), repr(2.5 + 0.2 * k), "0", "0", "0"]
+              for k in range(101)]
+    write_csv(os.path.join(run_dir, "trajectory-typical.csv"),
+              ["t", "theta1", "theta2", "l1", "l2", "energy_drift"], states)
+    write_csv(os.path.join(run_dir, "trajectory-typical-events.csv"),
+              ["time", "arm", "criterion", "direction"],
+              [["3.2079632679489662", 2, "saddle", 1], ["3.2079632679489662", 2, "upright", 1],
+               ["9.4911485751285526", 2, "saddle", 1], ["9.4911485751285526", 2, "upright", 1]])
+    states = [[repr(0.01 * k), "0.5", repr(math.pi - 0.1 + 0.2 * math.sin(math.pi * 0.01 * k / 2)),
+               "0", "0", "0"] for k in range(251)]
+    write_csv(os.path.join(run_dir, "trajectory-recrossing.csv"),
+              ["t", "theta1", "theta2", "l1", "l2", "energy_drift"], states)
+    write_csv(os.path.join(run_dir, "trajectory-recrossing-events.csv"),
+              ["time", "arm", "criterion", "direction"],
+              [["0.33", 2, "upright", 1], ["1.67", 2, "upright", -1]])
 
 
 # ---- checks -------------------------------------------------------------------------------------
 
-def run_generator(run_dir, out):
-    return subprocess.run([sys.executable, GENERATOR, "--run-dir", run_dir, "--out", out],
-                          capture_output=True, text=True)
+def run_generator(run_dir, out, extra=()):
+    return subprocess.run([sys.executable, GENERATOR, "--run-dir", run_dir, "--out", out] +
+                          list(extra), capture_output=True, text=True)
 
 
 def read_table(report, name):
@@ -205,11 +244,11 @@ def read_table(report, name):
         return list(csv.reader(f))
 
 
-def check_report(report):
+def check_report(report, optional=True):
     readme = os.path.join(report, "README.md")
     check(os.path.isfile(readme), "report README.md exists in " + report)
     text = open(readme, encoding="utf-8").read() if os.path.isfile(readme) else ""
-    for name in FIGURES:
+    for name in FIGURES + (OPTIONAL_FIGURES if optional else []):
         png = os.path.join(report, "figures", name + ".png")
         svg = os.path.join(report, "figures", name + ".svg")
         ok_png = os.path.isfile(png) and open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
@@ -246,6 +285,22 @@ def check_synthetic_values(report):
     up = rms["upright vs saddle (theory)"]
     check(abs(float(up[1]) - 10.0) < 1e-9 and abs(float(up[2]) - 10.0) < 1e-9,
           "RMS upright vs saddle = 10 %%: %s" % up[1:3])
+    tol = [r for r in read_table(report, "sensitivity-tolerance")[1:] if r[0] == "tolerance-ode45"]
+    check([r[6] for r in tol] == ["5.000", "5.000"] and tol[0][1] == "dopri5 rtol 0.001 atol 1e-06",
+          "tolerance study: ode45's rates 5 %% high, its tolerances as written: %s" % tol)
+    thr = read_table(report, "sensitivity-threshold")[1:]
+    check(sorted({r[0] for r in thr}) == ["0.05", "0.2"], "threshold study: 0.05 and 0.2 (as "
+          "written, not 0.050000000000000003): %s" % sorted({r[0] for r in thr}))
+    text = open(os.path.join(report, "README.md"), encoding="utf-8").read()
+    m = re.search(r"Arm 2: \d+ orbits, step [\d.]+\. Max \|F_rec/F − 1\| with the orbits' dT/dE: "
+                  r"([\d.e+-]+|nan)", text)
+    check(m is not None and float(m.group(1)) < 1e-13, "dF/dE = T with the orbits' dT/dE: exact "
+          "for the synthetic T linear in E (Hermite is exact for cubics): %s" %
+          (m.group(1) if m else None))
+    check("crosses the upright line 2 times and the saddle orbit 0 times" in text,
+          "the recrossing paragraph counts the synthetic events")
+    check("arm 2 flips 2 times by the saddle criterion, arm 1 0 times" in text,
+          "the typical trajectory's flips are counted")
     cp = read_table(report, "critical-points")
     check([r[1] for r in cp[1:]] == ["0", "2", "4", "6"], "critical energies 0, 2, 4, 6: %s" % cp)
 
@@ -305,10 +360,20 @@ def main():
         else:
             run_dir, report = os.path.join(base, "run"), os.path.join(base, "report")
             make_synthetic_run(run_dir)
-            r = run_generator(run_dir, report)
+            # another pendulum's run (Appendix C section): the synthetic one again, and a
+            # directory that was never run (noted, not an error)
+            other = os.path.join(base, "other")
+            make_synthetic_run(other)
+            r = run_generator(run_dir, report, ["--other-run-dir", other,
+                                                "--other-run-dir", os.path.join(base, "never")])
             check(r.returncode == 0, "generator exit status 0: %s" % r.stderr)
             check_report(report)
             check_synthetic_values(report)
+            text = open(os.path.join(report, "README.md"), encoding="utf-8").read()
+            check("figures/other-synthetic.png" in text and "largest |R_sim/R_pred − 1| = 5.00 %"
+                  in text, "the other pendulum's section: its largest deviation (ode45 rows 5 %)")
+            check("`%s`: not run" % os.path.join(base, "never") in text,
+                  "a missing other run is noted")
             check_errors(base)
     finally:
         if a.keep:

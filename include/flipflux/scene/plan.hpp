@@ -8,9 +8,11 @@
 //                          when there.
 //   predictions            the requested quantities at the requested arms and energies
 //   ensemble               one step per set of [[ensemble]]s whose trajectories are the same (same
-//                          trajectories, time, seed, rtol, integrator, estimator and chaos flag):
+//                          trajectories, time, seed, rtol, atol, integrator, estimator, chaos flag
+//                          and threshold):
 //                          each trajectory integrated once at the union of their energies, counting
 //                          at each energy only the criteria the ensembles having it list
+//   trajectory             one step per [[trajectory]]: one trajectory and its flip events (double)
 //   viewer                 the saddle-orbit viewer page (its families are orbit-family steps above)
 //   golden / accuracy / report
 //
@@ -28,13 +30,22 @@
 namespace flipflux {
 
 struct plan_step {
-    enum class kind { orbit_family, predictions, ensemble, viewer, golden, accuracy, report };
+    enum class kind {
+        orbit_family,
+        predictions,
+        ensemble,
+        trajectory,
+        viewer,
+        golden,
+        accuracy,
+        report
+    };
     kind what;
     int arm = 0;                          ///< orbit families and ensembles
     std::vector<std::string> energies;    ///< decimal text, in order
     std::vector<std::string> quantities;  ///< predictions: "name@arm" per requested pair
     std::vector<std::string> criteria;    ///< ensembles
-    std::size_t ensemble_index = 0;       ///< into scene::ensembles
+    std::size_t ensemble_index = 0;       ///< into scene::ensembles (trajectories: ::trajectories)
     std::string description;
     /// orbit families: the precision they are computed in (the scene's for predictions and
     /// [orbits]; double for the saddle criterion of ensembles)

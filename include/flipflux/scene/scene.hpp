@@ -62,12 +62,29 @@ struct ensemble_spec {
     std::string time = "10000";
     unsigned long long seed = 1;
     std::string rtol = "1e-10";
+    std::string atol = "0";  ///< absolute tolerance; 0: equal to rtol (ensemble_options::atol)
     std::string integrator = "dop853";
     std::string estimator = "long";    ///< "long" (the paper's) or "short"
     std::string reference_time = "0";  ///< > 0: the PQI also estimated at this length
     bool chaos = false;                ///< classify trajectories (finite-time Lyapunov exponent)
+    /// lambda_T above this (units sqrt(alpha / A)) is chaotic (ensemble_options::chaos_threshold)
+    std::string chaos_threshold = "0.05";
     bool residence_times = false;
     bool histogram = false;
+    int line = 0;
+};
+
+/// [[trajectory]]: one trajectory from a canonical state with its flip events, at double by the
+/// ensemble's route (study/trajectory.hpp) -> trajectory-<name>.csv (states) and
+/// trajectory-<name>-events.csv, the files `flipflux trajectory --out/--events` writes.
+struct trajectory_spec {
+    std::string name;
+    std::vector<std::string> state;  ///< th1, th2, l1, l2 as decimal text
+    std::string time = "20";
+    std::string sample_interval = "0.05";
+    std::vector<std::string> criteria{"upright", "approx", "saddle"};
+    std::vector<int> arms{1, 2};
+    std::string rtol = "1e-12";
     int line = 0;
 };
 
@@ -103,6 +120,9 @@ struct viewer_spec {
 
 struct report_spec {
     std::string dir = "docs/reproduction";
+    /// output directories of other scenes (other pendulums) the report also draws: their rates
+    /// against their predictions (the paper's Appendix C); a missing one is noted, not an error
+    std::vector<std::string> other_runs;
     int line = 0;
 };
 
@@ -121,6 +141,7 @@ struct scene {
     std::optional<predictions_spec> predictions;
     std::optional<orbits_spec> orbits;
     std::vector<ensemble_spec> ensembles;
+    std::vector<trajectory_spec> trajectories;
     std::optional<golden_spec> golden;
     std::optional<accuracy_spec> accuracy;
     std::optional<report_spec> report;
