@@ -17,6 +17,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
 
@@ -120,6 +121,7 @@ template <class Real, class F>
 Real adaptive(const gauss_kronrod_rule<Real>& rule, F& f, const Real& tolerance, const Real& a,
               const Real& b, unsigned levels, Real abs_tol, Real& error, Real& l1) {
     using std::abs;
+    check_cpu_budget();
     const Real mean = (b + a) / 2, scale = (b - a) / 2;
     Real local_error;
     Real estimate =

@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
 
@@ -68,6 +69,7 @@ quadrature_result<Real> tanh_sinh_integrate(endpoint_integrand<Real> f, const Re
     // Boost passes the signed complement: a - x (< 0) in the left half, b - x in the right half.
     auto g = [&](const Real& x, const Real& xc) -> Real {
         ++evaluations;
+        check_cpu_budget();
         if (xc < 0) return f(x, -xc, width + xc);
         return f(x, width - xc, xc);
     };

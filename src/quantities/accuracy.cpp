@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "flipflux/certified/enclosure.hpp"
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
@@ -38,14 +39,6 @@ struct timed_value {
     std::string value;
     double seconds;
 };
-
-/// The CPU time of the calling thread: evaluations are single-threaded, and unlike wall time it
-/// does not grow when other jobs share the cores.
-double thread_cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 /// `fresh`: time a saddle-orbit quantity from scratch (the orbit memo, which shares one orbit
 /// between period, action, flux, ..., would otherwise make repeated evaluations free); the memo
@@ -156,10 +149,27 @@ std::optional<std::pair<certified_enclosure, double>> prove(const precision& p, 
     }
 }
 
+void measure_values(row_state& r, const precision& p, const accuracy_options& options);
+
 /// Measures row r's cell in column p: evaluates (or proves) at its probes in order, stopping
 /// after the first when that one is slow; times the first applicable probe (repeated up to
 /// min_seconds). Fills r.values / r.balls; the digits follow once the references exist.
 void measure_cell(row_state& r, const precision& p, const accuracy_options& options) {
+    accuracy_cell& cell = r.entry.cells.back();
+    try {
+        // NOTE: a cost that grows faster with the digits than the lower columns predicted must
+        // not hold the report for hours: the cell is abandoned at twice max_seconds
+        const cpu_budget_scope budget(2 * options.max_seconds);
+        measure_values(r, p, options);
+    } catch (const budget_exceeded&) {
+        r.values.assign(r.probes.size(), std::string());
+        cell.over_budget = true;
+        cell.seconds = 2 * options.max_seconds;
+    }
+}
+
+/// measure_cell's evaluations (or proofs), without the budget.
+void measure_values(row_state& r, const precision& p, const accuracy_options& options) {
     accuracy_cell& cell = r.entry.cells.back();
     r.values.assign(r.probes.size(), std::string());
     r.balls.assign(r.probes.size(), certified_enclosure{});
@@ -301,7 +311,9 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
                 ++cell.energies;
             }
             r.too_slow = cell.seconds > options.max_seconds;
-            if (cell.applies) {
+            if (cell.over_budget) {
+                cell.skipped = true;
+            } else if (cell.applies) {
                 r.measured_digits.push_back(working_digits(p));
                 r.measured_seconds.push_back(cell.seconds);
             }
@@ -385,7 +397,9 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         format_time(options.max_seconds) +
         ": measured so in a lower precision, or estimated so from the lower precisions' times "
         "(t ~ digits^k, k the exponent between the last two measured columns; the estimate is "
-        "given). A closed form that holds only above "
+        "given), or when one evaluation was abandoned after twice that (\"abandoned\": its cost "
+        "grew faster with the digits than the lower precisions predicted). A closed form that "
+        "holds only above "
         "the potential maximum is checked at E = 20 only.\n\n"
         "A saddle-orbit quantity's methods are measured with each orbit integrator "
         "(`periodic/taylor`, `periodic/gauss-legendre`, ...; the default at quad and mp is "
@@ -412,6 +426,10 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         }
         md += "| " + e.method;
         for (const accuracy_cell& c : e.cells) {
+            if (c.over_budget) {
+                md += " | not measured (abandoned after " + format_time(c.seconds) + " of CPU)";
+                continue;
+            }
             if (c.skipped) {
                 md += c.estimated_seconds > 0
                           ? " | not measured (estimated " + format_time(c.estimated_seconds) + ")"

@@ -2,6 +2,7 @@
 // check's one-line refusal naming the field and value, and the thread limit.
 #include <cstdlib>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
 #include "support.hpp"
@@ -48,6 +49,30 @@ TEST(Limits, ThreadCountsAreBounded) {
         ADD_FAILURE() << "not refused";
     } catch (const input_error& e) {
         EXPECT_EQ(std::string(e.what()), "--jobs: '100000' is too many threads (at most 4096)");
+    }
+}
+
+// core/budget.hpp: a spent CPU-time budget stops a loop that checks it; none is set by default;
+// a nested scope keeps the outer deadline when that comes first, and the outer one is back after.
+TEST(CpuBudget, ASpentBudgetStopsTheLoopThatChecksIt) {
+    const auto spin = [](double seconds) {
+        const double end = thread_cpu_seconds() + seconds;
+        while (thread_cpu_seconds() < end)
+            check_cpu_budget();
+    };
+    EXPECT_NO_THROW(spin(0.02));  // no budget
+    {
+        const cpu_budget_scope budget(0.01);
+        EXPECT_THROW(spin(1), budget_exceeded);
+    }
+    EXPECT_NO_THROW(spin(0.02));  // gone with its scope
+    {
+        const cpu_budget_scope outer(0.01);
+        {
+            const cpu_budget_scope inner(100);  // later than the outer deadline: the outer holds
+            EXPECT_THROW(spin(1), budget_exceeded);
+        }
+        EXPECT_THROW(spin(1), budget_exceeded);
     }
 }
 

@@ -316,6 +316,26 @@ TEST(Accuracy, CommandWritesATable) {
     EXPECT_EQ(test::run_flipflux("accuracy --max-seconds 0 --out " + out).status, 2);
 }
 
+// A cell whose evaluation outlives twice --max-seconds is abandoned (core/budget.hpp), not waited
+// for: with a budget of 2 ms of CPU the momentum route's nested quadrature in mp:50 (0.3 s in the
+// release build) is cut, while the closed form (no loop that checks the budget) is measured.
+TEST(Accuracy, ACellBeyondItsBudgetIsAbandoned) {
+    const std::string out =
+        ::testing::TempDir() + "flipflux_accuracy_budget_" + std::to_string(getpid()) + ".md";
+    const test::command_result r =
+        test::run_flipflux("accuracy --out " + out +
+                           " --quantities flux-upright --precisions mp:50 --min-seconds 0 "
+                           "--max-seconds 0.001");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string md = read_text(out);
+    const std::size_t row = md.find("| momentum | ");
+    ASSERT_NE(row, std::string::npos) << md;
+    EXPECT_NE(md.substr(row, md.find('\n', row) - row).find("abandoned after"), std::string::npos)
+        << md;
+    EXPECT_GE(first_cell_digits(md, "elliptic"), 46) << md;  // mp:50's target
+    std::filesystem::remove(out);
+}
+
 // A method whose time in mp:1000, extrapolated from double (t ~ digits^3 with one column: the
 // integral's 1-D quadrature at double takes microseconds, so mp:1000 ~ (1010 / 16)^3 = 2.5e5
 // times that), exceeds --max-seconds is not measured there, and the table gives the estimate.

@@ -33,6 +33,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/real.hpp"
 
 namespace flipflux {
@@ -203,6 +204,7 @@ class gauss_legendre {
         forget();
         integration_result r;
         for (long k = 1; k <= steps; ++k) {
+            check_cpu_budget();
             if (!step(f, x, h, &r.statistics)) {
                 ++r.statistics.split_steps;
                 if (!split_step(f, x, h, 1, r.statistics)) {

@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
 
@@ -281,6 +282,7 @@ class taylor_integrator {
             v = 0;
         integration_result r;
         for (long k = 1; k <= steps; ++k) {
+            check_cpu_budget();
             if (!step(f, x, h, &r.statistics)) {
                 r.success = false;
                 return r;

@@ -53,8 +53,10 @@ precision accuracy_reference_precision(const precision& column);
 struct accuracy_cell {
     bool applies = false;  ///< false when the method has no test energy in its domain
     bool skipped = false;  ///< not measured: too slow in a lower precision
-    double digits = 0;     ///< significant digits achieved (minimum over energies)
-    double seconds = 0;    ///< mean time per evaluation
+    /// not measured: abandoned at its CPU budget (2 max_seconds, core/budget.hpp)
+    bool over_budget = false;
+    double digits = 0;   ///< significant digits achieved (minimum over energies)
+    double seconds = 0;  ///< mean time per evaluation
     /// skipped cells: the time one evaluation was estimated to take (0: slower in a lower one)
     double estimated_seconds = 0;
     int energies = 0;  ///< energies (and arms) checked

@@ -1,0 +1,47 @@
+// A CPU-time budget for the calling thread's long computations. The accuracy harness measures
+// the cost of every (quantity, method, precision); a method whose evaluation would take far longer
+// than the harness's max_seconds (its cost grew faster with the digits than the lower precisions
+// predicted) is abandoned at the budget, not waited for. Long loops (quadrature refinements,
+// integrator steps) call check_cpu_budget(), which throws budget_exceeded once the thread has
+// used more CPU time than its cpu_budget_scope allows. Without a scope (everywhere but the
+// harness) a check costs one thread-local load.
+#pragma once
+
+#include <stdexcept>
+
+namespace flipflux {
+
+/// Thrown by check_cpu_budget when the calling thread's budget is spent.
+class budget_exceeded : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+namespace detail {
+/// The calling thread's CPU-time deadline (seconds of CLOCK_THREAD_CPUTIME_ID); 0: none.
+inline thread_local double cpu_deadline = 0;
+void check_cpu_deadline();  // throws budget_exceeded past the deadline (src/core/budget.cpp)
+}  // namespace detail
+
+/// The calling thread's CPU time in seconds (CLOCK_THREAD_CPUTIME_ID).
+double thread_cpu_seconds();
+
+/// Throws budget_exceeded when the calling thread's budget (cpu_budget_scope) is spent.
+inline void check_cpu_budget() {
+    if (detail::cpu_deadline > 0) detail::check_cpu_deadline();
+}
+
+/// While it lives, the calling thread may use `seconds` more CPU time in computations that call
+/// check_cpu_budget; nested scopes keep the earlier deadline when it comes first.
+class cpu_budget_scope {
+  public:
+    explicit cpu_budget_scope(double seconds);
+    ~cpu_budget_scope();
+    cpu_budget_scope(const cpu_budget_scope&) = delete;
+    cpu_budget_scope& operator=(const cpu_budget_scope&) = delete;
+
+  private:
+    double previous_;
+};
+
+}  // namespace flipflux
