@@ -90,6 +90,9 @@ void run(const trajectory_state& s) {
                           "' is not a route (default, ensemble, reference)");
     if (s.route == "ensemble" && !std::is_same_v<Real, double>)
         throw input_error("--route: 'ensemble' integrates in double only (--precision double)");
+    // the outputs before the integration (minutes at mp:N): refused first, with one line
+    if (!s.out.empty()) check_output_file(s.out, "--out");
+    if (!s.events.empty()) check_output_file(s.events, "--events");
     const trajectory_record<Real> r =
         s.route == "reference" ? reference_trajectory(model, q) : integrate_trajectory(model, q);
     for (const std::string& why : r.skipped)
