@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Reference trajectories for validating simulators (data/golden/trajectories/, issue 15).
 
-For every initial state of initial_states.csv, runs `flipflux trajectory` (reference route:
-Gauss-Legendre, events polished to full precision) at a low and a high precision (default mp:50
-and mp:100) over T = 40 with every criterion (upright, approx, saddle) of both arms, and writes
+For every initial state of initial_states.csv, runs `flipflux trajectory` at a low and a high
+precision (default mp:50 by the Gauss-Legendre reference route, events polished to full
+precision, and mp:100 by the Taylor route: two precisions and two integrators) over T = 40 with
+every criterion (upright, approx, saddle) of both arms, and writes
 
   events.csv  state,time,arm,criterion,direction,digits   (time from the high precision)
   states.csv  state,t,theta1,theta2,l1,l2,digits          (t = 10, 20, 40; high precision)
@@ -39,15 +40,16 @@ CRITERIA = "upright,approx,saddle"
 PENDULUM = "# pendulum: m1=1 m2=1 L1=1 L2=1 g=1\n"  # the paper's; the states assume it
 
 
-def run(flipflux, state, precision, work):
-    tag = f"{state['name']}-{precision.replace(':', '')}"
+def run(flipflux, state, precision, route, work):
+    tag = f"{state['name']}-{precision.replace(':', '')}-{route}"
     events, states = os.path.join(work, tag + "-events.csv"), os.path.join(work, tag + "-states.csv")
     if not (os.path.exists(events) and os.path.exists(states)):
         st = ",".join(state[k] for k in ("theta1", "theta2", "l1", "l2"))
         t0 = time.time()
         subprocess.run([flipflux, "trajectory", "--state", st, "--time", TIME, "--precision",
                         precision, "--criteria", CRITERIA, "--arm", "both", "--sample-interval",
-                        "10", "--events", events + ".tmp", "--out", states + ".tmp"],
+                        "10", "--route", route, "--events", events + ".tmp", "--out",
+                        states + ".tmp"],
                        check=True, stderr=subprocess.DEVNULL)
         os.replace(events + ".tmp", events)
         os.replace(states + ".tmp", states)
@@ -61,9 +63,9 @@ def run(flipflux, state, precision, work):
     return ev, sts
 
 
-def seconds(work, state, precision):
+def seconds(work, state, precision, route):
     """The wall time of one run, as recorded when it ran (None for runs older than the record)."""
-    path = os.path.join(work, f"{state['name']}-{precision.replace(':', '')}.seconds")
+    path = os.path.join(work, f"{state['name']}-{precision.replace(':', '')}-{route}.seconds")
     if not os.path.exists(path):
         return None
     with open(path) as f:
@@ -92,6 +94,8 @@ def main():
     p.add_argument("--dir", default="data/golden/trajectories")
     p.add_argument("--low", default="mp:50")
     p.add_argument("--high", default="mp:100")
+    p.add_argument("--low-route", default="reference", help="trajectory --route of the low precision")
+    p.add_argument("--high-route", default="taylor", help="trajectory --route of the high precision")
     p.add_argument("--work", default="golden_trajectories_work")
     p.add_argument("--only", default="")
     p.add_argument("--cached-only", action="store_true",
@@ -107,14 +111,14 @@ def main():
     with open(os.path.join(a.dir, "initial_states.csv")) as f:
         states = [s for s in csv.DictReader(f) if not a.only or s["name"] in a.only.split(",")]
     if a.cached_only:
-        done = lambda s, p: os.path.exists(
-            os.path.join(a.work, f"{s['name']}-{p.replace(':', '')}-states.csv"))
-        states = [s for s in states if done(s, a.low) and done(s, a.high)]
+        done = lambda s, p, r: os.path.exists(
+            os.path.join(a.work, f"{s['name']}-{p.replace(':', '')}-{r}-states.csv"))
+        states = [s for s in states if done(s, a.low, a.low_route) and done(s, a.high, a.high_route)]
     cap = int(a.low.split(":")[1])
     ev_rows, st_rows = [], []
     for s in states:
-        lo_ev, lo_st = run(a.flipflux, s, a.low, a.work)
-        hi_ev, hi_st = run(a.flipflux, s, a.high, a.work)
+        lo_ev, lo_st = run(a.flipflux, s, a.low, a.low_route, a.work)
+        hi_ev, hi_st = run(a.flipflux, s, a.high, a.high_route, a.work)
         key = lambda e: (e["arm"], e["criterion"], e["direction"])
         if [key(e) for e in lo_ev] != [key(e) for e in hi_ev]:
             sys.exit(f"{s['name']}: the events differ between {a.low} and {a.high}")
@@ -141,9 +145,11 @@ def main():
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
     with open(os.path.join(a.dir, "provenance.json"), "w") as f:
         json.dump({"command": " ".join(sys.argv), "repository_commit": commit, "low": a.low, "high": a.high,
-                   "time": TIME, "criteria": CRITERIA, "arms": "both", "route": "reference",
+                   "time": TIME, "criteria": CRITERIA, "arms": "both",
                    "states": [s["name"] for s in states],
-                   "seconds_wall": {s["name"]: {p: seconds(a.work, s, p) for p in (a.low, a.high)}
+                   "low_route": a.low_route, "high_route": a.high_route,
+                   "seconds_wall": {s["name"]: {p: seconds(a.work, s, p, r)
+                                                for p, r in ((a.low, a.low_route), (a.high, a.high_route))}
                                     for s in states},
                    "flipflux_executable": a.flipflux,
                    "flipflux_version": version}, f, indent=2)
