@@ -1,5 +1,6 @@
 // Fuzz target: the candidate CSV that `flipflux validate` reads (io/csv.hpp, validation/
-// validate.hpp), against a small golden table written once.
+// validate.hpp), against a small golden table written once, and its '# pendulum:' header
+// (validation/candidate_pendulum.hpp) matched against the bundled-style golden sets.
 #include <unistd.h>
 
 #include <cstdint>
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/validation/candidate_pendulum.hpp"
 #include "flipflux/validation/validate.hpp"
 
 namespace {
@@ -18,6 +20,9 @@ const std::filesystem::path dir = std::filesystem::temp_directory_path() /
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const bool ready = [] {
         std::filesystem::create_directories(dir / "golden");
+        std::ofstream(dir / "golden" / "provenance.json")
+            << R"({"pendulum": "egalitarian", "parameters": {"m1": "1", "m2": "1", "L1": "1",)"
+               R"( "L2": "1", "a1": "1", "a2": "1", "I1": "0", "I2": "0", "g": "1"}})";
         std::ofstream(dir / "golden" / "golden.csv")
             << "quantity,arm,energy,value,digits,method\n"
                "flux-upright,2,3,2.71828182845904523536028747135266249775,38,elliptic\n"
@@ -27,6 +32,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)ready;
     std::ofstream(dir / "candidate.csv", std::ios::binary)
         .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    try {
+        if (const auto d = flipflux::read_declared_pendulum(dir / "candidate.csv"))
+            (void)flipflux::golden_set_for(dir / "golden", d->parameters, d->where);
+    } catch (const flipflux::input_error&) {
+    }
     for (bool allow_missing : {false, true}) {
         try {
             const auto r = flipflux::validate_candidate(dir / "candidate.csv", dir / "golden",

@@ -20,7 +20,7 @@ printf '3.14159265358979323846264338327950288419716939937510' >"$seeds/decimal/3
 cp data/golden/*.csv "$seeds/golden/"
 head -5 data/golden/golden.csv >"$seeds/candidate/1"
 # fuzz/seeds/: a checkpoint of a finished two-energy run and saddle-orbit cache records (double,
-# both arms), as flipflux wrote them.
+# both arms), as flipflux wrote them; candidates with '# pendulum:' headers.
 for t in "${targets[@]}"; do
     if [ -d "fuzz/seeds/$t" ]; then cp fuzz/seeds/"$t"/* "$seeds/$t/"; fi
 done

@@ -14,6 +14,7 @@
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "progress.hpp"
+#include "simulate_request.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -22,7 +23,7 @@ struct golden_state {
     std::string out = "data/golden";
     std::string quantities;
     int jobs = 2;
-    std::size_t max_rows = 0;
+    std::string max_rows = "0";
     bool progress = false;
     precision_option precision{"mp:100"};
     model_options model;
@@ -120,7 +121,9 @@ const register_command registration([](CLI::App& app) {
             throw input_error("--jobs: '" + std::to_string(s->jobs) + "' must be >= 1");
         }
         options.jobs = checked_threads(static_cast<std::uint64_t>(s->jobs), "--jobs");
-        options.max_rows = s->max_rows;
+        // parsed here, not by CLI11: its unsigned conversion wraps '-1' to 2^64 - 1 (all rows: a
+        // run of hours where a refusal belongs)
+        options.max_rows = parse_unsigned(s->max_rows, "--max-rows", false);
         options.certify = s->certify;
         progress_bar bar(s->progress);
         options.progress = [&bar](const golden_row& r, std::size_t done, std::size_t total) {
@@ -134,7 +137,7 @@ const register_command registration([](CLI::App& app) {
             std::fprintf(stderr, "golden: skipped %s\n", what.c_str());
         };
         if (s->certify_existing &&
-            (s->merge || s->certify || !s->quantities.empty() || s->max_rows > 0))
+            (s->merge || s->certify || !s->quantities.empty() || options.max_rows > 0))
             throw input_error(
                 "--certify-existing: proves the set in --out as it is; it takes no --merge, "
                 "--certify, --quantities or --max-rows");
@@ -163,7 +166,7 @@ const register_command registration([](CLI::App& app) {
         std::string command =
             "flipflux golden --out " + s->out + " --jobs " + std::to_string(s->jobs);
         if (!s->quantities.empty()) command += " --quantities " + s->quantities;
-        if (s->max_rows > 0) command += " --max-rows " + std::to_string(s->max_rows);
+        if (options.max_rows > 0) command += " --max-rows " + std::to_string(options.max_rows);
         if (s->precision.text != "mp:100") command += " --precision " + s->precision.text;
         if (!s->pendulum.empty()) command += " --pendulum " + s->pendulum;
         command += model_flags(s->model);

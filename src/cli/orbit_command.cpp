@@ -3,13 +3,12 @@
 // the saddle orbit at energy E as CSV rows t,theta1,theta2,l1,l2 (every digit of the working
 // precision), N samples at t_k = k T / (N - 1), k = 0..N-1 (the first and last rows coincide).
 // With --out the file is written to a temporary name and renamed: never half-written.
-#include <unistd.h>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "common.hpp"
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
@@ -61,25 +60,6 @@ std::string orbit_csv(const orbit_state_options& o) {
     return csv;
 }
 
-/// Writes `text` to `path` atomically: a temporary file in the same directory, then rename.
-void write_atomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp." + std::to_string(getpid());
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) throw input_error("--out: cannot write '" + path + "'");
-        f << text;
-        f.flush();
-        if (!f) {
-            std::remove(tmp.c_str());
-            throw input_error("--out: cannot write '" + path + "'");
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw input_error("--out: cannot write '" + path + "'");
-    }
-}
-
 const register_command registration([](CLI::App& app) {
     auto s = std::make_shared<orbit_state_options>();
     CLI::App* sub = app.add_subcommand(
@@ -102,11 +82,16 @@ const register_command registration([](CLI::App& app) {
     add_precision_option(*sub, s->precision);
     sub->callback([s] {
         const precision p = parse_precision(s->precision.text);
+        // before the orbit is solved (seconds to minutes at mp:N): a directory, /proc or a path
+        // through a file is refused first, with one line
+        if (!s->out.empty()) check_output_file(s->out, "--out");
         const std::string csv = dispatch(p, [&]<class Real>() { return orbit_csv<Real>(*s); });
-        if (s->out.empty())
-            print(csv);
-        else
-            write_atomically(s->out, csv);
+        if (s->out.empty()) return print(csv);
+        try {
+            write_file_atomically(s->out, csv);
+        } catch (const std::runtime_error& e) {
+            throw input_error("--out: cannot write '" + s->out + "' (" + e.what() + ")");
+        }
     });
 });
 

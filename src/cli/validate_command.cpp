@@ -4,11 +4,14 @@
 // flipflux validate --trajectories CANDIDATE.csv --reference EVENTS.csv [--state NAME]
 //     [--time-tol DT] [--until T]
 #include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "common.hpp"
 #include "flipflux/core/names.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/validation/candidate_pendulum.hpp"
 #include "flipflux/validation/simulator_check.hpp"
 #include "flipflux/validation/validate.hpp"
 #include "simulate_request.hpp"
@@ -23,7 +26,35 @@ struct validate_state {
     std::string ensemble, pilot = "1000", seed = "1";
     std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
     model_options model;
+    bool model_given = false;  ///< any of --m1 ... --g on the command line
 };
+
+/// The pendulum the validation is about: declared by the files (`# pendulum:` lines, in the
+/// candidate and, for --trajectories, the reference) or by the model options; every declaration
+/// given must name the same parameters. nullopt when nothing declares one.
+std::optional<model_text> declared_pendulum_of(const validate_state& s,
+                                               const std::vector<std::string>& files,
+                                               std::string& who) {
+    std::optional<model_text> out;
+    if (s.model_given) {
+        (void)parse_parameters<double>(s.model);  // a malformed option is named as the option
+        out = s.model;
+        who = "the model options";
+    }
+    for (const std::string& f : files) {
+        const std::optional<declared_pendulum> d = read_declared_pendulum(f);
+        if (!d) continue;
+        if (out && !same_parameters(*out, d->parameters))
+            throw input_error(d->where + ": pendulum: " + parameters_text(d->parameters) +
+                              " is not the pendulum of " + who + " (" + parameters_text(*out) +
+                              ")");
+        if (!out) {
+            out = d->parameters;
+            who = d->where;
+        }
+    }
+    return out;
+}
 
 /// The golden set of a named pendulum: the folder NAME under the golden data (one path component,
 /// holding golden.csv); input_error listing the sets there otherwise.
@@ -43,7 +74,17 @@ std::string golden_set_of(const std::string& golden, const std::string& name) {
 }
 
 void validate_ensemble(const validate_state& s) {
-    const double_pendulum<double> model(parse_parameters<double>(s.model));
+    std::string who;
+    const std::optional<model_text> declared = declared_pendulum_of(s, {s.ensemble}, who);
+    const bool from_file = declared && !s.model_given;
+    const double_pendulum<double> model = [&] {
+        try {
+            return double_pendulum<double>(parse_parameters<double>(declared.value_or(s.model)));
+        } catch (const input_error& e) {
+            if (!from_file) throw;
+            throw input_error(who + ": pendulum: " + e.what());  // the file's value, not an option
+        }
+    }();
     ensemble_check_options o;
     o.pilot_trajectories = parse_unsigned(s.pilot, "--pilot", true);
     o.seed = parse_unsigned(s.seed, "--seed", false);
@@ -63,6 +104,8 @@ void validate_trajectories(const validate_state& s) {
         throw input_error(
             "--trajectories: needs --reference FILE (or --state NAME of the golden data's "
             "reference trajectories)");
+    std::string who;
+    (void)declared_pendulum_of(s, {s.trajectories, reference}, who);  // they must agree
     event_comparison_options o;
     o.time_tolerance = parse_real<double>(s.time_tol, "--time-tol");
     o.until = parse_real<double>(s.until, "--until");
@@ -126,7 +169,10 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--criteria", s->criteria,
                     "--trajectories: compare only these criteria (comma-separated; default all)");
     add_model_options(*sub, s->model);
-    sub->callback([s] {
+    sub->callback([s, sub] {
+        for (const char* o :
+             {"--m1", "--m2", "--L1", "--L2", "--a1", "--a2", "--I1", "--I2", "--g"})
+            s->model_given = s->model_given || sub->get_option(o)->count() > 0;
         const int modes = !s->candidate.empty() + !s->ensemble.empty() + !s->trajectories.empty();
         if (modes != 1)
             throw input_error(
@@ -145,7 +191,19 @@ const register_command registration([](CLI::App& app) {
                     "--golden: no golden data beside the executable (share/flipflux/golden or "
                     "../share/flipflux/golden); give the directory");
         }
-        if (!s->pendulum.empty()) golden = golden_set_of(golden, s->pendulum);
+        std::string who;
+        if (const std::optional<model_text> p = declared_pendulum_of(*s, {s->candidate}, who)) {
+            const golden_set set = golden_set_for(golden, *p, who);
+            if (!s->pendulum.empty() && s->pendulum != set.name)
+                throw input_error("--pendulum: '" + s->pendulum +
+                                  "' is not the set of the pendulum of " + who + " (" +
+                                  parameters_text(*p) + "): that is '" + set.name + "'");
+            std::fprintf(stderr, "flipflux: note: golden set '%s' (%s), the pendulum of %s\n",
+                         set.name.c_str(), set.dir.string().c_str(), who.c_str());
+            golden = set.dir.string();
+        } else if (!s->pendulum.empty()) {
+            golden = golden_set_of(golden, s->pendulum);
+        }
         const validation_report r =
             validate_candidate(s->candidate, golden, rtol, s->allow_missing, s->require_all);
         print(format_report(r, rtol, s->verbose));

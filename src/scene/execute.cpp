@@ -188,13 +188,28 @@ void write_orbit_tables(context& ctx, int arm_number) {
     const std::vector<std::string> texts = energy_texts(spec.energies, "orbits.energies");
     const std::vector<energy_level<Real>> levels =
         energies_of<Real>(spec.energies, "orbits.energies");
+    // energies with no row, and why: never dropped silently (a shared grid of both arms has
+    // energies below arm 1's family; an energy above E_max has no saddle orbit)
+    json& skipped = ctx.summary["orbits"]["skipped"];
+    if (!skipped.is_array()) skipped = json::array();
     for (std::size_t i = 0; i < levels.size(); ++i) {
         const energy_level<Real>& level = levels[i];
-        if (!(level.above(es) > 0 && level.below(emax) > 0)) continue;
+        const std::string& e = texts[i];  // the energy as the scene gives it (not rounded)
+        if (!(level.above(es) > 0 && level.below(emax) > 0)) {
+            skipped.push_back({{"arm", std::to_string(arm_number)},
+                               {"energy", e},
+                               {"reason", "outside the arm's saddle-orbit family (" +
+                                              to_decimal(es) + ", " + to_decimal(emax) + ")"}});
+            continue;
+        }
         const auto o = recall_saddle_orbit(model, a, level, orbit_method::periodic,
                                            scene_orbit_options<Real>(ctx.s).integrator);
-        if (!o) continue;                 // the continuation stopped short (run.json says why)
-        const std::string& e = texts[i];  // the energy as the scene gives it (not rounded)
+        if (!o) {  // the continuation stopped short (its record in run.json says why)
+            skipped.push_back({{"arm", std::to_string(arm_number)},
+                               {"energy", e},
+                               {"reason", "the family's continuation did not reach it"}});
+            continue;
+        }
         // the flux through the orbit's configuration curve by the general curve-flux quadrature:
         // an independent check of f3 = 2 F (which `flux` is, by definition)
         const saddle_curve<Real> curve = make_saddle_curve(model, *o);

@@ -5,7 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <set>
 
@@ -108,6 +111,13 @@ void check_output_dir(const std::filesystem::path& dir, const scene& s, int line
         fail(s, line, key, text + " cannot be a directory: '" + p.string() + "' is a file");
     if (::access(p.c_str(), W_OK | X_OK) != 0)
         fail(s, line, key, text + " is not writable ('" + p.string() + "' is not)");
+    // the permission bits do not tell all (root passes access() on /proc, a read-only mount):
+    // create and remove a folder there, as the run's own creation would (nothing is left)
+    std::string probe = (p / ".flipflux-plan-XXXXXX").string();
+    if (::mkdtemp(probe.data()) == nullptr)
+        fail(s, line, key,
+             text + " cannot be created ('" + p.string() + "': " + std::strerror(errno) + ")");
+    ::rmdir(probe.c_str());
 }
 
 /// Everything about an ensemble that needs no computation: its energies above the saddle energy

@@ -11,9 +11,11 @@
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/integrators/taylor.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/orbits/saddle_taylor.hpp"
 #include "flipflux/study/trajectory.hpp"
 #include "trajectory_checks.hpp"
 
@@ -137,9 +139,9 @@ std::pair<int, long> stages_and_steps(const double_pendulum<Real>& model, const 
 /// One step's events: the crossing function on the collocation polynomial at 16 points and at
 /// its extrema, every level change in a monotone piece, each root polished by Newton on phi with
 /// Gauss-Legendre steps of the exact length from the step's start.
-template <class Real, class F>
+template <class Real, class F, class Stepper>
 void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<Real>>& list,
-                 const F& f, const gauss_legendre<Real, 4>& gl, const phase_point<Real>& x0,
+                 const F& f, const Stepper& gl, const phase_point<Real>& x0,
                  const phase_point<Real>& x1, const Real& t0, const Real& h,
                  std::vector<flip_event<Real>>& events) {
     constexpr int samples = 16;
@@ -196,7 +198,7 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
                 }
                 const Real located = h * (a + b) / 2;
                 Real tau = located;
-                gauss_legendre<Real, 4> refine = gl;
+                Stepper refine = gl;
                 crossing_value<Real> v{};
                 bool root = true;
                 for (int it = 0; it < 12; ++it) {
@@ -222,7 +224,92 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
     }
 }
 
+/// The Taylor route's step as step_events sees it: the step's Taylor polynomial (accurate to the
+/// tolerance over the whole step) is both the dense output and the exact re-step from its start.
+/// The recurrences are those of the saddle orbits (orbits/saddle_taylor.hpp) in the arm-2 saddle
+/// frame, a shift of theta2 by pi (the action component rides along, unused).
+template <class Real>
+struct taylor_step {
+    const taylor_integrator<Real, 5>* ti = nullptr;
+    Real h{0};
+    phase_point<Real> at(const Real& t) const {
+        const auto y = ti->evaluate(t);
+        return {y[0], y[1] + pi<Real>(), y[2], y[3]};
+    }
+    phase_point<Real> collocation(const phase_point<Real>&, const Real& theta) const {
+        return at(theta * h);
+    }
+    template <class F>
+    bool restep(const F&, phase_point<Real>& y, const Real& tau) const {
+        y = at(tau);
+        return true;
+    }
+};
+
 }  // namespace
+
+template <class Real>
+trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
+                                          const trajectory_request<Real>& q) {
+    detail::check_trajectory_request(q);
+    trajectory_record<Real> out;
+    out.energy = model.hamiltonian(q.state);
+    check_trajectory_work(double_pendulum<double>(convert_parameters<double>(model.parameters())),
+                          static_cast<double>(out.energy), static_cast<double>(q.time), "time");
+    const std::vector<curve_at<Real>> list = curves(model, q, out.energy, out.skipped);
+    const Real tol = std::numeric_limits<Real>::epsilon();
+    const int order = taylor_order_for(tol);
+    const saddle_frame<Real> frame(model, arm::two);
+    saddle_taylor_flow<Real, 0> flow(frame, order);
+    taylor_integrator<Real, 5> ti(order);
+    auto f = [&model](const phase_point<Real>& x, phase_point<Real>& dx) { dx = model.rhs(x); };
+    using std::abs;
+    auto add_state = [&](const Real& t, const phase_point<Real>& x) {
+        out.states.push_back({t, x[0], x[1], x[2], x[3], model.hamiltonian(x) - out.energy});
+    };
+    add_state(Real(0), q.state);
+    long next_sample = 1;
+    std::array<Real, 5> y{q.state[0], q.state[1] - pi<Real>(), q.state[2], q.state[3], Real(0)};
+    phase_point<Real> x = q.state;
+    Real t0 = 0;
+    constexpr long max_steps = 1000000000;  // as the Gauss-Legendre route's bound
+    while (t0 < q.time) {
+        if (out.steps >= max_steps)
+            throw std::runtime_error("trajectory: more than 1e9 Taylor steps");
+        if (!ti.expand(flow, y))
+            throw std::runtime_error("trajectory: a Taylor expansion is not finite at t = " +
+                                     to_decimal(t0));
+        std::array<Real, 5> scale;
+        for (std::size_t i = 0; i < 5; ++i)
+            scale[i] = 1 + abs(y[i]);
+        Real h = ti.step_size(tol, scale);
+        const bool last = t0 + h >= q.time;
+        if (last) h = q.time - t0;
+        const taylor_step<Real> step{&ti, h};
+        const phase_point<Real> x0 = x;
+        y = ti.evaluate(h);
+        x = step.at(h);
+        const Real t1 = last ? q.time : t0 + h;
+        ++out.steps;
+        const Real drift = abs(model.hamiltonian(x) - out.energy);
+        if (drift > out.max_energy_drift) out.max_energy_drift = drift;
+        step_events(model, list, f, step, x0, x, t0, h, out.events);
+        while (q.sample_interval > 0) {
+            const Real ts = q.sample_interval * next_sample;
+            if (ts > t1 || ts >= q.time) break;
+            add_state(ts, step.at(ts - t0));
+            ++next_sample;
+        }
+        t0 = t1;
+    }
+    out.route = "taylor (order " + std::to_string(order) + ", " + std::to_string(out.steps) +
+                " Jorba-Zou steps, events located on each step's polynomial)";
+    add_state(q.time, x);
+    std::stable_sort(
+        out.events.begin(), out.events.end(),
+        [](const flip_event<Real>& a, const flip_event<Real>& b) { return a.time < b.time; });
+    return out;
+}
 
 template <class Real>
 trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
@@ -287,6 +374,8 @@ trajectory_record<Real> integrate_trajectory(const double_pendulum<Real>& model,
 template trajectory_record<inst_real> integrate_trajectory<inst_real>(
     const double_pendulum<inst_real>&, const trajectory_request<inst_real>&);
 template trajectory_record<inst_real> reference_trajectory<inst_real>(
+    const double_pendulum<inst_real>&, const trajectory_request<inst_real>&);
+template trajectory_record<inst_real> taylor_trajectory<inst_real>(
     const double_pendulum<inst_real>&, const trajectory_request<inst_real>&);
 
 }  // namespace flipflux

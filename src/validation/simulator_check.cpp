@@ -293,6 +293,13 @@ std::map<std::pair<std::string, std::string>, std::vector<flip_row>> read_events
             throw input_error(at("time '" + r.fields[tc] + "' is not a number"));
         if (d != "1" && d != "-1" && d != "+1")
             throw input_error(at("direction '" + d + "' is not 1 or -1"));
+        // an unknown arm or criterion would be a stream of its own that "differs" (exit 1)
+        // instead of the input error it is
+        if (r.fields[ac] != "1" && r.fields[ac] != "2")
+            throw input_error(at("arm '" + r.fields[ac] + "' is not 1 or 2"));
+        const std::string& c = r.fields[cc];
+        if (c != "upright" && c != "approx" && c != "saddle")
+            throw input_error(at("criterion '" + c + "' is not upright, approx or saddle"));
         const double time = parse_real<double>(r.fields[tc], "time");
         if (o.until > 0 && time >= o.until) continue;
         if (!o.criteria.empty() &&

@@ -145,5 +145,23 @@ TEST(LimitsCommand, MistypedSubcommandIsNamed) {
     expect_refused("evall omega --energy 3", {"'evall' is not a subcommand", "eval"});
 }
 
+// The closing probe campaign of issue 20 (tools/probes.py), each finding a test:
+// golden --max-rows -1 was wrapped by CLI11 to 2^64 - 1 (every row: hours of computation).
+TEST(LimitsCommand, ProbeGoldenMaxRowsMinusOneIsRefused) {
+    expect_refused("golden --out /nonexistent/g --max-rows -1",
+                   {"--max-rows: '-1' is invalid (expected a non-negative integer)"});
+    expect_refused("golden --out /nonexistent/g --max-rows 1e3", {"--max-rows: '1e3'"});
+}
+
+// trajectory --out/--events and orbit --out naming a directory or /proc were refused only after
+// the computation (minutes at mp:N), after the notes the computation printed (several lines).
+TEST(LimitsCommand, ProbeTrajectoryAndOrbitOutputsAreCheckedBeforeComputing) {
+    const std::string dir = ::testing::TempDir();
+    expect_refused("trajectory --state 1,2,0,0 --time 1 --out " + dir, {"--out: '" + dir + "'"});
+    expect_refused("trajectory --state 1,2,0,0 --time 1 --events /proc/x", {"--events: '/proc/x'"});
+    expect_refused("orbit --energy 4 --out " + dir, {"--out: '" + dir + "'"});
+    expect_refused("orbit --energy 4 --precision mp:300 --out /proc/self/x", {"--out: '/proc"});
+}
+
 }  // namespace
 }  // namespace flipflux::test

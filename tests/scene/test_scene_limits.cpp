@@ -124,8 +124,9 @@ TEST(SceneLimits, OutputDirectoriesThatCannotBeWrittenAreRefusedBeforeComputing)
     expect_refused(with_output(file.string()), "s.toml:3: scene.output: '");
     expect_refused(with_output((file / "sub").string()), "is a file");
     expect_refused(with_output(dir.string() + "/" + std::string(300, 'n')), "longer than");
-    if (::geteuid() != 0)  // root writes anywhere
-        expect_refused(with_output("/proc/x"), "scene.output: '/proc/x'");
+    // also as root, whom access() lets "write" /proc (issue 20's probe campaign: the dry run
+    // accepted what run then refused): the plan creates and removes a folder there
+    expect_refused(with_output("/proc/x"), "s.toml:3: scene.output: '/proc/x' cannot be created");
     EXPECT_EQ(refusal(with_output((dir / "new" / "deeper").string())), "");
     EXPECT_FALSE(std::filesystem::exists(dir / "new"));  // the check creates nothing
     expect_refused(head + "[predictions]\nquantities = [\"omega\"]\nenergies = [3]\n[report]\n" +
@@ -141,6 +142,28 @@ TEST(SceneLimits, ShortEstimatorWithATimeBelowItsTrajectoriesIsRefusedInThePlan)
                    "s.toml:4: ensemble[0].time: '10' is shorter than the short estimator's");
     EXPECT_EQ(refusal(head + "[[ensemble]]\nenergies = [5]\nestimator = \"short\"\ntime = 40\n"),
               "");
+}
+
+// Issue 20's probe campaign: [orbits] energies outside an arm's saddle-orbit family (above E_max,
+// below the arm's saddle: a grid shared by both arms) were dropped without a word; run.json now
+// lists each with the reason.
+TEST(SceneLimits, ProbeOrbitEnergiesWithoutAnOrbitAreListedInRunJson) {
+    const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
+                                      ("flipflux_orbit_skip_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "s.toml") << "[scene]\nname = \"t\"\noutput = \"" << (dir / "out").string()
+                                  << "\"\n[orbits]\narms = [1, 2]\nenergies = [1.5, 6.5]\n";
+    const command_result r = run_flipflux("run " + (dir / "s.toml").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string run = read_text(dir / "out" / "run.json");
+    for (const std::string e :
+         {"\"arm\": \"1\",\n        \"energy\": \"1.5\",\n        \"reason\": \"outside the arm's "
+          "saddle-orbit family (4, 6)\"",
+          "\"arm\": \"1\",\n        \"energy\": \"6.5\"",
+          "\"arm\": \"2\",\n        \"energy\": \"6.5\",\n        \"reason\": \"outside the arm's "
+          "saddle-orbit family (2, 6)\""})
+        EXPECT_NE(run.find(e), std::string::npos) << e << "\nin\n" << run;
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -228,6 +228,35 @@ TEST(Trajectory, ReferenceRouteAgreesAcrossPrecisions) {
     }
 }
 
+// The Taylor route (Taylor series, events on each step's polynomial) against the Gauss-Legendre
+// reference route, both in quad, from a chaotic state over T = 3 with every curve criterion
+// (upright and approx, both arms; 4 events, a pair 5.5e-3 apart): two integrators that share only
+// the event-location code give the same events, times and final state within quad's epsilon
+// times the growth of errors (e^(lambda T) <= 1e3 for T <= 5, lambda <= 1.4, as above) times
+// |x| <= 10. (T = 3 keeps it cheap at -O0: the Gauss-Legendre side dominates.)
+TEST(Trajectory, TaylorRouteAgreesWithTheGaussLegendreRoute) {
+    const double_pendulum<quad> m;
+    trajectory_request<quad> q;
+    q.state = {quad(2.5), quad(3), quad("1.2"), quad(1)};
+    q.time = 3;
+    q.criteria = {"upright", "approx"};
+    q.arms = {arm::one, arm::two};
+    const trajectory_record<quad> a = taylor_trajectory(m, q), b = reference_trajectory(m, q);
+    ASSERT_EQ(a.events.size(), b.events.size());
+    ASSERT_EQ(a.events.size(), 4u);
+    const double tol = 1e3 * 10 * static_cast<double>(std::numeric_limits<quad>::epsilon());
+    for (std::size_t i = 0; i < a.events.size(); ++i) {
+        EXPECT_EQ(a.events[i].flip_arm, b.events[i].flip_arm) << i;
+        EXPECT_EQ(a.events[i].criterion, b.events[i].criterion) << i;
+        EXPECT_EQ(a.events[i].direction, b.events[i].direction) << i;
+        EXPECT_LE(static_cast<double>(abs(a.events[i].time - b.events[i].time)), tol) << i;
+    }
+    for (std::size_t k = 1; k <= 4; ++k)
+        EXPECT_LE(static_cast<double>(abs(a.states.back()[k] - b.states.back()[k])), tol) << k;
+    EXPECT_NE(a.route.find("taylor"), std::string::npos) << a.route;
+    EXPECT_LE(static_cast<double>(a.max_energy_drift), tol);
+}
+
 // The ensemble route (double) against the reference route (quad): the same events, each time
 // within what the double trajectory's own error allows there (its state error against the quad
 // one divided by the crossing speed, as in EventsLieOnTheCurveByAnIndependentRoute).

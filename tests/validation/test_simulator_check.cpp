@@ -239,6 +239,22 @@ TEST_F(SimulatorCheck, ReferenceWithStatesNeedsAState) {
     EXPECT_THROW(compare_flip_events(write("bad2.csv", "time,arm\n0.7,2\n"), ref, o), input_error);
 }
 
+// Issue 20's probe campaign: an events row with arm 3 or an unknown criterion made a stream of
+// its own that "differed" (exit 1) instead of the input error it is (exit 2, file:line).
+TEST_F(SimulatorCheck, ProbeEventsWithAnUnknownArmOrCriterionAreRefused) {
+    const auto ref = write("ref.csv", events);
+    event_comparison_options o;
+    for (const std::string row : {"1.5,3,upright,1", "1.5,2,bogus,1", "1.5,,upright,1"}) {
+        const auto cand = write("cand.csv", "time,arm,criterion,direction\n" + row + "\n");
+        try {
+            (void)compare_flip_events(cand, ref, o);
+            ADD_FAILURE() << "accepted: " << row;
+        } catch (const input_error& e) {
+            EXPECT_EQ(std::string(e.what()).rfind(cand.string() + ":2: ", 0), 0u) << e.what();
+        }
+    }
+}
+
 TEST(ValidateCommand, TakesExactlyOneMode) {
     const std::string dir = ::testing::TempDir();
     const std::string f = dir + "ev_" + std::to_string(getpid()) + ".csv";

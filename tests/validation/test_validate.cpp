@@ -146,6 +146,23 @@ TEST_F(Validate, CandidateWithAByteOrderMarkIsRead) {
     EXPECT_TRUE(r.passed()) << format_report(r, 1e-12);
 }
 
+// Issue 20's probe campaign: a candidate of 200,000 rows took minutes (every row compared with
+// every golden row in MPFR). The rows are now found by (quantity, arm) and energy: each matches
+// its own golden row, "3.0" matches "3", an energy 1e-11 off (relative) matches none, and the
+// repeated rows are duplicates of the first.
+TEST_F(Validate, ProbeLargeCandidateIsMatchedRowByRow) {
+    std::string text = header + row3 + row2 + row1 + "flux-upright,2,3.00000000003,2.7\n";
+    for (int i = 0; i < 20000; ++i)
+        text += row2;
+    const auto r = check(text);
+    ASSERT_EQ(r.entries.size(), 20004u);
+    EXPECT_EQ(r.count(validation_entry::status::ok), 3u) << format_report(r, 1e-12);
+    EXPECT_EQ(r.count(validation_entry::status::unmatched), 1u);
+    EXPECT_EQ(r.count(validation_entry::status::duplicate), 20000u);
+    EXPECT_EQ(r.entries[1].golden, "2.71828182845904523536028747135266249775");
+    EXPECT_EQ(r.entries[4].note, "duplicates line 3");
+}
+
 TEST_F(Validate, CliExitStatus) {
     std::ofstream(dir_ / "good.csv") << header + row1 + row2 + row3;
     std::ofstream(dir_ / "bad.csv") << header + row1 + row2 + row2 + row3;

@@ -83,11 +83,24 @@ trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
 trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& model,
                                               const trajectory_request<double>& request);
 
+/// The Taylor route (an independent high-precision route, `flipflux trajectory --route taylor`):
+/// the Taylor-series integrator of the saddle orbits (integrators/taylor.hpp, the recurrences of
+/// orbits/saddle_taylor.hpp), order ceil(-ln(eps) / 2) + 1, adaptive Jorba-Zou steps to the
+/// working precision's epsilon (relative to 1 + |x|), the events located on each step's Taylor
+/// polynomial, which is the solution to that tolerance over the whole step (the same location
+/// code as the Gauss-Legendre route, with the polynomial as both dense output and re-step). Much
+/// cheaper than Gauss-Legendre at many digits. Throws as reference_trajectory.
+template <class Real>
+trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
+                                          const trajectory_request<Real>& request);
+
 #define FLIPFLUX_TRAJECTORY_EXTERN(R)                                                           \
     extern template trajectory_record<R> integrate_trajectory<R>(const double_pendulum<R>&,     \
                                                                  const trajectory_request<R>&); \
     extern template trajectory_record<R> reference_trajectory<R>(const double_pendulum<R>&,     \
-                                                                 const trajectory_request<R>&);
+                                                                 const trajectory_request<R>&); \
+    extern template trajectory_record<R> taylor_trajectory<R>(const double_pendulum<R>&,        \
+                                                              const trajectory_request<R>&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_TRAJECTORY_EXTERN)
 #undef FLIPFLUX_TRAJECTORY_EXTERN
 
