@@ -246,17 +246,27 @@ struct taylor_step {
     }
 };
 
+/// The start shared by the high-precision routes: the request checked, the energy, the work
+/// bound (the same as the ensemble route's: a trajectory that could not finish is refused) and
+/// the dividing curves to watch.
+template <class Real>
+std::vector<curve_at<Real>> start_record(const double_pendulum<Real>& model,
+                                         const trajectory_request<Real>& q,
+                                         trajectory_record<Real>& out) {
+    detail::check_trajectory_request(q);
+    out.energy = model.hamiltonian(q.state);
+    check_trajectory_work(double_pendulum<double>(convert_parameters<double>(model.parameters())),
+                          static_cast<double>(out.energy), static_cast<double>(q.time), "time");
+    return curves(model, q, out.energy, out.skipped);
+}
+
 }  // namespace
 
 template <class Real>
 trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
                                           const trajectory_request<Real>& q) {
-    detail::check_trajectory_request(q);
     trajectory_record<Real> out;
-    out.energy = model.hamiltonian(q.state);
-    check_trajectory_work(double_pendulum<double>(convert_parameters<double>(model.parameters())),
-                          static_cast<double>(out.energy), static_cast<double>(q.time), "time");
-    const std::vector<curve_at<Real>> list = curves(model, q, out.energy, out.skipped);
+    const std::vector<curve_at<Real>> list = start_record(model, q, out);
     const Real tol = std::numeric_limits<Real>::epsilon();
     const int order = taylor_order_for(tol);
     const saddle_frame<Real> frame(model, arm::two);
@@ -314,13 +324,8 @@ trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
 template <class Real>
 trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
                                              const trajectory_request<Real>& q) {
-    detail::check_trajectory_request(q);
     trajectory_record<Real> out;
-    out.energy = model.hamiltonian(q.state);
-    // the same work bound as the ensemble route: a trajectory that could not finish is refused
-    check_trajectory_work(double_pendulum<double>(convert_parameters<double>(model.parameters())),
-                          static_cast<double>(out.energy), static_cast<double>(q.time), "time");
-    const std::vector<curve_at<Real>> list = curves(model, q, out.energy, out.skipped);
+    const std::vector<curve_at<Real>> list = start_record(model, q, out);
     const auto [stages, steps] = stages_and_steps(model, out.energy, q.time);
     out.route = "gauss-legendre (" + std::to_string(stages) + " stages, " + std::to_string(steps) +
                 " steps, events polished by Newton)";

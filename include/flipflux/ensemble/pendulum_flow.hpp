@@ -53,20 +53,16 @@ class pendulum_flow {
                         [this](const std::array<double, 4>& one) { return (*this)(0.0, one); });
             return;
         }
-        V s1, c1, s2, c2;
-        fast_sincos_lanes(x[0], s1, c1);
-        fast_sincos_lanes(x[1], s2, c2);
-        const V sd = s1 * c2 - c1 * s2;
-        const V cd = c1 * c2 + s1 * s2;
+        const trig_lanes<V> g(x);
         const double CC = k_.C * k_.C;
-        const V det = k_.D0 + CC * sd * sd;
-        const V w1 = (k_.B * x[2] - k_.C * cd * x[3]) / det;
-        const V w2 = (k_.A * x[3] - k_.C * cd * x[2]) / det;
-        const V P = k_.C * sd * w1 * w2;
+        const V det = k_.D0 + CC * g.sd * g.sd;
+        const V w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
+        const V w2 = (k_.A * x[3] - k_.C * g.cd * x[2]) / det;
+        const V P = k_.C * g.sd * w1 * w2;
         f[0] = w1;
         f[1] = w2;
-        f[2] = -P - k_.alpha * s1;
-        f[3] = P - k_.beta * s2;
+        f[2] = -P - k_.alpha * g.s1;
+        f[3] = P - k_.beta * g.s2;
     }
 
     /// tangent() at lanes_of<V> states at once, y[i] = (component i of each state): per lane
@@ -77,32 +73,28 @@ class pendulum_flow {
             per_lane<8>(y, f, [this](const std::array<double, 8>& one) { return tangent(one); });
             return;
         }
-        V s1, c1, s2, c2;
-        fast_sincos_lanes(y[0], s1, c1);
-        fast_sincos_lanes(y[1], s2, c2);
-        const V sd = s1 * c2 - c1 * s2;
-        const V cd = c1 * c2 + s1 * s2;
+        const trig_lanes<V> g(y);
         const double C = k_.C;
-        const V det = k_.D0 + C * C * sd * sd;
-        const V n1 = k_.B * y[2] - C * cd * y[3];
-        const V n2 = k_.A * y[3] - C * cd * y[2];
+        const V det = k_.D0 + C * C * g.sd * g.sd;
+        const V n1 = k_.B * y[2] - C * g.cd * y[3];
+        const V n2 = k_.A * y[3] - C * g.cd * y[2];
         const V w1 = n1 / det, w2 = n2 / det;
-        const V P = C * sd * w1 * w2;
+        const V P = C * g.sd * w1 * w2;
         const V dd = y[4] - y[5];
-        const V dsd = cd * dd, dcd = -sd * dd;
-        const V ddet = 2 * C * C * sd * dsd;
-        const V dn1 = k_.B * y[6] - C * (dcd * y[3] + cd * y[7]);
-        const V dn2 = k_.A * y[7] - C * (dcd * y[2] + cd * y[6]);
+        const V dsd = g.cd * dd, dcd = -g.sd * dd;
+        const V ddet = 2 * C * C * g.sd * dsd;
+        const V dn1 = k_.B * y[6] - C * (dcd * y[3] + g.cd * y[7]);
+        const V dn2 = k_.A * y[7] - C * (dcd * y[2] + g.cd * y[6]);
         const V dw1 = (dn1 - w1 * ddet) / det, dw2 = (dn2 - w2 * ddet) / det;
-        const V dP = C * (dsd * w1 * w2 + sd * (dw1 * w2 + w1 * dw2));
+        const V dP = C * (dsd * w1 * w2 + g.sd * (dw1 * w2 + w1 * dw2));
         f[0] = w1;
         f[1] = w2;
-        f[2] = -P - k_.alpha * s1;
-        f[3] = P - k_.beta * s2;
+        f[2] = -P - k_.alpha * g.s1;
+        f[3] = P - k_.beta * g.s2;
         f[4] = dw1;
         f[5] = dw2;
-        f[6] = -dP - k_.alpha * c1 * y[4];
-        f[7] = dP - k_.beta * c2 * y[5];
+        f[6] = -dP - k_.alpha * g.c1 * y[4];
+        f[7] = dP - k_.beta * g.c2 * y[5];
     }
 
     /// hamiltonian_absolute() at lanes_of<V> states at once, x[i] = (component i of each state):
@@ -115,15 +107,11 @@ class pendulum_flow {
                 h[lane] = hamiltonian_absolute({x[0][lane], x[1][lane], x[2][lane], x[3][lane]});
             return;
         }
-        V s1, c1, s2, c2;
-        fast_sincos_lanes(x[0], s1, c1);
-        fast_sincos_lanes(x[1], s2, c2);
-        const V sd = s1 * c2 - c1 * s2;
-        const V cd = c1 * c2 + s1 * s2;
-        const V det = k_.D0 + k_.C * k_.C * sd * sd;
+        const trig_lanes<V> g(x);
+        const V det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
         const V kin =
-            (k_.B * x[2] * x[2] - 2 * k_.C * cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
-        h = kin + (k_.alpha * (1 - c1) + k_.beta * (1 - c2));
+            (k_.B * x[2] * x[2] - 2 * k_.C * g.cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
+        h = kin + (k_.alpha * (1 - g.c1) + k_.beta * (1 - g.c2));
     }
 
     /// Angular velocities th' = M^-1 l.
@@ -199,6 +187,17 @@ class pendulum_flow {
         double s1, c1, s2, c2, sd, cd;
         explicit trig(const double* x) {
             fast_sincos2(x[0], x[1], s1, c1, s2, c2);
+            sd = s1 * c2 - c1 * s2;
+            cd = c1 * c2 + s1 * s2;
+        }
+    };
+    /// trig at lanes_of<V> states at once (x[0], x[1]: the angles of each lane).
+    template <class V>
+    struct trig_lanes {
+        V s1, c1, s2, c2, sd, cd;
+        [[gnu::always_inline]] explicit trig_lanes(const V* x) {
+            fast_sincos_lanes(x[0], s1, c1);
+            fast_sincos_lanes(x[1], s2, c2);
             sd = s1 * c2 - c1 * s2;
             cd = c1 * c2 + s1 * s2;
         }
