@@ -1,9 +1,10 @@
-// The reference trajectories of data/golden/trajectories/ (tools/golden_trajectories.py: mp:50
-// against mp:70 over T = 40, certified digits per row): well formed (every state listed, digits
-// >= 30, events in time order), and a sample regenerated in quad by the reference route over
-// T = 10 -- the grazing state s02 (two crossings 5.5e-4 apart) and the chaotic state s05 --
-// has the same events (arm, criterion, direction) with times, and the state at t = 10, within
-// quad's epsilon times the growth bound e^(lambda T) of errors (lambda <= 1.4, the largest
+// The reference trajectories of data/golden/trajectories/ (tools/golden_trajectories.py:
+// Gauss-Legendre mp:50 against Taylor mp:100 over T = 40, every criterion, certified digits per
+// row): well formed (every state listed, digits >= 30, events in time order, saddle-criterion
+// events of both arms, the '# pendulum:' line), and a sample regenerated in quad by the reference
+// route over T = 10 -- the grazing state s02 (two crossings 5.5e-4 apart) and the chaotic state
+// s05 -- has the same events (arm, criterion, direction) with times, and the state at t = 10,
+// within quad's epsilon times the growth bound e^(lambda T) of errors (lambda <= 1.4, the largest
 // finite-time exponent seen: ReferenceRouteAgreesAcrossPrecisions) times 1e3.
 #include <algorithm>
 #include <cmath>
@@ -35,12 +36,14 @@ TEST(GoldenTrajectories, AreWellFormedAndCertified) {
     const int s = col(events, "state"), t = col(events, "time"), d = col(events, "digits"),
               a = col(events, "arm"), c = col(events, "criterion");
     int arm1 = 0;
-    double grazing_gap = 1;  // s02: the closest pair of arm-2 upright flips
+    std::map<std::string, int> saddle;  // arm -> saddle-criterion events
+    double grazing_gap = 1;             // s02: the closest pair of arm-2 upright flips
     double previous_upright = -1;
     for (const csv_row& r : events.rows) {
         const double time = parse_real<double>(r.fields[t], "time");
         EXPECT_GE(time, last[r.fields[s]]) << "line " << r.line;
         arm1 += r.fields[a] == "1";
+        if (r.fields[c] == "saddle") ++saddle[r.fields[a]];
         if (r.fields[s] == "s02" && r.fields[a] == "2" && r.fields[c] == "upright") {
             if (previous_upright >= 0) grazing_gap = std::min(grazing_gap, time - previous_upright);
             previous_upright = time;
@@ -55,7 +58,12 @@ TEST(GoldenTrajectories, AreWellFormedAndCertified) {
         EXPECT_GE(std::atoi(r.fields[sd].c_str()), 30) << "states.csv line " << r.line;
         ++sampled[r.fields[ss]];
     }
-    EXPECT_GT(arm1, 10);           // both arms flip
+    EXPECT_GT(arm1, 10);        // both arms flip
+    EXPECT_GT(saddle["1"], 5);  // every criterion, the saddle orbit's too, both arms
+    EXPECT_GT(saddle["2"], 5);
+    // the pendulum, declared as validate reads it (docs/validating.md)
+    for (const char* f : {"events.csv", "states.csv"})
+        EXPECT_EQ(read_text(dir + f).rfind("# pendulum: m1=1 m2=1 L1=1 L2=1 g=1\n", 0), 0u) << f;
     EXPECT_LT(grazing_gap, 1e-3);  // the grazing flip: two crossings 5.5e-4 apart
     EXPECT_GE(states.rows.size(), 12u);
     for (const csv_row& r : states.rows) {  // every state: t = 10, 20, 40 and some flips
