@@ -194,7 +194,8 @@ TEST(GoldenTrajectories, DoubleRouteAgreesWithinTheLyapunovGrowth) {
             trajectory_request<double> to = q;
             to.time = e.time;
             to.sample_interval = 0;
-            const auto& x = ensemble_trajectory(model, to).states.back();
+            const auto x =
+                ensemble_trajectory(model, to).states.back();  // a copy: the record is a temporary
             const int flip = e.flip_arm == arm::two ? 1 : 0;
             const double speed =
                 std::abs(model.rhs({x[1], x[2], x[3], x[4]})[static_cast<std::size_t>(flip)]);
