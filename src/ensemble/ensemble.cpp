@@ -361,8 +361,10 @@ template <class Lane, int s, class V>
         const std::size_t g = std::min<std::size_t>(W, m - i);
         // (not zeroed: every row is written below, lane 0's first; zeroing cost a `rep stos` per
         // stage, ~5 % of the ensemble's time)
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
         double y[W][N];
         active[i]->rk().template stage_input<s>(y[0]);
         for (std::size_t l = 1; l < g; ++l)
@@ -377,7 +379,9 @@ template <class Lane, int s, class V>
                 column[l] = y[l][c];
             std::memcpy(&x[c], column, sizeof(V));
         }
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
         if constexpr (N == 4)
             flow.lanes(x, f);
         else
