@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # Bounded libFuzzer runs of every fuzz target (fuzz/), seeded from the bundled files.
 #   bash tools/fuzz.sh [SECONDS_PER_TARGET]   (default 8: about a minute for the seven targets)
-# Builds the "fuzz" preset (clang-14, ASan+UBSan) first. A crash leaves crash-* in
-# build/fuzz/findings/TARGET/ and makes the script fail; each becomes a regression test.
+# Builds the "fuzz" preset (clang-14, ASan+UBSan, -O1) first, or the preset named by
+# FLIPFLUX_FUZZ_PRESET (CI: "fuzz-ci", the same at -O0, which compiles in half the time). A crash
+# leaves crash-* in build/PRESET/findings/TARGET/ and makes the script fail; each becomes a
+# regression test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-8}
-cmake --preset fuzz >/dev/null
+preset=${FLIPFLUX_FUZZ_PRESET:-fuzz}
+build=build/$preset
+cmake --preset "$preset" >/dev/null
 targets=(scene energy_grid decimal checkpoint orbit_cache candidate golden)
-cmake --build build/fuzz -j"${FLIPFLUX_FUZZ_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
-seeds=build/fuzz/seeds
+cmake --build "$build" -j"${FLIPFLUX_FUZZ_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
+seeds=$build/seeds
 rm -rf "$seeds" && mkdir -p "$seeds"
-for t in "${targets[@]}"; do mkdir -p "$seeds/$t" "build/fuzz/findings/$t"; done
+for t in "${targets[@]}"; do mkdir -p "$seeds/$t" "$build/findings/$t"; done
 cp data/scenes/*.toml "$seeds/scene/"
 printf '3' >"$seeds/energy_grid/1"; printf '2.5,3,3.5' >"$seeds/energy_grid/2"
 printf '2:6:0.05' >"$seeds/energy_grid/3"
@@ -28,7 +32,7 @@ done
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}
 status=0
 for t in "${targets[@]}"; do
-    dir=build/fuzz/findings/$t
+    dir=$build/findings/$t
     rm -rf "$dir/tmp" && mkdir -p "$dir/tmp"
     # TMPDIR: the candidate and golden targets write their files there (removed below).
     if (cd "$dir" && TMPDIR=$PWD/tmp ../../fuzz/fuzz_"$t" -max_total_time="$seconds" -timeout=10 \

@@ -94,6 +94,8 @@ proof_memo& memo() {
     return m;
 }
 
+thread_local bool proof_memo_bypassed = false;
+
 /// The proof of the saddle orbit at prec bits: its centre is the non-rigorous orbit in mp:D, D the
 /// decimal digits of prec - 32 bits, and the box's relative radius at most 10^-D.
 certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
@@ -103,7 +105,8 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
                             model.a1 + "," + model.a2 + "," + model.I1 + "," + model.I2 + "," +
                             model.g + "|" + to_string(a) + "|" + energy + "|" +
                             std::to_string(prec);
-    if (auto p = memo().find(key, monodromy)) return *p;
+    if (!proof_memo_bypassed)
+        if (auto p = memo().find(key, monodromy)) return *p;
     certified_detail::orbit_proof_input in;
     in.pendulum = certified_detail::pendulum_from_text(model, prec);
     in.flip_arm = a;
@@ -133,7 +136,7 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
     in.fallback_box_digits = digits;
     const certified_detail::orbit_proof proof =
         certified_detail::prove_saddle_orbit(in, prec, monodromy);
-    memo().keep(key, proof);
+    if (!proof_memo_bypassed) memo().keep(key, proof);
     return proof;
 }
 
@@ -293,6 +296,14 @@ certified_enclosure to_decimal_ball(const arb_t x, int digits, slong prec) {
 bool has_certified_enclosure(std::string_view quantity) {
     certified_quantity q;
     return quantity_named(quantity, q);
+}
+
+certified_proof_memo_bypass::certified_proof_memo_bypass() : previous_(proof_memo_bypassed) {
+    proof_memo_bypassed = true;
+}
+
+certified_proof_memo_bypass::~certified_proof_memo_bypass() {
+    proof_memo_bypassed = previous_;
 }
 
 certified_enclosure certified_value(std::string_view quantity, const model_text& model, arm a,

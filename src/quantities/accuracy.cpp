@@ -139,6 +139,10 @@ struct row_state {
 /// A proof at one probe: the enclosure at the column's digits, and its CPU time.
 std::optional<std::pair<certified_enclosure, double>> prove(const precision& p, const quantity& q,
                                                             const probe& pr) {
+    // timed from scratch: neither this process's earlier proofs of the same orbit (period and
+    // action share one) nor its non-rigorous orbits (the proof's centre)
+    const certified_proof_memo_bypass fresh_proof;
+    const saddle_orbit_memo_bypass fresh_orbit;
     try {
         const double start = thread_cpu_seconds();
         certified_enclosure e =
@@ -165,6 +169,12 @@ void measure_cell(row_state& r, const precision& p, const accuracy_options& opti
         r.values.assign(r.probes.size(), std::string());
         cell.over_budget = true;
         cell.seconds = 2 * options.max_seconds;
+    } catch (const std::exception& e) {
+        // a method or a proof that fails (no convergence, a Krawczyk test that does not
+        // contract) is a finding of the report, not the end of the run (these cells run on
+        // OpenMP threads, where an escaping exception would terminate the process)
+        r.values.assign(r.probes.size(), std::string());
+        cell.failure = e.what();
     }
 }
 
@@ -311,7 +321,7 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
                 ++cell.energies;
             }
             r.too_slow = cell.seconds > options.max_seconds;
-            if (cell.over_budget) {
+            if (cell.over_budget || !cell.failure.empty()) {
                 cell.skipped = true;
             } else if (cell.applies) {
                 r.measured_digits.push_back(working_digits(p));
@@ -319,10 +329,11 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
             }
             if (options.progress) {
                 char line[240];
-                std::snprintf(line, sizeof line, "%s %s %s: %.1f digits, %.3g s (%d energies)%s",
+                std::snprintf(line, sizeof line, "%s %s %s: %.1f digits, %.3g s (%d energies)%s%s",
                               r.q->name.c_str(), r.method.c_str(), precision_name(p).c_str(),
                               cell.digits, cell.seconds, cell.energies,
-                              cell.contains_reference ? "" : " REFERENCE OUTSIDE THE BALL");
+                              cell.contains_reference ? "" : " REFERENCE OUTSIDE THE BALL",
+                              cell.failure.empty() ? "" : (" FAILED: " + cell.failure).c_str());
                 options.progress(line);
             }
         }
@@ -334,6 +345,13 @@ std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options) {
 }
 
 namespace {
+
+/// Text for one Markdown table cell: on one line, without the column separator.
+std::string markdown_cell_text(std::string text) {
+    for (char& c : text)
+        if (c == '|' || c == '\n' || c == '\r') c = c == '|' ? '/' : ' ';
+    return text;
+}
 
 std::string format_time(double s) {
     char buf[32];
@@ -426,6 +444,10 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         }
         md += "| " + e.method;
         for (const accuracy_cell& c : e.cells) {
+            if (!c.failure.empty()) {
+                md += " | **FAILED: " + markdown_cell_text(c.failure) + "**";
+                continue;
+            }
             if (c.over_budget) {
                 md += " | not measured (abandoned after " + format_time(c.seconds) + " of CPU)";
                 continue;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "support.hpp"
@@ -354,6 +355,28 @@ TEST(Accuracy, AMethodEstimatedTooSlowIsNotMeasured) {
     EXPECT_NE(line.find("digits"), std::string::npos) << line;  // double: measured
     EXPECT_NE(line.find("not measured (estimated "), std::string::npos) << line;
     std::filesystem::remove(out);
+}
+
+// A method or a proof that fails in one cell (no convergence, a Krawczyk test that does not
+// contract) is reported in that cell with its error on one line, not dropped.
+TEST(Accuracy, AFailedCellIsReportedWithItsError) {
+    accuracy_options options;
+    options.precisions = {parse_precision("double"), parse_precision("mp:50")};
+    accuracy_entry e{"period", "the saddle orbit's period", std::string(proof_method), {}};
+    accuracy_cell& ok = e.cells.emplace_back();
+    ok.applies = true;
+    ok.digits = 22;
+    ok.seconds = 0.5;
+    ok.energies = 3;
+    e.cells.emplace_back().failure = "Krawczyk test failed at E = 5.9 | box\nnot contracted";
+    const std::string md = accuracy_markdown({e}, options, "flipflux accuracy");
+    const std::size_t row = md.find("| proof (Arb) | ");
+    ASSERT_NE(row, std::string::npos) << md;
+    const std::string line = md.substr(row, md.find('\n', row) - row);
+    EXPECT_NE(line.find("22 proven digits"), std::string::npos) << line;
+    EXPECT_NE(line.find("| **FAILED: Krawczyk test failed at E = 5.9 / box not contracted** |"),
+              std::string::npos)
+        << line;
 }
 
 }  // namespace

@@ -52,6 +52,20 @@ bool has_certified_enclosure(std::string_view quantity);
 certified_enclosure certified_value(std::string_view quantity, const model_text& model, arm a,
                                     const std::string& energy, int digits);
 
+/// While one lives in a thread, that thread's saddle-orbit proofs neither reuse nor keep the
+/// proofs this process did before (a proof with its monodromy serves the six orbit quantities):
+/// what the accuracy report needs to time one proof from scratch.
+class certified_proof_memo_bypass {
+  public:
+    certified_proof_memo_bypass();
+    ~certified_proof_memo_bypass();
+    certified_proof_memo_bypass(const certified_proof_memo_bypass&) = delete;
+    certified_proof_memo_bypass& operator=(const certified_proof_memo_bypass&) = delete;
+
+  private:
+    bool previous_;
+};
+
 /// The ball centred at the decimal `mid` that contains e: radius |mid - e.mid| + e.radius (rounded
 /// up, 3 digits), proven_digits of that radius (golden --certify: an enclosure around the row's
 /// rounded value). Throws input_error when a decimal does not parse.

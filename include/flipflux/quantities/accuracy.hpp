@@ -63,6 +63,8 @@ struct accuracy_cell {
     /// proof rows: false when a higher-precision reference lay outside a proven ball (a bug in
     /// one of the two routes; the report says so)
     bool contains_reference = true;
+    /// not empty: an evaluation or a proof failed (its one-line error; the report says so)
+    std::string failure;
 };
 
 /// The method name of the proof rows.
