@@ -339,7 +339,7 @@ step_count_estimate<Real> quarter_steps_for(const detail::shooting_setup<Real>& 
             [&setup](int order) { return saddle_taylor_flow<Real>(setup.frame, order); }, y0,
             period / 4, tol, scale, 4);
     return steps_for_tolerance<Real, 5>(orbit_flow<Real>{&setup.frame}, y0, period / 4, tol,
-                                        setup.stages, scale, 4);
+                                        setup.stages, scale, 16);
 }
 
 /// The first iterations in quad, for a Real of more digits with the Taylor integrator: Newton in

@@ -350,5 +350,26 @@ TEST(SaddleOrbit, PeriodicMethodJustBelowTheMaximumReportsTheSymmetricOrbit) {
     }
 }
 
+// Regression (found by the light-upper-arm golden set): the Gauss-Legendre step estimate of the
+// quarter orbit, started from 4 steps, took a pre-asymptotic agreement of 4, 8 and 16 steps for
+// convergence and chose 8 steps at E = 5.65 (arm 2), an error of 1e-5 in the period. The pilot
+// now starts at 16 steps. Reference: the orbit in mp:40 with the Taylor integrator (another
+// integrator, another precision), where periodic and symmetric shooting agree to all 42 printed
+// digits (`flipflux eval period|action --arm 2 --energy 5.65 --m1 0.1 --L2 2 --precision mp:40
+// --method periodic|symmetric`). Tolerance: 4096 eps, the quarter-orbit integration's rounding
+// amplified by the orbit's instability (its error estimate is ~1e-12).
+TEST(SaddleOrbit, GaussLegendreStepsAreAsymptoticForALightUpperArm) {
+    physical_parameters<double> p;
+    p.m1 = 0.1;
+    p.L2 = 2;
+    p.a2 = 2;
+    const auto d =
+        solve_saddle_orbit(double_pendulum<double>(p), arm::two, 5.65, {orbit_method::periodic});
+    ASSERT_EQ(d.status, orbit_status::converged);
+    const double tol = 4096 * std::numeric_limits<double>::epsilon();
+    EXPECT_LE(relative_error(d.period, "7.28340655583798875008185236371620332594207"), tol);
+    EXPECT_LE(relative_error(d.action, "8.59556620809818067996926440759948672535336"), tol);
+}
+
 }  // namespace
 }  // namespace flipflux::test

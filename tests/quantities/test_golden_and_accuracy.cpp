@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
@@ -74,6 +75,33 @@ TEST(Golden, CommittedRowsAreCertifiedAndCoverTheGrid) {
                             "boost_math_policy", "grid", "rows"})
         EXPECT_TRUE(provenance.contains(key)) << key;
     EXPECT_EQ(provenance["rows"].get<std::size_t>(), rows.size());
+}
+
+// issue 13: every committed row carries a proven enclosure [value +/- radius] (golden
+// --certify-existing), at least as many proven digits as certified ones but one; a sample of the
+// prediction rows is proved again here, at 30 digits: each fresh ball must meet the committed
+// one (the committed value within the fresh ball widened by the committed radius).
+TEST(Golden, CommittedRowsCarryProvenEnclosuresThatAFreshProofMeets) {
+    const std::vector<golden_row> rows = committed_rows();
+    for (const golden_row& r : rows) {
+        ASSERT_FALSE(r.radius.empty()) << r.quantity << " arm " << r.arm << " E " << r.energy;
+        EXPECT_GE(r.proven_digits, r.digits - 1)
+            << r.quantity << " arm " << r.arm << " E " << r.energy << ": radius " << r.radius;
+    }
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < rows.size(); i += rows.size() / 17) {
+        const golden_row& r = rows[i];
+        if (!is_prediction(r.quantity)) continue;
+        const arm a = r.arm == "1" ? arm::one : arm::two;
+        const certified_enclosure fresh =
+            certified_value(r.quantity, model_text{}, a, r.energy, 30);
+        EXPECT_GE(fresh.proven_digits, 29) << r.quantity << " E " << r.energy;
+        EXPECT_TRUE(enclosure_contains(fresh, r.value, r.radius))
+            << r.quantity << " arm " << r.arm << " E " << r.energy << ": committed " << r.value
+            << " +/- " << r.radius << ", fresh " << fresh.mid << " +/- " << fresh.radius;
+        ++checked;
+    }
+    EXPECT_GE(checked, 12u);
 }
 
 // A sample of the committed rows, recomputed in quad by the default method: equal to the quad
@@ -147,7 +175,12 @@ TEST(Golden, EveryPendulumsSetRegeneratesASampleInDouble) {
         std::size_t checked = 0;
         for (std::size_t i = 0; i < rows.size(); i += rows.size() / 7) {
             const golden_row& r = rows[i];
-            EXPECT_GE(r.digits, 12) << name << " " << r.quantity << " E " << r.energy;
+            // the prediction rows carry >= 12 digits; a saddle-orbit row near E_max fewer (its
+            // multiplier, up to 1e8 there, amplifies double's errors in the certifying route)
+            if (is_prediction(r.quantity))
+                EXPECT_GE(r.digits, 12) << name << " " << r.quantity << " E " << r.energy;
+            else
+                EXPECT_GE(r.digits, 4) << name << " " << r.quantity << " E " << r.energy;
             const quantity& q = find_quantity(r.quantity);
             const arm a = r.arm == "1" ? arm::one : arm::two;
             const quantity_value<double> v =
