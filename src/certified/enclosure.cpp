@@ -134,8 +134,23 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
     // multiplier's radius follows the box's
     in.box_digits = digits + 10;
     in.fallback_box_digits = digits;
-    const certified_detail::orbit_proof proof =
-        certified_detail::prove_saddle_orbit(in, prec, monodromy);
+    // The rigorous integration loses bits to the orbit's growth (near E_max, where the multiplier
+    // reaches 1e8 and more, the centre's G(z^) can come out wider than the box 10^-D): a proof that
+    // failed is tried again around the same centre and box with 64, then 192, more bits of ball
+    // arithmetic (e.g. unequal-point-masses at E = 118.8972, arm 2, loses 36 bits).
+    certified_detail::orbit_proof proof;
+    for (const slong extra : {slong(0), slong(64), slong(192)}) {
+        if (extra > 0) {
+            in.pendulum = certified_detail::pendulum_from_text(model, prec + extra);
+            certified_detail::energy_from_text(in.energy.x, energy, prec + extra);
+        }
+        try {
+            proof = certified_detail::prove_saddle_orbit(in, prec + extra, monodromy);
+            break;
+        } catch (const certification_error&) {
+            if (extra == 192) throw;
+        }
+    }
     if (!proof_memo_bypassed) memo().keep(key, proof);
     return proof;
 }

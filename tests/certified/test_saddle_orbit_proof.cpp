@@ -254,6 +254,11 @@ INSTANTIATE_TEST_SUITE_P(
     Pendulums, SaddleOrbitEnclosures,
     ::testing::Values(orbit_case{"PaperArm2", paper, arm::two, "3", true},
                       orbit_case{"UnequalMassesArm2", unequal_masses, arm::two, "60", false},
+                      // 999/1000 of the way to E_max (multiplier 7.3e8): the integration from
+                      // the centre loses ~36 bits, more than the proof's 32 guard bits, so the
+                      // box contracts only on the retry with 64 more bits
+                      orbit_case{"UnequalMassesArm2NearTheMaximum", unequal_masses, arm::two,
+                                 "118.8972", false},
                       orbit_case{"UniformBarsArm1", uniform_bars, arm::one, "5.1", true}),
     [](const auto& info) { return std::string(info.param.name); });
 
