@@ -424,7 +424,6 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
     j["boost_math_policy"] =
         "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
         "(domain and evaluation errors throw)";
-    const double_pendulum<double> m = make_model<double>(model);
     j["pendulum"] = pendulum;
     j["parameters"] = {{"m1", model.m1},
                        {"m2", model.m2},
@@ -435,9 +434,14 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
                        {"I1", model.I1},
                        {"I2", model.I2},
                        {"g", model.g}};
-    j["critical_energies"] = {{"saddle_arm2", to_decimal(m.saddle_energy(arm::two))},
-                              {"saddle_arm1", to_decimal(m.saddle_energy(arm::one))},
-                              {"maximum", to_decimal(m.maximum_energy())}};
+    // in mp:50, rounded to 40 digits: products and sums of the decimal parameters, so exact
+    // decimals (2.2, not double's 2.2000000000000002)
+    j["critical_energies"] = dispatch(mp_precision(50), [&]<class Real>() {
+        const double_pendulum<Real> mm = make_model<Real>(model);
+        return nlohmann::json{{"saddle_arm2", to_decimal(mm.saddle_energy(arm::two), 40)},
+                              {"saddle_arm1", to_decimal(mm.saddle_energy(arm::one), 40)},
+                              {"maximum", to_decimal(mm.maximum_energy(), 40)}};
+    });
     if (model.is_default()) {
         j["model"] =
             "egalitarian double pendulum: m1 = m2 = L1 = L2 = g = 1 (A = 2, B = C = 1, "
