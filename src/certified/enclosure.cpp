@@ -313,13 +313,7 @@ bool has_certified_enclosure(std::string_view quantity) {
     return quantity_named(quantity, q);
 }
 
-certified_proof_memo_bypass::certified_proof_memo_bypass() : previous_(proof_memo_bypassed) {
-    proof_memo_bypassed = true;
-}
-
-certified_proof_memo_bypass::~certified_proof_memo_bypass() {
-    proof_memo_bypassed = previous_;
-}
+certified_proof_memo_bypass::certified_proof_memo_bypass() : scoped_flag(proof_memo_bypassed) {}
 
 certified_enclosure certified_value(std::string_view quantity, const model_text& model, arm a,
                                     const std::string& energy, int digits) {

@@ -16,12 +16,7 @@ std::atomic<std::size_t> memo_misses{0};
 thread_local bool memo_bypassed = false;
 }  // namespace
 
-saddle_orbit_memo_bypass::saddle_orbit_memo_bypass() : previous_(memo_bypassed) {
-    memo_bypassed = true;
-}
-saddle_orbit_memo_bypass::~saddle_orbit_memo_bypass() {
-    memo_bypassed = previous_;
-}
+saddle_orbit_memo_bypass::saddle_orbit_memo_bypass() : scoped_flag(memo_bypassed) {}
 // Whether a saddle_orbit_memo_bypass lives in this thread.
 bool saddle_orbit_memo_bypassed() {
     return memo_bypassed;

@@ -260,6 +260,24 @@ std::vector<curve_at<Real>> start_record(const double_pendulum<Real>& model,
     return curves(model, q, out.energy, out.skipped);
 }
 
+/// Appends the state x at time t, with its energy error, to the record.
+template <class Real>
+void record_state(const double_pendulum<Real>& model, trajectory_record<Real>& out, const Real& t,
+                  const phase_point<Real>& x) {
+    out.states.push_back({t, x[0], x[1], x[2], x[3], model.hamiltonian(x) - out.energy});
+}
+
+/// The end shared by the high-precision routes: the final state x at q.time and the events in
+/// time order.
+template <class Real>
+void finish_record(const double_pendulum<Real>& model, const trajectory_request<Real>& q,
+                   const phase_point<Real>& x, trajectory_record<Real>& out) {
+    record_state(model, out, q.time, x);
+    std::stable_sort(
+        out.events.begin(), out.events.end(),
+        [](const flip_event<Real>& a, const flip_event<Real>& b) { return a.time < b.time; });
+}
+
 }  // namespace
 
 template <class Real>
@@ -274,10 +292,7 @@ trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
     taylor_integrator<Real, 5> ti(order);
     auto f = [&model](const phase_point<Real>& x, phase_point<Real>& dx) { dx = model.rhs(x); };
     using std::abs;
-    auto add_state = [&](const Real& t, const phase_point<Real>& x) {
-        out.states.push_back({t, x[0], x[1], x[2], x[3], model.hamiltonian(x) - out.energy});
-    };
-    add_state(Real(0), q.state);
+    record_state(model, out, Real(0), q.state);
     long next_sample = 1;
     std::array<Real, 5> y{q.state[0], q.state[1] - pi<Real>(), q.state[2], q.state[3], Real(0)};
     phase_point<Real> x = q.state;
@@ -307,17 +322,14 @@ trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
         while (q.sample_interval > 0) {
             const Real ts = q.sample_interval * next_sample;
             if (ts > t1 || ts >= q.time) break;
-            add_state(ts, step.at(ts - t0));
+            record_state(model, out, ts, step.at(ts - t0));
             ++next_sample;
         }
         t0 = t1;
     }
     out.route = "taylor (order " + std::to_string(order) + ", " + std::to_string(out.steps) +
                 " Jorba-Zou steps, events located on each step's polynomial)";
-    add_state(q.time, x);
-    std::stable_sort(
-        out.events.begin(), out.events.end(),
-        [](const flip_event<Real>& a, const flip_event<Real>& b) { return a.time < b.time; });
+    finish_record(model, q, x, out);
     return out;
 }
 
@@ -333,10 +345,7 @@ trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
     auto f = [&model](const phase_point<Real>& x, phase_point<Real>& dx) { dx = model.rhs(x); };
     gauss_legendre<Real, 4> gl(stages);
     using std::abs;
-    auto add_state = [&](const Real& t, const phase_point<Real>& x) {
-        out.states.push_back({t, x[0], x[1], x[2], x[3], model.hamiltonian(x) - out.energy});
-    };
-    add_state(Real(0), q.state);
+    record_state(model, out, Real(0), q.state);
     long next_sample = 1;
     phase_point<Real> x = q.state;
     for (long k = 0; k < steps; ++k) {
@@ -356,14 +365,11 @@ trajectory_record<Real> reference_trajectory(const double_pendulum<Real>& model,
             phase_point<Real> y = x0;
             if (!refine.restep(f, y, ts - t0))
                 throw std::runtime_error("trajectory: a sampling step did not converge");
-            add_state(ts, y);
+            record_state(model, out, ts, y);
             ++next_sample;
         }
     }
-    add_state(q.time, x);
-    std::stable_sort(
-        out.events.begin(), out.events.end(),
-        [](const flip_event<Real>& a, const flip_event<Real>& b) { return a.time < b.time; });
+    finish_record(model, q, x, out);
     return out;
 }
 

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/scoped_flag.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/model/model_text.hpp"
 
@@ -55,15 +56,9 @@ certified_enclosure certified_value(std::string_view quantity, const model_text&
 /// While one lives in a thread, that thread's saddle-orbit proofs neither reuse nor keep the
 /// proofs this process did before (a proof with its monodromy serves the six orbit quantities):
 /// what the accuracy report needs to time one proof from scratch.
-class certified_proof_memo_bypass {
+class certified_proof_memo_bypass : public scoped_flag {
   public:
     certified_proof_memo_bypass();
-    ~certified_proof_memo_bypass();
-    certified_proof_memo_bypass(const certified_proof_memo_bypass&) = delete;
-    certified_proof_memo_bypass& operator=(const certified_proof_memo_bypass&) = delete;
-
-  private:
-    bool previous_;
 };
 
 /// The ball centred at the decimal `mid` that contains e: radius |mid - e.mid| + e.radius (rounded

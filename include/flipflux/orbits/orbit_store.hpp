@@ -18,6 +18,7 @@
 #include <optional>
 #include <string>
 
+#include "flipflux/core/scoped_flag.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
@@ -38,15 +39,9 @@ void forget_saddle_orbits();
 /// While an object of this type lives, find_or_solve_saddle_orbit in this thread solves every
 /// orbit afresh (and remembers it): for timing a solve (the accuracy report) without forgetting
 /// the orbits that other evaluations share.
-class saddle_orbit_memo_bypass {
+class saddle_orbit_memo_bypass : public scoped_flag {
   public:
     saddle_orbit_memo_bypass();
-    ~saddle_orbit_memo_bypass();
-    saddle_orbit_memo_bypass(const saddle_orbit_memo_bypass&) = delete;
-    saddle_orbit_memo_bypass& operator=(const saddle_orbit_memo_bypass&) = delete;
-
-  private:
-    bool previous_;
 };
 
 /// Recall, else solve (solve_saddle_orbit with `options`) and remember a converged or stalled
