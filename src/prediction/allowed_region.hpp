@@ -27,17 +27,35 @@ struct angle_support {
     Real theta_full;                        ///< t = pi on [0, theta_full]
     Real theta_edge;                        ///< t = 0 beyond theta_edge
     Real full_supplement, edge_supplement;  ///< pi - theta_full, pi - theta_edge (accurate)
+    Real above_other;  ///< E - 2 w_other (0 within rounding of that level, see below)
+    Real below_this;   ///< 2 w_this - E (likewise)
 
     angle_support(const double_pendulum<Real>& model, const Real& E, configuration_angle which)
         : energy(E) {
         const auto& k = model.coefficients();
         w_this = which == configuration_angle::theta1 ? k.alpha : k.beta;
         w_other = which == configuration_angle::theta1 ? k.beta : k.alpha;
+        // NOTE: an energy within rounding of a critical level is that level. The levels come from
+        // the rounded parameters, so an E given exactly at a saddle (E = 2 alpha = 0.70632 for
+        // bars with decimal parameters) lands 1e-(digits) off it, which puts a square-root
+        // branch point of the half-width ~1e-(digits/2) from the integration path and stalls
+        // the quadrature at high precision (minutes at mp:30), while at the level the marginal
+        // is analytic there. Omega is continuous at the levels (its derivative is log-singular),
+        // so the snap changes it by O(d log(1/d)) for d <= 16 eps E_max: the size of what the
+        // rounding of E and of the parameters already does to it.
+        const Real emax = model.maximum_energy();
+        above_other = snapped(Real(E - 2 * w_other), emax);
+        below_this = snapped(Real(2 * w_this - E), emax);
         // sin^2(theta_full/2) = (E - 2 w_other)/(2 w_this), cos^2(...) = (E_max - E)/(2 w_this)
-        half_angles(Real(E - 2 * w_other), Real(model.maximum_energy() - E), theta_full,
-                    full_supplement);
+        half_angles(above_other, snapped(Real(emax - E), emax), theta_full, full_supplement);
         // sin^2(theta_edge/2) = E/(2 w_this), cos^2(...) = (2 w_this - E)/(2 w_this)
-        half_angles(E, Real(2 * w_this - E), theta_edge, edge_supplement);
+        half_angles(E, below_this, theta_edge, edge_supplement);
+    }
+
+    /// d, or 0 when |d| <= 16 eps scale (a difference of E and a level within their rounding).
+    static Real snapped(const Real& d, const Real& scale) {
+        using std::abs;
+        return abs(d) <= 16 * epsilon<Real>() * scale ? Real(0) : d;
     }
 
     /// theta in [0, pi] with sin^2(theta/2) = p/(2 w_this), cos^2(theta/2) = q/(2 w_this)
@@ -76,7 +94,7 @@ struct angle_support {
                    sine_of_mean(theta_edge, edge_supplement, -d_edge);
         }
         const Real c = cos(th / 2);  // E >= 2 w_this: rem = (E - 2 w_this) + 2 w_this cos^2(th/2)
-        return (energy - 2 * w_this) + 2 * w_this * c * c;
+        return 2 * w_this * c * c - below_this;
     }
 
     /// gap(th) = 2 w_other - rem(th) for 0 <= th <= pi, given d_full = th - theta_full.
@@ -86,7 +104,7 @@ struct angle_support {
             return 2 * w_this * sin(d_full / 2) * sine_of_mean(theta_full, full_supplement, d_full);
         }
         const Real s = sin(th / 2);  // E <= 2 w_other: gap = (2 w_other - E) + 2 w_this sin^2
-        return (2 * w_other - energy) + 2 * w_this * s * s;
+        return 2 * w_this * s * s - above_other;
     }
 
     /// The half-width t(th) for 0 <= th <= pi, given d_edge = theta_edge - th and
@@ -113,15 +131,14 @@ std::array<Real, 2> singularity_distances(const angle_support<Real>& sup, const 
     std::array<Real, 2> r{Real(0), Real(0)};
     if (sup.theta_full > 0) {
         r[0] = 2 * sup.theta_full;  // the zero of gap at -theta_full
-    } else if (sup.energy < 2 * sup.w_other) {
-        r[0] =
-            sqrt(2 * (2 * sup.w_other - sup.energy) / sup.w_this);  // gap ~ (2w_o - E) + w_t th^2/2
+    } else if (sup.above_other < 0) {
+        r[0] = sqrt(-2 * sup.above_other / sup.w_this);  // gap ~ (2w_o - E) + w_t th^2/2
     }
     if (b == sup.theta_edge) {
         if (sup.theta_edge < pi<Real>()) {
             r[1] = 2 * sup.edge_supplement;  // the zero of rem at 2 pi - theta_edge
-        } else if (sup.energy > 2 * sup.w_this) {
-            r[1] = sqrt(2 * (sup.energy - 2 * sup.w_this) / sup.w_this);  // rem ~ (E - 2w_t) + ...
+        } else if (sup.below_this < 0) {
+            r[1] = sqrt(-2 * sup.below_this / sup.w_this);  // rem ~ (E - 2w_t) + ...
         }
     }
     return r;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "flipflux/core/constants.hpp"
+#include "flipflux/model/model_text.hpp"
 #include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
 #include "pendulums.hpp"
@@ -134,6 +135,36 @@ TYPED_TEST(PhaseVolume, HigherPrecisionReference) {
         EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(64));
         EXPECT_GT(r.evaluations, 0u);
         EXPECT_GT(r.error_estimate, Real(0));
+    }
+}
+
+// The bars of data/golden/compound-bars-si (decimal parameters, not binary) at E = 2 alpha =
+// 0.70632, the arm-1 saddle level. The rounded parameters put the level 1e-(digits) off the
+// decimal E, a spurious square-root branch point ~1e-(digits/2) from the quadrature's path: both
+// routes once took minutes at mp:30 there. An energy within rounding of a level is that level
+// (prediction/allowed_region.hpp). Reference: the Arb enclosure, `eval omega --energy 0.70632
+// --precision mp:80 --certify` (radius 5.5e-81). Condition: Omega's derivative is log-singular
+// at the level, so the parameters' rounding costs ~log(1/eps) ulps.
+TYPED_TEST(PhaseVolume, AnEnergyAtASaddleLevelOfDecimalParametersIsThatLevel) {
+    using Real = TypeParam;
+    using std::log;
+    model_text t;
+    t.m1 = "0.1", t.m2 = "0.15", t.L1 = "0.18", t.L2 = "0.24", t.a1 = "0.09", t.a2 = "0.12";
+    t.I1 = "0.00027", t.I2 = "0.00072", t.g = "9.81";
+    const double_pendulum<Real> model(parse_parameters<Real>(t));
+    const std::string expected =
+        "0.578887516875970341629898769786514113189077638733678881329032773023104616208028226";
+    const double condition = -std::log(static_cast<double>(eps<Real>()));
+    const Real E = parse_real<Real>("0.70632", "E");
+    const prediction_result<Real> r = phase_volume(model, E);
+    EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(16 * condition));
+    // no more work than at a generic energy nearby
+    const prediction_result<Real> nearby = phase_volume(model, parse_real<Real>("0.7", "E"));
+    EXPECT_LE(r.evaluations, 2 * nearby.evaluations);
+    if constexpr (!has_variable_precision_v<Real>) {  // test time: mp's 2-D route in verification
+        const prediction_result<Real> q =
+            phase_volume(model, E, phase_volume_method::quadrature_2d);
+        EXPECT_LE(relative_error(q.value, expected), tolerance<Real>(16 * condition));
     }
 }
 
