@@ -146,8 +146,8 @@ TEST(Golden, OrbitRowsRegenerateInDouble) {
 // parameters in its provenance: a set in mp:100 has every row certified to >= 45 digits (against
 // mp:50 and an independent method), a set in quad its prediction rows to >= 12 and its orbit rows
 // to >= 4 (near E_max the multiplier amplifies double's errors in the certifying route); a row
-// with a proven enclosure (--certify-existing) has at least as many proven digits as certified
-// ones but one; a sample of each regenerates in double from those parameters, to double's
+// carries a proven enclosure (--certify-existing) wherever its quantity has one, with at least
+// as many proven digits as certified ones but one; a sample of each regenerates in double from those parameters, to double's
 // accuracy or the row's digits, and its critical energies are the model's.
 TEST(Golden, EveryPendulumsSetRegeneratesASampleInDouble) {
     namespace fs = std::filesystem;
@@ -180,6 +180,9 @@ TEST(Golden, EveryPendulumsSetRegeneratesASampleInDouble) {
         for (const golden_row& r : rows) {
             const int least = mp ? 45 : is_prediction(r.quantity) ? 12 : 4;
             EXPECT_GE(r.digits, least)
+                << name << " " << r.quantity << " arm " << r.arm << " E " << r.energy;
+            // every set is proved (issue 13): a radius wherever the quantity has an enclosure
+            EXPECT_EQ(r.radius.empty(), !has_certified_enclosure(r.quantity))
                 << name << " " << r.quantity << " arm " << r.arm << " E " << r.energy;
             if (!r.radius.empty()) {
                 EXPECT_GE(r.proven_digits, r.digits - 1)
