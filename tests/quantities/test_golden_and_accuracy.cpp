@@ -147,8 +147,9 @@ TEST(Golden, OrbitRowsRegenerateInDouble) {
 // mp:50 and an independent method), a set in quad its prediction rows to >= 12 and its orbit rows
 // to >= 4 (near E_max the multiplier amplifies double's errors in the certifying route); a row
 // carries a proven enclosure (--certify-existing) wherever its quantity has one, with at least
-// as many proven digits as certified ones but one; a sample of each regenerates in double from those parameters, to double's
-// accuracy or the row's digits, and its critical energies are the model's.
+// as many proven digits as certified ones but one; a sample of each regenerates in double from
+// those parameters, to double's accuracy or the row's digits, and its critical energies are the
+// model's.
 TEST(Golden, EveryPendulumsSetRegeneratesASampleInDouble) {
     namespace fs = std::filesystem;
     std::size_t sets = 0;
