@@ -170,6 +170,34 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
     }
     std::sort(breaks.begin(), breaks.end());
     breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+    // A forbidden gap whose K stays within the rounding noise of its terms is a touch of K = 0
+    // seen through rounding, as a grazing minimum below the noise is (above): e.g. E = E_max of
+    // decimal parameters, where the level lands 1e-(digits) off E and the curve's top becomes a
+    // gap ~1e-(digits/2) wide whose zeros, branch points of sqrt(K), stalled the quadrature
+    // (minutes at mp:20). The gap collapses to a touch point of radius 0 (an end of the domain
+    // when the gap is there); the flux changes by O(gap^2), below the rounding.
+    const Real touch = 16 * epsilon<Real>() * (abs(frame.delta) + 2 * frame.w_s + 2 * frame.w_f);
+    for (std::size_t j = 0; j + 1 < breaks.size() && breaks.size() > 2;) {
+        const Real mid = (breaks[j] + breaks[j + 1]) / 2;
+        const Real Kmid = frame.kinetic(mid);
+        if (Kmid > 0 || Kmid < -touch) {
+            ++j;
+            continue;
+        }
+        if (j == 0) {  // at the start of the domain: its first end stays, as a touch
+            grazing.push_back({breaks[0], Real(0)});
+            breaks.erase(breaks.begin() + 1);
+        } else if (j + 2 == breaks.size()) {  // at the end of the domain
+            grazing.push_back({breaks[j + 1], Real(0)});
+            breaks.erase(breaks.begin() + std::ptrdiff_t(j));
+            break;
+        } else {  // inside: both zeros become one touch point
+            breaks[j] = mid;
+            breaks.erase(breaks.begin() + std::ptrdiff_t(j) + 1);
+            grazing.push_back({mid, Real(0)});
+            ++j;
+        }
+    }
     const std::size_t nb = breaks.size();
     std::vector<bool> open(nb - 1);
     for (std::size_t j = 0; j + 1 < nb; ++j)
