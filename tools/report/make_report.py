@@ -1756,7 +1756,8 @@ def sensitivity_sections(data, out):
     else:
         md.append("*No tolerance study: the run has no ensemble that re-runs the main arm-2 "
                   "ensemble (same seed) with another integrator or tolerance "
-                  "(data/scenes/paper-tenth.toml has them).*\n")
+                  "(data/scenes/paper-tenth.toml has them; its report is committed in "
+                  "docs/reproduction-tenth/).*\n")
     if thr:
         paths, table, pts = fig_threshold(data, out, thr)
         md.append(figure_md(paths, "The PQI of arm 2's saddle criterion over the study's energies "
@@ -1789,7 +1790,8 @@ def sensitivity_sections(data, out):
                     if cut else "")))
     else:
         md.append("*No chaos-threshold study: the run has no ensemble that re-runs the main arm-2 "
-                  "ensemble with another chaos_threshold.*\n")
+                  "ensemble with another chaos_threshold (data/scenes/paper-tenth.toml has them; its "
+                  "report is committed in docs/reproduction-tenth/).*\n")
     return "\n".join(md)
 
 
