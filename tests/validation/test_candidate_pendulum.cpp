@@ -145,7 +145,17 @@ TEST_F(CandidatePendulum, ValidatePicksTheSetOfTheCandidatesPendulum) {
     // the model options pick the set as a header does
     EXPECT_EQ(run_flipflux("validate " + bare + g + " --m2 3 --L2 0.7 --g 9.81").status, 0);
 
-    const std::string wrong_value = value.substr(0, value.size() - 3) + "999";
+    // its 10th significant digit changed: wrong by ~1e-9 relative whatever digits the set holds
+    std::string wrong_value = value;
+    for (std::size_t i = 0, significant = 0; i < wrong_value.size(); ++i) {
+        const char c = wrong_value[i];
+        if (c < '0' || c > '9' || (significant == 0 && c == '0')) continue;
+        if (++significant == 10) {
+            wrong_value[i] = static_cast<char>('0' + (c - '0' + 5) % 10);
+            break;
+        }
+    }
+    ASSERT_NE(wrong_value, value);
     const std::string bad =
         write("bad.csv", head + "quantity,arm,energy,value\n" + "rate-upright,2," + energy + "," +
                              wrong_value + "\n");
