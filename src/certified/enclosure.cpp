@@ -2,6 +2,7 @@
 #include "flipflux/certified/enclosure.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -96,6 +97,8 @@ proof_memo& memo() {
 
 thread_local bool proof_memo_bypassed = false;
 
+std::atomic<std::size_t> proofs_done{0};
+
 /// The proof of the saddle orbit at prec bits: its centre is the non-rigorous orbit in mp:D, D the
 /// decimal digits of prec - 32 bits, and the box's relative radius at most 10^-D.
 certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
@@ -151,6 +154,7 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
             if (extra == 192) throw;
         }
     }
+    ++proofs_done;
     if (!proof_memo_bypassed) memo().keep(key, proof);
     return proof;
 }
@@ -311,6 +315,10 @@ certified_enclosure to_decimal_ball(const arb_t x, int digits, slong prec) {
 bool has_certified_enclosure(std::string_view quantity) {
     certified_quantity q;
     return quantity_named(quantity, q);
+}
+
+std::size_t saddle_orbit_proofs_done() {
+    return proofs_done.load();
 }
 
 certified_proof_memo_bypass::certified_proof_memo_bypass() : scoped_flag(proof_memo_bypassed) {}

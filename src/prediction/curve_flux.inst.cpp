@@ -131,6 +131,8 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
         K[i] = frame.kinetic(s[i]);
         dK[i] = frame.kinetic_slope(s[i]);
     }
+    // the rounding level of K's terms: a K within it of zero is a touch of K = 0 (below)
+    const Real noise = 16 * epsilon<Real>() * (abs(frame.delta) + 2 * frame.w_s + 2 * frame.w_f);
     auto kinetic = [&frame](const Real& x) { return frame.kinetic(x); };
     auto kinetic_slope = [&frame](const Real& x) { return frame.kinetic_slope(x); };
     std::vector<Real> breaks{lo, hi};
@@ -160,8 +162,6 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
                 (frame.kinetic_slope(Real(m + h)) - frame.kinetic_slope(Real(m - h))) / (2 * h);
             // NOTE: a minimum below the rounding level of K's terms is a true touch (radius 0:
             // sqrt(K) ~ |s - m| is smooth on each side); resolving noise would never converge.
-            const Real noise =
-                16 * epsilon<Real>() * (abs(frame.delta) + 2 * frame.w_s + 2 * frame.w_f);
             const Real radius =
                 curvature > 0 && Km > noise ? Real(sqrt(2 * Km / curvature)) : Real(0);
             breaks.push_back(m);
@@ -176,11 +176,10 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
     // gap ~1e-(digits/2) wide whose zeros, branch points of sqrt(K), stalled the quadrature
     // (minutes at mp:20). The gap collapses to a touch point of radius 0 (an end of the domain
     // when the gap is there); the flux changes by O(gap^2), below the rounding.
-    const Real touch = 16 * epsilon<Real>() * (abs(frame.delta) + 2 * frame.w_s + 2 * frame.w_f);
     for (std::size_t j = 0; j + 1 < breaks.size() && breaks.size() > 2;) {
         const Real mid = (breaks[j] + breaks[j + 1]) / 2;
         const Real Kmid = frame.kinetic(mid);
-        if (Kmid > 0 || Kmid < -touch) {
+        if (Kmid > 0 || Kmid < -noise) {
             ++j;
             continue;
         }

@@ -283,6 +283,37 @@ TEST(Golden, CertifyAddsTheProvenRadius) {
     }
 }
 
+// The rows of one saddle orbit share one proof (prove_golden_rows asks for the most digits any of
+// them has): the committed period, action, multiplier and stability index of arm 2 at E = 5,
+// rounded to 13, 14, 15 and 15 digits, cost one orbit proof, not three; arm 1's period at the
+// same energy is another orbit, another proof.
+TEST(Golden, TheRowsOfOneOrbitShareOneProof) {
+    std::vector<golden_row> rows;
+    int digits = 13;
+    for (const golden_row& r : committed_rows()) {
+        const bool orbit = r.quantity == "period" || r.quantity == "action" ||
+                           r.quantity == "multiplier" || r.quantity == "stability-index";
+        if (!orbit || r.energy != "5") continue;
+        if (r.arm == "1" && r.quantity != "period") continue;
+        golden_row row = r;
+        row.digits = r.arm == "1" ? 14 : std::min(digits++, 15);
+        row.value = dispatch(mp_precision(60), [&]<class Real>() {
+            return to_decimal(parse_real<Real>(r.value, "value"), row.digits);
+        });
+        row.radius.clear();
+        row.proven_digits = -1;
+        rows.push_back(row);
+    }
+    ASSERT_EQ(rows.size(), 5u);
+    const std::size_t before = saddle_orbit_proofs_done();
+    prove_golden_rows(rows, model_text{}, 2);
+    EXPECT_EQ(saddle_orbit_proofs_done() - before, 2u);
+    for (const golden_row& r : rows) {
+        EXPECT_FALSE(r.radius.empty()) << r.quantity << " arm " << r.arm;
+        EXPECT_GE(r.proven_digits, r.digits - 1) << r.quantity << " arm " << r.arm;
+    }
+}
+
 TEST(Golden, CommandWritesASmallSelection) {
     const std::string dir = ::testing::TempDir() + "flipflux_golden_" + std::to_string(getpid());
     const test::command_result r = test::run_flipflux(

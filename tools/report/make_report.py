@@ -1882,9 +1882,8 @@ def other_run_sections(data, out):
                       "sea's rate rather than the whole surface's: islands holding a fraction "
                       "≪ 1/N of it with a higher flip rate are then never sampled, and the standard "
                       "error cannot see their share of the variance (docs/theory.md, \"Rare islands "
-                      "bias a small ensemble\", measures it on the Appendix C pendulum at E = 100: "
-                      "2000 trajectories find 0.25 %% of the surface whirling at 3× R, and the "
-                      "island-corrected prediction agrees with the chaotic mean).\n" %
+                      "bias a small ensemble\", measures such islands on the Appendix C pendulum "
+                      "with a larger classified ensemble).\n" %
                       ", ".join("arm %s %s at E = %s, N = %s, z = %s" % (r[1], r[2], r[3], r[10], r[8])
                                 for r in unseen))
     if not md:

@@ -9,6 +9,7 @@
 // inputs.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -60,6 +61,10 @@ class certified_proof_memo_bypass : public scoped_flag {
   public:
     certified_proof_memo_bypass();
 };
+
+/// Saddle-orbit proofs this process has carried out (not counting those served from its memo of
+/// proofs): what shows that the quantities of one orbit share one proof (golden --certify).
+std::size_t saddle_orbit_proofs_done();
 
 /// The ball centred at the decimal `mid` that contains e: radius |mid - e.mid| + e.radius (rounded
 /// up, 3 digits), proven_digits of that radius (golden --certify: an enclosure around the row's
