@@ -40,6 +40,9 @@ std::array<Real, 4> some_state() {
 TYPED_TEST(SaddleTaylor, LowCoefficientsMatchRhsAndJacobian) {
     using Real = TypeParam;
     using std::abs;
+    // (every coefficient at the working precision: an order-6 expansion graded for its own
+    // tolerance would carry ~ 80 bits)
+    const taylor::graded_precision_scope uniform(false);
     // unequal point masses (m1 = 1, m2 = 3, L1 = 1, L2 = 0.75, g = 9.75): every coefficient nonzero
     physical_parameters<Real> par;
     par.m2 = 3;
@@ -235,6 +238,39 @@ TEST(SaddleTaylorOrbit, Mp60AgreesWithGaussLegendreAtQuad) {
     EXPECT_LE(abs(t.action - convert<mp>(g.action)), convert<mp>(2 * g.error_estimate_action));
     // its own estimate is at mp:60's level
     EXPECT_LE(t.error_estimate_period / t.period, mp(1) / mp("1e55"));
+}
+
+TEST(SaddleTaylorOrbit, GradedPrecisionAgreesWithUniformAtMp) {
+    // coefficient k of the jet at ~ 2 (p - 1 - k) / ln 2 + 64 bits (integrators/taylor.hpp) against
+    // every coefficient at the working precision: the orbit of arm 1 at E = 5 in mp:140
+    // (above 4 x quad's digits: the chord iteration with refreshed Jacobians and the order
+    // ladder), T and F within the uniform solve's error estimates
+    const precision_scope scope(mp_precision(140));
+    const auto graded = orbit_by(arm::one, mp(5), orbit_integrator::taylor);
+    saddle_orbit<mp> uniform;
+    {
+        const taylor::graded_precision_scope off(false);
+        uniform = orbit_by(arm::one, mp(5), orbit_integrator::taylor);
+    }
+    ASSERT_EQ(graded.status, orbit_status::converged) << graded.double_stage;
+    ASSERT_EQ(uniform.status, orbit_status::converged) << uniform.double_stage;
+    using std::abs;
+    EXPECT_LE(abs(graded.period - uniform.period), uniform.error_estimate_period);
+    EXPECT_LE(abs(graded.action - uniform.action), uniform.error_estimate_action);
+    // (the index's rounding error is ~ eps |mu|, |mu| ~ 1e3 here: 1e-120 leaves a margin of 1e10)
+    EXPECT_LE(abs(graded.floquet.stability_index - uniform.floquet.stability_index),
+              mp("1e-120") * abs(uniform.floquet.stability_index));
+    EXPECT_LE(uniform.error_estimate_period / uniform.period, mp("1e-135"));
+    // the grading is active: the last coefficient of an expansion carries ~ 64 bits, the first
+    // the working precision
+    const saddle_frame<mp> frame(double_pendulum<mp>(), arm::one);
+    const int p = taylor_order_for(mp(64 * eps<mp>()));
+    taylor_integrator<mp, 5> ti(p);
+    saddle_taylor_flow<mp> flow(frame, p);
+    const auto x = some_state<mp>();
+    ASSERT_TRUE(ti.expand(flow, std::array<mp, 5>{x[0], x[1], x[2], x[3], mp(0)}));
+    EXPECT_EQ(mpfr_get_prec(ti.jet()[2][0].backend().data()), binary_digits<mp>());
+    EXPECT_LE(mpfr_get_prec(ti.jet()[2][static_cast<std::size_t>(p)].backend().data()), 64 + 64);
 }
 
 }  // namespace

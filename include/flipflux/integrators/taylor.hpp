@@ -28,11 +28,26 @@
 // shooting methods need. taylor_steps_for_tolerance() chooses the equal steps once, from an
 // adaptive pass.
 //
+// Graded precision (mp only): a term c_k h^k of the step is ~ e^(-2k) of the state (h ~ rho / e^2),
+// so coefficient k needs only ~ 2 (p - 1 - k) / ln 2 bits relative to itself, plus guard bits,
+// to keep its share of the step's error at the tolerance. Every coefficient k of the jet and of a
+// flow's auxiliary series is rounded to that precision (coefficient_precision::trim; at most the
+// working precision), and a product of a convolution for coefficient k reads only its factors'
+// leading p_k + 64 bits: the products, which dominate the cost, then cost ~ 1/6 of the uniform
+// precision's (docs/theory.md#the-taylor-integrator; ~2x faster orbits at mp:300, ~10 % at
+// mp:100, where MPFR's cost per operation dominates). Operations between two
+// trimmed coefficients go through the backend (sub, scale, divide below), never through Boost's
+// operators: those would change the process-wide default precision while they run.
+//
 // Domain and errors: any f analytic along the solution; a non-finite coefficient fails the step
 // (reported, never thrown). Order in [1, max_taylor_order], else std::invalid_argument.
 #pragma once
 
+#include <mpfr.h>
+
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <boost/multiprecision/number.hpp>
 #include <cmath>
 #include <cstddef>
@@ -51,10 +66,55 @@ inline constexpr int max_taylor_order = 100000;
 
 namespace taylor {
 
-/// acc += a b (fused for the Boost.Multiprecision types: no temporary, one rounding for MPFR).
+namespace detail {
+/// A thread's scratch number for mul_add / mul_sub at MPFR precisions: a product rounded to the
+/// accumulator's precision costs less than mpfr_fma's exact one (whose temporary is allocated at
+/// the sum of the operands' precisions on every call once they differ).
+struct mpfr_scratch {
+    mpfr_t x;
+    mpfr_scratch() { mpfr_init2(x, MPFR_PREC_MIN); }
+    ~mpfr_scratch() { mpfr_clear(x); }
+    mpfr_scratch(const mpfr_scratch&) = delete;
+    mpfr_scratch& operator=(const mpfr_scratch&) = delete;
+    mpfr_ptr at(mpfr_prec_t p) {
+        if (mpfr_get_prec(x) != p) mpfr_set_prec(x, p);
+        return x;
+    }
+};
+inline mpfr_ptr scratch(mpfr_prec_t p) {
+    thread_local mpfr_scratch s;
+    return s.at(p);
+}
+/// x, or a read-only view of its leading `limbs` limbs (x truncated: MPFR keeps the mantissa's
+/// most significant limb last) when it has more: a product rounded to p bits needs only
+/// ~p + 64 bits of each factor, and its cost is the product of the factors' limb counts.
+inline mpfr_srcptr leading_limbs(mpfr_srcptr x, mp_size_t limbs, __mpfr_struct& view) {
+    const auto n = static_cast<mp_size_t>((mpfr_get_prec(x) + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+    if (n <= limbs || !mpfr_regular_p(x)) return x;
+    view._mpfr_prec = static_cast<mpfr_prec_t>(limbs) * GMP_NUMB_BITS;
+    view._mpfr_sign = x->_mpfr_sign;
+    view._mpfr_exp = x->_mpfr_exp;
+    view._mpfr_d = x->_mpfr_d + (n - limbs);
+    return &view;
+}
+/// t = a b rounded to t's precision p, from the factors' leading p + 64 bits.
+inline void truncated_product(mpfr_ptr t, mpfr_srcptr a, mpfr_srcptr b) {
+    const auto limbs =
+        static_cast<mp_size_t>((mpfr_get_prec(t) + 64 + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+    __mpfr_struct va, vb;
+    mpfr_mul(t, leading_limbs(a, limbs, va), leading_limbs(b, limbs, vb), MPFR_RNDN);
+}
+}  // namespace detail
+
+/// acc += a b (for MPFR: the product rounded to acc's precision, then the sum; for the other
+/// Boost.Multiprecision types fused, without a temporary).
 template <class Real>
 inline void mul_add(Real& acc, const Real& a, const Real& b) {
-    if constexpr (boost::multiprecision::is_number<Real>::value) {
+    if constexpr (has_variable_precision_v<Real>) {
+        mpfr_ptr t = detail::scratch(mpfr_get_prec(acc.backend().data()));
+        detail::truncated_product(t, a.backend().data(), b.backend().data());
+        mpfr_add(acc.backend().data(), acc.backend().data(), t, MPFR_RNDN);
+    } else if constexpr (boost::multiprecision::is_number<Real>::value) {
         using boost::multiprecision::default_ops::eval_multiply_add;
         eval_multiply_add(acc.backend(), a.backend(), b.backend());
     } else {
@@ -64,13 +124,152 @@ inline void mul_add(Real& acc, const Real& a, const Real& b) {
 /// acc -= a b.
 template <class Real>
 inline void mul_sub(Real& acc, const Real& a, const Real& b) {
-    if constexpr (boost::multiprecision::is_number<Real>::value) {
+    if constexpr (has_variable_precision_v<Real>) {
+        mpfr_ptr t = detail::scratch(mpfr_get_prec(acc.backend().data()));
+        detail::truncated_product(t, a.backend().data(), b.backend().data());
+        mpfr_sub(acc.backend().data(), acc.backend().data(), t, MPFR_RNDN);
+    } else if constexpr (boost::multiprecision::is_number<Real>::value) {
         using boost::multiprecision::default_ops::eval_multiply_subtract;
         eval_multiply_subtract(acc.backend(), a.backend(), b.backend());
     } else {
         acc -= a * b;
     }
 }
+
+/// out = a - b, rounded to out's precision (no change of the default precision).
+template <class Real>
+inline void sub(Real& out, const Real& a, const Real& b) {
+    if constexpr (boost::multiprecision::is_number<Real>::value) {
+        using boost::multiprecision::default_ops::eval_subtract;
+        eval_subtract(out.backend(), a.backend(), b.backend());
+    } else {
+        out = a - b;
+    }
+}
+/// x = -x.
+template <class Real>
+inline void negate(Real& x) {
+    if constexpr (boost::multiprecision::is_number<Real>::value)
+        x.backend().negate();
+    else
+        x = -x;
+}
+/// x *= n.
+template <class Real>
+inline void scale(Real& x, long n) {
+    if constexpr (boost::multiprecision::is_number<Real>::value) {
+        using boost::multiprecision::default_ops::eval_multiply;
+        eval_multiply(x.backend(), n);
+    } else {
+        x *= n;
+    }
+}
+/// x /= n.
+template <class Real>
+inline void divide(Real& x, long n) {
+    if constexpr (boost::multiprecision::is_number<Real>::value) {
+        using boost::multiprecision::default_ops::eval_divide;
+        eval_divide(x.backend(), n);
+    } else {
+        x /= n;
+    }
+}
+/// x /= d, rounded to x's precision.
+template <class Real>
+inline void divide(Real& x, const Real& d) {
+    if constexpr (boost::multiprecision::is_number<Real>::value) {
+        using boost::multiprecision::default_ops::eval_divide;
+        eval_divide(x.backend(), d.backend());
+    } else {
+        x /= d;
+    }
+}
+/// x at the working precision (a trimmed coefficient as the argument of a Boost function).
+template <class Real>
+inline Real working(const Real& x) {
+    Real r = 0;
+    if constexpr (boost::multiprecision::is_number<Real>::value) {
+        using boost::multiprecision::default_ops::eval_add;
+        eval_add(r.backend(), x.backend());
+    } else {
+        r = x;
+    }
+    return r;
+}
+
+/// Graded precision on (the default) or off (every coefficient at the working precision: the
+/// baseline of bench_orbit_integrators and the reference of the tests). Process-wide.
+inline std::atomic<bool>& graded_precision() {
+    static std::atomic<bool> on{true};
+    return on;
+}
+
+/// While one lives, graded_precision() is `on` (then restored): e.g. tests of the recurrences at
+/// orders far below the working precision's, whose coefficients must all be exact.
+class graded_precision_scope {
+  public:
+    explicit graded_precision_scope(bool on) : saved_(graded_precision().exchange(on)) {}
+    ~graded_precision_scope() { graded_precision().store(saved_); }
+    graded_precision_scope(const graded_precision_scope&) = delete;
+    graded_precision_scope& operator=(const graded_precision_scope&) = delete;
+
+  private:
+    bool saved_;
+};
+
+/// The precision of each coefficient k = 0..order of an order-p expansion (see the file
+/// comment): min(working, max(guard, ceil(2 (p - 1 - k) / ln 2) + guard)) bits, guard = 64; for
+/// the fixed-precision types (and with graded_precision() off) every coefficient keeps the
+/// working precision.
+template <class Real>
+class coefficient_precision {
+  public:
+    static constexpr long guard_bits = 64;
+    coefficient_precision() = default;
+    explicit coefficient_precision(int order) {
+        if constexpr (has_variable_precision_v<Real>) {
+            if (!graded_precision().load()) return;
+            const long full = binary_digits<Real>();
+            bits_.resize(static_cast<std::size_t>(order + 1));
+            for (int k = 0; k <= order; ++k) {
+                const double need = 2.0 * (order - 1 - k) / std::log(2.0);
+                bits_[static_cast<std::size_t>(k)] =
+                    std::clamp(static_cast<long>(std::ceil(need)) + guard_bits, guard_bits, full);
+            }
+        } else {
+            (void)order;
+        }
+    }
+    /// Rounds coefficient k to its precision.
+    void trim(Real& x, int k) const {
+        if constexpr (has_variable_precision_v<Real>) {
+            if (bits_.empty()) return;
+            const auto b = static_cast<mpfr_prec_t>(bits_[static_cast<std::size_t>(k)]);
+            if (mpfr_get_prec(x.backend().data()) != b)
+                mpfr_prec_round(x.backend().data(), b, MPFR_RNDN);
+        } else {
+            (void)x, (void)k;
+        }
+    }
+    /// x = 0 at coefficient k's precision (an accumulator for coefficient k).
+    void zero(Real& x, int k) const {
+        if constexpr (has_variable_precision_v<Real>) {
+            if (!bits_.empty()) {
+                const auto b = static_cast<mpfr_prec_t>(bits_[static_cast<std::size_t>(k)]);
+                if (mpfr_get_prec(x.backend().data()) != b) mpfr_set_prec(x.backend().data(), b);
+                mpfr_set_zero(x.backend().data(), 1);
+                return;
+            }
+        } else {
+            (void)k;
+        }
+        x = 0;
+    }
+    bool graded() const { return !bits_.empty(); }
+
+  private:
+    std::vector<long> bits_;
+};
 
 /// Coefficient k of a b into out: sum_{j=0..k} a_j b_{k-j}.
 template <class Real>
@@ -88,14 +287,18 @@ inline void quotient(const std::vector<Real>& a, const std::vector<Real>& b, std
     q[K] = a[K];
     for (int j = 1; j <= k; ++j)
         mul_sub(q[K], b[static_cast<std::size_t>(j)], q[static_cast<std::size_t>(k - j)]);
-    q[K] /= b[0];
+    divide(q[K], b[0]);
 }
 
 /// sin u and cos u as series, with j u_j kept for the recurrences.
 template <class Real>
 struct sin_cos_series {
-    std::vector<Real> s, c, ju;  ///< sin u, cos u, ju[j - 1] = j u_j
-    explicit sin_cos_series(int order = 0) { resize(order); }
+    std::vector<Real> s, c, ju;             ///< sin u, cos u, ju[j - 1] = j u_j
+    coefficient_precision<Real> precision;  ///< of s and c (none: the working precision)
+    explicit sin_cos_series(int order = 0, bool graded = false) {
+        resize(order);
+        if (graded) precision = coefficient_precision<Real>(order);
+    }
     void resize(int order) {
         const auto n = static_cast<std::size_t>(order + 1);
         s.assign(n, Real(0));
@@ -108,12 +311,15 @@ struct sin_cos_series {
         using std::sin;
         const auto K = static_cast<std::size_t>(k);
         if (k == 0) {
-            s[0] = sin(u[0]);
-            c[0] = cos(u[0]);
+            const Real u0 = working(u[0]);
+            s[0] = sin(u0);
+            c[0] = cos(u0);
+            precision.trim(s[0], 0);
+            precision.trim(c[0], 0);
             return;
         }
         ju[K - 1] = u[K];
-        ju[K - 1] *= k;
+        scale(ju[K - 1], k);
         s[K] = 0;
         c[K] = 0;
         for (int j = 1; j <= k; ++j) {
@@ -121,8 +327,10 @@ struct sin_cos_series {
             mul_add(s[K], v, c[static_cast<std::size_t>(k - j)]);
             mul_sub(c[K], v, s[static_cast<std::size_t>(k - j)]);
         }
-        s[K] /= k;
-        c[K] /= k;
+        divide(s[K], k);
+        divide(c[K], k);
+        precision.trim(s[K], k);
+        precision.trim(c[K], k);
     }
 };
 
@@ -190,7 +398,7 @@ class taylor_integrator {
     using state = std::array<Real, N>;
     using jet_type = std::array<std::vector<Real>, N>;
 
-    explicit taylor_integrator(int order) : order_(order) {
+    explicit taylor_integrator(int order) : order_(order), precision_(order) {
         if (order < 1 || order > max_taylor_order)
             throw std::invalid_argument("taylor_integrator: order " + std::to_string(order) +
                                         " outside [1, " + std::to_string(max_taylor_order) + "]");
@@ -208,14 +416,17 @@ class taylor_integrator {
     bool expand(F& f, const state& x) {
         using boost::multiprecision::isfinite;
         using std::isfinite;
-        for (std::size_t i = 0; i < N; ++i)
+        for (std::size_t i = 0; i < N; ++i) {
             jet_[i][0] = x[i];
+            precision_.trim(jet_[i][0], 0);
+        }
         for (int k = 0; k < order_; ++k) {
             f(static_cast<const jet_type&>(jet_), k, fk_);
             const auto K = static_cast<std::size_t>(k + 1);
             for (std::size_t i = 0; i < N; ++i) {
                 jet_[i][K] = fk_[i];
-                jet_[i][K] /= k + 1;
+                taylor::divide(jet_[i][K], k + 1);
+                precision_.trim(jet_[i][K], k + 1);
             }
         }
         bool finite = true;
@@ -299,7 +510,8 @@ class taylor_integrator {
   private:
     /// sum_{k >= from} c_k t^(k - from).
     Real horner(const std::vector<Real>& c, const Real& t, int from) const {
-        Real r = c[static_cast<std::size_t>(order_)];
+        // (from the working precision: the coefficients may be trimmed)
+        Real r = taylor::working(c[static_cast<std::size_t>(order_)]);
         for (int k = order_ - 1; k >= from; --k) {
             r *= t;
             r += c[static_cast<std::size_t>(k)];
@@ -308,6 +520,7 @@ class taylor_integrator {
     }
 
     int order_;
+    taylor::coefficient_precision<Real> precision_;
     jet_type jet_;
     state fk_{}, carry_{};
 };

@@ -47,9 +47,10 @@ class saddle_taylor_flow {
           e1alpha_(frame.e1() * frame.coefficients().alpha),
           e2beta_(frame.e2() * frame.coefficients().beta),
           C2_(frame.coefficients().C * frame.coefficients().C),
-          sd_(order),
-          s1_(order),
-          s2_(order) {
+          precision_(order),
+          sd_(order, true),
+          s1_(order, true),
+          s2_(order, true) {
         const auto n = static_cast<std::size_t>(order + 1);
         for (auto* v : {&d_, &ss_, &det_, &cc_, &n1_, &n2_, &w1_, &w2_, &ww_, &p_})
             v->assign(n, Real(0));
@@ -74,23 +75,34 @@ class saddle_taylor_flow {
         using taylor::mul_add;
         using taylor::product;
         const auto K = static_cast<std::size_t>(k);
-        d_[K] = x[0][K] - x[1][K];
+        const auto trim = [this, k](Real& x) { precision_.trim(x, k); };
+        taylor::sub(d_[K], x[0][K], x[1][K]);
+        trim(d_[K]);
         sd_.next(d_, k);
         s1_.next(x[0], k);
         s2_.next(x[1], k);
         product(sd_.s, sd_.s, k, ss_[K]);
+        trim(ss_[K]);
         det_[K] = C2_ * ss_[K];
         if (k == 0) det_[0] += k_.D0;
+        trim(det_[K]);
         cc_[K] = k_.C * sd_.c[K];
+        trim(cc_[K]);
         product(cc_, x[3], k, n1_[K]);
         n1_[K] += k_.B * x[2][K];
+        trim(n1_[K]);
         product(cc_, x[2], k, n2_[K]);
         n2_[K] += k_.A * x[3][K];
+        trim(n2_[K]);
         taylor::quotient(n1_, det_, w1_, k);
+        trim(w1_[K]);
         taylor::quotient(n2_, det_, w2_, k);
+        trim(w2_[K]);
         product(w1_, w2_, k, ww_[K]);
+        trim(ww_[K]);
         product(sd_.s, ww_, k, p_[K]);
         p_[K] *= -k_.C;
+        trim(p_[K]);
         f[0] = w1_[K];
         f[1] = w2_[K];
         f[2] = -p_[K] - e1alpha_ * s1_.s[K];
@@ -106,47 +118,63 @@ class saddle_taylor_flow {
         using taylor::product;
         const auto K = static_cast<std::size_t>(k);
         const Real& C = k_.C;
+        const auto trim = [this, k](Real& x) { precision_.trim(x, k); };
         // the inverse mass matrix and the derivatives along d of w
         i11_[K] = k == 0 ? k_.B : Real(0);
         i22_[K] = k == 0 ? k_.A : Real(0);
         taylor::quotient(i11_, det_, i11_, k);  // in place: a_k is read before q_k is written
+        trim(i11_[K]);
         taylor::quotient(i22_, det_, i22_, k);
+        trim(i22_[K]);
         taylor::quotient(cc_, det_, i12_, k);
+        trim(i12_[K]);
         product(sd_.s, sd_.c, k, sc_[K]);
+        trim(sc_[K]);
         ddet_[K] = 2 * C2_ * sc_[K];
+        trim(ddet_[K]);
         // nd1 = -C s l2 - w1 det_d, nd2 = -C s l1 - w2 det_d
         product(sd_.s, x[3], k, nd1_[K]);
         nd1_[K] *= -C;
         for (int j = 0; j <= k; ++j)
             mul_sub(nd1_[K], w1_[static_cast<std::size_t>(j)],
                     ddet_[K - static_cast<std::size_t>(j)]);
+        trim(nd1_[K]);
         product(sd_.s, x[2], k, nd2_[K]);
         nd2_[K] *= -C;
         for (int j = 0; j <= k; ++j)
             mul_sub(nd2_[K], w2_[static_cast<std::size_t>(j)],
                     ddet_[K - static_cast<std::size_t>(j)]);
+        trim(nd2_[K]);
         taylor::quotient(nd1_, det_, dw1_, k);
+        trim(dw1_[K]);
         taylor::quotient(nd2_, det_, dw2_, k);
+        trim(dw2_[K]);
         // P_d = -C (c ww + s a), a = dw1 w2 + w1 dw2
         product(dw1_, w2_, k, a_[K]);
         for (int j = 0; j <= k; ++j)
             mul_add(a_[K], w1_[static_cast<std::size_t>(j)], dw2_[K - static_cast<std::size_t>(j)]);
+        trim(a_[K]);
         product(sd_.c, ww_, k, pd_[K]);
         for (int j = 0; j <= k; ++j)
             mul_add(pd_[K], sd_.s[static_cast<std::size_t>(j)],
                     a_[K - static_cast<std::size_t>(j)]);
         pd_[K] *= -C;
+        trim(pd_[K]);
         // P_l1 = -C s b, b = i11 w2 + w1 i12; P_l2 = -C s c, c = i12 w2 + w1 i22
         product(i11_, w2_, k, b_[K]);
         for (int j = 0; j <= k; ++j)
             mul_add(b_[K], w1_[static_cast<std::size_t>(j)], i12_[K - static_cast<std::size_t>(j)]);
+        trim(b_[K]);
         product(i12_, w2_, k, c_[K]);
         for (int j = 0; j <= k; ++j)
             mul_add(c_[K], w1_[static_cast<std::size_t>(j)], i22_[K - static_cast<std::size_t>(j)]);
+        trim(c_[K]);
         product(sd_.s, b_, k, pl1_[K]);
         pl1_[K] *= -C;
+        trim(pl1_[K]);
         product(sd_.s, c_, k, pl2_[K]);
         pl2_[K] *= -C;
+        trim(pl2_[K]);
         for (int col = 0; col < Columns; ++col)
             column_coefficient(x, k, col, f);
     }
@@ -163,16 +191,14 @@ class saddle_taylor_flow {
         const series& p2 = x[at(2)];
         const series& p3 = x[at(3)];
         series& D = dphi_[static_cast<std::size_t>(col)];
-        D[K] = p0[K] - p1[K];
+        taylor::sub(D[K], p0[K], p1[K]);
+        precision_.trim(D[K], k);
         Real& r0 = f[at(0)];
         Real& r1 = f[at(1)];
         Real& r2 = f[at(2)];
         Real& r3 = f[at(3)];
-        r0 = 0;
-        r1 = 0;
-        q_ = 0;
-        t0_ = 0;
-        t1_ = 0;
+        for (Real* acc : {&r0, &r1, &q_, &t0_, &t1_})
+            precision_.zero(*acc, k);
         for (int j = 0; j <= k; ++j) {
             const auto J = static_cast<std::size_t>(j), R = K - J;
             mul_add(r0, dw1_[J], D[R]);
@@ -187,7 +213,8 @@ class saddle_taylor_flow {
             mul_add(t0_, s1_.c[J], p0[R]);
             mul_add(t1_, s2_.c[J], p1[R]);
         }
-        r2 = -q_;
+        r2 = q_;
+        taylor::negate(r2);  // (not r2 = -q_, see taylor.hpp's graded precision)
         mul_sub_scaled(r2, e1alpha_, t0_);
         r3 = q_;
         mul_sub_scaled(r3, e2beta_, t1_);
@@ -199,6 +226,7 @@ class saddle_taylor_flow {
 
     lagrangian_coefficients<Real> k_;
     Real e1alpha_, e2beta_, C2_;
+    taylor::coefficient_precision<Real> precision_;  ///< of every series' coefficient k
     taylor::sin_cos_series<Real> sd_, s1_, s2_;
     series d_, ss_, det_, cc_, n1_, n2_, w1_, w2_, ww_, p_;
     series i11_, i12_, i22_, sc_, ddet_, nd1_, nd2_, dw1_, dw2_, pd_, pl1_, pl2_, a_, b_, c_;
