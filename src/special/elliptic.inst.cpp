@@ -73,19 +73,114 @@ void reduced_arguments(const char* function, const Real& phi, const Real& m, Rea
     d = c2 + (1 - m) * s * s;
 }
 
+/// sum_N coef_N T_N, T_N the coefficient of s^N in (1 - e1 s + e2 s^2 - e3 s^3)^(-1/2)
+/// (1 - z s)^(-1) (z = 0: the first factor alone), N = 0..order, coef_N = (a)_N / (c)_N.
+/// NOTE: J. C. P. Miller's recurrence for the power w = u^alpha of u = 1 + u1 s + u2 s^2 + u3 s^3,
+/// n w_n = sum_{k=1..3} ((alpha + 1) k - n) u_k w_{n-k}: O(order) operations.
+template <class Real>
+Real dirichlet_series(const Real& e1, const Real& e2, const Real& e3, const Real& z, int order,
+                      int a2, int c2) {
+    const std::array<Real, 4> u{Real(1), Real(-e1), e2, Real(-e3)};
+    Real h = 1;     // coefficient n of w (1 - z s)^(-1): h_n = w_n + z h_{n-1}
+    Real coef = 1;  // (a)_n / (c)_n with a = a2 / 2, c = c2 / 2
+    Real total = 1;
+    std::array<Real, 3> last{Real(1), Real(0), Real(0)};  // w_{n-1}, w_{n-2}, w_{n-3}
+    for (int n = 1; n <= order; ++n) {
+        Real wn = 0;
+        for (int k = 1; k <= 3 && k <= n; ++k) {
+            // (alpha + 1) k - n with alpha = -1/2: k/2 - n = (k - 2n) / 2
+            wn += u[static_cast<std::size_t>(k)] * last[static_cast<std::size_t>(k - 1)] *
+                  (k - 2 * n);
+        }
+        wn /= 2 * n;
+        last[2] = last[1];
+        last[1] = last[0];
+        last[0] = wn;
+        h = wn + z * h;
+        coef = coef * (a2 + 2 * (n - 1)) / (c2 + 2 * (n - 1));
+        total += coef * h;
+    }
+    return total;
+}
+
+/// R_F and R_D: carlson_rf_rd at mp (where the high-order series pays), Boost.Math's at the fixed
+/// precisions (its tails need only a few duplications there).
+template <class Real>
+std::array<Real, 2> rf_rd(const Real& x, const Real& y, const Real& z);
+
+}  // namespace
+
+template <class Real>
+std::array<Real, 2> carlson_rf_rd(const Real& x0, const Real& y0, const Real& z0) {
+    using boost::multiprecision::isfinite;
+    using std::abs;
+    using std::ceil;
+    using std::isfinite;
+    using std::ldexp;
+    using std::max;
+    using std::sqrt;
+    if (!(x0 >= 0) || !(y0 >= 0) || !(z0 > 0) || (x0 == 0 && y0 == 0) || !isfinite(x0) ||
+        !isfinite(y0) || !isfinite(z0))
+        throw std::domain_error("carlson_rf_rd(" + to_decimal(x0, 17) + ", " + to_decimal(y0, 17) +
+                                ", " + to_decimal(z0, 17) +
+                                "): needs finite x, y >= 0, not both zero, and z > 0");
+    const int bits = binary_digits<Real>();
+    // the series' order K ~ sqrt(bits) and the duplications' target |Z| <= r, r^(K+1) = 2^-bits /
+    // 256 (the omitted terms are ~ |Z|^(K+1) of the sum)
+    const int order = std::max(8, static_cast<int>(ceil(std::sqrt(static_cast<double>(bits)))));
+    const Real r = ldexp(Real(1), -static_cast<int>(ceil((bits + 8.0) / (order + 1))));
+    Real x = x0, y = y0, z = z0;
+    const Real af0 = (x0 + y0 + z0) / 3, ad0 = (x0 + y0 + 3 * z0) / 5;
+    Real af = af0, ad = ad0;
+    const Real qf = max({abs(af0 - x0), abs(af0 - y0), abs(af0 - z0)});
+    const Real qd = max({abs(ad0 - x0), abs(ad0 - y0), abs(ad0 - z0)});
+    Real sum = 0, scale = 1;  // scale = 4^-n
+    for (int n = 0; scale * qf > r * af || scale * qd > r * ad; ++n) {
+        if (n > 4 * bits)
+            throw std::runtime_error("carlson_rf_rd: the duplication did not converge");
+        const Real sx = sqrt(x), sy = sqrt(y), sz = sqrt(z);
+        const Real lambda = sx * (sy + sz) + sy * sz;
+        sum += scale / (sz * (z + lambda));
+        scale /= 4;
+        x = (x + lambda) / 4;
+        y = (y + lambda) / 4;
+        z = (z + lambda) / 4;
+        af = (af + lambda) / 4;
+        ad = (ad + lambda) / 4;
+    }
+    // R_F = A^(-1/2) sum_N (1/2)_N / (3/2)_N T_N, Z_j = (A0 - z_j) 4^-n / A (sum Z_j = 0)
+    const Real X = (af0 - x0) * scale / af, Y = (af0 - y0) * scale / af, Z = -(X + Y);
+    const Real rf =
+        dirichlet_series(Real(0), Real(X * Y - Z * Z), Real(X * Y * Z), Real(0), order, 1, 3) /
+        sqrt(af);
+    // R_D = 4^-n A^(-3/2) sum_N (3/2)_N / (5/2)_N T_N + 3 sum, T_N of
+    // (1 - s X)^(-1/2) (1 - s Y)^(-1/2) (1 - s Z)^(-3/2), X + Y + 3 Z = 0
+    const Real Xd = (ad0 - x0) * scale / ad, Yd = (ad0 - y0) * scale / ad, Zd = -(Xd + Yd) / 3;
+    const Real e1 = Xd + Yd + Zd, e2 = Xd * Yd + Zd * (Xd + Yd), e3 = Xd * Yd * Zd;
+    const Real rd =
+        scale * dirichlet_series(e1, e2, e3, Zd, order, 3, 5) / (ad * sqrt(ad)) + 3 * sum;
+    return {rf, rd};
+}
+
+namespace {
+template <class Real>
+std::array<Real, 2> rf_rd(const Real& x, const Real& y, const Real& z) {
+    if constexpr (has_variable_precision_v<Real>) {
+        return carlson_rf_rd(x, y, z);
+    } else {
+        return {boost::math::ellint_rf(x, y, z), boost::math::ellint_rd(x, y, z)};
+    }
+}
 }  // namespace
 
 template <class Real>
 Real elliptic_e_carlson(const Real& s, const Real& c2, const Real& d, const Real& m) {
-    using boost::math::ellint_rd;
-    using boost::math::ellint_rf;
     if (!(c2 >= 0) || !(d >= 0)) {
         domain_failure("elliptic_e_carlson", s, m, "needs cos^2(phi) >= 0 and 1 - m sin^2 >= 0");
     }
     if (s == 0) return Real(0);
     if (c2 == 0 && d == 0) return s;  // m = 1, phi = +-pi/2: E = sin(phi)
-    const Real rf = ellint_rf(c2, d, Real(1));
-    const Real rd = ellint_rd(c2, d, Real(1));
+    const auto [rf, rd] = rf_rd(c2, d, Real(1));
     return s * rf - m * s * s * s * rd / 3;
 }
 
@@ -98,17 +193,17 @@ Real elliptic_f_carlson(const Real& s, const Real& c2, const Real& d, const Real
                        "not both zero (F diverges there)");
     }
     if (s == 0) return Real(0);
+    if constexpr (has_variable_precision_v<Real>) return s * carlson_rf_rd(c2, d, Real(1))[0];
     return s * ellint_rf(c2, d, Real(1));
 }
 
 template <class Real>
 Real elliptic_e_complete(const Real& m, const Real& mc) {
-    using boost::math::ellint_rd;
-    using boost::math::ellint_rf;
     require_finite("elliptic_e_complete", mc, m);
     if (!(mc >= 0)) domain_failure("elliptic_e_complete", mc, m, "needs 1 - m >= 0");
     if (mc == 0) return Real(1);
-    return ellint_rf(Real(0), mc, Real(1)) - m * ellint_rd(Real(0), mc, Real(1)) / 3;
+    const auto [rf, rd] = rf_rd(Real(0), mc, Real(1));
+    return rf - m * rd / 3;
 }
 
 template <class Real>
@@ -116,6 +211,7 @@ Real elliptic_k_complete(const Real& m, const Real& mc) {
     using boost::math::ellint_rf;
     require_finite("elliptic_k_complete", mc, m);
     if (!(mc > 0)) domain_failure("elliptic_k_complete", mc, m, "needs 1 - m > 0");
+    if constexpr (has_variable_precision_v<Real>) return carlson_rf_rd(Real(0), mc, Real(1))[0];
     return ellint_rf(Real(0), mc, Real(1));
 }
 
@@ -161,7 +257,8 @@ Real elliptic_f(const Real& phi, const Real& m) {
     template R elliptic_k<R>(const R&);                                       \
     template R elliptic_f<R>(const R&, const R&);                             \
     template R elliptic_e_carlson<R>(const R&, const R&, const R&, const R&); \
-    template R elliptic_f_carlson<R>(const R&, const R&, const R&, const R&)
+    template R elliptic_f_carlson<R>(const R&, const R&, const R&, const R&); \
+    template std::array<R, 2> carlson_rf_rd<R>(const R&, const R&, const R&)
 FLIPFLUX_ELLIPTIC_INSTANTIATE(inst_real);
 
 }  // namespace flipflux

@@ -5,6 +5,8 @@
 // take the modulus k and apply only for 0 <= k^2 sin^2 phi < 1).
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/ellint_2.hpp>
+#include <boost/math/special_functions/ellint_rd.hpp>
+#include <boost/math/special_functions/ellint_rf.hpp>
 #include <stdexcept>
 
 #include "flipflux/core/constants.hpp"
@@ -303,6 +305,49 @@ TYPED_TEST(Elliptic, HardCases) {
     // large |m|: E(pi/2|-M) ~ sqrt(M) for M -> infinity (E = sqrt(1+M) E(M/(1+M)) -> sqrt(M))
     const Real big = Real(1) * 1000000 * 1000000;
     EXPECT_LE(relative_error(elliptic_e(Real(-big)), sqrt(big)), 1e-10);
+}
+
+/// Carlson's R_F and R_D (special/elliptic.hpp's carlson_rf_rd: shared duplication, series of
+/// order ~ sqrt(bits)) against Boost.Math's ellint_rf / ellint_rd (order-5/7 tails, separate
+/// duplications), at arguments with a zero, a tiny one, widely spread and near-equal ones.
+template <class Real>
+void expect_carlson_matches_boost(double c) {
+    const char* args[][3] = {
+        {"0", "0.5", "1"},     {"0.25", "1.75", "1"},   {"1e-30", "2", "1"},
+        {"3", "0", "1"},       {"0.999", "1.001", "1"}, {"100", "0.001", "1"},
+        {"0.7", "0.2", "3.5"}, {"1", "1", "1"},         {"5e6", "2e-6", "0.01"}};
+    for (const auto& a : args) {
+        const Real x = R<Real>(a[0]), y = R<Real>(a[1]), z = R<Real>(a[2]);
+        const auto rfd = carlson_rf_rd(x, y, z);
+        EXPECT_LE(relative_error(rfd[0], boost::math::ellint_rf(x, y, z)), tolerance<Real>(c))
+            << a[0] << ", " << a[1] << ", " << a[2];
+        EXPECT_LE(relative_error(rfd[1], boost::math::ellint_rd(x, y, z)), tolerance<Real>(c))
+            << a[0] << ", " << a[1] << ", " << a[2];
+    }
+}
+
+TYPED_TEST(Elliptic, CarlsonRfRdMatchesBoost) {
+    using Real = TypeParam;
+    expect_carlson_matches_boost<Real>(16);
+    // R_F(x, x, x) = x^(-1/2), R_D(x, x, x) = x^(-3/2) (DLMF 19.20.1, 19.20.18)
+    const Real x = R<Real>("2.5");
+    using std::sqrt;
+    const auto same = carlson_rf_rd(x, x, x);
+    EXPECT_LE(relative_error(same[0], Real(1 / sqrt(x))), tolerance<Real>(4));
+    EXPECT_LE(relative_error(same[1], Real(1 / (x * sqrt(x)))), tolerance<Real>(4));
+    const Real inf = std::numeric_limits<Real>::infinity();
+    EXPECT_THROW(carlson_rf_rd(Real(0), Real(0), Real(1)), std::domain_error);
+    EXPECT_THROW(carlson_rf_rd(Real(1), Real(1), Real(0)), std::domain_error);
+    EXPECT_THROW(carlson_rf_rd(Real(-1), Real(1), Real(1)), std::domain_error);
+    EXPECT_THROW(carlson_rf_rd(inf, Real(1), Real(1)), std::domain_error);
+}
+
+TEST(EllipticHighPrecision, CarlsonRfRdMatchesBoostAtMp300AndMp1000) {
+    // the series' order grows with the digits (19 at mp:100, 33 at mp:300, 58 at mp:1000)
+    for (int digits : {300, 1000}) {
+        const precision_scope scope(mp_precision(digits));
+        expect_carlson_matches_boost<mp>(16);
+    }
 }
 
 TYPED_TEST(Elliptic, OutsideTheDomainThrows) {
