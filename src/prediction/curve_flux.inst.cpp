@@ -2,8 +2,6 @@
 // and the zeros of K along the curve. See include/flipflux/prediction/curve_flux.hpp and
 // docs/theory.md#phase-volume-and-fluxes.
 #include <algorithm>
-#include <boost/math/tools/roots.hpp>
-#include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -92,15 +90,73 @@ struct curve_frame {
 };
 
 /// A zero of f in [a, b] given f(a), f(b) of opposite signs (or one of them zero), to full
-/// precision (TOMS 748).
+/// precision: Brent's method (R. P. Brent, "Algorithms for Minimization without Derivatives",
+/// 1973, ch. 4, zeroin), to 2 eps |x| plus an absolute eps^2 (|a| + |b|) (for a zero at 0; just
+/// above a saddle the zeros lie ~ sqrt(E - E_s) from 0 and need their full relative precision).
+/// NOTE: not Boost's toms748_solve: in Boost 1.74 it keeps a function-static `T mu`, made at the
+/// precision of its first call. At mp every later call in another precision then mixes two
+/// precisions, and each of its expressions sets the process-wide default precision while it
+/// runs: with golden --jobs 2 the other thread's adaptive quadrature then met a tolerance 50 digits
+/// beyond its values' accuracy and never finished (light-upper-arm, flux-approx, mp:50 check pass).
 template <class Real, class F>
-Real bracketed_zero(F f, const Real& a, const Real& b, const Real& fa, const Real& fb) {
+Real bracketed_zero(F f, Real a, Real b, Real fa, Real fb) {
+    using std::abs;
     if (fa == 0) return a;
     if (fb == 0) return b;
-    std::uintmax_t iterations = 400;
-    const auto bracket = boost::math::tools::toms748_solve(
-        f, a, b, fa, fb, boost::math::tools::eps_tolerance<Real>(), iterations);
-    return (bracket.first + bracket.second) / 2;
+    const Real eps = epsilon<Real>();
+    const Real floor = eps * eps * (abs(a) + abs(b));
+    Real c = a, fc = fa, d = b - a, e = d;
+    for (int it = 0; it < 100000; ++it) {
+        if ((fb > 0) == (fc > 0)) {  // the zero is between a and b: restart c there
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if (abs(fc) < abs(fb)) {  // b the best estimate
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        const Real tol = 2 * eps * abs(b) + floor;
+        const Real m = (c - b) / 2;
+        if (abs(m) <= tol || fb == 0) return b;
+        if (abs(e) >= tol && abs(fa) > abs(fb)) {
+            // inverse quadratic interpolation (secant when a = c)
+            Real p, q;
+            const Real s = fb / fa;
+            if (a == c) {
+                p = 2 * m * s;
+                q = 1 - s;
+            } else {
+                const Real qa = fa / fc, r = fb / fc;
+                p = s * (2 * m * qa * (qa - r) - (b - a) * (r - 1));
+                q = (qa - 1) * (r - 1) * (s - 1);
+            }
+            if (p > 0)
+                q = -q;
+            else
+                p = -p;
+            if (2 * p < 3 * m * q - abs(tol * q) && p < abs(e * q / 2)) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
+        } else {
+            d = m;  // bisection
+            e = m;
+        }
+        a = b;
+        fa = fb;
+        b += abs(d) > tol ? d : (m > 0 ? tol : Real(-tol));
+        fb = f(b);
+    }
+    throw std::runtime_error("curve_flux: the root finder did not converge");
 }
 
 /// The accessible pieces of the curve with, for each end, the distance to the nearest branch

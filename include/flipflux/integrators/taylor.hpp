@@ -36,8 +36,9 @@
 // leading p_k + 64 bits: the products, which dominate the cost, then cost ~ 1/6 of the uniform
 // precision's (docs/theory.md#the-taylor-integrator; ~2x faster orbits at mp:300, ~10 % at
 // mp:100, where MPFR's cost per operation dominates). Operations between two
-// trimmed coefficients go through the backend (sub, scale, divide below), never through Boost's
-// operators: those would change the process-wide default precision while they run.
+// trimmed coefficients (and unary ones on one: -x, abs(x)) go through the backend (sub, scale,
+// divide, negate, working below), never through Boost's operators: those would change the
+// process-wide default precision while they run (tests/quantities/test_precision_invariance.cpp).
 //
 // Domain and errors: any f analytic along the solution; a non-finite coefficient fails the step
 // (reported, never thrown). Order in [1, max_taylor_order], else std::invalid_argument.
@@ -454,7 +455,9 @@ class taylor_integrator {
             Real n = 0;
             for (std::size_t i = 0; i < N; ++i) {
                 using std::abs;
-                const Real v = abs(jet_[i][static_cast<std::size_t>(j)]) / scale[i];
+                // (at the working precision: the coefficient may be rounded, see the file comment)
+                const Real v =
+                    abs(taylor::working(jet_[i][static_cast<std::size_t>(j)])) / scale[i];
                 if (v > n) n = v;
             }
             if (n == 0) continue;

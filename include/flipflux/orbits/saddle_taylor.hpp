@@ -105,7 +105,10 @@ class saddle_taylor_flow {
         trim(p_[K]);
         f[0] = w1_[K];
         f[1] = w2_[K];
-        f[2] = -p_[K] - e1alpha_ * s1_.s[K];
+        // (no unary minus on a rounded coefficient: see taylor.hpp's graded precision)
+        f[2] = e1alpha_ * s1_.s[K];
+        f[2] += p_[K];
+        taylor::negate(f[2]);
         f[3] = p_[K] - e2beta_ * s2_.s[K];
         product(w1_, x[2], k, f[4]);
         for (int j = 0; j <= k; ++j)
