@@ -103,15 +103,11 @@ Real dirichlet_series(const Real& e1, const Real& e2, const Real& e3, const Real
     return total;
 }
 
-/// R_F and R_D: carlson_rf_rd at mp (where the high-order series pays), Boost.Math's at the fixed
-/// precisions (its tails need only a few duplications there).
+/// carlson_rf_rd; without R_D (`with_rd` false: R_F alone, 0 in its place) the duplication skips
+/// R_D's sum and stopping test and the series its tail.
 template <class Real>
-std::array<Real, 2> rf_rd(const Real& x, const Real& y, const Real& z);
-
-}  // namespace
-
-template <class Real>
-std::array<Real, 2> carlson_rf_rd(const Real& x0, const Real& y0, const Real& z0) {
+std::array<Real, 2> carlson_duplication(const Real& x0, const Real& y0, const Real& z0,
+                                        bool with_rd) {
     using boost::multiprecision::isfinite;
     using std::abs;
     using std::ceil;
@@ -135,12 +131,12 @@ std::array<Real, 2> carlson_rf_rd(const Real& x0, const Real& y0, const Real& z0
     const Real qf = max({abs(af0 - x0), abs(af0 - y0), abs(af0 - z0)});
     const Real qd = max({abs(ad0 - x0), abs(ad0 - y0), abs(ad0 - z0)});
     Real sum = 0, scale = 1;  // scale = 4^-n
-    for (int n = 0; scale * qf > r * af || scale * qd > r * ad; ++n) {
+    for (int n = 0; scale * qf > r * af || (with_rd && scale * qd > r * ad); ++n) {
         if (n > 4 * bits)
             throw std::runtime_error("carlson_rf_rd: the duplication did not converge");
         const Real sx = sqrt(x), sy = sqrt(y), sz = sqrt(z);
         const Real lambda = sx * (sy + sz) + sy * sz;
-        sum += scale / (sz * (z + lambda));
+        if (with_rd) sum += scale / (sz * (z + lambda));
         scale /= 4;
         x = (x + lambda) / 4;
         y = (y + lambda) / 4;
@@ -153,6 +149,7 @@ std::array<Real, 2> carlson_rf_rd(const Real& x0, const Real& y0, const Real& z0
     const Real rf =
         dirichlet_series(Real(0), Real(X * Y - Z * Z), Real(X * Y * Z), Real(0), order, 1, 3) /
         sqrt(af);
+    if (!with_rd) return {rf, Real(0)};
     // R_D = 4^-n A^(-3/2) sum_N (3/2)_N / (5/2)_N T_N + 3 sum, T_N of
     // (1 - s X)^(-1/2) (1 - s Y)^(-1/2) (1 - s Z)^(-3/2), X + Y + 3 Z = 0
     const Real Xd = (ad0 - x0) * scale / ad, Yd = (ad0 - y0) * scale / ad, Zd = -(Xd + Yd) / 3;
@@ -162,16 +159,31 @@ std::array<Real, 2> carlson_rf_rd(const Real& x0, const Real& y0, const Real& z0
     return {rf, rd};
 }
 
-namespace {
+/// R_F and R_D: Carlson's duplication with the high-order series at mp (where it pays),
+/// Boost.Math's at the fixed precisions (its tails need only a few duplications there).
 template <class Real>
 std::array<Real, 2> rf_rd(const Real& x, const Real& y, const Real& z) {
-    if constexpr (has_variable_precision_v<Real>) {
-        return carlson_rf_rd(x, y, z);
-    } else {
+    if constexpr (has_variable_precision_v<Real>)
+        return carlson_duplication(x, y, z, true);
+    else
         return {boost::math::ellint_rf(x, y, z), boost::math::ellint_rd(x, y, z)};
-    }
 }
+
+/// R_F alone, likewise.
+template <class Real>
+Real rf(const Real& x, const Real& y, const Real& z) {
+    if constexpr (has_variable_precision_v<Real>)
+        return carlson_duplication(x, y, z, false)[0];
+    else
+        return boost::math::ellint_rf(x, y, z);
+}
+
 }  // namespace
+
+template <class Real>
+std::array<Real, 2> carlson_rf_rd(const Real& x, const Real& y, const Real& z) {
+    return carlson_duplication(x, y, z, true);
+}
 
 template <class Real>
 Real elliptic_e_carlson(const Real& s, const Real& c2, const Real& d, const Real& m) {
@@ -186,15 +198,13 @@ Real elliptic_e_carlson(const Real& s, const Real& c2, const Real& d, const Real
 
 template <class Real>
 Real elliptic_f_carlson(const Real& s, const Real& c2, const Real& d, const Real& m) {
-    using boost::math::ellint_rf;
     if (!(c2 >= 0) || !(d >= 0) || (c2 == 0 && d == 0)) {
         domain_failure("elliptic_f_carlson", s, m,
                        "needs cos^2(phi) >= 0, 1 - m sin^2 >= 0, "
                        "not both zero (F diverges there)");
     }
     if (s == 0) return Real(0);
-    if constexpr (has_variable_precision_v<Real>) return s * carlson_rf_rd(c2, d, Real(1))[0];
-    return s * ellint_rf(c2, d, Real(1));
+    return s * rf(c2, d, Real(1));
 }
 
 template <class Real>
@@ -208,11 +218,9 @@ Real elliptic_e_complete(const Real& m, const Real& mc) {
 
 template <class Real>
 Real elliptic_k_complete(const Real& m, const Real& mc) {
-    using boost::math::ellint_rf;
     require_finite("elliptic_k_complete", mc, m);
     if (!(mc > 0)) domain_failure("elliptic_k_complete", mc, m, "needs 1 - m > 0");
-    if constexpr (has_variable_precision_v<Real>) return carlson_rf_rd(Real(0), mc, Real(1))[0];
-    return ellint_rf(Real(0), mc, Real(1));
+    return rf(Real(0), mc, Real(1));
 }
 
 template <class Real>

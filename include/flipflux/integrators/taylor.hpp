@@ -266,7 +266,6 @@ class coefficient_precision {
         }
         x = 0;
     }
-    bool graded() const { return !bits_.empty(); }
 
   private:
     std::vector<long> bits_;
