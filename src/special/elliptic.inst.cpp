@@ -2,8 +2,11 @@
 // plus quasi-periodicity (DLMF 19.2.10). See include/flipflux/special/elliptic.hpp.
 #include "flipflux/special/elliptic.hpp"
 
+#include <mpfr.h>
 #include <boost/math/special_functions/ellint_rd.hpp>
 #include <boost/math/special_functions/ellint_rf.hpp>
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -103,6 +106,94 @@ Real dirichlet_series(const Real& e1, const Real& e2, const Real& e3, const Real
     return total;
 }
 
+/// The series of dirichlet_series in MPFR with graded precision (mp only). Its terms decrease
+/// like M^n, M = max |X_j| (the duplication's target r): T_N <= (N + 1)^2 M^N, coef_N <= 1, so
+/// term N changes the sum (~1) only in its leading bits + 16 + 4 log2(N + 2) + N log2 M bits
+/// (the guard covers the recurrence's cancellation, <= 3 N (N + 1) M^N). Each term is computed
+/// in that precision (at least 64 bits): the products' cost falls quadratically with N, and the
+/// sum is accumulated in the working precision. Same recurrence and order as the uniform one.
+[[maybe_unused]] mp dirichlet_series_graded(const mp& e1, const mp& e2, const mp& e3, const mp& z,
+                                            int order, int a2, int c2, double log2_m) {
+    mp total = 1;  // the working precision (the thread's default)
+    const auto bits = static_cast<double>(mpfr_get_prec(total.backend().data()));
+    log2_m = std::max(log2_m, -bits);
+    const auto prec_of = [&](int n) {
+        const double p = bits + 16 + 4 * std::log2(n + 2.0) + n * log2_m;
+        return static_cast<mpfr_prec_t>(std::clamp(std::ceil(p), 64.0, bits + 16));
+    };
+    struct number {
+        mpfr_t x;
+        explicit number(mpfr_prec_t p) { mpfr_init2(x, p); }
+        ~number() { mpfr_clear(x); }
+        number(const number&) = delete;
+        number& operator=(const number&) = delete;
+        mpfr_ptr operator()(mpfr_prec_t p) {  // x with precision p, its value discarded
+            mpfr_set_prec(x, p);
+            return x;
+        }
+    };
+    const mpfr_prec_t top = prec_of(0);
+    const mpfr_srcptr u_full[4] = {nullptr, e1.backend().data(), e2.backend().data(),
+                                   e3.backend().data()};
+    const int u_sign[4] = {0, -1, 1, -1};  // u = 1 - e1 s + e2 s^2 - e3 s^3
+    number u[4]{number(top), number(top), number(top), number(top)};
+    number last[3]{number(top), number(top), number(top)};  // w_{n-1}, w_{n-2}, w_{n-3}
+    number wn(top), h(top), coef(top), t(top), zr(top);
+    mpfr_set_ui(last[0].x, 1, MPFR_RNDN);
+    mpfr_set_zero(last[1].x, 1);
+    mpfr_set_zero(last[2].x, 1);
+    mpfr_set_ui(h.x, 1, MPFR_RNDN);
+    mpfr_set_ui(coef.x, 1, MPFR_RNDN);
+    const bool with_z = !mpfr_zero_p(z.backend().data());
+    for (int n = 1; n <= order; ++n) {
+        const mpfr_prec_t p = prec_of(n);
+        mpfr_set_zero(wn(p), 1);
+        for (int k = 1; k <= 3 && k <= n; ++k) {
+            if (mpfr_zero_p(u_full[k])) continue;
+            mpfr_set(u[k](p), u_full[k], MPFR_RNDN);
+            mpfr_mul(t(p), u[k].x, last[k - 1].x, MPFR_RNDN);
+            mpfr_mul_si(t.x, t.x, u_sign[k] * (k - 2 * n), MPFR_RNDN);
+            mpfr_add(wn.x, wn.x, t.x, MPFR_RNDN);
+        }
+        mpfr_div_ui(wn.x, wn.x, static_cast<unsigned long>(2 * n), MPFR_RNDN);
+        mpfr_swap(last[2].x, last[1].x);  // w_{n-3} is dropped into wn (reset next term)
+        mpfr_swap(last[1].x, last[0].x);
+        mpfr_swap(last[0].x, wn.x);
+        mpfr_prec_round(h.x, p, MPFR_RNDN);  // h_n = w_n + z h_{n-1}
+        if (with_z) {
+            mpfr_set(zr(p), z.backend().data(), MPFR_RNDN);
+            mpfr_mul(h.x, h.x, zr.x, MPFR_RNDN);
+            mpfr_add(h.x, h.x, last[0].x, MPFR_RNDN);
+        } else {
+            mpfr_set(h.x, last[0].x, MPFR_RNDN);
+        }
+        mpfr_prec_round(coef.x, p, MPFR_RNDN);
+        mpfr_mul_ui(coef.x, coef.x, static_cast<unsigned long>(a2 + 2 * (n - 1)), MPFR_RNDN);
+        mpfr_div_ui(coef.x, coef.x, static_cast<unsigned long>(c2 + 2 * (n - 1)), MPFR_RNDN);
+        mpfr_mul(t(p), coef.x, h.x, MPFR_RNDN);
+        mpfr_add(total.backend().data(), total.backend().data(), t.x, MPFR_RNDN);
+    }
+    return total;
+}
+
+/// dirichlet_series, graded at mp. `log2_m`: log2 max |X_j|.
+template <class Real>
+Real series(const Real& e1, const Real& e2, const Real& e3, const Real& z, int order, int a2,
+            int c2, double log2_m) {
+    if constexpr (has_variable_precision_v<Real>)
+        return dirichlet_series_graded(e1, e2, e3, z, order, a2, c2, log2_m);
+    else
+        return dirichlet_series(e1, e2, e3, z, order, a2, c2);
+}
+
+/// log2 max(|a|, |b|, |c|) (-inf for zeros).
+template <class Real>
+double log2_max(const Real& a, const Real& b, const Real& c) {
+    using std::abs;
+    using std::max;
+    return std::log2(static_cast<double>(max({abs(a), abs(b), abs(c)})));
+}
+
 /// carlson_rf_rd; without R_D (`with_rd` false: R_F alone, 0 in its place) the duplication skips
 /// R_D's sum and stopping test and the series its tail.
 template <class Real>
@@ -146,16 +237,17 @@ std::array<Real, 2> carlson_duplication(const Real& x0, const Real& y0, const Re
     }
     // R_F = A^(-1/2) sum_N (1/2)_N / (3/2)_N T_N, Z_j = (A0 - z_j) 4^-n / A (sum Z_j = 0)
     const Real X = (af0 - x0) * scale / af, Y = (af0 - y0) * scale / af, Z = -(X + Y);
-    const Real rf =
-        dirichlet_series(Real(0), Real(X * Y - Z * Z), Real(X * Y * Z), Real(0), order, 1, 3) /
-        sqrt(af);
+    const Real rf = series(Real(0), Real(X * Y - Z * Z), Real(X * Y * Z), Real(0), order, 1, 3,
+                           log2_max(X, Y, Z)) /
+                    sqrt(af);
     if (!with_rd) return {rf, Real(0)};
     // R_D = 4^-n A^(-3/2) sum_N (3/2)_N / (5/2)_N T_N + 3 sum, T_N of
     // (1 - s X)^(-1/2) (1 - s Y)^(-1/2) (1 - s Z)^(-3/2), X + Y + 3 Z = 0
     const Real Xd = (ad0 - x0) * scale / ad, Yd = (ad0 - y0) * scale / ad, Zd = -(Xd + Yd) / 3;
     const Real e1 = Xd + Yd + Zd, e2 = Xd * Yd + Zd * (Xd + Yd), e3 = Xd * Yd * Zd;
     const Real rd =
-        scale * dirichlet_series(e1, e2, e3, Zd, order, 3, 5) / (ad * sqrt(ad)) + 3 * sum;
+        scale * series(e1, e2, e3, Zd, order, 3, 5, log2_max(Xd, Yd, Zd)) / (ad * sqrt(ad)) +
+        3 * sum;
     return {rf, rd};
 }
 
