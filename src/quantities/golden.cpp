@@ -199,6 +199,12 @@ precision golden_check_precision(const precision& value_precision) {
             "mp:DIGITS with DIGITS >= 2)");
 }
 
+std::optional<precision> golden_recheck_precision(const precision& value_precision) {
+    if (value_precision.kind == real_kind::mp && value_precision.digits >= 8)
+        return mp_precision(value_precision.digits * 3 / 4);
+    return std::nullopt;
+}
+
 std::vector<std::string> golden_relative_energies(double start, double maximum) {
     std::vector<std::string> grid;
     const auto add = [&grid, start](double e) {
@@ -273,13 +279,9 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (long i = 0; i < n; ++i)
         high[i] = value_of(tasks[i], options.value_precision);
-    std::vector<std::pair<evaluation, evaluation>> checks(tasks.size());
     std::vector<golden_outcome> rows(tasks.size());
     std::size_t done = 0;
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-    for (long i = 0; i < n; ++i) {
-        if (!high[i].value.empty()) checks[i] = checks_of(tasks[i], check);
-        rows[i] = certify(tasks[i], high[i], checks[i], cap);
+    const auto report = [&](long i) {
 #pragma omp critical(flipflux_golden_progress)
         {
             ++done;
@@ -289,6 +291,28 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
                 options.skipped(t.q->name + " arm " + (t.q->per_arm ? to_string(t.a) : "-") +
                                 " E " + t.energy + ": " + rows[i].skipped);
             }
+        }
+    };
+    // pass 3, in mp:(3N/4): the rows pass 2 certifies to fewer digits than the cap are checked
+    // again there, and certified by that agreement (both methods again, in the higher precision)
+    const std::optional<precision> recheck = golden_recheck_precision(options.value_precision);
+    std::vector<char> again(tasks.size(), 0);
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    for (long i = 0; i < n; ++i) {
+        std::pair<evaluation, evaluation> checks;
+        if (!high[i].value.empty()) checks = checks_of(tasks[i], check);
+        rows[i] = certify(tasks[i], high[i], checks, cap);
+        if (recheck && rows[i].row && rows[i].row->digits < cap)
+            again[i] = 1;
+        else
+            report(i);
+    }
+    if (recheck) {
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+        for (long i = 0; i < n; ++i) {
+            if (!again[i]) continue;
+            rows[i] = certify(tasks[i], high[i], checks_of(tasks[i], *recheck), cap);
+            report(i);
         }
     }
     std::vector<golden_row> out;
@@ -432,6 +456,12 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
          "digits = min(agreement of the default method in " + lo + " with " + hi +
              ", agreement of the first applicable independent method in " + lo + " with " + hi +
              "), capped at " + std::to_string(decimal_digits(check)) +
+             (golden_recheck_precision(value_precision)
+                  ? "; a row certified so to fewer digits than the cap (an ill-conditioned "
+                    "quantity) is checked again in " +
+                        precision_name(*golden_recheck_precision(value_precision)) +
+                        ", both methods, and certified by that agreement"
+                  : std::string()) +
              "; the saddle-orbit quantities: periodic shooting (the paper's) with the "
              "Taylor integrator, certified by the symmetric shooting to the brake "
              "point"}};

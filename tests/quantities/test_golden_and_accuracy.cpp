@@ -232,6 +232,13 @@ TEST(Golden, GridCsvAndDigits) {
               (std::vector<std::string>{"4.05", "5", "5.95", "5.99", "5.999"}));
     EXPECT_EQ(golden_orbit_energies(1.1, 2.1),
               (std::vector<std::string>{"1.15", "2.05", "2.09", "2.099"}));
+    // the check of the values, and the second check of a row the first leaves short of its cap
+    EXPECT_EQ(golden_check_precision(mp_precision(100)), mp_precision(50));
+    EXPECT_EQ(golden_check_precision(precision{real_kind::quad}), precision{real_kind::double_});
+    EXPECT_EQ(golden_recheck_precision(mp_precision(100)), mp_precision(75));
+    EXPECT_EQ(golden_recheck_precision(mp_precision(8)), mp_precision(6));
+    EXPECT_FALSE(golden_recheck_precision(mp_precision(7)));
+    EXPECT_FALSE(golden_recheck_precision(precision{real_kind::quad}));
     EXPECT_EQ(agreement_digits("1.2345", "1.2345"), 50);
     EXPECT_EQ(agreement_digits("1.2346", "1.2345"), 4);
     EXPECT_EQ(agreement_digits("3", "1"), 0);

@@ -517,7 +517,7 @@ TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
         std::ofstream f(file);
         f << "[scene]\nname = \"" << name << "\"\noutput = \"" << (dir / name).string() << "\"\n"
           << "[[ensemble]]\nname = \"k\"\ncriteria = [\"upright\", \"approx\"]\n"
-             "energies = [4.6, 5.2]\ntrajectories = 24\ntime = 2000\nseed = 7\nrtol = 1e-9\n";
+             "energies = [4.6, 5.2]\ntrajectories = 24\ntime = 1000\nseed = 7\nrtol = 1e-9\n";
         return file;
     };
     const fs::path whole = scene_file("whole"), killed = scene_file("killed");

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -125,5 +126,11 @@ std::vector<golden_row> merge_golden(const std::vector<golden_row>& existing,
 /// The precision that certifies golden values computed in `value_precision`: mp:N -> mp:(N/2),
 /// quad -> double. Throws input_error for double (and mp:1).
 precision golden_check_precision(const precision& value_precision);
+
+/// The precision of the second check of a row the first certifies to fewer digits than its cap
+/// (an ill-conditioned quantity, whose condition number takes more than the check precision's
+/// guard digits: the multiplier ~1e30 just below E_max): mp:N -> mp:(3N/4), between the check
+/// and the value precision; none (nullopt) for quad and for N < 8.
+std::optional<precision> golden_recheck_precision(const precision& value_precision);
 
 }  // namespace flipflux
