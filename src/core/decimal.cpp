@@ -7,6 +7,7 @@
 #include <ios>
 #include <sstream>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -86,11 +87,24 @@ bool is_decimal_number(std::string_view t) {
 std::string round_decimal(std::string_view text, int significant_digits, std::string_view what) {
     mpfr_value x(static_cast<mpfr_prec_t>(4 * text.size() + 64));
     set_decimal(x, text, what);
+    // NOTE: never more digits than the text has: x holds the text to ~text.size() digits, and
+    // its binary expansion printed beyond them is noise ("35.2" to 50 digits gave
+    // 35.2000000000000000000000105879..., a golden value 1e-23 off)
+    std::size_t digits = 0;
+    bool leading = true;
+    for (const char c : text.substr(0, text.find_first_of("eE"))) {
+        if (c < '0' || c > '9') continue;
+        if (leading && c == '0') continue;
+        leading = false;
+        ++digits;
+    }
+    const int shown = static_cast<int>(
+        std::min<std::size_t>(std::max(significant_digits, 1), std::max<std::size_t>(digits, 1)));
     // formatted by Boost's MPFR backend, as to_decimal's iostream output is (its precision is
     // taken from x, not from the process-wide default)
     boost::multiprecision::mpfr_float_backend<0> b;
     b = static_cast<mpfr_srcptr>(x.get());
-    return b.str(significant_digits < 1 ? 1 : significant_digits, std::ios_base::fmtflags(0));
+    return b.str(shown, std::ios_base::fmtflags(0));
 }
 
 double decimal_agreement(std::string_view a, std::string_view b, std::string_view what) {

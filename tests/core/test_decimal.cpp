@@ -158,6 +158,13 @@ TEST(Precision, DecimalComparisonsUseEveryDigit) {
     EXPECT_EQ(round_decimal("0.25", 1), "0.2");           // ties to even, as MPFR rounds
     EXPECT_EQ(round_decimal("-2.5e-300", 1), "-3e-300");  // 2.5e-300 is not a tie in binary
     EXPECT_EQ(round_decimal("1." + std::string(60, '9'), 5), "2");
+    // a text with fewer digits than asked for is returned as it is, not padded with the binary
+    // noise of its conversion (regression: "35.2" to 50 digits gave 35.20000000000000000000001058)
+    EXPECT_EQ(round_decimal("35.2", 50), "35.2");
+    EXPECT_EQ(round_decimal("-0.00125", 40), "-0.00125");
+    EXPECT_EQ(round_decimal("7e-300", 100), "7e-300");
+    EXPECT_EQ(round_decimal("0", 10), "0");
+    EXPECT_EQ(round_decimal("100", 50), "100");
     EXPECT_THROW(decimal_agreement("1", "abc"), input_error);
 }
 
