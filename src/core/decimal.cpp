@@ -15,24 +15,12 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/mpfr_number.hpp"
 
 namespace flipflux {
 namespace {
 
-/// An MPFR number with its own precision (no Boost default precision involved).
-class mpfr_value {
-  public:
-    explicit mpfr_value(mpfr_prec_t bits) { mpfr_init2(x_, bits); }
-    ~mpfr_value() { mpfr_clear(x_); }
-    mpfr_value(const mpfr_value&) = delete;
-    mpfr_value& operator=(const mpfr_value&) = delete;
-    mpfr_ptr get() { return x_; }
-
-  private:
-    mpfr_t x_;
-};
-
-void set_decimal(mpfr_value& x, std::string_view text, std::string_view what) {
+void set_decimal(mpfr_number& x, std::string_view text, std::string_view what) {
     if (!is_decimal_number(text))
         throw input_error::about(std::string(what),
                                  "'" + std::string(text) + "' is not a finite decimal number");
@@ -44,7 +32,7 @@ void set_decimal(mpfr_value& x, std::string_view text, std::string_view what) {
 double log10_relative_difference(std::string_view a, std::string_view b, std::string_view what) {
     // every significant digit of both texts, and room for the difference
     const mpfr_prec_t bits = static_cast<mpfr_prec_t>(4 * (a.size() + b.size()) + 64);
-    mpfr_value x(bits), y(bits);
+    mpfr_number x(bits), y(bits);
     set_decimal(x, a, what);
     set_decimal(y, b, what);
     mpfr_sub(x.get(), x.get(), y.get(), MPFR_RNDN);
@@ -85,7 +73,7 @@ bool is_decimal_number(std::string_view t) {
 }
 
 std::string round_decimal(std::string_view text, int significant_digits, std::string_view what) {
-    mpfr_value x(static_cast<mpfr_prec_t>(4 * text.size() + 64));
+    mpfr_number x(static_cast<mpfr_prec_t>(4 * text.size() + 64));
     set_decimal(x, text, what);
     // NOTE: never more digits than the text has: x holds the text to ~text.size() digits, and
     // its binary expansion printed beyond them is noise ("35.2" to 50 digits gave

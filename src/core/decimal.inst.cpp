@@ -15,6 +15,7 @@
 
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/instantiate.hpp"
+#include "flipflux/core/mpfr_number.hpp"
 
 namespace flipflux {
 
@@ -43,15 +44,6 @@ Real parse_real(std::string_view text, std::string_view what) {
 }
 
 namespace {
-
-/// An MPFR number of its own precision, freed on every path.
-struct mpfr_number {
-    mpfr_t x;
-    explicit mpfr_number(mpfr_prec_t bits) { mpfr_init2(x, bits); }
-    ~mpfr_number() { mpfr_clear(x); }
-    mpfr_number(const mpfr_number&) = delete;
-    mpfr_number& operator=(const mpfr_number&) = delete;
-};
 
 /// Binary digits of Real's significand (of the working precision for mp).
 template <class Real>
@@ -137,10 +129,10 @@ Real parse_difference(std::string_view text, const Real& subtrahend, std::string
     mpfr_number a(static_cast<mpfr_prec_t>(2 * bits + 4 * m + n + scale + 128));
     mpfr_number b(static_cast<mpfr_prec_t>(bits + 64));
     const std::string s(text);
-    mpfr_set_str(a.x, s.c_str(), 10, MPFR_RNDN);
-    set_exactly(b.x, subtrahend);
-    mpfr_sub(a.x, a.x, b.x, MPFR_RNDN);
-    return rounded<Real>(a.x);
+    mpfr_set_str(a.get(), s.c_str(), 10, MPFR_RNDN);
+    set_exactly(b.get(), subtrahend);
+    mpfr_sub(a.get(), a.get(), b.get(), MPFR_RNDN);
+    return rounded<Real>(a.get());
 }
 
 template <class Real>

@@ -450,17 +450,17 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
         {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) +
                       "." + std::to_string(EIGEN_MINOR_VERSION)}};
     const std::string hi = precision_name(value_precision), lo = precision_name(check);
+    const std::optional<precision> recheck = golden_recheck_precision(value_precision);
     j["precision"] = {
         {"values", hi + " (the quantity's default method)"},
         {"certification",
          "digits = min(agreement of the default method in " + lo + " with " + hi +
              ", agreement of the first applicable independent method in " + lo + " with " + hi +
              "), capped at " + std::to_string(decimal_digits(check)) +
-             (golden_recheck_precision(value_precision)
+             (recheck
                   ? "; a row certified so to fewer digits than the cap (an ill-conditioned "
                     "quantity) is checked again in " +
-                        precision_name(*golden_recheck_precision(value_precision)) +
-                        ", both methods, and certified by that agreement"
+                        precision_name(*recheck) + ", both methods, and certified by that agreement"
                   : std::string()) +
              "; the saddle-orbit quantities: periodic shooting (the paper's) with the "
              "Taylor integrator, certified by the symmetric shooting to the brake "

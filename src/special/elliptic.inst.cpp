@@ -14,6 +14,7 @@
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/instantiate.hpp"
+#include "flipflux/core/mpfr_number.hpp"
 
 namespace flipflux {
 namespace {
@@ -121,57 +122,49 @@ Real dirichlet_series(const Real& e1, const Real& e2, const Real& e3, const Real
         const double p = bits + 16 + 4 * std::log2(n + 2.0) + n * log2_m;
         return static_cast<mpfr_prec_t>(std::clamp(std::ceil(p), 64.0, bits + 16));
     };
-    struct number {
-        mpfr_t x;
-        explicit number(mpfr_prec_t p) { mpfr_init2(x, p); }
-        ~number() { mpfr_clear(x); }
-        number(const number&) = delete;
-        number& operator=(const number&) = delete;
-        mpfr_ptr operator()(mpfr_prec_t p) {  // x with precision p, its value discarded
-            mpfr_set_prec(x, p);
-            return x;
-        }
-    };
     const mpfr_prec_t top = prec_of(0);
     const mpfr_srcptr u_full[4] = {nullptr, e1.backend().data(), e2.backend().data(),
                                    e3.backend().data()};
     const int u_sign[4] = {0, -1, 1, -1};  // u = 1 - e1 s + e2 s^2 - e3 s^3
-    number u[4]{number(top), number(top), number(top), number(top)};
-    number last[3]{number(top), number(top), number(top)};  // w_{n-1}, w_{n-2}, w_{n-3}
-    number wn(top), h(top), coef(top), t(top), zr(top);
-    mpfr_set_ui(last[0].x, 1, MPFR_RNDN);
-    mpfr_set_zero(last[1].x, 1);
-    mpfr_set_zero(last[2].x, 1);
-    mpfr_set_ui(h.x, 1, MPFR_RNDN);
-    mpfr_set_ui(coef.x, 1, MPFR_RNDN);
+    mpfr_number u[4]{mpfr_number(top), mpfr_number(top), mpfr_number(top), mpfr_number(top)};
+    mpfr_number last[3]{mpfr_number(top), mpfr_number(top),
+                        mpfr_number(top)};  // w_{n-1}, w_{n-2}, w_{n-3}
+    mpfr_number wn(top), h(top), coef(top), t(top), zr(top);
+    mpfr_set_ui(last[0].get(), 1, MPFR_RNDN);
+    mpfr_set_zero(last[1].get(), 1);
+    mpfr_set_zero(last[2].get(), 1);
+    mpfr_set_ui(h.get(), 1, MPFR_RNDN);
+    mpfr_set_ui(coef.get(), 1, MPFR_RNDN);
     const bool with_z = !mpfr_zero_p(z.backend().data());
     for (int n = 1; n <= order; ++n) {
         const mpfr_prec_t p = prec_of(n);
-        mpfr_set_zero(wn(p), 1);
+        mpfr_set_zero(wn.at(p), 1);
         for (int k = 1; k <= 3 && k <= n; ++k) {
             if (mpfr_zero_p(u_full[k])) continue;
-            mpfr_set(u[k](p), u_full[k], MPFR_RNDN);
-            mpfr_mul(t(p), u[k].x, last[k - 1].x, MPFR_RNDN);
-            mpfr_mul_si(t.x, t.x, u_sign[k] * (k - 2 * n), MPFR_RNDN);
-            mpfr_add(wn.x, wn.x, t.x, MPFR_RNDN);
+            mpfr_set(u[k].at(p), u_full[k], MPFR_RNDN);
+            mpfr_mul(t.at(p), u[k].get(), last[k - 1].get(), MPFR_RNDN);
+            mpfr_mul_si(t.get(), t.get(), u_sign[k] * (k - 2 * n), MPFR_RNDN);
+            mpfr_add(wn.get(), wn.get(), t.get(), MPFR_RNDN);
         }
-        mpfr_div_ui(wn.x, wn.x, static_cast<unsigned long>(2 * n), MPFR_RNDN);
-        mpfr_swap(last[2].x, last[1].x);  // w_{n-3} is dropped into wn (reset next term)
-        mpfr_swap(last[1].x, last[0].x);
-        mpfr_swap(last[0].x, wn.x);
-        mpfr_prec_round(h.x, p, MPFR_RNDN);  // h_n = w_n + z h_{n-1}
+        mpfr_div_ui(wn.get(), wn.get(), static_cast<unsigned long>(2 * n), MPFR_RNDN);
+        mpfr_swap(last[2].get(), last[1].get());  // w_{n-3} is dropped into wn (reset next term)
+        mpfr_swap(last[1].get(), last[0].get());
+        mpfr_swap(last[0].get(), wn.get());
+        mpfr_prec_round(h.get(), p, MPFR_RNDN);  // h_n = w_n + z h_{n-1}
         if (with_z) {
-            mpfr_set(zr(p), z.backend().data(), MPFR_RNDN);
-            mpfr_mul(h.x, h.x, zr.x, MPFR_RNDN);
-            mpfr_add(h.x, h.x, last[0].x, MPFR_RNDN);
+            mpfr_set(zr.at(p), z.backend().data(), MPFR_RNDN);
+            mpfr_mul(h.get(), h.get(), zr.get(), MPFR_RNDN);
+            mpfr_add(h.get(), h.get(), last[0].get(), MPFR_RNDN);
         } else {
-            mpfr_set(h.x, last[0].x, MPFR_RNDN);
+            mpfr_set(h.get(), last[0].get(), MPFR_RNDN);
         }
-        mpfr_prec_round(coef.x, p, MPFR_RNDN);
-        mpfr_mul_ui(coef.x, coef.x, static_cast<unsigned long>(a2 + 2 * (n - 1)), MPFR_RNDN);
-        mpfr_div_ui(coef.x, coef.x, static_cast<unsigned long>(c2 + 2 * (n - 1)), MPFR_RNDN);
-        mpfr_mul(t(p), coef.x, h.x, MPFR_RNDN);
-        mpfr_add(total.backend().data(), total.backend().data(), t.x, MPFR_RNDN);
+        mpfr_prec_round(coef.get(), p, MPFR_RNDN);
+        mpfr_mul_ui(coef.get(), coef.get(), static_cast<unsigned long>(a2 + 2 * (n - 1)),
+                    MPFR_RNDN);
+        mpfr_div_ui(coef.get(), coef.get(), static_cast<unsigned long>(c2 + 2 * (n - 1)),
+                    MPFR_RNDN);
+        mpfr_mul(t.at(p), coef.get(), h.get(), MPFR_RNDN);
+        mpfr_add(total.backend().data(), total.backend().data(), t.get(), MPFR_RNDN);
     }
     return total;
 }
@@ -186,12 +179,17 @@ Real series(const Real& e1, const Real& e2, const Real& e3, const Real& z, int o
         return dirichlet_series(e1, e2, e3, z, order, a2, c2);
 }
 
-/// log2 max(|a|, |b|, |c|) (-inf for zeros).
+/// series' `log2_m`: log2 max(|a|, |b|, |c|) (-inf for zeros) at mp, where the graded series
+/// uses it; not computed at the fixed precisions (0).
 template <class Real>
 double log2_max(const Real& a, const Real& b, const Real& c) {
-    using std::abs;
-    using std::max;
-    return std::log2(static_cast<double>(max({abs(a), abs(b), abs(c)})));
+    if constexpr (has_variable_precision_v<Real>) {
+        using std::abs;
+        using std::max;
+        return std::log2(static_cast<double>(max({abs(a), abs(b), abs(c)})));
+    } else {
+        return 0;
+    }
 }
 
 /// carlson_rf_rd; without R_D (`with_rd` false: R_F alone, 0 in its place) the duplication skips

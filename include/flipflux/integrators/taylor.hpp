@@ -58,6 +58,7 @@
 #include <vector>
 
 #include "flipflux/core/budget.hpp"
+#include "flipflux/core/mpfr_number.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
 
@@ -71,19 +72,8 @@ namespace detail {
 /// A thread's scratch number for mul_add / mul_sub at MPFR precisions: a product rounded to the
 /// accumulator's precision costs less than mpfr_fma's exact one (whose temporary is allocated at
 /// the sum of the operands' precisions on every call once they differ).
-struct mpfr_scratch {
-    mpfr_t x;
-    mpfr_scratch() { mpfr_init2(x, MPFR_PREC_MIN); }
-    ~mpfr_scratch() { mpfr_clear(x); }
-    mpfr_scratch(const mpfr_scratch&) = delete;
-    mpfr_scratch& operator=(const mpfr_scratch&) = delete;
-    mpfr_ptr at(mpfr_prec_t p) {
-        if (mpfr_get_prec(x) != p) mpfr_set_prec(x, p);
-        return x;
-    }
-};
 inline mpfr_ptr scratch(mpfr_prec_t p) {
-    thread_local mpfr_scratch s;
+    thread_local mpfr_number s;
     return s.at(p);
 }
 /// x, or a read-only view of its leading `limbs` limbs (x truncated: MPFR keeps the mantissa's
