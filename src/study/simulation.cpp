@@ -88,8 +88,9 @@ json checkpoint_header(const double_pendulum<double>& model,
     const auto& p = model.parameters();
     const simulation_request& q = studies.front();
     json arms = json::array(), criteria = json::array(), energies = json::array(),
-         bins = json::array();
+         bins = json::array(), thresholds = json::array();
     for (const simulation_request& s : studies) {
+        thresholds.push_back(to_decimal(s.options.chaos_threshold));
         json e = json::array();
         for (const auto& [label, value] : s.energies)
             e.push_back(to_decimal(value));
@@ -116,7 +117,7 @@ json checkpoint_header(const double_pendulum<double>& model,
                 {"rtol", to_decimal(o.rtol)},
                 {"atol", to_decimal(o.atol)},
                 {"chaos", o.chaos},
-                {"chaos_threshold", to_decimal(o.chaos_threshold)},
+                {"chaos_threshold", one ? thresholds[0] : thresholds},
                 {"bins", one ? bins[0] : bins}};
 }
 
@@ -498,12 +499,18 @@ shared_energies share_energies(const std::vector<simulation_request>& requests,
     return out;
 }
 
-/// Study `m`'s view of an energy's trajectories: its criteria's columns, under its names.
-ensemble_result project(const ensemble_result& all, const shared_energies::member& m,
-                        const std::vector<std::string>& names) {
+/// Study `m`'s view of an energy's trajectories: its criteria's columns, under its names, and
+/// each trajectory classified with its chaos threshold (the run's may be another study's: the
+/// threshold changes no trajectory, only which count as chaotic; the same comparison as the
+/// ensemble's, so a separate run's bits).
+ensemble_result project(const double_pendulum<double>& model, const ensemble_result& all,
+                        const shared_energies::member& m, const simulation_request& study) {
     ensemble_result r = all;
-    r.criteria = names;
+    r.criteria = study.criteria;
+    r.chaos_threshold = study.options.chaos_threshold;
+    const double rate = chaos_threshold_rate(model, r.chaos_threshold);
     for (trajectory_result& t : r.trajectories) {
+        t.chaotic = r.chaos && t.lyapunov > rate;
         std::vector<std::vector<double>> times;
         std::vector<std::vector<crossing>> crossings;
         for (std::size_t column : m.columns) {
@@ -517,18 +524,17 @@ ensemble_result project(const ensemble_result& all, const shared_energies::membe
 }
 
 /// Several requests may share trajectories when everything that determines the trajectories and
-/// how the run is driven is the same.
+/// how the run is driven is the same (the chaos threshold may differ: it only classifies them).
 void check_shareable(const simulation_request& a, const simulation_request& b) {
     const ensemble_options &x = a.options, &y = b.options;
     const bool same =
         x.trajectories == y.trajectories && x.first_index == y.first_index && x.time == y.time &&
         x.seed == y.seed && x.rtol == y.rtol && x.atol == y.atol && x.method == y.method &&
-        x.chaos == y.chaos && x.chaos_threshold == y.chaos_threshold && x.threads == y.threads &&
-        x.keep_crossings == y.keep_crossings && x.sample_interval == y.sample_interval &&
-        x.unwrapped_angles == y.unwrapped_angles && a.estimator == b.estimator &&
-        a.short_time == b.short_time && a.checkpoint == b.checkpoint &&
-        a.checkpoint_interval == b.checkpoint_interval && a.timing == b.timing &&
-        a.group == b.group;
+        x.chaos == y.chaos && x.threads == y.threads && x.keep_crossings == y.keep_crossings &&
+        x.sample_interval == y.sample_interval && x.unwrapped_angles == y.unwrapped_angles &&
+        a.estimator == b.estimator && a.short_time == b.short_time &&
+        a.checkpoint == b.checkpoint && a.checkpoint_interval == b.checkpoint_interval &&
+        a.timing == b.timing && a.group == b.group;
     if (!same)
         throw std::invalid_argument(
             "simulate: studies sharing trajectories need the same ensemble options, estimator, "
@@ -577,7 +583,9 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
     std::vector<study_result> out;
     std::vector<std::vector<std::optional<energy_result>>> done(studies);
     for (std::size_t p = 0; p < studies; ++p) {
-        out.push_back(result_head(model, requests[p], o));
+        ensemble_options own = o;
+        own.chaos_threshold = requests[p].options.chaos_threshold;
+        out.push_back(result_head(model, requests[p], own));
         done[p].resize(requests[p].energies.size());
     }
     simulation_progress progress;
@@ -653,7 +661,7 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
         std::vector<std::pair<std::size_t, const energy_result*>> records;
         for (const shared_energies::member& m : energies[k].members) {
             const simulation_request& q = requests[m.study];
-            const ensemble_result r = project(all, m, q.criteria);
+            const ensemble_result r = project(model, all, m, q);
             energy_result e = summarise_energy(r, q.energies[m.position].first, q, group,
                                                setups[m.study].predictions[m.position]);
             if (!q.csv_dir.empty()) write_energy_csvs(q.csv_dir, r, e);

@@ -741,6 +741,60 @@ TEST(SharedStudies, BothArmsFromOneEnsembleEqualSeparateRuns) {
     EXPECT_THROW(simulate(m, both), std::invalid_argument);
 }
 
+// Studies that differ only in the chaos threshold (the paper scenes' threshold studies) share
+// their trajectories: the threshold classifies them and changes none. Each study's report, its
+// chaotic sub-ensemble included, equals a separate run's bit for bit; the thresholds are chosen
+// so that the classifications differ. The shared checkpoint records every study's threshold.
+TEST(SharedStudies, ChaosThresholdsClassifyOneSetOfTrajectories) {
+    const double_pendulum<double> m;
+    simulation_request low;
+    low.criteria = {"upright"};
+    low.energies = {{"3", 3.0}, {"5", 5.0}};
+    low.options.trajectories = 6;
+    low.options.time = 120;
+    low.options.seed = 5;
+    low.options.rtol = 1e-8;
+    low.options.chaos = true;
+    low.options.chaos_threshold = 0.02;
+    low.options.threads = 2;
+    low.timing = false;
+    simulation_request high = low;
+    high.energies = {{"5", 5.0}};
+    high.options.chaos_threshold = 0.5;  // lambda_T at E = 5, T = 120: 0.43 ... 0.54
+    std::uint64_t integrated = 0;
+    std::vector<simulation_request> both{low, high};
+    both[0].progress = [&](const simulation_progress& p) { integrated = p.done; };
+    const std::vector<study_result> shared = *simulate(m, both);
+    EXPECT_EQ(integrated, 2 * 6u);  // E = 5 integrated once
+    ASSERT_EQ(shared.size(), 2u);
+    const json jl = study_json(shared[0]), jh = study_json(shared[1]);
+    EXPECT_EQ(jl, study_json(*simulate(m, low)));
+    EXPECT_EQ(jh, study_json(*simulate(m, high)));
+    const auto chaotic_at_5 = [](const study_result& r) {
+        return r.energies.back().criteria.front().statistics.chaotic;
+    };
+    EXPECT_GT(chaotic_at_5(shared[0]), chaotic_at_5(shared[1]))
+        << "the thresholds classify E = 5's trajectories alike: the test shows nothing";
+
+    const fs::path file = fs::path(::testing::TempDir()) / "flipflux_thresholds.ckpt";
+    fs::remove(file);
+    for (simulation_request& q : both) {
+        q.checkpoint = file;
+        q.checkpoint_interval = 0;
+    }
+    both[0].progress = nullptr;
+    EXPECT_EQ(study_json((*simulate(m, both))[1]), jh);
+    EXPECT_EQ(study_json((*simulate(m, both))[1]), jh);  // from the checkpoint's records
+    both[1].options.chaos_threshold = 0.4;  // another classification: the checkpoint is refused
+    try {
+        simulate(m, both);
+        ADD_FAILURE() << "a checkpoint of other thresholds was resumed";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("chaos_threshold"), std::string::npos) << e.what();
+    }
+    fs::remove(file);
+}
+
 // A stop request before the run: nothing is integrated, simulate() reports the interruption.
 TEST(Interruption, StopFlagEndsTheStudy) {
     const double_pendulum<double> m;
