@@ -127,8 +127,8 @@ Real dirichlet_series(const Real& e1, const Real& e2, const Real& e3, const Real
                                    e3.backend().data()};
     const int u_sign[4] = {0, -1, 1, -1};  // u = 1 - e1 s + e2 s^2 - e3 s^3
     mpfr_number u[4]{mpfr_number(top), mpfr_number(top), mpfr_number(top), mpfr_number(top)};
-    mpfr_number last[3]{mpfr_number(top), mpfr_number(top),
-                        mpfr_number(top)};  // w_{n-1}, w_{n-2}, w_{n-3}
+    // w_{n-1}, w_{n-2}, w_{n-3}
+    mpfr_number last[3]{mpfr_number(top), mpfr_number(top), mpfr_number(top)};
     mpfr_number wn(top), h(top), coef(top), t(top), zr(top);
     mpfr_set_ui(last[0].get(), 1, MPFR_RNDN);
     mpfr_set_zero(last[1].get(), 1);
