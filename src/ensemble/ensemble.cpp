@@ -79,6 +79,11 @@ double chaos_threshold_rate(const double_pendulum<double>& model, double thresho
     return threshold * std::sqrt(k.alpha / k.A);
 }
 
+bool is_chaotic(const double_pendulum<double>& model, bool chaos, double threshold,
+                double lyapunov) {
+    return chaos && lyapunov > chaos_threshold_rate(model, threshold);
+}
+
 bool chaos_classification_reliable(const double_pendulum<double>& model, double threshold,
                                    double time) {
     const auto& k = model.coefficients();
@@ -331,7 +336,7 @@ class lane {
         } else {
             r_.lyapunov = std::numeric_limits<double>::quiet_NaN();
         }
-        r_.chaotic = o_.chaos && r_.lyapunov > chaos_threshold_rate(model_, o_.chaos_threshold);
+        r_.chaotic = is_chaotic(model_, o_.chaos, o_.chaos_threshold, r_.lyapunov);
     }
 
     const ensemble_options& o_;

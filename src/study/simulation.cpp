@@ -501,16 +501,15 @@ shared_energies share_energies(const std::vector<simulation_request>& requests,
 
 /// Study `m`'s view of an energy's trajectories: its criteria's columns, under its names, and
 /// each trajectory classified with its chaos threshold (the run's may be another study's: the
-/// threshold changes no trajectory, only which count as chaotic; the same comparison as the
-/// ensemble's, so a separate run's bits).
+/// threshold changes no trajectory, only which count as chaotic; is_chaotic, the ensemble's rule,
+/// so a separate run's bits).
 ensemble_result project(const double_pendulum<double>& model, const ensemble_result& all,
                         const shared_energies::member& m, const simulation_request& study) {
     ensemble_result r = all;
     r.criteria = study.criteria;
     r.chaos_threshold = study.options.chaos_threshold;
-    const double rate = chaos_threshold_rate(model, r.chaos_threshold);
     for (trajectory_result& t : r.trajectories) {
-        t.chaotic = r.chaos && t.lyapunov > rate;
+        t.chaotic = is_chaotic(model, r.chaos, r.chaos_threshold, t.lyapunov);
         std::vector<std::vector<double>> times;
         std::vector<std::vector<crossing>> crossings;
         for (std::size_t column : m.columns) {

@@ -744,7 +744,8 @@ TEST(SharedStudies, BothArmsFromOneEnsembleEqualSeparateRuns) {
 // Studies that differ only in the chaos threshold (the paper scenes' threshold studies) share
 // their trajectories: the threshold classifies them and changes none. Each study's report, its
 // chaotic sub-ensemble included, equals a separate run's bit for bit; the thresholds are chosen
-// so that the classifications differ. The shared checkpoint records every study's threshold.
+// so that the classifications differ. Stopped in an energy and resumed, the reports are the same
+// again. The shared checkpoint records every study's threshold.
 TEST(SharedStudies, ChaosThresholdsClassifyOneSetOfTrajectories) {
     const double_pendulum<double> m;
     simulation_request low;
@@ -782,9 +783,27 @@ TEST(SharedStudies, ChaosThresholdsClassifyOneSetOfTrajectories) {
         q.checkpoint = file;
         q.checkpoint_interval = 0;
     }
+    // stopped in E = 5, after 3 of its 6 trajectories: their records, classified with the run's
+    // threshold, are classified again by each study when resumed
+    std::atomic<int> stop{0};
+    for (simulation_request& q : both)
+        q.options.stop = &stop;
+    both[0].progress = [&](const simulation_progress& p) {
+        if (p.done >= 6 + 3) stop = SIGTERM;
+    };
+    try {
+        simulate(m, both);
+        ADD_FAILURE() << "not interrupted";
+    } catch (const simulation_interrupted& e) {
+        EXPECT_GE(e.saved(), 3u);  // of E = 5's trajectories: the energy is incomplete
+        EXPECT_LT(e.saved(), 6u);
+    }
+    stop = 0;
     both[0].progress = nullptr;
-    EXPECT_EQ(study_json((*simulate(m, both))[1]), jh);
-    EXPECT_EQ(study_json((*simulate(m, both))[1]), jh);  // from the checkpoint's records
+    const std::vector<study_result> resumed = *simulate(m, both);
+    EXPECT_EQ(study_json(resumed[0]), jl);
+    EXPECT_EQ(study_json(resumed[1]), jh);
+    EXPECT_EQ(study_json((*simulate(m, both))[1]), jh);  // from the checkpoint's E records
     both[1].options.chaos_threshold = 0.4;  // another classification: the checkpoint is refused
     try {
         simulate(m, both);

@@ -148,6 +148,12 @@ void check_trajectory_work(const double_pendulum<double>& model, double energy, 
 /// The chaos threshold in the model's time units: threshold * sqrt(alpha / A).
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold);
 
+/// The one classification rule: with the indicator on (`chaos`), a trajectory is chaotic when
+/// its finite-time exponent exceeds chaos_threshold_rate(model, threshold); without it, never.
+/// The ensemble and every study that re-classifies shared trajectories call this.
+bool is_chaotic(const double_pendulum<double>& model, bool chaos, double threshold,
+                double lyapunov);
+
 /// Whether T is long enough for the classification: a regular trajectory's lambda_T is about
 /// ln(1 + T nu) / T (tangent vectors grow linearly), nu = sqrt(alpha / A); the classification is
 /// called reliable when that is at most a quarter of the threshold rate (egalitarian, default
