@@ -354,62 +354,82 @@ class lane {
     bool done_ = false;
 };
 
-// Stage s of the active lanes, their right-hand sides evaluated W = lanes_of<V> at a time in the
-// lanes of vectors V (pendulum_flow::lanes / tangent_lanes: per trajectory the same bits as one
-// at a time). A short last group is padded with copies of its first lane's point.
-template <class Lane, int s, class V>
-[[gnu::always_inline]] inline void vector_stage(Lane* const* active, std::size_t m) {
-    constexpr int W = lanes_of<V>;
-    constexpr std::size_t N = Lane::N;
-    const pendulum_flow& flow = active[0]->flow();
-    for (std::size_t i = 0; i < m; i += W) {
-        const std::size_t g = std::min<std::size_t>(W, m - i);
-        // (not zeroed: every row is written below, lane 0's first; zeroing cost a `rep stos` per
-        // stage, ~5 % of the ensemble's time)
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-        double y[W][N];
-        active[i]->rk().template stage_input<s>(y[0]);
-        for (std::size_t l = 1; l < g; ++l)
-            active[i + l]->rk().template stage_input<s>(y[l]);
-        for (std::size_t l = g; l < W; ++l)
-            for (std::size_t c = 0; c < N; ++c)
-                y[l][c] = y[0][c];
-        V x[N], f[N];
-        for (std::size_t c = 0; c < N; ++c) {
-            double column[W];
-            for (int l = 0; l < W; ++l)
-                column[l] = y[l][c];
-            std::memcpy(&x[c], column, sizeof(V));
+// One group of the active lanes in lane-major form: W = lanes_of<V> of them, a short group
+// padded with copies of its first lane. The step's start, size and stages are vectors across
+// the lanes.
+template <class Lane, class V>
+struct lane_group {
+    static constexpr int W = lanes_of<V>;
+    static constexpr std::size_t N = Lane::N;
+    static constexpr int S = Lane::stages;
+    using integrator = typename Lane::integrator;
+    Lane* const* lanes;
+    std::size_t g;  ///< lanes in use
+    V h, x0[N], k[S][N];
+
+    [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count)
+        : lanes(first), g(count) {
+        for (int l = 0; l < W; ++l) {
+            const integrator& rk = lanes[static_cast<std::size_t>(l) < g ? l : 0]->rk();
+            h[l] = rk.trial_step();
+            for (std::size_t c = 0; c < N; ++c) {
+                x0[c][l] = rk.x()[c];
+                k[0][c][l] = rk.derivative()[c];
+            }
         }
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
+    }
+
+    // Stage s and the ones after it (recursion rather than a lambda: every function here is
+    // always_inline, so all of it is compiled for the caller's target, AVX2 or SSE2).
+    template <int s>
+    [[gnu::always_inline]] void stages_from(const pendulum_flow& flow) {
+        V y[N];
+        integrator::template stage_sum<s>(h, x0, k, y);
         if constexpr (N == 4)
-            flow.lanes(x, f);
+            flow.lanes(y, k[s]);
         else
-            flow.tangent_lanes(x, f);
-        if constexpr (s == Lane::stages - 1) {
-            // the last stage's point is the trial step's end: its energy for the energy check
-            V h;
-            flow.hamiltonian_lanes(x, h);
-            for (std::size_t l = 0; l < g; ++l)
-                active[i + l]->set_end_energy(h[l]);
+            flow.tangent_lanes(y, k[s]);
+        if constexpr (s == S - 1) {
+            // the trial step's end, and its energy for the energy check
+            V e;
+            flow.hamiltonian_lanes(y, e);
+            for (std::size_t l = 0; l < g; ++l) {
+                double end[N];
+                for (std::size_t c = 0; c < N; ++c)
+                    end[c] = y[c][l];
+                lanes[l]->rk().set_end_point(end);
+                lanes[l]->set_end_energy(e[l]);
+            }
         }
         for (std::size_t l = 0; l < g; ++l) {
-            double* out = active[i + l]->rk().template stage_output<s>();
+            double* out = lanes[l]->rk().template stage_output<s>();
             for (std::size_t c = 0; c < N; ++c)
-                out[c] = f[c][l];
+                out[c] = k[s][c][l];
         }
+        if constexpr (s + 1 < S) stages_from<s + 1>(flow);
+    }
+};
+
+// Every stage of a trial step of the active lanes, a group of W = lanes_of<V> at a time
+// (lane_group): the stage sums (explicit_rk::stage_sum) and the right-hand sides
+// (pendulum_flow::lanes / tangent_lanes) are vector operations, each lane's the same operations
+// as one integrator alone (the same bits). Each stage's f goes to its integrator (stage_output)
+// for the step's end and its dense output; the last stage's point is the trial step's end
+// (set_end_point), and its H serves the energy check.
+template <class Lane, class V>
+[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m) {
+    constexpr std::size_t W = lanes_of<V>;
+    const pendulum_flow& flow = active[0]->flow();
+    for (std::size_t i = 0; i < m; i += W) {
+        lane_group<Lane, V> group(active + i, std::min(W, m - i));
+        group.template stages_from<1>(flow);
     }
 }
 
 // Every stage of a trial step of the active lanes, two lanes per SSE2 vector (any x86-64) ...
 template <class Lane>
 void vector_stages_sse2(Lane* const* active, std::size_t m) {
-    Lane::integrator::for_each_stage([&]<int s>() { vector_stage<Lane, s, v2d>(active, m); });
+    vector_stages<Lane, v2d>(active, m);
 }
 
 // ... or four per AVX2 vector (the same bits; used when the processor has AVX2). `flatten'
@@ -418,7 +438,7 @@ void vector_stages_sse2(Lane* const* active, std::size_t m) {
 template <class Lane>
 __attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active,
                                                                  std::size_t m) {
-    Lane::integrator::for_each_stage([&]<int s>() { vector_stage<Lane, s, v4d>(active, m); });
+    vector_stages<Lane, v4d>(active, m);
 }
 
 bool processor_has_avx2() {

@@ -300,19 +300,30 @@ class explicit_rk {
         eval_into(t_ + Method::c[s] * trial_h_, y, k_[s]);
     }
 
-    /// stage<s>() in two halves, for right-hand sides evaluated by the caller (several
-    /// integrators' stages at once): stage_input<s>(y) writes the stage's point, the caller
-    /// stores f(t, y) to stage_output<s>().
-    template <int s>
-    void stage_input(double* y) {
-        static_assert(s >= 1 && s < S);
-        stage_point_ct<s>(trial_h_, x_.data(), y);
-        if constexpr (s == S - 1) copy(y, x_new_.data());
-    }
+    /// The stages evaluated by the caller, several integrators at once, lane-major (vectors whose
+    /// lanes are the integrators): stage s's point is stage_sum<s> from x(), derivative() (stage
+    /// 0) and trial_step(), the same operations as stage<s>(), so the same bits; the caller stores
+    /// f(t, y) to stage_output<s>(), and the last stage's point, the trial step's end, with
+    /// set_end_point.
+    double trial_step() const { return trial_h_; }
     template <int s>
     double* stage_output() {
         ++evaluations_;
         return k_[s];
+    }
+    void set_end_point(const double* y) { copy(y, x_new_.data()); }
+
+    /// y = base + h sum_{j < s} a[s][j] k[j] with the tableau row known at compile time (zero
+    /// terms dropped), in the order of stage<s>(), for T double or a vector of lanes (each lane
+    /// the same operations as a double).
+    /// (always_inline throughout, no lambda: inlined into a caller compiled for AVX2, all of it
+    /// is compiled for AVX2.)
+    template <int s, class T, class Stages>
+    [[gnu::always_inline]] static void stage_sum(const T& h, const T* base, const Stages& k, T* y) {
+        static_assert(s >= 1 && s < S);
+        for (std::size_t i = 0; i < N; ++i)
+            y[i] = base[i];
+        add_stage_terms<s, 0>(h, k, y);
     }
 
     /// Calls fn.template operator()<s>() for s = 1, ..., stages - 1 in order.
@@ -510,20 +521,17 @@ class explicit_rk {
     // stage_point with the row known at compile time (same arithmetic, zero terms dropped)
     template <int s>
     void stage_point_ct(double h, const double* base, double* y) const {
-        copy(base, y);
-        [&]<int... j>(std::integer_sequence<int, j...>) {
-            (add_stage_term<s, j>(h, y), ...);
-        }
-        (std::make_integer_sequence<int, s>{});
+        stage_sum<s>(h, base, k_, y);
     }
-    template <int s, int j>
-    void add_stage_term(double h, double* y) const {
+    // the terms j, j + 1, ..., s - 1 of stage_sum<s>
+    template <int s, int j, class T, class Stages>
+    [[gnu::always_inline]] static void add_stage_terms(const T& h, const Stages& k, T* y) {
         constexpr double a = Method::a[s][j];
         if constexpr (a != 0) {
-            const double* kj = k_[j];
             for (std::size_t i = 0; i < N; ++i)
-                y[i] += h * a * kj[i];
+                y[i] += h * a * k[j][i];
         }
+        if constexpr (j + 1 < s) add_stage_terms<s, j + 1>(h, k, y);
     }
 
     // y = base + h sum_{j < s} a[s][j] k_j
