@@ -235,9 +235,11 @@ class lane {
     /// H (hamiltonian_absolute) at the trial step's end, from the vector evaluation of its last
     /// stage (vector_stage).
     void set_end_energy(double h) { end_energy_ = h; }
+    /// The trial step's error norm, from the vector evaluation of the stages (vector_stages).
+    void set_error_norm(double err) { error_norm_ = err; }
     void end() {
         rk_status st = rk_status::ok;
-        const int outcome = rk_.end_step(st);
+        const int outcome = rk_.end_step(st, error_norm_);
         if (outcome < 0) {
             r_.status = st;
             finish();
@@ -350,6 +352,7 @@ class lane {
     std::uint64_t next_sample_ = 0;
     std::array<double, 2> unwrap_{};  ///< the reductions applied so far (unwrapped_angles)
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0, end_energy_ = 0;
+    double error_norm_ = 0;
     std::array<bool, 2> angle_tested_{};  ///< th1, th2: the flip angle of some detector
     bool done_ = false;
 };
@@ -389,22 +392,26 @@ struct lane_group {
             flow.lanes(y, k[s]);
         else
             flow.tangent_lanes(y, k[s]);
+        for (std::size_t l = 0; l < g; ++l) {
+            double* out = lanes[l]->rk().template stage_output<s>();
+            for (std::size_t c = 0; c < N; ++c)
+                out[c] = k[s][c][l];
+        }
         if constexpr (s == S - 1) {
-            // the trial step's end, and its energy for the energy check
+            // the trial step's end, its energy for the energy check and its error norm
             V e;
             flow.hamiltonian_lanes(y, e);
+            const rk_options& o = lanes[0]->rk().options();  // the same for every lane
+            V first, second;
+            integrator::error_sums(h, x0, y, k, o, first, second);
             for (std::size_t l = 0; l < g; ++l) {
                 double end[N];
                 for (std::size_t c = 0; c < N; ++c)
                     end[c] = y[c][l];
                 lanes[l]->rk().set_end_point(end);
                 lanes[l]->set_end_energy(e[l]);
+                lanes[l]->set_error_norm(integrator::error_norm_from(h[l], first[l], second[l], o));
             }
-        }
-        for (std::size_t l = 0; l < g; ++l) {
-            double* out = lanes[l]->rk().template stage_output<s>();
-            for (std::size_t c = 0; c < N; ++c)
-                out[c] = k[s][c][l];
         }
         if constexpr (s + 1 < S) stages_from<s + 1>(flow);
     }
@@ -415,7 +422,8 @@ struct lane_group {
 // (pendulum_flow::lanes / tangent_lanes) are vector operations, each lane's the same operations
 // as one integrator alone (the same bits). Each stage's f goes to its integrator (stage_output)
 // for the step's end and its dense output; the last stage's point is the trial step's end
-// (set_end_point), and its H serves the energy check.
+// (set_end_point), its H serves the energy check, and the error norm's sums over components are
+// vector operations too (explicit_rk::error_sums).
 template <class Lane, class V>
 [[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m) {
     constexpr std::size_t W = lanes_of<V>;

@@ -338,8 +338,12 @@ class explicit_rk {
     /// Ends the trial step: 1 accepted, 0 rejected (retry with the new step size), -1 failed
     /// (`status` says why).
     int end_step(rk_status& status) {
+        return end_step(status, error_norm(trial_h_, x_.data(), x_new_.data(), k_, opt_));
+    }
+    /// end_step with the error norm computed by the caller (error_norm on vectors whose lanes are
+    /// several integrators, from their start, end point and stages: the same bits).
+    int end_step(rk_status& status, double err) {
         const double h = trial_h_;
-        const double err = error_norm(h);
         const double tiny = 16 * std::numeric_limits<double>::epsilon() * std::abs(t_);
         if (opt_.fixed_step > 0 || err <= 1) {
             if (opt_.fixed_step > 0 || !check_ || check_(x_, x_new_)) {
@@ -483,10 +487,6 @@ class explicit_rk {
         return f_(t, x);
     }
 
-    double scale(std::size_t i, const double* x0, const double* x1) const {
-        return opt_.atol + opt_.rtol * std::max(std::abs(x0[i]), std::abs(x1[i]));
-    }
-
     // Hairer's hinit: h with h^order * ||f''|| ~ 0.01, capped by 100 times the explicit-Euler
     // guess.
     double initial_step() {
@@ -546,40 +546,68 @@ class explicit_rk {
         }
     }
 
-    double error_norm(double h) const {
-        const std::size_t m = opt_.controlled_components;
-        const double* x0 = x_.data();
-        const double* x1 = x_new_.data();
-        if constexpr (Method::order == 5) {
-            double sum = 0;
-            for (std::size_t i = 0; i < m; ++i) {
-                double e = 0;
+  public:
+    /// The embedded error estimate's norm over the controlled components (Hairer's: DOP853's
+    /// |h| err5^2 / sqrt((err5^2 + 0.01 err3^2) m), DOPRI5's RMS of h e / sc) from a step h
+    /// with stages k from x0 to x1, in two parts: error_sums, the sums over components, for T
+    /// double or a vector whose lanes are several integrators (vector operations then, each
+    /// lane's the same as a double's), and error_norm_from, one integrator's norm from its sums.
+    /// (always_inline: see stage_sum.)
+    template <class T, class Stages>
+    [[gnu::always_inline]] static void error_sums(const T& h, const T* x0, const T* x1,
+                                                  const Stages& k, const rk_options& o, T& first,
+                                                  T& second) {
+        const std::size_t m = o.controlled_components;
+        first = T{};  // DOP853: err5, err3; DOPRI5: the sum of squares, and 0
+        second = T{};
+        for (std::size_t i = 0; i < m; ++i) {
+            T sc;
+            if constexpr (std::is_floating_point_v<T>) {
+                sc = o.atol + o.rtol * std::max(std::abs(x0[i]), std::abs(x1[i]));
+            } else {
+                // lane by lane the same: |-0| = -0 here gives the same scale (atol + rtol * -0),
+                // and a < b ? b : a is std::max's rule
+                const T a = x0[i] < T{} ? -x0[i] : x0[i], b = x1[i] < T{} ? -x1[i] : x1[i];
+                sc = o.atol + o.rtol * (a < b ? b : a);
+            }
+            if constexpr (Method::order == 5) {
+                T e{};
                 for (int j = 0; j < S; ++j)
-                    e += Method::e[j] * k_[j][i];
-                const double r = h * e / scale(i, x0, x1);
-                sum += r * r;
-            }
-            return std::sqrt(sum / m);
-        } else {
-            double err5 = 0, err3 = 0;
-            for (std::size_t i = 0; i < m; ++i) {
-                double e5 = 0, e3 = 0;
+                    e += Method::e[j] * k[j][i];
+                const T r = h * e / sc;
+                first += r * r;
+            } else {
+                T e5{}, e3{};
                 for (int j = 0; j < 12; ++j) {
-                    e5 += Method::e5[j] * k_[j][i];
-                    e3 += Method::a[12][j] * k_[j][i];
+                    e5 += Method::e5[j] * k[j][i];
+                    e3 += Method::a[12][j] * k[j][i];
                 }
-                e3 -= Method::bhh0 * k_[0][i] + Method::bhh8 * k_[8][i] + Method::bhh11 * k_[11][i];
-                const double sc = scale(i, x0, x1);
-                err5 += (e5 / sc) * (e5 / sc);
-                err3 += (e3 / sc) * (e3 / sc);
+                e3 -= Method::bhh0 * k[0][i] + Method::bhh8 * k[8][i] + Method::bhh11 * k[11][i];
+                first += (e5 / sc) * (e5 / sc);
+                second += (e3 / sc) * (e3 / sc);
             }
-            if (err5 == 0 && err3 == 0) return 0;
-            double deno = err5 + 0.01 * err3;
+        }
+    }
+    static double error_norm_from(double h, double first, double second, const rk_options& o) {
+        const auto m = static_cast<double>(o.controlled_components);
+        if constexpr (Method::order == 5) {
+            return std::sqrt(first / m);
+        } else {
+            if (first == 0 && second == 0) return 0;
+            double deno = first + 0.01 * second;
             if (!(deno > 0)) deno = 1;
-            return std::abs(h) * err5 / std::sqrt(deno * static_cast<double>(m));
+            return std::abs(h) * first / std::sqrt(deno * m);
         }
     }
 
+  private:
+    template <class Stages>
+    static double error_norm(double h, const double* x0, const double* x1, const Stages& k,
+                             const rk_options& o) {
+        double first, second;
+        error_sums(h, x0, x1, k, o, first, second);
+        return error_norm_from(h, first, second, o);
+    }
     // err^(-1/q + 0.75 beta) of the step-size update; for DOP853 (q = 8, beta = 0) as
     // 1 / sqrt(sqrt(sqrt(err))): correctly rounded square roots, a few ulp from pow's value (the
     // factor is clamped to [1/3, 6] anyway) at a fifth of its cost.
