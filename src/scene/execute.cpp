@@ -592,8 +592,11 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         });
         orbit_tables_written = true;
     };
+    // each step's wall seconds (where a run's time goes: docs/scale.md)
+    ctx.summary["step_seconds"] = json::array();
     for (const plan_step& step : p.steps) {
         log << "- " << step.description << "\n";
+        const double step_start = elapsed();
         if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         switch (step.what) {
             case plan_step::kind::orbit_family:
@@ -621,6 +624,9 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                 run_report(ctx, elapsed());
                 break;
         }
+        const double seconds = elapsed() - step_start;
+        ctx.summary["step_seconds"].push_back({{"step", step.description}, {"seconds", seconds}});
+        log << "  (" << seconds << " s)\n";
     }
     write_orbit_tables_once();
     // orbits solved one by one outside a family (e.g. beyond where a continuation stopped)

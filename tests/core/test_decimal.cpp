@@ -1,3 +1,10 @@
+#include <cstdint>
+#include <cstring>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <vector>
+
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
@@ -133,6 +140,44 @@ TEST(Precision, ParsesNamesAndAnyDigits) {
 
 // mp:N prints N + 2 significant digits, computes with mp_working_digits(N), and parses its input
 // in that precision.
+// A double's decimal text (std::to_chars, the fast path of ensemble CSVs) is the iostream's (the
+// reference: printf's %.*g through the C++ stream, as every other type is printed), for
+// every number of digits and values of every kind: subnormals, powers of ten, halfway cases,
+// signed zeros, infinities, NaN and random bit patterns.
+TEST(Decimal, DoubleTextEqualsTheStreams) {
+    std::vector<double> values = {0.0,
+                                  -0.0,
+                                  1.0,
+                                  0.1,
+                                  -2.5,
+                                  0.5e-5,
+                                  1e16,
+                                  9.999999999999999e22,
+                                  123456789012345678.0,
+                                  std::numeric_limits<double>::denorm_min(),
+                                  std::numeric_limits<double>::min(),
+                                  std::numeric_limits<double>::max(),
+                                  std::numeric_limits<double>::infinity(),
+                                  -std::numeric_limits<double>::infinity(),
+                                  std::numeric_limits<double>::quiet_NaN()};
+    std::uint64_t bits = 0x9E3779B97F4A7C15ull;
+    for (int i = 0; i < 2000; ++i) {
+        bits ^= bits << 13;
+        bits ^= bits >> 7;
+        bits ^= bits << 17;
+        double x;
+        std::memcpy(&x, &bits, sizeof x);
+        values.push_back(x);
+    }
+    for (const double x : values)
+        for (int digits = 1; digits <= 40; ++digits) {
+            std::ostringstream stream;
+            stream << std::setprecision(digits) << x;
+            ASSERT_EQ(to_decimal(x, digits), stream.str()) << digits << " digits";
+        }
+    EXPECT_EQ(to_decimal(0.1), "0.10000000000000001");  // all of a double's 17 digits
+}
+
 TEST(Precision, MpPrintsTheRequestedDigitsPlusTwo) {
     for (int n : {1, 7, 50, 123, 1000}) {
         const precision_scope scope(mp_precision(n));
