@@ -139,9 +139,9 @@ Real parse_difference(std::string_view text, const Real& subtrahend, std::string
 template <class Real>
 std::string to_decimal(const Real& x, int significant_digits) {
     if constexpr (std::is_same_v<Real, double>) {
-        // std::to_chars in general format with a precision is printf's %.*g, which is what the
-        // stream below prints, at a tenth of the cost (an ensemble's CSVs print millions of
-        // crossing times)
+        // std::to_chars in general format with a precision is printf's %.*g in the C locale,
+        // which is what the stream below prints in the classic locale (flipflux never sets
+        // another), at a tenth of the cost (an ensemble's CSVs print millions of crossing times)
         if (significant_digits > 0 && significant_digits <= 40) {
             char buf[64];
             const std::to_chars_result r = std::to_chars(

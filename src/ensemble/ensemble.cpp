@@ -233,7 +233,7 @@ class lane {
     integrator& rk() { return rk_; }
     const pendulum_flow& flow() const { return flow_; }
     /// H (hamiltonian_absolute) at the trial step's end, from the vector evaluation of its last
-    /// stage (vector_stage).
+    /// stage (vector_stages).
     void set_end_energy(double h) { end_energy_ = h; }
     /// The trial step's error norm, from the vector evaluation of the stages (vector_stages).
     void set_error_norm(double err) { error_norm_ = err; }
@@ -458,7 +458,7 @@ bool processor_has_avx2() {
 }
 
 // One trial step of every unfinished lane, stage by stage (lanes of one type), the lanes'
-// right-hand sides evaluated together in vectors (vector_stage).
+// stages computed together in vectors (vector_stages).
 template <class Lane>
 void lockstep_round(std::span<Lane* const> lanes) {
     std::array<Lane*, 16> active{};

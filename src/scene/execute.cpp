@@ -595,9 +595,10 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     // each step's wall seconds (where a run's time goes: docs/scale.md)
     ctx.summary["step_seconds"] = json::array();
     for (const plan_step& step : p.steps) {
+        // (the orbit tables belong to the families before: written before this step's clock)
+        if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         log << "- " << step.description << "\n";
         const double step_start = elapsed();
-        if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         switch (step.what) {
             case plan_step::kind::orbit_family:
                 dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });

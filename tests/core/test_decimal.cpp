@@ -138,8 +138,6 @@ TEST(Precision, ParsesNamesAndAnyDigits) {
     EXPECT_THROW(parse_precision_list("double,mp:0", "x"), input_error);
 }
 
-// mp:N prints N + 2 significant digits, computes with mp_working_digits(N), and parses its input
-// in that precision.
 // A double's decimal text (std::to_chars, the fast path of ensemble CSVs) is the iostream's (the
 // reference: printf's %.*g through the C++ stream, as every other type is printed), for
 // every number of digits and values of every kind: subnormals, powers of ten, halfway cases,
@@ -178,6 +176,8 @@ TEST(Decimal, DoubleTextEqualsTheStreams) {
     EXPECT_EQ(to_decimal(0.1), "0.10000000000000001");  // all of a double's 17 digits
 }
 
+// mp:N prints N + 2 significant digits, computes with mp_working_digits(N), and parses its input
+// in that precision.
 TEST(Precision, MpPrintsTheRequestedDigitsPlusTwo) {
     for (int n : {1, 7, 50, 123, 1000}) {
         const precision_scope scope(mp_precision(n));

@@ -42,29 +42,34 @@ void expect_identical(const trajectory_result& a, const trajectory_result& b) {
 // Within a thread, trajectories advance in lockstep lanes whose right-hand sides are evaluated
 // together in vectors (four per AVX2 vector when the processor has AVX2, two per SSE2 vector
 // otherwise and for the last two lanes): every trajectory must have the bits of the same
-// trajectory integrated alone (one lane), with and without the tangent equations.
+// trajectory integrated alone (one lane), with and without the tangent equations, for DOP853 and
+// DOPRI5. (That each lane's arithmetic is the scalar integrator's: ExplicitRk.VectorLanesHave
+// TheBitsOfTheDoubleStagesAndErrorSums.)
 TEST(Ensemble, LockstepLanesGiveTheBitsOfALoneTrajectory) {
     const double_pendulum<double> m;
     const auto criteria = arm2_criteria(m);
-    for (bool chaos : {false, true}) {
-        ensemble_options o = small_run(1);
-        o.trajectories = 7;  // 4 lanes, then the last 3 (a padded group) and the last 1 or 2
-        o.chaos = chaos;
-        const ensemble_result lanes = run_ensemble(m, o, criteria);
-        const microcanonical_sampler sampler(m, o.energy);
-        for (std::uint64_t i = 0; i < o.trajectories; ++i) {
-            std::vector<std::unique_ptr<flip_detector_base>> own;
-            std::vector<flip_detector_base*> raw;
-            for (const ensemble_criterion& c : criteria) {
-                own.push_back(c.detector->clone());
-                raw.push_back(own.back().get());
+    for (const integration_method method : {integration_method::dop853, integration_method::dopri5})
+        for (bool chaos : {false, true}) {
+            ensemble_options o = small_run(1);
+            o.trajectories = 7;  // 4 lanes, then the last 3 (a padded group) and the last 1 or 2
+            o.chaos = chaos;
+            o.method = method;
+            const ensemble_result lanes = run_ensemble(m, o, criteria);
+            const microcanonical_sampler sampler(m, o.energy);
+            for (std::uint64_t i = 0; i < o.trajectories; ++i) {
+                std::vector<std::unique_ptr<flip_detector_base>> own;
+                std::vector<flip_detector_base*> raw;
+                for (const ensemble_criterion& c : criteria) {
+                    own.push_back(c.detector->clone());
+                    raw.push_back(own.back().get());
+                }
+                const trajectory_result alone = run_trajectory(m, sampler, o, i, raw);
+                SCOPED_TRACE(to_string(method) + ", chaos " + std::to_string(chaos) +
+                             ", trajectory " + std::to_string(i));
+                expect_identical(lanes.trajectories[i], alone);
+                EXPECT_GT(alone.flips(0), 0u);
             }
-            const trajectory_result alone = run_trajectory(m, sampler, o, i, raw);
-            SCOPED_TRACE("chaos " + std::to_string(chaos) + ", trajectory " + std::to_string(i));
-            expect_identical(lanes.trajectories[i], alone);
-            EXPECT_GT(alone.flips(0), 0u);
         }
-    }
 }
 
 TEST(Ensemble, ResultsDoNotDependOnThreadCountOrIndexSplit) {

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "flipflux/integrators/explicit_rk.hpp"
@@ -321,6 +323,86 @@ TEST(ExplicitRk, TranslateKeepsDenseOutputConsistent) {
     const auto after = rk.dense(0.5 * (rk.t() + rk.t_previous()));
     EXPECT_NEAR(after[2] - before[2], 1.0, 1e-15);
     EXPECT_EQ(after[0], before[0]);
+}
+
+// A right-hand side for the tests that use only explicit_rk's static stage arithmetic.
+template <std::size_t N>
+struct unused_rhs {
+    std::array<double, N> operator()(double, const std::array<double, N>&) const { return {}; }
+};
+
+// The ensemble's lockstep lanes compute stage points and the error norm's sums on vectors whose
+// lanes are several integrators (src/ensemble/ensemble.cpp, lane_group): each lane must get the
+// bits of the double instantiation, which is what step() computes. Random steps, states and
+// stages of mixed signs and magnitudes, with signed zeros, for every stage of DOP853 and DOPRI5
+// and for 4 and 8 components (of which 4 controlled).
+template <class Method, std::size_t N>
+void expect_vector_lanes_equal_doubles() {
+    using rk = explicit_rk<Method, N, unused_rhs<N>>;
+    constexpr int S = Method::stages;
+    constexpr int W = 4;
+    using V = double __attribute__((vector_size(W * sizeof(double))));
+    std::uint64_t bits = 0x2545F4914F6CDD1Dull;
+    auto uniform = [&] {  // xorshift64*: in [-1, 1)
+        bits ^= bits >> 12;
+        bits ^= bits << 25;
+        bits ^= bits >> 27;
+        return static_cast<double>((bits * 0x2545F4914F6CDD1Dull) >> 11) * 0x1.0p-52 - 1;
+    };
+    rk_options o;
+    o.rtol = 1e-9;
+    o.atol = 1e-11;
+    o.controlled_components = 4;
+    for (int trial = 0; trial < 50; ++trial) {
+        double h[W], x0[W][N], x1[W][N], k[W][S][N];
+        V hv, x0v[N], x1v[N], kv[S][N];
+        for (int l = 0; l < W; ++l) {
+            h[l] = 0.5 * (uniform() + 1.5);
+            hv[l] = h[l];
+            for (std::size_t i = 0; i < N; ++i) {
+                x0[l][i] = std::ldexp(uniform(), static_cast<int>(8 * uniform()));
+                x1[l][i] = x0[l][i] + 1e-3 * uniform();
+                if (trial % 5 == 0 && i == 1) x0[l][i] = x1[l][i] = -0.0;
+                x0v[i][l] = x0[l][i];
+                x1v[i][l] = x1[l][i];
+                for (int j = 0; j < S; ++j) {
+                    k[l][j][i] = std::ldexp(uniform(), static_cast<int>(6 * uniform()));
+                    kv[j][i][l] = k[l][j][i];
+                }
+            }
+        }
+        rk::for_each_stage([&]<int s>() {
+            V yv[N];
+            rk::template stage_sum<s>(hv, x0v, kv, yv);
+            for (int l = 0; l < W; ++l) {
+                double y[N];
+                rk::template stage_sum<s>(h[l], x0[l], k[l], y);
+                for (std::size_t i = 0; i < N; ++i)
+                    ASSERT_EQ(std::bit_cast<std::uint64_t>(yv[i][l]),
+                              std::bit_cast<std::uint64_t>(y[i]))
+                        << "stage " << s << ", lane " << l << ", component " << i;
+            }
+        });
+        V first_v, second_v;
+        rk::error_sums(hv, x0v, x1v, kv, o, first_v, second_v);
+        for (int l = 0; l < W; ++l) {
+            double first, second;
+            rk::error_sums(h[l], x0[l], x1[l], k[l], o, first, second);
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(first_v[l]),
+                      std::bit_cast<std::uint64_t>(first));
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(second_v[l]),
+                      std::bit_cast<std::uint64_t>(second));
+            const double err = rk::error_norm_from(h[l], first, second, o);
+            ASSERT_TRUE(std::isfinite(err) && err > 0) << err;
+        }
+    }
+}
+
+TEST(ExplicitRk, VectorLanesHaveTheBitsOfTheDoubleStagesAndErrorSums) {
+    expect_vector_lanes_equal_doubles<dormand_prince_853, 4>();
+    expect_vector_lanes_equal_doubles<dormand_prince_853, 8>();
+    expect_vector_lanes_equal_doubles<dormand_prince_5, 4>();
+    expect_vector_lanes_equal_doubles<dormand_prince_5, 8>();
 }
 
 }  // namespace

@@ -340,8 +340,9 @@ class explicit_rk {
     int end_step(rk_status& status) {
         return end_step(status, error_norm(trial_h_, x_.data(), x_new_.data(), k_, opt_));
     }
-    /// end_step with the error norm computed by the caller (error_norm on vectors whose lanes are
-    /// several integrators, from their start, end point and stages: the same bits).
+    /// end_step with the error norm computed by the caller (error_sums on vectors whose lanes are
+    /// several integrators, from their start, end point and stages, then error_norm_from per
+    /// lane: the same bits).
     int end_step(rk_status& status, double err) {
         const double h = trial_h_;
         const double tiny = 16 * std::numeric_limits<double>::epsilon() * std::abs(t_);
@@ -548,7 +549,8 @@ class explicit_rk {
 
   public:
     /// The embedded error estimate's norm over the controlled components (Hairer's: DOP853's
-    /// |h| err5^2 / sqrt((err5^2 + 0.01 err3^2) m), DOPRI5's RMS of h e / sc) from a step h
+    /// |h| s5 / sqrt((s5 + 0.01 s3) m) with s5, s3 the sums of squares of the scaled 5th- and
+    /// 3rd-order estimates, DOPRI5's RMS of h e / sc) from a step h
     /// with stages k from x0 to x1, in two parts: error_sums, the sums over components, for T
     /// double or a vector whose lanes are several integrators (vector operations then, each
     /// lane's the same as a double's), and error_norm_from, one integrator's norm from its sums.
@@ -558,7 +560,7 @@ class explicit_rk {
                                                   const Stages& k, const rk_options& o, T& first,
                                                   T& second) {
         const std::size_t m = o.controlled_components;
-        first = T{};  // DOP853: err5, err3; DOPRI5: the sum of squares, and 0
+        first = T{};  // DOP853: s5, s3; DOPRI5: the sum of squares of h e / sc, and 0
         second = T{};
         for (std::size_t i = 0; i < m; ++i) {
             T sc;
