@@ -13,8 +13,7 @@
 //   - odeint with our right-hand side (pendulum_flow, inline sin/cos): speedup_same_rhs
 //     separates what the right-hand side gains from what integrator and detection gain;
 //   - ours with the chaos indicator (the tangent equations, ensemble_options::chaos):
-//     speedup_chaos = odeint's CPU time / this one's; with the tangent advanced per step instead
-//     (tangent_method::rk3): speedup_chaos_rk3;
+//     speedup_chaos = odeint's CPU time / this one's;
 //   - the right-hand-side bound: the CPU time of one Hamilton right-hand side per lane in the
 //     four-lane AVX2 path (pendulum_flow::lanes on independent states) times our evaluations per
 //     time unit gives the throughput if nothing but right-hand sides cost anything
@@ -191,10 +190,8 @@ void ensemble_vs_odeint(benchmark::State& state) {
     o.method = state.range(0) == 0 ? integration_method::dop853 : integration_method::dopri5;
     ensemble_options chaos = o;
     chaos.chaos = true;
-    ensemble_options chaos_rk3 = chaos;
-    chaos_rk3.tangent = tangent_method::rk3;
     std::array<long, 3> ours{}, theirs{};
-    double cpu_ours = 0, cpu_theirs = 0, cpu_fast = 0, cpu_chaos = 0, cpu_chaos_rk3 = 0, units = 0;
+    double cpu_ours = 0, cpu_theirs = 0, cpu_fast = 0, cpu_chaos = 0, units = 0;
     long evaluations_ours = 0;
     std::vector<state4> starts;
     const plain_rhs user_rhs{m.coefficients()};
@@ -216,13 +213,8 @@ void ensemble_vs_odeint(benchmark::State& state) {
         cpu_ours += c1 - c0;
         run_trajectories(m, chaos, criteria, indices,
                          [&](trajectory_result&& r) { benchmark::DoNotOptimize(r.lyapunov); });
-        double c1c = cpu_seconds();
+        const double c1c = cpu_seconds();
         cpu_chaos += c1c - c1;
-        c1 = c1c;
-        run_trajectories(m, chaos_rk3, criteria, indices,
-                         [&](trajectory_result&& r) { benchmark::DoNotOptimize(r.lyapunov); });
-        c1c = cpu_seconds();
-        cpu_chaos_rk3 += c1c - c1;
         c1 = c1c;
         for (const std::uint64_t i : indices) {
             if (starts.size() < 64) starts.push_back(sampler.sample(o.seed, i));
@@ -246,8 +238,6 @@ void ensemble_vs_odeint(benchmark::State& state) {
     state.counters["ours_units_per_cpu_s"] = units / cpu_ours;
     state.counters["ours_chaos_units_per_cpu_s"] = units / cpu_chaos;
     state.counters["speedup_chaos"] = cpu_theirs / cpu_chaos;
-    state.counters["ours_chaos_rk3_units_per_cpu_s"] = units / cpu_chaos_rk3;
-    state.counters["speedup_chaos_rk3"] = cpu_theirs / cpu_chaos_rk3;
     state.counters["rhs_ns_per_lane"] = 1e9 * rhs_seconds;
     state.counters["ours_evaluations_per_unit"] = evaluations_per_unit;
     state.counters["rhs_bound_units_per_cpu_s"] = bound;

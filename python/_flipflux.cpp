@@ -225,7 +225,6 @@ std::string simulate_json(const std::map<std::string, std::string>& a,
     s.threads = a.at("threads");
     s.no_chaos = a.at("chaos") != "1";
     s.chaos_threshold = a.at("chaos_threshold");
-    if (const auto t = a.find("chaos_tangent"); t != a.end()) s.chaos_tangent = t->second;
     s.csv_dir = csv_dir;
     s.model = model_of(parameters);
     const double_pendulum<double> model(parse_parameters<double>(s.model));

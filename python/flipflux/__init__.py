@@ -174,7 +174,7 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
 
 def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle", seed=0,
              rtol=1e-10, method="dop853", threads=0, chaos=True, chaos_threshold=0.05,
-             pendulum=None, chaos_tangent="stages"):
+             pendulum=None):
     """A Monte Carlo study -- `flipflux simulate` (at double). energy: one value, a list, or a
     "FROM:TO:STEP" string. Returns (report, trajectories): the study's JSON report as a dict (what
     the command-line tool prints) and, per energy label, the per-trajectory results as NumPy
@@ -189,8 +189,7 @@ def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle"
             "time": _text(time, "--time"), "arm": _text(arm, "--arm"), "criteria": criteria,
             "seed": _text(seed, "--seed"), "rtol": _text(rtol, "--rtol"), "method": method,
             "threads": _text(threads, "--threads"), "chaos": "1" if chaos else "0",
-            "chaos_threshold": _text(chaos_threshold, "--chaos-threshold"),
-            "chaos_tangent": str(chaos_tangent)}
+            "chaos_threshold": _text(chaos_threshold, "--chaos-threshold")}
     with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
         report = _json.loads(_flipflux.simulate_json(args, _parameters(pendulum), tmp))
         per_trajectory = {}

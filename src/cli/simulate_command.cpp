@@ -218,11 +218,6 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--chaos-threshold", s->chaos_threshold,
                     "Lyapunov threshold for 'chaotic', in units of sqrt(alpha/A)")
         ->capture_default_str();
-    sub->add_option("--chaos-tangent", s->chaos_tangent,
-                    "how the Lyapunov exponent's tangent is integrated: stages (the variational "
-                    "equations with the trajectory's stages) or rk3 (a third-order formula per "
-                    "step, J at three stage points: cheaper)")
-        ->capture_default_str();
     sub->add_flag("--no-chaos", s->no_chaos,
                   "skip the variational equations (no chaotic/regular classification)");
     sub->add_option("--bins", s->bins, "histogram bins (0: square-root rule)")

@@ -38,7 +38,6 @@ simulation_request make_request(const simulate_state& s) {
     o.threads = checked_threads(parse_unsigned(s.threads, "--threads", false), "--threads");
     o.method = parse_name<integration_method>(s.method, "--method");
     o.chaos = !s.no_chaos;
-    o.tangent = parse_name<tangent_method>(s.chaos_tangent, "--chaos-tangent");
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
     o.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
     q.bins = parse_unsigned(s.bins, "--bins", false);

@@ -138,42 +138,18 @@ struct tangent_rhs {
     }
 };
 
-// What a lane integrates beside the trajectory: nothing (no chaos indicator), the variational
-// equations with its stages (tangent_method::stages) or a tangent advanced per step (rk3).
-enum class lane_tangent { none, stages, rk3 };
-
-// tangent_method::rk3's formula: nodes 0, c, 1 with c the stage node of Method nearest 1/3, the
-// third-order conditions solved for the weights (c = 1/3: b = (0, 3/4, 1/4), Heun's third-order
-// method with the nodes reversed; DOPRI5's c = 3/10).
-template <class Method>
-struct tangent_rk3 {
-    static constexpr int mid = [] {
-        int best = 1;
-        for (int s = 2; s < Method::stages - 1; ++s)
-            if (std::abs(Method::c[s] - 1.0 / 3) < std::abs(Method::c[best] - 1.0 / 3)) best = s;
-        return best;
-    }();
-    static constexpr double c = Method::c[mid];
-    static constexpr double b2 = 1 / (6 * c * (1 - c)), b3 = 0.5 - c * b2, b1 = 1 - b2 - b3;
-    static constexpr double a32 = 1 / (6 * b3 * c), a31 = 1 - a32;
-};
-
 // One trajectory in progress: the integrator and everything done after each accepted step
 // (samples, detectors, energy drift, angle reduction, tangent renormalisation). Stepped through
 // explicit_rk's phases (begin, stages, end) so that several trajectories can advance in lockstep
 // (run_lanes); a trajectory's arithmetic is the same whichever lane or partner it has.
-template <class Method, lane_tangent K>
+template <class Method, bool Tangent>
 class lane {
   public:
-    static constexpr bool Tangent = K == lane_tangent::stages;
-    /// J at the stage points tangent_rk3::mid and stages - 1 wanted (set_jacobian)
-    static constexpr bool jacobians = K == lane_tangent::rk3;
     static constexpr std::size_t N = Tangent ? 8 : 4;
     using state = std::array<double, N>;
     using rhs = std::conditional_t<Tangent, tangent_rhs, flow_rhs>;
     using integrator = explicit_rk<Method, N, rhs>;
     static constexpr int stages = Method::stages;
-    using method = Method;
 
     lane(const double_pendulum<double>& model, const ensemble_options& o,
          const phase_point<double>& x0, std::uint64_t index,
@@ -193,25 +169,17 @@ class lane {
         state y{};
         for (int i = 0; i < 4; ++i)
             y[i] = x0[i];
-        if constexpr (K != lane_tangent::none) {
+        if constexpr (Tangent) {
             // a random unit tangent vector from the trajectory's own stream
             philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
-            std::array<double, 4> v{};
             double norm2 = 0;
-            for (int i = 0; i < 4; ++i) {
-                v[i] = 2 * rng.uniform() - 1;
-                norm2 += v[i] * v[i];
+            for (int i = 4; i < 8; ++i) {
+                y[i] = 2 * rng.uniform() - 1;
+                norm2 += y[i] * y[i];
             }
             const double norm = std::sqrt(norm2);
-            for (int i = 0; i < 4; ++i)
-                v[i] /= norm;
-            if constexpr (Tangent) {
-                for (int i = 0; i < 4; ++i)
-                    y[i + 4] = v[i];
-            } else {
-                v_ = v;
-                jac_start_ = flow_.jacobian_at(x0);
-            }
+            for (int i = 4; i < 8; ++i)
+                y[i] /= norm;
         }
         rk_.initialize(0, y);
         {
@@ -269,9 +237,6 @@ class lane {
     void set_end_energy(double h) { end_energy_ = h; }
     /// The trial step's error norm, from the vector evaluation of the stages (vector_stages).
     void set_error_norm(double err) { error_norm_ = err; }
-    /// jacobian_at the trial step's stage point tangent_rk3::mid (end false) or its end (true),
-    /// from the vector evaluation of those stages (vector_stages).
-    void set_jacobian(bool end, const jacobian_point& p) { (end ? jac_end_ : jac_mid_) = p; }
     void end() {
         rk_status st = rk_status::ok;
         const int outcome = rk_.end_step(st, error_norm_);
@@ -354,34 +319,6 @@ class lane {
                 log_growth_ += e * std::numbers::ln2;
             }
         }
-        if constexpr (jacobians) advance_tangent(h);
-    }
-
-    // tangent_method::rk3: v over the accepted step of size h, with J at its start, at its stage
-    // point tangent_rk3::mid and at its end (the next step's start)
-    void advance_tangent(double h) {
-        using rk3 = tangent_rk3<Method>;
-        const std::array<double, 4> k1 = flow_.jacobian_times(jac_start_, v_);
-        std::array<double, 4> y;
-        for (int i = 0; i < 4; ++i)
-            y[i] = v_[i] + h * (rk3::c * k1[i]);
-        const std::array<double, 4> k2 = flow_.jacobian_times(jac_mid_, y);
-        for (int i = 0; i < 4; ++i)
-            y[i] = v_[i] + h * (rk3::a31 * k1[i] + rk3::a32 * k2[i]);
-        const std::array<double, 4> k3 = flow_.jacobian_times(jac_end_, y);
-        double norm2 = 0;
-        for (int i = 0; i < 4; ++i) {
-            v_[i] += h * (rk3::b1 * k1[i] + rk3::b2 * k2[i] + rk3::b3 * k3[i]);
-            norm2 += v_[i] * v_[i];
-        }
-        jac_start_ = jac_end_;
-        // renormalise by a power of two (exact) when |v| leaves [2^-400, 2^400]
-        if (norm2 > 0x1.0p800 || (norm2 < 0x1.0p-800 && norm2 > 0)) {
-            const int e = std::ilogb(norm2) / 2;
-            for (double& c : v_)
-                c = std::ldexp(c, -e);
-            log_growth_ += e * std::numbers::ln2;
-        }
     }
 
     void finish() {
@@ -392,10 +329,10 @@ class lane {
         r_.rejected_steps = rk_.rejected_steps();
         r_.evaluations = rk_.evaluations();
         r_.energy_check_rejections = rk_.check_rejections();
-        if constexpr (K != lane_tangent::none) {
+        if constexpr (Tangent) {
             double norm2 = 0;
-            for (int i = 0; i < 4; ++i)
-                norm2 += Tangent ? rk_.x()[i + 4] * rk_.x()[i + 4] : v_[i] * v_[i];
+            for (int i = 4; i < 8; ++i)
+                norm2 += rk_.x()[i] * rk_.x()[i];
             r_.lyapunov = r_.end_time > 0 ? (log_growth_ + 0.5 * std::log(norm2)) / r_.end_time
                                           : std::numeric_limits<double>::quiet_NaN();
         } else {
@@ -416,9 +353,6 @@ class lane {
     std::array<double, 2> unwrap_{};  ///< the reductions applied so far (unwrapped_angles)
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0, end_energy_ = 0;
     double error_norm_ = 0;
-    // tangent_method::rk3: the tangent vector and J's data at the step's start, mid stage and end
-    std::array<double, 4> v_{};
-    jacobian_point jac_start_{}, jac_mid_{}, jac_end_{};
     std::array<bool, 2> angle_tested_{};  ///< th1, th2: the flip angle of some detector
     bool done_ = false;
 };
@@ -454,17 +388,10 @@ struct lane_group {
     [[gnu::always_inline]] void stages_from(const pendulum_flow& flow) {
         V y[N];
         integrator::template stage_sum<s>(h, x0, k, y);
-        if constexpr (N == 8) {
-            flow.tangent_lanes(y, k[s]);
-        } else if constexpr (Lane::jacobians &&
-                             (s == tangent_rk3<typename Lane::method>::mid || s == S - 1)) {
-            jacobian_lanes<V> jac;
-            flow.lanes(y, k[s], &jac);
-            for (std::size_t l = 0; l < g; ++l)
-                lanes[l]->set_jacobian(s == S - 1, jac.lane(static_cast<int>(l)));
-        } else {
+        if constexpr (N == 4)
             flow.lanes(y, k[s]);
-        }
+        else
+            flow.tangent_lanes(y, k[s]);
         for (std::size_t l = 0; l < g; ++l) {
             double* out = lanes[l]->rk().template stage_output<s>();
             for (std::size_t c = 0; c < N; ++c)
@@ -549,12 +476,12 @@ void lockstep_round(std::span<Lane* const> lanes) {
 
 // Runs one thread's share: ensemble_lanes trajectories advanced in lockstep, the next index
 // taken whenever one finishes. `deliver` gets each finished (or abandoned) lane's result.
-template <class Lane, class Next, class Deliver>
+template <class Method, bool Tangent, class Next, class Deliver>
 void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
                std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
                Next&& next_index, Deliver&& deliver) {
-    using lane_type = Lane;
+    using lane_type = lane<Method, Tangent>;
     std::array<std::unique_ptr<lane_type>, ensemble_lanes> lanes;
     std::array<lane_type*, ensemble_lanes> view{};
     for (;;) {
@@ -578,35 +505,29 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
     }
 }
 
-// Calls body.template operator()<Lane>() with the lane type of the options' method and tangent.
-template <class Body>
-decltype(auto) with_lane_type(const ensemble_options& o, Body&& body) {
-    const auto of_method = [&]<class Method>() -> decltype(auto) {
-        if (!o.chaos) return body.template operator()<lane<Method, lane_tangent::none>>();
-        if (o.tangent == tangent_method::rk3)
-            return body.template operator()<lane<Method, lane_tangent::rk3>>();
-        return body.template operator()<lane<Method, lane_tangent::stages>>();
-    };
-    if (o.method == integration_method::dop853)
-        return of_method.template operator()<dormand_prince_853>();
-    return of_method.template operator()<dormand_prince_5>();
-}
-
 template <class Next, class Deliver>
 void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
                std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
                Next&& next_index, Deliver&& deliver) {
-    with_lane_type(o, [&]<class Lane>() {
-        run_lanes<Lane>(model, o, sampler, detectors, next_index, deliver);
-    });
+    if (o.method == integration_method::dop853) {
+        if (o.chaos)
+            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, next_index, deliver);
+        else
+            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, next_index, deliver);
+    } else {
+        if (o.chaos)
+            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, next_index, deliver);
+        else
+            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, next_index, deliver);
+    }
 }
 
-template <class Lane>
+template <class Method, bool Tangent>
 trajectory_result single_trajectory(const double_pendulum<double>& model, const ensemble_options& o,
                                     const phase_point<double>& x0, std::uint64_t index,
                                     const std::vector<flip_detector_base*>& detectors) {
-    using lane_type = Lane;
+    using lane_type = lane<Method, Tangent>;
     lane_type l(model, o, x0, index, detectors);
     lane_type* const one[1] = {&l};
     while (!l.finished())
@@ -620,8 +541,12 @@ trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,
                                       std::uint64_t index,
                                       const std::vector<flip_detector_base*>& detectors) {
-    return with_lane_type(
-        o, [&]<class Lane>() { return single_trajectory<Lane>(model, o, x0, index, detectors); });
+    if (o.method == integration_method::dop853)
+        return o.chaos
+                   ? single_trajectory<dormand_prince_853, true>(model, o, x0, index, detectors)
+                   : single_trajectory<dormand_prince_853, false>(model, o, x0, index, detectors);
+    return o.chaos ? single_trajectory<dormand_prince_5, true>(model, o, x0, index, detectors)
+                   : single_trajectory<dormand_prince_5, false>(model, o, x0, index, detectors);
 }
 
 trajectory_result run_trajectory(const double_pendulum<double>& model,

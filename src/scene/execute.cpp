@@ -335,7 +335,6 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
     o.atol = parse_real<double>(x.atol, where + ": atol");
     o.method = parse_name<integration_method>(x.integrator, where + ": integrator");
     o.chaos = x.chaos;
-    o.tangent = parse_name<tangent_method>(x.chaos_tangent, where + ": chaos_tangent");
     o.chaos_threshold = parse_real<double>(x.chaos_threshold, where + ": chaos_threshold");
     o.threads = ctx.options.threads;
     request.estimator = parse_name<rate_estimator>(x.estimator, where + ": estimator");

@@ -333,11 +333,6 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
         !(parse_real<double>(x.chaos_threshold, "chaos_threshold") > 0))
         r.fail(r.get("chaos_threshold"), "chaos_threshold",
                "'" + x.chaos_threshold + "' must be > 0");
-    x.chaos_tangent = r.string("chaos_tangent").value_or(x.chaos_tangent);
-    if (x.chaos_tangent != "stages" && x.chaos_tangent != "rk3") {
-        r.fail(r.get("chaos_tangent"), "chaos_tangent",
-               "'" + x.chaos_tangent + "' is not a tangent method (stages, rk3)");
-    }
     x.reference_time = r.number("reference_time").value_or(x.reference_time);
     if (x.reference_time.front() == '-' ||
         !(parse_real<double>(x.reference_time, "reference_time") >= 0)) {

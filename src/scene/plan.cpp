@@ -263,7 +263,7 @@ bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b) {
     };
     return a.trajectories == b.trajectories && same(a.time, b.time) && a.seed == b.seed &&
            same(a.rtol, b.rtol) && same(a.atol, b.atol) && a.integrator == b.integrator &&
-           a.estimator == b.estimator && a.chaos == b.chaos && a.chaos_tangent == b.chaos_tangent;
+           a.estimator == b.estimator && a.chaos == b.chaos;
 }
 
 }  // namespace
@@ -366,9 +366,7 @@ plan make_plan(const scene& s) {
             std::to_string(x.trajectories) + " trajectories x T = " + x.time + " at " +
             range_text(step.energies) + ", " + x.integrator + " rtol " + x.rtol +
             (x.atol != "0" ? " atol " + x.atol : "") + ", estimator " + x.estimator +
-            (x.chaos ? ", chaos indicator (threshold " + x.chaos_threshold +
-                           (x.chaos_tangent == "stages" ? "" : ", tangent " + x.chaos_tangent) + ")"
-                     : "");
+            (x.chaos ? ", chaos indicator (threshold " + x.chaos_threshold + ")" : "");
         if (parts.size() == 1)
             step.description = "ensemble '" + x.name + "': arm " + std::to_string(x.arm) +
                                ", criteria " + join(x.criteria) + ", " + what;

@@ -100,7 +100,7 @@ json checkpoint_header(const double_pendulum<double>& model,
         bins.push_back(s.bins);
     }
     const bool one = studies.size() == 1;
-    json header{{"format", checkpoint_format_version},
+    return json{{"format", checkpoint_format_version},
                 {"version", version_string()},
                 {"model", json::array({to_decimal(p.m1), to_decimal(p.m2), to_decimal(p.L1),
                                        to_decimal(p.L2), to_decimal(p.a1), to_decimal(p.a2),
@@ -119,10 +119,6 @@ json checkpoint_header(const double_pendulum<double>& model,
                 {"chaos", o.chaos},
                 {"chaos_threshold", one ? thresholds[0] : thresholds},
                 {"bins", one ? bins[0] : bins}};
-    // (only when not the default, so that the checkpoints written before the choice existed
-    // still resume)
-    if (o.chaos && o.tangent != tangent_method::stages) header["tangent"] = to_string(o.tangent);
-    return header;
 }
 
 }  // namespace
@@ -426,7 +422,6 @@ ensemble_result collect(const ensemble_options& o, const std::vector<std::string
     r.first_index = o.first_index;
     r.method = o.method;
     r.chaos = o.chaos;
-    r.tangent = o.tangent;
     r.criteria = names;
     r.threads = threads;
     r.trajectories.reserve(have.size());
@@ -534,12 +529,11 @@ void check_shareable(const simulation_request& a, const simulation_request& b) {
     const bool same =
         x.trajectories == y.trajectories && x.first_index == y.first_index && x.time == y.time &&
         x.seed == y.seed && x.rtol == y.rtol && x.atol == y.atol && x.method == y.method &&
-        x.chaos == y.chaos && x.tangent == y.tangent && x.threads == y.threads &&
-        x.keep_crossings == y.keep_crossings && x.sample_interval == y.sample_interval &&
-        x.unwrapped_angles == y.unwrapped_angles && a.estimator == b.estimator &&
-        a.short_time == b.short_time && a.checkpoint == b.checkpoint &&
-        a.checkpoint_interval == b.checkpoint_interval && a.timing == b.timing &&
-        a.group == b.group;
+        x.chaos == y.chaos && x.threads == y.threads && x.keep_crossings == y.keep_crossings &&
+        x.sample_interval == y.sample_interval && x.unwrapped_angles == y.unwrapped_angles &&
+        a.estimator == b.estimator && a.short_time == b.short_time &&
+        a.checkpoint == b.checkpoint && a.checkpoint_interval == b.checkpoint_interval &&
+        a.timing == b.timing && a.group == b.group;
     if (!same)
         throw std::invalid_argument(
             "simulate: studies sharing trajectories need the same ensemble options, estimator, "

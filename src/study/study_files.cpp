@@ -173,12 +173,8 @@ json study_json(const study_result& s) {
         out["budget"] =
             json{{"trajectories", s.budget_trajectories}, {"time", to_decimal(s.budget_time)}};
     out["chaos"] =
-        json{{"indicator", !o.chaos ? "none"
-                           : o.tangent == tangent_method::rk3
-                               ? "finite-time maximal Lyapunov exponent (tangent by a "
-                                 "third-order formula per step)"
-                               : "finite-time maximal Lyapunov exponent (variational equations)"},
-             {"tangent", o.chaos ? to_string(o.tangent) : "none"},
+        json{{"indicator",
+              o.chaos ? "finite-time maximal Lyapunov exponent (variational equations)" : "none"},
              {"threshold", to_decimal(o.chaos_threshold)},
              {"threshold_rate", to_decimal(s.chaos_threshold_rate)},
              {"classification_reliable", s.classification_reliable}};

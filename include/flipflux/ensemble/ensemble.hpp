@@ -20,9 +20,6 @@
 //     from the trajectory's own stream; v rides along uncontrolled (rk_options::
 //     controlled_components = 4), so the trajectory and its flips are bit-identical with or
 //     without the indicator. The trajectory counts as chaotic when lambda_T > chaos_threshold.
-//     v is integrated with the trajectory's own stages (tangent_method::stages, the default) or
-//     once per accepted step by a third-order formula on J at three of its points
-//     (tangent_method::rk3, docs/scale.md: the cheaper indicator).
 #pragma once
 
 #include <atomic>
@@ -48,23 +45,6 @@ struct enum_table<integration_method> {
     static constexpr std::string_view noun = "an integration method";
     static constexpr std::array<std::pair<integration_method, std::string_view>, 2> entries{
         {{integration_method::dop853, "dop853"}, {integration_method::dopri5, "dopri5"}}};
-};
-
-/// How the chaos indicator's tangent vector v (v' = J(x) v) is integrated.
-enum class tangent_method {
-    /// the variational equations with the trajectory's own Runge-Kutta stages and steps (an
-    /// 8-dimensional system, the tangent uncontrolled): J v at every stage
-    stages,
-    /// once per accepted step by a third-order Runge-Kutta formula (Heun-type, nodes 0, c, 1)
-    /// with J at the step's start, at the stage point of the trajectory's method nearest c = 1/3
-    /// and at its end: three J v per step, the trigonometry of those stages reused
-    rk3,
-};
-template <>
-struct enum_table<tangent_method> {
-    static constexpr std::string_view noun = "a tangent method";
-    static constexpr std::array<std::pair<tangent_method, std::string_view>, 2> entries{
-        {{tangent_method::stages, "stages"}, {tangent_method::rk3, "rk3"}}};
 };
 
 /// An accepted step may change H by at most this times (atol + rtol |E|); otherwise it is retried
@@ -96,7 +76,6 @@ struct ensemble_options {
     double atol = 0;      ///< absolute tolerance; 0: equal to rtol (states are O(1))
     integration_method method = integration_method::dop853;
     bool chaos = true;  ///< integrate the variational equations for the Lyapunov exponent
-    tangent_method tangent = tangent_method::stages;  ///< how (with `chaos`)
     /// lambda_T above this (in units of sqrt(alpha / A)) classifies a trajectory as chaotic
     double chaos_threshold = default_chaos_threshold;
     int threads = 0;              ///< OpenMP threads; 0: OpenMP's default
@@ -144,7 +123,6 @@ struct ensemble_result {
     std::uint64_t seed = 0, first_index = 0;
     integration_method method = integration_method::dop853;
     bool chaos = false;
-    tangent_method tangent = tangent_method::stages;
     int threads = 0;  ///< threads actually used
     std::vector<std::string> criteria;
     std::vector<trajectory_result> trajectories;  ///< by index

@@ -27,25 +27,6 @@
 
 namespace flipflux {
 
-/// What J(x) v needs of a state x = (th1, th2, l1, l2) (pendulum_flow::jacobian_times): the
-/// trigonometry, 1 / det M and w = M^-1 l.
-struct jacobian_point {
-    double sd, cd, c1, c2, inv_det, w1, w2, l1, l2;
-};
-
-/// jacobian_point at lanes_of<V> states at once (pendulum_flow::lanes).
-template <class V>
-struct jacobian_lanes {
-    V sd, cd, c1, c2, inv_det, w1, w2, l1, l2;
-    [[gnu::always_inline]] jacobian_point lane(int l) const {
-        return {sd[l], cd[l], c1[l], c2[l], inv_det[l], w1[l], w2[l], l1[l], l2[l]};
-    }
-    [[gnu::always_inline]] void set_lane(int l, const jacobian_point& p) {
-        sd[l] = p.sd, cd[l] = p.cd, c1[l] = p.c1, c2[l] = p.c2, inv_det[l] = p.inv_det;
-        w1[l] = p.w1, w2[l] = p.w2, l1[l] = p.l1, l2[l] = p.l2;
-    }
-};
-
 class pendulum_flow {
   public:
     explicit pendulum_flow(const double_pendulum<double>& model) : k_(model.coefficients()) {}
@@ -65,17 +46,11 @@ class pendulum_flow {
     /// of each state): per lane the same operations in the same order as operator(), hence the
     /// same bits (tested), in a fraction of the instructions. Used by the ensemble's lockstep
     /// lanes; always inlined, so that a caller compiled for AVX2 gets AVX2 code.
-    /// With `jac`, also each lane's jacobian_at (the same bits).
     template <class V>
-    [[gnu::always_inline]] void lanes(const V x[4], V f[4],
-                                      jacobian_lanes<V>* jac = nullptr) const {
+    [[gnu::always_inline]] void lanes(const V x[4], V f[4]) const {
         if (!fast_sincos_in_range(x[0]) || !fast_sincos_in_range(x[1])) {
             per_lane<4>(x, f,
                         [this](const std::array<double, 4>& one) { return (*this)(0.0, one); });
-            if (jac != nullptr)
-                for (int lane = 0; lane < lanes_of<V>; ++lane)
-                    jac->set_lane(lane,
-                                  jacobian_at({x[0][lane], x[1][lane], x[2][lane], x[3][lane]}));
             return;
         }
         const trig_lanes<V> g(x);
@@ -88,9 +63,6 @@ class pendulum_flow {
         f[1] = w2;
         f[2] = -P - k_.alpha * g.s1;
         f[3] = P - k_.beta * g.s2;
-        if (jac != nullptr) {
-            *jac = {g.sd, g.cd, g.c1, g.c2, 1.0 / det, w1, w2, x[2], x[3]};
-        }
     }
 
     /// tangent() at lanes_of<V> states at once, y[i] = (component i of each state): per lane
@@ -192,32 +164,6 @@ class pendulum_flow {
         const double dP = C * (dsd * w1 * w2 + g.sd * (dw1 * w2 + w1 * dw2));
         return {w1,  w2,  -P - k_.alpha * g.s1,         P - k_.beta * g.s2,
                 dw1, dw2, -dP - k_.alpha * g.c1 * y[4], dP - k_.beta * g.c2 * y[5]};
-    }
-
-    /// What J(x) v needs of x (jacobian_times): the operations of operator(), the same bits.
-    jacobian_point jacobian_at(const std::array<double, 4>& state) const {
-        const double* x = state.data();
-        const trig g(x);
-        const double CC = k_.C * k_.C;
-        const double det = k_.D0 + CC * g.sd * g.sd;
-        const double w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
-        const double w2 = (k_.A * x[3] - k_.C * g.cd * x[2]) / det;
-        return {g.sd, g.cd, g.c1, g.c2, 1.0 / det, w1, w2, x[2], x[3]};
-    }
-
-    /// J(x) v from jacobian_at(x): tangent()'s formulas, with 1 / det M multiplied.
-    std::array<double, 4> jacobian_times(const jacobian_point& p,
-                                         const std::array<double, 4>& v) const {
-        const double C = k_.C;
-        const double dd = v[0] - v[1];
-        const double dsd = p.cd * dd, dcd = -p.sd * dd;
-        const double ddet = 2 * C * C * p.sd * dsd;
-        const double dn1 = k_.B * v[2] - C * (dcd * p.l2 + p.cd * v[3]);
-        const double dn2 = k_.A * v[3] - C * (dcd * p.l1 + p.cd * v[2]);
-        const double dw1 = (dn1 - p.w1 * ddet) * p.inv_det;
-        const double dw2 = (dn2 - p.w2 * ddet) * p.inv_det;
-        const double dP = C * (dsd * p.w1 * p.w2 + p.sd * (dw1 * p.w2 + p.w1 * dw2));
-        return {dw1, dw2, -dP - k_.alpha * p.c1 * v[0], dP - k_.beta * p.c2 * v[1]};
     }
 
     const lagrangian_coefficients<double>& coefficients() const { return k_; }

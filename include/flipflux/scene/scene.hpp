@@ -69,8 +69,6 @@ struct ensemble_spec {
     bool chaos = false;                ///< classify trajectories (finite-time Lyapunov exponent)
     /// lambda_T above this (units sqrt(alpha / A)) is chaotic (ensemble_options::chaos_threshold)
     std::string chaos_threshold = "0.05";
-    /// how the chaos indicator's tangent is integrated (ensemble_options::tangent)
-    std::string chaos_tangent = "stages";
     bool residence_times = false;
     bool histogram = false;
     int line = 0;
