@@ -12,7 +12,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/integrators/explicit_rk.hpp"
+#include "support.hpp"
 
 namespace flipflux {
 namespace {
@@ -340,15 +342,10 @@ template <class Method, std::size_t N>
 void expect_vector_lanes_equal_doubles() {
     using rk = explicit_rk<Method, N, unused_rhs<N>>;
     constexpr int S = Method::stages;
-    constexpr int W = 4;
-    using V = double __attribute__((vector_size(W * sizeof(double))));
-    std::uint64_t bits = 0x2545F4914F6CDD1Dull;
-    auto uniform = [&] {  // xorshift64*: in [-1, 1)
-        bits ^= bits >> 12;
-        bits ^= bits << 25;
-        bits ^= bits >> 27;
-        return static_cast<double>((bits * 0x2545F4914F6CDD1Dull) >> 11) * 0x1.0p-52 - 1;
-    };
+    using V = v4d;  // the ensemble's four-lane vector
+    constexpr int W = lanes_of<V>;
+    test::random_reals rnd(2026);
+    auto uniform = [&] { return rnd(-1, 1); };
     rk_options o;
     o.rtol = 1e-9;
     o.atol = 1e-11;
