@@ -18,9 +18,9 @@ PACKAGES=(
   libboost-dev libmpfr-dev libgmp-dev libeigen3-dev libceres-dev
   libgtest-dev libbenchmark-dev lcov libflint-arb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev
-  libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath python3-scipy
+  libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath python3-gmpy2 python3-scipy
   pybind11-dev python3-dev python3-numpy python3-pytest
-  clang-14 libclang-rt-14-dev libomp-14-dev
+  clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
   chromium fonts-liberation
 )
 
@@ -75,13 +75,17 @@ coverage_capture() {  # coverage_capture DIR: DIR/project.info, the lines of src
   # they instantiate count too). Objects no test ran (a .gcno without a .gcda: a unit nothing
   # linked) count with zero hits (--initial, their folders only; the precompiled header is not
   # code).
-  local dir=$1 pids=() status=0 part library=() tests=()
+  local dir=$1 pids=() status=0 part library=() tests=() gcov=()
+  # a clang build's notes and counts are read by llvm-cov's gcov (gcc's gcov cannot)
+  if grep -qs 'CMAKE_CXX_COMPILER_ID "Clang"' "$dir"/CMakeFiles/*/CMakeCXXCompiler.cmake; then
+    gcov=(--gcov-tool "$PWD/tools/llvm_gcov.sh")
+  fi
   for part in CMakeFiles python; do [ ! -d "$dir/$part" ] || library+=(--directory "$dir/$part"); done
   for part in tests verification; do [ ! -d "$dir/$part" ] || tests+=(--directory "$dir/$part"); done
-  lcov --quiet --capture "${library[@]}" --output-file "$dir/run-library.info" \
+  lcov --quiet --capture "${gcov[@]}" "${library[@]}" --output-file "$dir/run-library.info" \
     --rc lcov_branch_coverage=0 2>/dev/null &
   pids+=($!)
-  lcov --quiet --capture "${tests[@]}" --output-file "$dir/run-tests.info" \
+  lcov --quiet --capture "${gcov[@]}" "${tests[@]}" --output-file "$dir/run-tests.info" \
     --rc lcov_branch_coverage=0 2>/dev/null &
   pids+=($!)
   for p in "${pids[@]}"; do wait "$p" || status=1; done
@@ -94,7 +98,7 @@ coverage_capture() {  # coverage_capture DIR: DIR/project.info, the lines of src
     echo "coverage: objects no test ran (counted with zero hits): $(echo "$unrun" | wc -l) folders"
     local args=()
     for part in $unrun; do args+=(--directory "$part"); done
-    lcov --quiet --capture --initial "${args[@]}" --output-file "$dir/unrun.info" \
+    lcov --quiet --capture --initial "${gcov[@]}" "${args[@]}" --output-file "$dir/unrun.info" \
       --rc lcov_branch_coverage=0 2>/dev/null
     parts+=(-a "$dir/unrun.info")
   fi

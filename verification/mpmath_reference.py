@@ -4,7 +4,12 @@ docs/theory.md (written again here, not shared with the C++ code), compared with
 `flipflux eval ... --precision quad` for three pendulums (egalitarian, unequal point masses,
 uniform rigid rods). Fails when any relative difference exceeds 1e-30.
 
-usage: python3 mpmath_reference.py path/to/flipflux
+The energies of arm a are E = E_s + x (E_max - E_s) for the fractions x given (E_s the arm's saddle
+energy): below the maximum (x < 1) and above it. CI runs 0.55, 0.97 and 1.4 (ctest
+verify_mpmath_reference); `bash setup.sh verify` adds 0.3 and 0.8 (verify_mpmath_reference_more),
+the slowest for mpmath (its incomplete elliptic integral E at 45 digits costs ~3 ms a call).
+
+usage: python3 mpmath_reference.py path/to/flipflux [--fractions 0.55,0.97,1.4]
 """
 import mpmath as mp, json, subprocess, sys
 mp.mp.dps = 45
@@ -59,13 +64,18 @@ def curve_flux(E, k, arm, amp):
     return mp.quad(f, pts)
 if __name__ == "__main__":
     exe = sys.argv[1]
+    fractions = ("0.55", "0.97", "1.4")
+    if len(sys.argv) == 4 and sys.argv[2] == "--fractions":
+        fractions = tuple(sys.argv[3].split(","))
+    elif len(sys.argv) != 2:
+        sys.exit("usage: mpmath_reference.py path/to/flipflux [--fractions X,Y,...]")
     cases = [dict(), dict(m1=2, m2=0.5, L1=1.3, L2=0.7, g=9.81), dict(m1=1, m2=1, L1=1, L2=1, a1=0.5, a2=0.5, I1=0.0833333333333333333, I2=0.0833333333333333333)]
     worst = 0
     for par in cases:
         k = coeffs(**par); A,B,C,al,be,D0 = k
         Emax = 2*(al+be)
         opts = " ".join(f"--{n} {v}" for n,v in par.items())
-        for frac in ("0.3","0.55","0.8","0.97","1.4"):
+        for frac in fractions:
             for arm in (1,2):
                 Es = 2*be if arm == 2 else 2*al
                 E = Es + (Emax-Es)*mp.mpf(frac)

@@ -120,11 +120,14 @@ TEST(PredictionRoutes, EveryRouteAgreesInQuadAndMatchesMp50) {
 
 TEST(PredictionRoutes, Mp50RoutesAgreeAndMatchMp100) {
     // the references in mp:100 first: omega and f2 at E = 3 (arm 2), f2 at E = 5 (arm 1)
-    const auto [omega3, f2_3] = test::in_mp(100, [] {
+    // (a pair, not a structured binding: clang 14 cannot capture bindings in a lambda)
+    const auto reference_3 = test::in_mp(100, [] {
         const double_pendulum<mp> reference;
         return std::pair{to_decimal(phase_volume(reference, mp(3)).value),
                          to_decimal(approximate_saddle_flux(reference, arm::two, mp(3)).value)};
     });
+    const std::string& omega3 = reference_3.first;
+    const std::string& f2_3 = reference_3.second;
     const std::string f2_5 = fluxes_in_mp(100, test::model_specs()[0], arm::one, "5").second;
     test::in_mp(50, [&] {
         const double_pendulum<mp> model;
@@ -226,7 +229,8 @@ hard_values hard_values_in(arm a, const std::string& energy, bool omega, bool ro
 void hard_cases(const precision& p, const precision& reference, bool with_routes) {
     const auto cases = dispatch(p, []<class Real>() { return hard_energies<Real>(); });
     for (std::size_t i = 0; i < cases.size(); ++i) {
-        const auto& [a, e] = cases[i];
+        const arm a = cases[i].first;  // not a structured binding: the lambdas below capture it
+        const std::string& e = cases[i].second;
         const std::string where =
             precision_name(p) + " arm " + to_string(a) + " E " + e.substr(0, 20);
         const bool omega = with_routes || i >= 2;  // E > 5

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 
 #include "prediction_enclosures.hpp"
 #include "saddle_orbit_proof.hpp"
@@ -67,27 +69,50 @@ bool quantity_named(std::string_view name, certified_quantity& q) {
 }
 
 /// The proofs done in this process, by pendulum, arm, energy and precision (golden --certify asks
-/// for six quantities of each orbit; a proof with the monodromy serves every quantity).
+/// for six quantities of each orbit; a proof with the monodromy serves every quantity). A thread
+/// that needs a proof another thread is doing waits for it rather than doing it a second time
+/// (golden --jobs proves the rows of one orbit on several threads).
 class proof_memo {
   public:
-    std::optional<certified_detail::orbit_proof> find(const std::string& key, bool monodromy) {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        const auto it = proofs_.find(key);
-        if (it == proofs_.end() || (monodromy && !it->second.with_monodromy)) return std::nullopt;
-        return it->second;
+    /// The proof of `key` if there is one (with the monodromy if asked for); else the key is
+    /// claimed for the caller, who proves it and calls keep() or, if the proof fails, release().
+    std::optional<certified_detail::orbit_proof> find_or_claim(const std::string& key,
+                                                               bool monodromy) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            const auto it = proofs_.find(key);
+            if (it != proofs_.end() && (!monodromy || it->second.with_monodromy)) return it->second;
+            if (proving_.count(key) == 0) break;
+            done_.wait(lock);
+        }
+        proving_.insert(key);
+        return std::nullopt;
     }
     void keep(const std::string& key, const certified_detail::orbit_proof& p) {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        auto it = proofs_.find(key);
-        if (it == proofs_.end())
-            proofs_.emplace(key, p);
-        else if (p.with_monodromy || !it->second.with_monodromy)
-            it->second = p;
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            auto it = proofs_.find(key);
+            if (it == proofs_.end())
+                proofs_.emplace(key, p);
+            else if (p.with_monodromy || !it->second.with_monodromy)
+                it->second = p;
+            proving_.erase(key);
+        }
+        done_.notify_all();
+    }
+    void release(const std::string& key) {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            proving_.erase(key);
+        }
+        done_.notify_all();
     }
 
   private:
     std::mutex mutex_;
+    std::condition_variable done_;
     std::map<std::string, certified_detail::orbit_proof> proofs_;
+    std::set<std::string> proving_;
 };
 
 proof_memo& memo() {
@@ -109,7 +134,14 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
                             model.g + "|" + to_string(a) + "|" + energy + "|" +
                             std::to_string(prec);
     if (!proof_memo_bypassed)
-        if (auto p = memo().find(key, monodromy)) return *p;
+        if (auto p = memo().find_or_claim(key, monodromy)) return *p;
+    // the claim is released however this ends: kept below, or given back if the proof throws
+    struct claim_guard {
+        const std::string* key;
+        ~claim_guard() {
+            if (key != nullptr) memo().release(*key);
+        }
+    } claim{proof_memo_bypassed ? nullptr : &key};
     certified_detail::orbit_proof_input in;
     in.pendulum = certified_detail::pendulum_from_text(model, prec);
     in.flip_arm = a;
@@ -155,7 +187,10 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
         }
     }
     ++proofs_done;
-    if (!proof_memo_bypassed) memo().keep(key, proof);
+    if (!proof_memo_bypassed) {
+        memo().keep(key, proof);
+        claim.key = nullptr;
+    }
     return proof;
 }
 

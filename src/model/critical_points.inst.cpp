@@ -1,9 +1,13 @@
 // The four critical points of V (down-down minimum, the two index-one saddles, up-up maximum) with
 // their energies and normal modes: the eigenproblem K v = omega^2 M v of the linearisation at
-// each (paper Sec. 2, docs/theory.md#critical-points).
+// each (paper Sec. 2, docs/theory.md#critical-points); and the route that checks those modes, the
+// eigenvalues of the 4x4 Jacobian of Hamilton's equations (core/eigensystem.hpp).
 #include "flipflux/model/critical_points.hpp"
 
+#include <algorithm>
+
 #include "flipflux/core/constants.hpp"
+#include "flipflux/core/eigensystem.hpp"
 #include "flipflux/core/instantiate.hpp"
 
 namespace flipflux {
@@ -66,8 +70,35 @@ critical_point<Real> flip_saddle(const double_pendulum<Real>& model, arm a) {
                          : detail::make_critical_point(model, -1, 1);
 }
 
+template <class Real>
+std::array<std::complex<Real>, 4> linearized_eigenvalues(
+    const double_pendulum<Real>& model, const Real& th1, const Real& th2,
+    std::array<std::array<std::complex<Real>, 2>, 4>* theta_directions) {
+    const auto J = model.rhs_jacobian({th1, th2, Real(0), Real(0)});
+    matrix4<Real> m;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            m[i][j] = J[i][j];
+    const eigensystem4<Real> e = eigensystem(m, theta_directions != nullptr);
+    std::array<int, 4> order{0, 1, 2, 3};
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        return e.values[a].real() != e.values[b].real() ? e.values[a].real() < e.values[b].real()
+                                                        : e.values[a].imag() < e.values[b].imag();
+    });
+    std::array<std::complex<Real>, 4> out;
+    for (int i = 0; i < 4; ++i)
+        out[i] = e.values[order[i]];
+    if (theta_directions != nullptr)
+        for (int i = 0; i < 4; ++i)
+            (*theta_directions)[i] = {e.vectors[order[i]][0], e.vectors[order[i]][1]};
+    return out;
+}
+
 template std::array<critical_point<inst_real>, 4> critical_points<inst_real>(
     const double_pendulum<inst_real>&);
 template critical_point<inst_real> flip_saddle<inst_real>(const double_pendulum<inst_real>&, arm);
+template std::array<std::complex<inst_real>, 4> linearized_eigenvalues<inst_real>(
+    const double_pendulum<inst_real>&, const inst_real&, const inst_real&,
+    std::array<std::array<std::complex<inst_real>, 2>, 4>*);
 
 }  // namespace flipflux

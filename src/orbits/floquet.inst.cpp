@@ -3,15 +3,13 @@
 // For a periodic orbit of an autonomous 2-degree-of-freedom Hamiltonian system, M is symplectic
 // with eigenvalues {1, 1, mu, 1/mu} (the unit pair from the flow direction and the energy; a
 // Jordan block in general, so its computed eigenvalues scatter like sqrt(eps |M|)). Two routes:
-//   - Eigen's EigenSolver in Real (this file, one translation unit per type: the decomposition on
-//     multiprecision scalars is the expensive compile);
+//   - Eigen's EigenSolver in Real (core/eigensystem.hpp);
 //   - the trace: mu + 1/mu = tr M - 2 =: k, insensitive to the Jordan block. |k| > 2: hyperbolic,
 //     mu = (k + sign(k) sqrt(k^2 - 4)) / 2 (the stable root); |k| <= 2: elliptic, nu = acos(k / 2).
 // The reported multiplier and angle come from the trace; the eigenvalues are kept as the check.
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 
-#include "flipflux/core/eigen.hpp"
+#include "flipflux/core/eigensystem.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
@@ -22,15 +20,9 @@ floquet_multipliers<Real> floquet_analysis(const std::array<std::array<Real, 4>,
     using std::abs;
     using std::acos;
     using std::sqrt;
-    using matrix = Eigen::Matrix<Real, 4, 4>;
-    matrix m;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j)
-            m(i, j) = monodromy[i][j];
     floquet_multipliers<Real> f;
-    Eigen::EigenSolver<matrix> solver(m, false);
-    for (int i = 0; i < 4; ++i)
-        f.eigenvalues[i] = solver.eigenvalues()(i);
+    const eigensystem4<Real> e = eigensystem(monodromy, false);
+    f.eigenvalues = e.values;
     std::sort(
         f.eigenvalues.begin(), f.eigenvalues.end(),
         [](const std::complex<Real>& a, const std::complex<Real>& b) { return abs(a) < abs(b); });
@@ -41,8 +33,9 @@ floquet_multipliers<Real> floquet_analysis(const std::array<std::array<Real, 4>,
     std::array<int, 4> idx{0, 1, 2, 3};
     std::sort(idx.begin(), idx.end(), [&](int a, int b) { return dist[a] < dist[b]; });
     f.unit_deviation = std::max(dist[idx[0]], dist[idx[1]]);
-    f.determinant_deviation = abs(m.determinant() - 1);
-    f.trace = m.trace();
+    f.determinant_deviation = abs(e.determinant - 1);
+    f.trace =
+        (monodromy[0][0] + monodromy[1][1]) + (monodromy[2][2] + monodromy[3][3]);  // as Eigen sums
     f.stability_index = f.trace - 2;
     const Real& k = f.stability_index;
     if (abs(k) > 2) {

@@ -82,6 +82,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", required=True)
     ap.add_argument("--source", required=True)
+    ap.add_argument("--cxx", default="c++", help="the build's C++ compiler")
     ap.add_argument("--cxx-flags", default="")
     ap.add_argument("--linker-flags", default="")
     ap.add_argument("--python-preload", default="", help="LD_PRELOAD for python3 (sanitizers)")
@@ -97,6 +98,7 @@ def main():
         consumer = os.path.join(tmp, "consumer")
         run(["cmake", "-S", os.path.join(a.source, "examples", "consumer"), "-B", consumer,
              "-G", "Ninja", "-DCMAKE_BUILD_TYPE=None", "-DCMAKE_PREFIX_PATH=" + prefix,
+             "-DCMAKE_CXX_COMPILER=" + a.cxx,
              "-DCMAKE_CXX_FLAGS=" + a.cxx_flags, "-DCMAKE_EXE_LINKER_FLAGS=" + a.linker_flags])
         run(["cmake", "--build", consumer])
         values = dict(line.split() for line in run([os.path.join(consumer, "consumer")]).splitlines())
@@ -115,7 +117,7 @@ def main():
         with open(src, "w") as f:
             f.write(PKG_PROGRAM)
         exe = os.path.join(tmp, "pkg")
-        run(["c++", src, "-o", exe] + a.cxx_flags.split() + a.linker_flags.split() + flags)
+        run([a.cxx, src, "-o", exe] + a.cxx_flags.split() + a.linker_flags.split() + flags)
         ok &= check("omega pkg >max", run([exe]).strip(), omega_10, 64, "double")
 
         # 4. the installed CLI, run from elsewhere

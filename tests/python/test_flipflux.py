@@ -16,10 +16,13 @@ import flipflux
 
 EXE = os.environ["FLIPFLUX_EXE"]
 SOURCE = os.environ["FLIPFLUX_SOURCE_DIR"]
+# The CLI without the sanitizer runtime preloaded into this interpreter (a sanitized build): a
+# clang-built executable carries its own, and two ASan runtimes in one process are refused.
+CLI_ENV = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
 
 
 def cli(*args, check=True):
-    r = subprocess.run([EXE, *args], capture_output=True, text=True)
+    r = subprocess.run([EXE, *args], capture_output=True, text=True, env=CLI_ENV)
     if check:
         assert r.returncode == 0, r.stderr
     return r

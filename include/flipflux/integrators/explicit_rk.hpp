@@ -255,7 +255,7 @@ class explicit_rk {
         for (;;) {
             rk_status status = rk_status::ok;
             if (!begin_step(t_end, status)) return status;
-            for_each_stage([this]<int s>() { stage<s>(); });
+            for_each_stage([&]<int s>() { this->template stage<s>(); });
             const int r = end_step(status);
             if (r > 0) return rk_status::ok;
             if (r < 0) return status;
