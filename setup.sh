@@ -6,7 +6,8 @@
 #                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %),
 #                         the libFuzzer targets built (clang-14) and run 8 s each (tools/fuzz.sh)
 #   bash setup.sh verify  install, release build, the verification suite with the checks too slow
-#                         for CI (high precisions); writes docs/verification.md
+#                         for CI (high precisions) and the unit tests (GCC -O2; CI's build is
+#                         clang's); writes docs/verification.md
 #   bash setup.sh deps    install only (idempotent: apt-get runs only when a package is missing)
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -141,6 +142,9 @@ run_verify() {
   local status=0
   run_ctest verify build/release --timeout 7200 \
     --output-junit "$PWD/$dir/ctest.xml" || status=1
+  # the unit tests too, in GCC's optimised build: CI runs them in clang's instrumented one
+  run_ctest release build/release -L unit --timeout 1800 \
+    --output-junit "$PWD/$dir/unit.xml" || status=1
   python3 tools/verification_report.py --results "$dir" --out docs/verification.md
   return $status
 }

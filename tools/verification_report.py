@@ -44,9 +44,8 @@ def main():
         root = ET.parse(junit).getroot()
     except (OSError, ET.ParseError) as e:
         sys.exit(f"verification_report: cannot read {junit}: {e}")
-    cases = root.iter("testcase")
     rows, failed, total_time = [], 0, 0.0
-    for case in cases:
+    for case in root.iter("testcase"):
         name = case.get("name", "?")
         time = float(case.get("time", "0") or 0)
         total_time += time
@@ -62,6 +61,7 @@ def main():
             result = "pass"
         out = case.find("system-out")
         rows.append((name, result, time, figures(out.text if out is not None else "")))
+    unit = unit_summary(os.path.join(args.results, "unit.xml"))
     commit = git("rev-parse", "--short=12", "HEAD")
     dirty = git("status", "--porcelain", "--untracked-files=no")
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
@@ -80,6 +80,8 @@ def main():
           "**Figures** are what each check printed about itself: errors against its reference, "
           "digits reached.",
           "",
+          unit[0],
+          "",
           "| check | result | seconds | figures |",
           "|---|---|---|---|"]
     for name, result, time, lines in rows:
@@ -92,8 +94,30 @@ def main():
     with open(tmp, "w") as f:
         f.write(text)
     os.replace(tmp, args.out)
-    print(f"verification_report: {len(rows)} checks, {failed} failed -> {args.out}")
-    return 1 if failed else 0
+    print(f"verification_report: {len(rows)} checks, {failed} failed; {unit[0]} -> {args.out}")
+    return 1 if failed or unit[1] else 0
+
+
+def unit_summary(junit):
+    """(one line on the unit tests run in the release build, their number of failures)."""
+    if not os.path.isfile(junit):
+        return "The unit tests were not run in the release build.", 0
+    try:
+        cases = list(ET.parse(junit).getroot().iter("testcase"))
+    except ET.ParseError as e:
+        sys.exit(f"verification_report: cannot read {junit}: {e}")
+    failed = [c.get("name", "?") for c in cases
+              if c.find("failure") is not None or c.get("status") == "fail"]
+    skipped = sum(1 for c in cases if c.find("skipped") is not None
+                  or c.get("status") in ("notrun", "disabled"))
+    seconds = sum(float(c.get("time", "0") or 0) for c in cases)
+    line = (f"**Unit tests** (label `unit`) in the same release build (GCC, `-O2`; CI runs them "
+            f"in its clang-built instrumented build): {len(cases)} tests, "
+            f"{len(cases) - len(failed) - skipped} passed, {skipped} skipped, {len(failed)} "
+            f"failed, {seconds:.0f} s of test time.")
+    if failed:
+        line += " Failed: " + ", ".join(f"`{n}`" for n in failed) + "."
+    return line, len(failed)
 
 
 if __name__ == "__main__":
