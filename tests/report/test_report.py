@@ -15,6 +15,7 @@ every check passes; prints 'N passed, N failed'.
 """
 import argparse
 import csv
+import filecmp
 import glob
 import json
 import math
@@ -375,10 +376,24 @@ def main():
                         c["chaotic_fraction"] = "1"
                 with open(path, "w", encoding="utf-8") as f:
                     json.dump(ens, f)
-            r = run_generator(run_dir, report, ["--other-run-dir", other,
-                                                "--other-run-dir", os.path.join(base, "never")])
+            others = ["--other-run-dir", other, "--other-run-dir", os.path.join(base, "never")]
+            r = run_generator(run_dir, report, ["--jobs", "2"] + others)
             check(r.returncode == 0, "generator exit status 0: %s" % r.stderr)
             check_report(report)
+            # the figures drawn by worker processes (from pickles) are the serial run's, byte
+            # for byte
+            serial = os.path.join(base, "report-serial")
+            r = run_generator(run_dir, serial, ["--jobs", "1"] + others)
+            check(r.returncode == 0, "serial generator exit status 0: %s" % r.stderr)
+            figs = sorted(os.listdir(os.path.join(report, "figures")))
+            differ = [f for f in figs if not filecmp.cmp(os.path.join(report, "figures", f),
+                                                         os.path.join(serial, "figures", f),
+                                                         shallow=False)]
+            check(len(figs) > 20 and figs == sorted(os.listdir(os.path.join(serial, "figures")))
+                  and not differ, "%d figures drawn by 2 workers equal the serial ones (differ: "
+                  "%s)" % (len(figs), differ))
+            r = run_generator(run_dir, os.path.join(base, "report-bad-jobs"), ["--jobs", "-1"])
+            check(r.returncode == 2 and "--jobs -1" in r.stderr, "--jobs -1 is named: %r" % r.stderr)
             check_synthetic_values(report)
             text = open(os.path.join(report, "README.md"), encoding="utf-8").read()
             check("figures/other-synthetic.png" in text and "largest |R_sim/R_pred − 1| = 5.00 %"
