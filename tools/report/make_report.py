@@ -43,6 +43,7 @@ import argparse
 import concurrent.futures
 import csv
 import glob
+import hashlib
 import importlib.util
 import io
 import json
@@ -50,6 +51,7 @@ import math
 import multiprocessing
 import os
 import pickle
+import re
 import sys
 import time
 
@@ -122,12 +124,40 @@ def write_text(path, text):
     os.replace(tmp, path)
 
 
+_CLIP_PATH = re.compile(r'  <clipPath id="(p[0-9a-f]+)">\n(.*?)  </clipPath>\n', re.S)
+
+
+def canonical_clip_paths(svg):
+    """The SVG with its clip paths named by their content and each defined once. Matplotlib names
+    a clip path given as a path by the Python object's address, which differs from run to run
+    and from one worker process to another; a rectangle is named by its content already."""
+    names = {}
+    defined = set()
+
+    def rename(m):
+        name = "p" + hashlib.sha1(m.group(2).encode()).hexdigest()[:10]
+        names[m.group(1)] = name
+        if name in defined:
+            return ""
+        defined.add(name)
+        return '  <clipPath id="%s">\n%s  </clipPath>\n' % (name, m.group(2))
+
+    svg = _CLIP_PATH.sub(rename, svg)
+    return re.sub(r"url\(#(p[0-9a-f]+)\)", lambda m: "url(#%s)" % names.get(m.group(1), m.group(1)),
+                  svg)
+
+
 def _render_figure(fig, report_dir, name):
     for ext in ("png", "svg"):
         path = os.path.join(report_dir, "figures/%s.%s" % (name, ext))
         tmp = "%s.tmp%d" % (path, os.getpid())
-        fig.savefig(tmp, format=ext, dpi=120, bbox_inches="tight",
-                    metadata={"Date": None} if ext == "svg" else None)
+        if ext == "svg":
+            buf = io.StringIO()
+            fig.savefig(buf, format=ext, dpi=120, bbox_inches="tight", metadata={"Date": None})
+            with open(tmp, "w", encoding="utf-8") as f:
+                f.write(canonical_clip_paths(buf.getvalue()))
+        else:
+            fig.savefig(tmp, format=ext, dpi=120, bbox_inches="tight")
         os.replace(tmp, path)
 
 
