@@ -380,8 +380,8 @@ def main():
             r = run_generator(run_dir, report, ["--jobs", "2"] + others)
             check(r.returncode == 0, "generator exit status 0: %s" % r.stderr)
             check_report(report)
-            # the figures drawn by worker processes (from pickles) are the serial run's, byte
-            # for byte
+            # the figures drawn by two processes, each its share, are the serial run's, byte for
+            # byte
             serial = os.path.join(base, "report-serial")
             r = run_generator(run_dir, serial, ["--jobs", "1"] + others)
             check(r.returncode == 0, "serial generator exit status 0: %s" % r.stderr)

@@ -40,20 +40,19 @@ error per problem on stderr and exit status 2; nothing is written then.
 Only the standard library, numpy and matplotlib (Debian's python3-matplotlib) are used.
 """
 import argparse
-import concurrent.futures
 import csv
+import gc
 import glob
 import hashlib
 import importlib.util
 import io
 import json
 import math
-import multiprocessing
 import os
-import pickle
 import re
 import sys
 import time
+import traceback
 
 REQUIRED_PYTHON = "/usr/bin/python3"
 
@@ -117,7 +116,13 @@ class RenderError(Exception):
 
 # ---- atomic output ------------------------------------------------------------------------------
 
+_KEPT = {}  # what a worker (start_rendering) would have written, by path: it writes figures only
+
+
 def write_text(path, text):
+    if not _writes():
+        _KEPT[path] = text
+        return
     tmp = "%s.tmp%d" % (path, os.getpid())
     with open(tmp, "w", encoding="utf-8") as f:
         f.write(text)
@@ -147,7 +152,25 @@ def canonical_clip_paths(svg):
                   svg)
 
 
+def _fresh_text_state():
+    """Empties matplotlib's caches of fonts and text extents, so that every figure is drawn from
+    the same state whichever figures its process drew before (each process of --jobs draws a
+    different share): the output is the serial run's, byte for byte (tests/report)."""
+    matplotlib.font_manager._get_font.cache_clear()
+    matplotlib.text._get_text_metrics_with_cache_impl.cache_clear()
+
+
 def _render_figure(fig, report_dir, name):
+    _fresh_text_state()
+    gc.collect()  # no collection while drawing: when it happens depends on the history too
+    gc.disable()
+    try:
+        _render_formats(fig, report_dir, name)
+    finally:
+        gc.enable()
+
+
+def _render_formats(fig, report_dir, name):
     for ext in ("png", "svg"):
         path = os.path.join(report_dir, "figures/%s.%s" % (name, ext))
         tmp = "%s.tmp%d" % (path, os.getpid())
@@ -161,58 +184,63 @@ def _render_figure(fig, report_dir, name):
         os.replace(tmp, path)
 
 
-# Rendering (savefig: layout and drawing, ~90 % of the report's time) runs in worker processes
-# while the next figure is built: the figure is pickled to one of the workers (--jobs; 1:
-# drawn in this process). The workers are forked at the start (start_rendering), while this
-# process is small; each writes its own temporary files and renames them. A figure drawn from
-# its pickle is the same, bit for bit (compared for every figure of the tenth-scale report).
-_renderer = None  # concurrent.futures.ProcessPoolExecutor
-_rendering = []  # (future, figure name)
+# Drawing (savefig: layout and rendering, ~90 % of the report's time) is shared by --jobs
+# processes: after the inputs are read, jobs - 1 workers are forked, every process builds the whole
+# report, and process r draws the figures k with k mod jobs = r; this process alone writes the
+# tables and README.md, after the workers are done (finish_rendering). Each figure is drawn from
+# the objects that built it, as in a serial run: a figure drawn from a pickle in another process
+# is, now and then, laid out a few pixels off (matplotlib keys the links between its transforms
+# by object addresses, which the pickle carries over into the other process).
+_share = (0, 1)  # (rank, jobs)
+_workers = []  # their process ids
 
 
-def _render_pickled(blob, report_dir, name):
-    _render_figure(pickle.loads(blob), report_dir, name)
+def _writes():
+    return _share[0] == 0
 
 
 def start_rendering(jobs):
-    global _renderer
-    if jobs > 1:
-        _renderer = concurrent.futures.ProcessPoolExecutor(
-            max_workers=jobs, mp_context=multiprocessing.get_context("fork"))
-        # start every worker now (a no-op each), before the inputs make this process large
-        for f in [_renderer.submit(int) for _ in range(jobs)]:
-            f.result()
+    """Forks the workers; returns in each process, the workers with their rank set."""
+    global _share
+    for rank in range(1, jobs):
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:
+            _workers.clear()
+            _share = (rank, jobs)
+            return
+        _workers.append(pid)
+    _share = (0, jobs)
 
 
 def finish_rendering():
-    """Waits for every figure being drawn; raises RenderError when one failed."""
+    """In a worker: ends it (exit status 0). Else waits for every worker; raises RenderError when
+    one failed (its traceback is on stderr)."""
+    if not _writes():
+        os._exit(0)
     failed = []
-    while _rendering:
-        future, name = _rendering.pop(0)
-        try:
-            future.result()
-        except Exception as e:  # noqa: B902 -- any failure of a worker is reported
-            failed.append("drawing figure %s failed: %s: %s" % (name, type(e).__name__, e))
+    while _workers:
+        pid = _workers.pop(0)
+        code = os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+        if code != 0:
+            failed.append("a worker drawing figures failed (exit status %d)" % code)
     if failed:
         raise RenderError("; ".join(failed))
 
 
-def stop_rendering():
-    global _renderer
-    if _renderer is not None:
-        _renderer.shutdown(wait=True, cancel_futures=True)
-        _renderer = None
-
-
 def save_figure(fig, report_dir, name):
-    """Writes figures/<name>.png and .svg atomically; returns the relative PNG and SVG paths."""
-    if _renderer is not None:
-        _rendering.append((_renderer.submit(_render_pickled, pickle.dumps(fig), report_dir, name),
-                           name))
-    else:
+    """Writes figures/<name>.png and .svg atomically (in the process whose share it is); returns
+    the relative PNG and SVG paths."""
+    rank, jobs = _share
+    if save_figure.count % jobs == rank:
         _render_figure(fig, report_dir, name)
+    save_figure.count += 1
     plt.close(fig)
     return ["figures/%s.%s" % (name, ext) for ext in ("png", "svg")]
+
+
+save_figure.count = 0
 
 
 def write_table(report_dir, name, header, rows):
@@ -1430,7 +1458,10 @@ def sensitivity_ensembles(data):
 
 def read_rows(rel, out):
     """The rows of a table this report wrote (tables/<name>.csv), without the header."""
-    with open(os.path.join(out, rel), newline="", encoding="utf-8") as f:
+    path = os.path.join(out, rel)
+    if path in _KEPT:
+        return list(csv.reader(io.StringIO(_KEPT[path], newline="")))[1:]
+    with open(path, newline="", encoding="utf-8") as f:
         return list(csv.reader(f))[1:]
 
 
@@ -2204,19 +2235,26 @@ def main(argv=None):
                    help="another scene's output directory (another pendulum) to draw as well; "
                         "repeatable; a missing one is noted in the report")
     p.add_argument("--jobs", type=int, default=0,
-                   help="figures drawn at once in worker processes (default: the processors "
-                        "this process may run on; 1: no workers)")
+                   help="processes that draw the figures (default: the processors this "
+                        "process may run on; 1: this process alone)")
     args = p.parse_args(argv)
     if args.jobs < 0:
         p.error("--jobs %d: must be 0 (automatic) or a positive count" % args.jobs)
     jobs = args.jobs or (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
                          else os.cpu_count() or 1)
-    start_rendering(jobs)
     try:
         data = load_inputs(args.run_dir)
         data["other_run_dirs"] = args.other_run_dir
         data["other_runs"] = {d: load_other_run(d) for d in args.other_run_dir}
-        build_report(data, args.out)
+        start_rendering(jobs)
+        try:
+            build_report(data, args.out)
+        except BaseException as e:
+            if not _writes():  # a worker: a bad input is reported by this process
+                if not isinstance(e, InputError):
+                    traceback.print_exc()
+                os._exit(1)
+            raise
     except InputError as e:
         for line in str(e).splitlines():
             sys.stderr.write("make_report.py: error: %s\n" % line)
@@ -2225,7 +2263,9 @@ def main(argv=None):
         sys.stderr.write("make_report.py: error: %s\n" % e)
         return 1
     finally:
-        stop_rendering()
+        if _writes():
+            for pid in _workers:
+                os.waitpid(pid, 0)
     print("make_report.py: wrote %s" % os.path.join(args.out, "README.md"))
     return 0
 
