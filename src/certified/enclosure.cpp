@@ -4,12 +4,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <condition_variable>
 #include <map>
 #include <mutex>
 #include <optional>
-#include <set>
 
+#include "flipflux/core/key_claims.hpp"
 #include "prediction_enclosures.hpp"
 #include "saddle_orbit_proof.hpp"
 
@@ -71,48 +70,38 @@ bool quantity_named(std::string_view name, certified_quantity& q) {
 /// The proofs done in this process, by pendulum, arm, energy and precision (golden --certify asks
 /// for six quantities of each orbit; a proof with the monodromy serves every quantity). A thread
 /// that needs a proof another thread is doing waits for it rather than doing it a second time
-/// (golden --jobs proves the rows of one orbit on several threads).
+/// (golden --jobs proves the rows of one orbit on several threads): key_claims.
 class proof_memo {
   public:
     /// The proof of `key` if there is one (with the monodromy if asked for); else the key is
-    /// claimed for the caller, who proves it and calls keep() or, if the proof fails, release().
+    /// claimed for the caller, who proves it, calls keep(), and gives the claim back (claim()).
     std::optional<certified_detail::orbit_proof> find_or_claim(const std::string& key,
                                                                bool monodromy) {
         std::unique_lock<std::mutex> lock(mutex_);
-        for (;;) {
+        std::optional<certified_detail::orbit_proof> found;
+        claims_.ready_or_claim(lock, key, [&] {
             const auto it = proofs_.find(key);
-            if (it != proofs_.end() && (!monodromy || it->second.with_monodromy)) return it->second;
-            if (proving_.count(key) == 0) break;
-            done_.wait(lock);
-        }
-        proving_.insert(key);
-        return std::nullopt;
+            if (it != proofs_.end() && (!monodromy || it->second.with_monodromy))
+                found = it->second;
+            return found.has_value();
+        });
+        return found;
     }
+    /// Gives the caller's claim of `key` back at the end of the scope of the returned object.
+    key_claims::claim claim(const std::string& key) { return {claims_, mutex_, key}; }
     void keep(const std::string& key, const certified_detail::orbit_proof& p) {
-        {
-            const std::lock_guard<std::mutex> lock(mutex_);
-            auto it = proofs_.find(key);
-            if (it == proofs_.end())
-                proofs_.emplace(key, p);
-            else if (p.with_monodromy || !it->second.with_monodromy)
-                it->second = p;
-            proving_.erase(key);
-        }
-        done_.notify_all();
-    }
-    void release(const std::string& key) {
-        {
-            const std::lock_guard<std::mutex> lock(mutex_);
-            proving_.erase(key);
-        }
-        done_.notify_all();
+        const std::lock_guard<std::mutex> lock(mutex_);
+        auto it = proofs_.find(key);
+        if (it == proofs_.end())
+            proofs_.emplace(key, p);
+        else if (p.with_monodromy || !it->second.with_monodromy)
+            it->second = p;
     }
 
   private:
     std::mutex mutex_;
-    std::condition_variable done_;
+    key_claims claims_;
     std::map<std::string, certified_detail::orbit_proof> proofs_;
-    std::set<std::string> proving_;
 };
 
 proof_memo& memo() {
@@ -133,15 +122,12 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
                             model.a1 + "," + model.a2 + "," + model.I1 + "," + model.I2 + "," +
                             model.g + "|" + to_string(a) + "|" + energy + "|" +
                             std::to_string(prec);
-    if (!proof_memo_bypassed)
+    // the claim is given back however this ends: the proof kept below, or an exception
+    std::optional<key_claims::claim> claim;
+    if (!proof_memo_bypassed) {
         if (auto p = memo().find_or_claim(key, monodromy)) return *p;
-    // the claim is released however this ends: kept below, or given back if the proof throws
-    struct claim_guard {
-        const std::string* key;
-        ~claim_guard() {
-            if (key != nullptr) memo().release(*key);
-        }
-    } claim{proof_memo_bypassed ? nullptr : &key};
+        claim.emplace(memo().claim(key));
+    }
     certified_detail::orbit_proof_input in;
     in.pendulum = certified_detail::pendulum_from_text(model, prec);
     in.flip_arm = a;
@@ -187,10 +173,7 @@ certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
         }
     }
     ++proofs_done;
-    if (!proof_memo_bypassed) {
-        memo().keep(key, proof);
-        claim.key = nullptr;
-    }
+    if (!proof_memo_bypassed) memo().keep(key, proof);
     return proof;
 }
 

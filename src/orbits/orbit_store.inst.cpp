@@ -2,16 +2,16 @@
 #include "flipflux/orbits/orbit_store.hpp"
 
 #include <cmath>
-#include <condition_variable>
 #include <cstdint>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <set>
+#include <optional>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/instantiate.hpp"
+#include "flipflux/core/key_claims.hpp"
 #include "flipflux/core/real.hpp"
 
 namespace flipflux {
@@ -38,8 +38,7 @@ struct memo {
     std::mutex mutex;
     unsigned generation = 0;
     std::map<std::string, saddle_orbit<Real>> orbits;
-    std::set<std::string> solving;   ///< keys being solved by find_or_solve_saddle_orbit
-    std::condition_variable solved;  ///< notified when a key leaves `solving`
+    key_claims solving;  ///< keys being solved by find_or_solve_saddle_orbit
 
     static memo& instance() {
         static memo m;
@@ -140,25 +139,17 @@ saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model
     const std::string key = memo<Real>::key(model, a, energy, options.method, options.integrator);
     {
         std::unique_lock<std::mutex> lock(m.mutex);
-        for (;;) {
-            m.refresh();
-            if (const auto it = m.orbits.find(key); it != m.orbits.end()) return it->second;
-            if (m.solving.count(key) == 0) break;
-            m.solved.wait(lock);  // if that solve fails, this thread tries in turn
-        }
-        m.solving.insert(key);
+        std::optional<saddle_orbit<Real>> found;
+        // if the solve this thread waits for fails, this thread tries in turn
+        if (m.solving.ready_or_claim(lock, key, [&] {
+                m.refresh();
+                if (const auto it = m.orbits.find(key); it != m.orbits.end()) found = it->second;
+                return found.has_value();
+            }))
+            return std::move(*found);
     }
-    struct release {  // leaves `solving` after the orbit is remembered, also on an exception
-        memo<Real>& m;
-        const std::string& key;
-        ~release() {
-            {
-                const std::lock_guard<std::mutex> lock(m.mutex);
-                m.solving.erase(key);
-            }
-            m.solved.notify_all();
-        }
-    } const done{m, key};
+    // the claim is given back after the orbit is remembered, also on an exception
+    const key_claims::claim done(m.solving, m.mutex, key);
     count_saddle_orbit_memo_miss();
     saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, energy, options);
     if (orbit.status != orbit_status::not_converged) {
