@@ -77,8 +77,12 @@ histogram auto_histogram(std::span<const double> v, std::size_t bins) {
 }
 
 double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return nan;
     std::sort(v.begin(), v.end());
+    return sorted_quantile(v, q);
+}
+
+double sorted_quantile(std::span<const double> v, double q) {
+    if (v.empty()) return nan;
     const double pos = q * static_cast<double>(v.size() - 1);
     const auto i = static_cast<std::size_t>(std::floor(pos));
     if (i + 1 >= v.size()) return v.back();
@@ -94,6 +98,13 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
     s.predicted_rate = predicted;
     std::vector<double> rates, chaotic_rates, residence;
     rates.reserve(r.trajectories.size());
+    {
+        std::size_t gaps = 0;
+        for (const trajectory_result& t : r.trajectories)
+            if (t.status == rk_status::ok && !t.crossing_times[c].empty())
+                gaps += t.crossing_times[c].size() - 1;
+        residence.reserve(gaps);
+    }
     for (const trajectory_result& t : r.trajectories) {
         // NOTE: a trajectory whose integration failed did not reach T; its flips over T are
         // unknown, so it is no data (docs/limits.md): counted in failed_trajectories only.
@@ -114,10 +125,11 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
     s.chaotic_rates = summarize(chaotic_rates);
     s.chaotic_z_score = (s.chaotic_rates.mean - predicted) / s.chaotic_rates.standard_error;
     s.residence.summary = summarize(residence);
-    s.residence.q001 = quantile(residence, 0.001);
-    s.residence.q01 = quantile(residence, 0.01);
-    s.residence.median = quantile(residence, 0.5);
     s.residence.distribution = auto_histogram(residence, residence_bins);
+    std::sort(residence.begin(), residence.end());  // once for the three quantiles
+    s.residence.q001 = sorted_quantile(residence, 0.001);
+    s.residence.q01 = sorted_quantile(residence, 0.01);
+    s.residence.median = sorted_quantile(residence, 0.5);
     s.rate_distribution = auto_histogram(rates, rate_bins);
     return s;
 }

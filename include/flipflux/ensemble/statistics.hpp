@@ -46,6 +46,9 @@ histogram auto_histogram(std::span<const double> values, std::size_t bins = 0);
 
 /// The q-quantile (0 <= q <= 1) by linear interpolation between order statistics.
 double quantile(std::vector<double> values, double q);
+/// The q-quantile of values sorted in increasing order (quantile without the sort: several
+/// quantiles of one sample from one sort).
+double sorted_quantile(std::span<const double> sorted, double q);
 
 struct residence_statistics {
     summary_statistics summary;            ///< count, mean, sd, min (the gap), max
