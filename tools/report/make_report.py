@@ -188,9 +188,10 @@ def _render_formats(fig, report_dir, name):
 # processes: after the inputs are read, jobs - 1 workers are forked, every process builds the whole
 # report, and process r draws the figures k with k mod jobs = r; this process alone writes the
 # tables and README.md, after the workers are done (finish_rendering). Each figure is drawn from
-# the objects that built it, as in a serial run: a figure drawn from a pickle in another process
-# is, now and then, laid out a few pixels off (matplotlib keys the links between its transforms
-# by object addresses, which the pickle carries over into the other process).
+# the objects that built it, as in a serial run. A figure drawn from a pickle in another process
+# was, now and then, laid out a few pixels off (about one figure in 50 per run). The likely cause:
+# matplotlib keys the links between its transforms by object addresses, and the pickle carries
+# them over into the other process.
 _share = (0, 1)  # (rank, jobs)
 _workers = []  # their process ids
 
