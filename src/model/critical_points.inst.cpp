@@ -74,12 +74,8 @@ template <class Real>
 std::array<std::complex<Real>, 4> linearized_eigenvalues(
     const double_pendulum<Real>& model, const Real& th1, const Real& th2,
     std::array<std::array<std::complex<Real>, 2>, 4>* theta_directions) {
-    const auto J = model.rhs_jacobian({th1, th2, Real(0), Real(0)});
-    matrix4<Real> m;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j)
-            m[i][j] = J[i][j];
-    const eigensystem4<Real> e = eigensystem(m, theta_directions != nullptr);
+    const matrix4<Real> J = model.rhs_jacobian({th1, th2, Real(0), Real(0)});
+    const eigensystem4<Real> e = eigensystem(J, theta_directions != nullptr);
     std::array<int, 4> order{0, 1, 2, 3};
     std::sort(order.begin(), order.end(), [&](int a, int b) {
         return e.values[a].real() != e.values[b].real() ? e.values[a].real() < e.values[b].real()
