@@ -49,16 +49,8 @@ def main():
         name = case.get("name", "?")
         time = float(case.get("time", "0") or 0)
         total_time += time
-        status = case.get("status", "run")
-        failure = case.find("failure")
-        skipped = case.find("skipped")
-        if failure is not None or status == "fail":
-            result = "FAIL"
-            failed += 1
-        elif skipped is not None or status in ("notrun", "disabled"):
-            result = "skipped"
-        else:
-            result = "pass"
+        result = result_of(case)
+        failed += result == "FAIL"
         out = case.find("system-out")
         rows.append((name, result, time, figures(out.text if out is not None else "")))
     unit = unit_summary(os.path.join(args.results, "unit.xml"))
@@ -98,6 +90,16 @@ def main():
     return 1 if failed or unit[1] else 0
 
 
+def result_of(case):
+    """A JUnit test case's result as ctest writes it: "FAIL", "skipped" or "pass"."""
+    status = case.get("status", "run")
+    if case.find("failure") is not None or status == "fail":
+        return "FAIL"
+    if case.find("skipped") is not None or status in ("notrun", "disabled"):
+        return "skipped"
+    return "pass"
+
+
 def unit_summary(junit):
     """(one line on the unit tests run in the release build, their number of failures)."""
     if not os.path.isfile(junit):
@@ -106,10 +108,8 @@ def unit_summary(junit):
         cases = list(ET.parse(junit).getroot().iter("testcase"))
     except ET.ParseError as e:
         sys.exit(f"verification_report: cannot read {junit}: {e}")
-    failed = [c.get("name", "?") for c in cases
-              if c.find("failure") is not None or c.get("status") == "fail"]
-    skipped = sum(1 for c in cases if c.find("skipped") is not None
-                  or c.get("status") in ("notrun", "disabled"))
+    failed = [c.get("name", "?") for c in cases if result_of(c) == "FAIL"]
+    skipped = sum(1 for c in cases if result_of(c) == "skipped")
     seconds = sum(float(c.get("time", "0") or 0) for c in cases)
     line = (f"**Unit tests** (label `unit`) in the same release build (GCC, `-O2`; CI runs them "
             f"in its clang-built instrumented build): {len(cases)} tests, "
