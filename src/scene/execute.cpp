@@ -341,6 +341,7 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
     request.reference_time = parse_real<double>(x.reference_time, where + ": reference_time");
     request.csv_dir = ctx.s.output / ("ensemble-" + x.name);  // per-trajectory CSVs always (the
                                                               // report reads them)
+    request.residence_times = x.residence_times;  // every crossing time: only where asked
     request.checkpoint_interval = ctx.options.checkpoint_interval;
     return request;
 }
@@ -380,7 +381,9 @@ void run_ensemble(context& ctx, const plan_step& step) {
         ctx.summary["ensembles"].push_back({{"name", x.name},
                                             {"file", base + ".json"},
                                             {"csv_dir", requests[r].csv_dir.string()},
-                                            {"shared_with", names}});
+                                            {"shared_with", names},
+                                            {"residence_times", x.residence_times},
+                                            {"histogram", x.histogram}});
     }
 }
 

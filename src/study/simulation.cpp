@@ -663,7 +663,7 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
             const ensemble_result r = project(model, all, m, q);
             energy_result e = summarise_energy(r, q.energies[m.position].first, q, group,
                                                setups[m.study].predictions[m.position]);
-            if (!q.csv_dir.empty()) write_energy_csvs(q.csv_dir, r, e);
+            if (!q.csv_dir.empty()) write_energy_csvs(q.csv_dir, r, e, q.residence_times);
             done[m.study][m.position] = std::move(e);
             records.emplace_back(k * studies + m.study, &*done[m.study][m.position]);
         }

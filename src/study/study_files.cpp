@@ -219,7 +219,7 @@ json study_json(const study_result& s) {
 }
 
 void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& r,
-                       const energy_result& summary) {
+                       const energy_result& summary, bool residence_times) {
     const std::string& label = summary.label;
     write_atomically(dir / ("trajectories_E" + label + ".csv"), trajectories_csv(r));
     if (!r.trajectories.empty() && !r.trajectories.front().samples.empty())
@@ -227,7 +227,9 @@ void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& 
     for (std::size_t c = 0; c < r.criteria.size(); ++c) {
         const std::string& name = r.criteria[c];
         const criterion_statistics& st = summary.criteria.at(c).statistics;
-        write_atomically(dir / ("residence_E" + label + "_" + name + ".csv"), residence_csv(r, c));
+        if (residence_times)
+            write_atomically(dir / ("residence_E" + label + "_" + name + ".csv"),
+                             residence_csv(r, c));
         write_atomically(dir / ("rate_histogram_E" + label + "_" + name + ".csv"),
                          histogram_csv(st.rate_distribution, st.rates.count));
         write_atomically(dir / ("residence_histogram_E" + label + "_" + name + ".csv"),

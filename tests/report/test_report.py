@@ -160,6 +160,11 @@ def make_synthetic_run(run_dir):
          "rms_relative": repr(math.sqrt(sum((rates(e)[c] / rates(e)["saddle"] - 1) ** 2
                                             for e in inside) / len(inside)))}
         for c in ("upright", "approx")]}
+    # the scene's marks: the report takes the residence times and the rate histogram from the
+    # ensembles marked for them, although arm2 has a residence_E5 file too (written below)
+    run["ensembles"] = [{"name": n, "file": "ensemble-%s.json" % n,
+                         "residence_times": n == "residence-E5", "histogram": n == "arm2"}
+                        for n in ("arm2", "arm1", "residence-E5")]
     with open(os.path.join(run_dir, "run.json"), "w") as f:
         json.dump(run, f, indent=1)
     rows = []
@@ -194,9 +199,12 @@ def make_synthetic_run(run_dir):
     traj = (["index", "lyapunov", "chaotic", "rate_upright", "rate_approx", "rate_saddle"],
             [[i, "0.3", int(i % 10 != 0), repr(0.18 + 0.001 * i), repr(0.165 + 0.001 * i),
               repr(0.165 + 0.001 * (i % 37))] for i in range(50)])
+    decoy = {"residence_E5_%s.csv" % c: (["trajectory", "crossing_time", "residence_time"],
+                                         [[0, i, "0.5"] for i in range(7)])
+             for c in ("upright", "saddle")}
     write_ensemble(run_dir, "arm2", ensemble_json(2, e2, ("upright", "approx", "saddle"), 0.01,
                                                   50, 200),
-                   {"trajectories_E%g.csv" % e: traj for e in e2})
+                   dict({"trajectories_E%g.csv" % e: traj for e in e2}, **decoy))
     write_ensemble(run_dir, "arm1", ensemble_json(1, [4.3, 5.3], ("saddle",), 0.02, 50, 200), {})
     res = {}
     for c, gap in (("upright", 0.0), ("saddle", 1.9)):
@@ -296,6 +304,9 @@ def check_synthetic_values(report):
     text = open(os.path.join(report, "README.md"), encoding="utf-8").read()
     m = re.search(r"Arm 2: \d+ orbits, step [\d.]+\. Max \|F_rec/F − 1\| with the orbits' dT/dE: "
                   r"([\d.e+-]+|nan)", text)
+    check("residence times from ensemble-residence-E5/residence_E5_upright.csv, "
+          "ensemble-residence-E5/residence_E5_saddle.csv" in text,
+          "residence times from the ensemble marked residence_times in run.json")
     check(m is not None and float(m.group(1)) < 1e-13, "dF/dE = T with the orbits' dT/dE: exact "
           "for the synthetic T linear in E (Hermite is exact for cubics): %s" %
           (m.group(1) if m else None))

@@ -2,6 +2,7 @@
 // continued once and then read back bit-identically from the disk cache.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -214,6 +215,44 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     ASSERT_EQ(u["energies"].size(), 2u);
     EXPECT_EQ(u["energies"][0]["criteria"].size(), 1u);
     EXPECT_TRUE(u["energies"][0]["criteria"].contains("upright"));
+    fs::remove_all(out);
+}
+
+// Every crossing time (residence_E<E>_<criterion>.csv, the largest output by far) is written only
+// for an ensemble that asks for it, also when it shares its trajectories with one that does not;
+// the residence statistics are in every ensemble's JSON, and the file holds exactly the gaps they
+// count. run.json carries the marks the report chooses by.
+TEST(Execute, CrossingTimesAreWrittenOnlyWhereAsked) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("residence");
+    const scene s = scene_in(out,
+                             "[[ensemble]]\nname = \"plain\"\ncriteria = [\"upright\"]\n"
+                             "energies = [5]\ntrajectories = 4\ntime = 20\n"
+                             "[[ensemble]]\nname = \"times\"\ncriteria = [\"upright\"]\n"
+                             "energies = [5]\ntrajectories = 4\ntime = 20\n"
+                             "residence_times = true\nhistogram = true\n");
+    const run_counters c = run(s);
+    EXPECT_EQ(c.trajectories, 4u);  // one set of trajectories for both
+    EXPECT_TRUE(fs::exists(out / "ensemble-plain" / "trajectories_E5.csv"));
+    EXPECT_FALSE(fs::exists(out / "ensemble-plain" / "residence_E5_upright.csv"));
+    const fs::path times = out / "ensemble-times" / "residence_E5_upright.csv";
+    ASSERT_TRUE(fs::exists(times));
+    for (const char* name : {"plain", "times"}) {
+        const auto j =
+            nlohmann::json::parse(read_text(out / (std::string("ensemble-") + name + ".json")));
+        const auto& upright = j["energies"][0]["criteria"]["upright"];
+        const std::uint64_t gaps = upright["residence_times"]["count"].get<std::uint64_t>();
+        EXPECT_GT(gaps, 4u) << name;  // E = 5, T = 20: several flips per trajectory
+        const std::string text = read_text(times);
+        EXPECT_EQ(static_cast<std::uint64_t>(std::count(text.begin(), text.end(), '\n')), gaps + 1)
+            << name;  // a header, one row per gap
+    }
+    const auto runs = nlohmann::json::parse(read_text(out / "run.json"));
+    ASSERT_EQ(runs["ensembles"].size(), 2u);
+    EXPECT_FALSE(runs["ensembles"][0]["residence_times"].get<bool>());
+    EXPECT_FALSE(runs["ensembles"][0]["histogram"].get<bool>());
+    EXPECT_TRUE(runs["ensembles"][1]["residence_times"].get<bool>());
+    EXPECT_TRUE(runs["ensembles"][1]["histogram"].get<bool>());
     fs::remove_all(out);
 }
 

@@ -526,9 +526,16 @@ def load_inputs(run_dir):
         e_res, e_hist = special_energies(data["model"])
         data["e_res"], data["e_hist"] = e_res, e_hist
         arm2 = [e for e in ensembles if e["arm"] == 2]
+        # the scene's marks (run.json: residence_times, histogram) choose among arm 2's
+        # ensembles; without any (an older run) the first one with the file serves
+        listed = [x for x in ((run or {}).get("ensembles") or []) if isinstance(x, dict)]
+
+        def marked_or_all(key):
+            names = {x.get("name") for x in listed if x.get(key) is True}
+            return [e for e in arm2 if e["name"] in names] if names else arm2
         data["residence"] = {}
         for c in ("upright", "saddle"):
-            for e in arm2:
+            for e in marked_or_all("residence_times"):
                 f = find_at_energy(energy_label_files(e["csv_dir"], "residence_E", "_%s.csv" % c),
                                    e_res)
                 if f:
@@ -538,7 +545,7 @@ def load_inputs(run_dir):
                 problems.append("%s: no ensemble-*/residence_E%g_%s.csv (arm 2, residence_times "
                                 "= true at E = %g)" % (run_dir, e_res, c, e_res))
         data["histogram"] = None
-        for e in arm2:
+        for e in marked_or_all("histogram"):
             f = find_at_energy(energy_label_files(e["csv_dir"], "trajectories_E", ".csv"), e_hist)
             if f:
                 data["histogram"] = (f, e)

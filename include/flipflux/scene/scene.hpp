@@ -69,8 +69,10 @@ struct ensemble_spec {
     bool chaos = false;                ///< classify trajectories (finite-time Lyapunov exponent)
     /// lambda_T above this (units sqrt(alpha / A)) is chaotic (ensemble_options::chaos_threshold)
     std::string chaos_threshold = "0.05";
+    /// Write every crossing time (residence_E<label>_<criterion>.csv); the report's residence-time
+    /// figure reads them. Without it only the residence statistics (ensemble JSON, histograms).
     bool residence_times = false;
-    bool histogram = false;
+    bool histogram = false;  ///< the ensemble whose per-trajectory rates the report histograms
     int line = 0;
 };
 

@@ -63,6 +63,10 @@ struct simulation_request {
     ensemble_options options;       ///< options.energy is set per energy
     std::size_t bins = 0;           ///< histogram bins (0: square-root rule)
     std::filesystem::path csv_dir;  ///< empty: no CSV output
+    /// With csv_dir: also write residence_E<label>_<criterion>.csv, every crossing time and the
+    /// residence time since the previous one (the largest files by far: ~10 MB per criterion and
+    /// energy at N = 100, T = 10,000). The residence statistics are in the result either way.
+    bool residence_times = true;
     /// Non-empty: resume from / save to this checkpoint (study/checkpoint.hpp).
     std::filesystem::path checkpoint;
     double checkpoint_interval = 2;  ///< seconds between appends of finished trajectories
@@ -93,10 +97,10 @@ std::optional<study_result> simulate(const double_pendulum<double>& model,
 /// e.g. both arms' studies of the paper above the second saddle energy. Each study's result is
 /// what simulate(model, requests[p]) returns, bit for bit (the trajectories depend on (seed, E, i)
 /// only, and a detector never changes its trajectory). The requests differ only in arm,
-/// criteria, energies, bins, csv_dir and reference_time (std::invalid_argument otherwise); the
-/// first one's checkpoint, progress and process group serve the run (the checkpoint holds every
-/// study, study/checkpoint.hpp). With a process group, rank 0 returns the results, in the order of
-/// the requests.
+/// criteria, energies, bins, csv_dir, residence_times and reference_time (std::invalid_argument
+/// otherwise); the first one's checkpoint, progress and process group serve the run (the
+/// checkpoint holds every study, study/checkpoint.hpp). With a process group, rank 0 returns the
+/// results, in the order of the requests.
 std::optional<std::vector<study_result>> simulate(const double_pendulum<double>& model,
                                                   const std::vector<simulation_request>& requests);
 

@@ -36,9 +36,10 @@ namespace flipflux {
 /// The JSON report of a study.
 nlohmann::ordered_json study_json(const study_result& result);
 
-/// The CSV files of one energy: its trajectories (the ensemble) and its statistics (`summary`).
+/// The CSV files of one energy: its trajectories (the ensemble) and its statistics (`summary`);
+/// with residence_times also every crossing time (residence_E<label>_<criterion>.csv).
 /// Throws input_error naming csv_dir when a file cannot be written.
 void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& ensemble,
-                       const energy_result& summary);
+                       const energy_result& summary, bool residence_times);
 
 }  // namespace flipflux
