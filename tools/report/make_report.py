@@ -528,10 +528,12 @@ def load_inputs(run_dir):
         arm2 = [e for e in ensembles if e["arm"] == 2]
         # the scene's marks (run.json: residence_times, histogram) choose among arm 2's
         # ensembles; without any (an older run) the first one with the file serves
-        listed = [x for x in ((run or {}).get("ensembles") or []) if isinstance(x, dict)]
+        listed = run.get("ensembles") if isinstance(run, dict) else None
+        listed = [x for x in listed if isinstance(x, dict) and isinstance(x.get("name"), str)] \
+            if isinstance(listed, list) else []
 
         def marked_or_all(key):
-            names = {x.get("name") for x in listed if x.get(key) is True}
+            names = {x["name"] for x in listed if x.get(key) is True}
             return [e for e in arm2 if e["name"] in names] if names else arm2
         data["residence"] = {}
         for c in ("upright", "saddle"):
