@@ -34,6 +34,16 @@ scene scene_in(const fs::path& out, const std::string& body) {
                        "t.toml");
 }
 
+// An [[ensemble]] table: criteria as TOML array items ("\"upright\""), energies as a TOML
+// array's items, then any further keys (each ending in a newline).
+std::string ensemble_table(const std::string& name, const std::string& criteria,
+                           const std::string& energies, int trajectories, int time,
+                           const std::string& more = "") {
+    return "[[ensemble]]\nname = \"" + name + "\"\ncriteria = [" + criteria + "]\nenergies = [" +
+           energies + "]\ntrajectories = " + std::to_string(trajectories) +
+           "\ntime = " + std::to_string(time) + "\n" + more;
+}
+
 run_counters run(const scene& s, const fs::path& cache = {}) {
     std::ostringstream log;
     run_options o;
@@ -194,11 +204,8 @@ TEST(Execute, OrbitIntegratorAppliesToFamiliesTablesAndQuantities) {
 TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     forget_saddle_orbits();
     const fs::path out = fresh_dir("ensemble");
-    const scene s = scene_in(out,
-                             "[[ensemble]]\nname = \"u\"\ncriteria = [\"upright\"]\n"
-                             "energies = [4, 5]\ntrajectories = 8\ntime = 5\n"
-                             "[[ensemble]]\nname = \"ua\"\ncriteria = [\"upright\", \"approx\"]\n"
-                             "energies = [5]\ntrajectories = 8\ntime = 5\n");
+    const scene s = scene_in(out, ensemble_table("u", "\"upright\"", "4, 5", 8, 5) +
+                                      ensemble_table("ua", "\"upright\", \"approx\"", "5", 8, 5));
     const run_counters c = run(s);
     EXPECT_EQ(c.orbit_solves, 0u);
     // the two ensembles have the same trajectories (seed, N, T, ...): integrated once, at E = 4
@@ -206,10 +213,8 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     EXPECT_EQ(c.trajectories, 8u * 2);
     EXPECT_EQ(c.curve_criteria, 1u);  // approx at E = 5 only
     // the short estimator spends the same budget on trajectories of length 20 (its default)
-    const scene sh =
-        scene_in(out,
-                 "[[ensemble]]\nname = \"short\"\ncriteria = [\"upright\"]\n"
-                 "energies = [5]\ntrajectories = 4\ntime = 50\nestimator = \"short\"\n");
+    const scene sh = scene_in(
+        out, ensemble_table("short", "\"upright\"", "5", 4, 50, "estimator = \"short\"\n"));
     EXPECT_EQ(run(sh).trajectories, 10u);  // ceil(4 x 50 / 20)
     const auto u = nlohmann::json::parse(read_text(out / "ensemble-u.json"));
     ASSERT_EQ(u["energies"].size(), 2u);
@@ -225,25 +230,22 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
 TEST(Execute, CrossingTimesAreWrittenOnlyWhereAsked) {
     forget_saddle_orbits();
     const fs::path out = fresh_dir("residence");
-    const scene s = scene_in(out,
-                             "[[ensemble]]\nname = \"plain\"\ncriteria = [\"upright\"]\n"
-                             "energies = [5]\ntrajectories = 4\ntime = 20\n"
-                             "[[ensemble]]\nname = \"times\"\ncriteria = [\"upright\"]\n"
-                             "energies = [5]\ntrajectories = 4\ntime = 20\n"
-                             "residence_times = true\nhistogram = true\n");
+    const scene s = scene_in(out, ensemble_table("plain", "\"upright\"", "5", 4, 20) +
+                                      ensemble_table("times", "\"upright\"", "5", 4, 20,
+                                                     "residence_times = true\nhistogram = true\n"));
     const run_counters c = run(s);
     EXPECT_EQ(c.trajectories, 4u);  // one set of trajectories for both
     EXPECT_TRUE(fs::exists(out / "ensemble-plain" / "trajectories_E5.csv"));
     EXPECT_FALSE(fs::exists(out / "ensemble-plain" / "residence_E5_upright.csv"));
     const fs::path times = out / "ensemble-times" / "residence_E5_upright.csv";
     ASSERT_TRUE(fs::exists(times));
+    const std::string text = read_text(times);
     for (const char* name : {"plain", "times"}) {
         const auto j =
             nlohmann::json::parse(read_text(out / (std::string("ensemble-") + name + ".json")));
         const auto& upright = j["energies"][0]["criteria"]["upright"];
         const std::uint64_t gaps = upright["residence_times"]["count"].get<std::uint64_t>();
         EXPECT_GT(gaps, 4u) << name;  // E = 5, T = 20: several flips per trajectory
-        const std::string text = read_text(times);
         EXPECT_EQ(static_cast<std::uint64_t>(std::count(text.begin(), text.end(), '\n')), gaps + 1)
             << name;  // a header, one row per gap
     }
@@ -259,10 +261,9 @@ TEST(Execute, CrossingTimesAreWrittenOnlyWhereAsked) {
 TEST(Execute, SaddleCriterionEnsembleUsesTheFamily) {
     forget_saddle_orbits();
     const fs::path out = fresh_dir("saddle_ensemble");
-    const scene s = scene_in(out,
-                             "[predictions]\nquantities = [\"rate-saddle\"]\nenergies = [5]\n"
-                             "[[ensemble]]\nname = \"s\"\ncriteria = [\"saddle\"]\n"
-                             "energies = [5]\ntrajectories = 4\ntime = 2\n");
+    const scene s =
+        scene_in(out, "[predictions]\nquantities = [\"rate-saddle\"]\nenergies = [5]\n" +
+                          ensemble_table("s", "\"saddle\"", "5", 4, 2));
     const run_counters c = run(s);
     EXPECT_EQ(c.orbit_solves,
               1u);  // the family's one orbit; the predictions and the criterion reuse it
