@@ -40,7 +40,6 @@ std::string orbit_csv(const orbit_state_options& o) {
     const long samples = parse_samples(o.samples);
     const double_pendulum<Real> model(parse_parameters<Real>(o.model));
     const energy_level<Real> level = parse_energy_level<Real>(o.energy, "--energy");
-    const Real& energy = level.value;
     orbit_options<Real> options;
     options.method = parse_name<orbit_method>(o.method, "--method");
     if (!o.integrator.empty())
@@ -48,8 +47,7 @@ std::string orbit_csv(const orbit_state_options& o) {
     check_orbit_energy(model, a, level);
     const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
     if (orbit.status == orbit_status::not_converged)
-        throw std::runtime_error("orbit: no convergence at E = " + to_decimal(energy) + " (" +
-                                 orbit.double_stage + ")");
+        throw_not_converged(model, a, level, orbit.double_stage, "orbit");
     std::string csv = "t,theta1,theta2,l1,l2\n";
     for (long k = 0; k < samples; ++k) {
         const Real t = orbit.period * k / (samples - 1);

@@ -43,6 +43,24 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_a
 }
 
 template <class Real>
+void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy,
+                         const std::string& stage, const std::string& what) {
+    const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
+    const Real gap = energy.below(hi);  // E_max - E, carried from the decimal input
+    if (gap <= (hi - lo) / 1000000)
+        throw input_error::about(
+            "energy", "'" + to_decimal(energy.value) +
+                          "' is too close to E_max = " + to_decimal(hi) + " for the arm-" +
+                          to_string(a) + " saddle orbit in this precision (E_max - E = " +
+                          to_decimal(static_cast<double>(gap), 3) +
+                          "): its period diverges there and the continuation from the saddle "
+                          "stopped short (" +
+                          stage + "; docs/theory.md, \"Near E_max\")");
+    throw std::runtime_error(what + " at E = " + to_decimal(energy.value) + " (arm " +
+                             to_string(a) + "): no convergence (" + stage + ")");
+}
+
+template <class Real>
 orbit_guess<Real> linear_guess(const double_pendulum<Real>& model, arm a) {
     using std::sqrt;
     const critical_point<Real> cp = flip_saddle(model, a);
@@ -800,6 +818,9 @@ phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_o
 template int default_stages<inst_real>();
 template void check_orbit_energy<inst_real>(const double_pendulum<inst_real>&, arm,
                                             const level_arg<inst_real>&);
+template void throw_not_converged<inst_real>(const double_pendulum<inst_real>&, arm,
+                                             const level_arg<inst_real>&, const std::string&,
+                                             const std::string&);
 template orbit_guess<inst_real> linear_guess<inst_real>(const double_pendulum<inst_real>&, arm);
 template saddle_orbit<inst_real> refine_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
                                                                 arm, const level_arg<inst_real>&,

@@ -33,10 +33,8 @@ saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a,
         options.integrator = parse_name<orbit_integrator>(method.substr(slash + 1), "integrator");
     check_orbit_energy(model, a, energy);
     saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy, options);
-    if (orbit.status == orbit_status::not_converged) {
-        throw std::runtime_error("saddle orbit at E = " + to_decimal(energy.value) + " (arm " +
-                                 to_string(a) + "): no convergence (" + orbit.double_stage + ")");
-    }
+    if (orbit.status == orbit_status::not_converged)
+        throw_not_converged(model, a, energy, orbit.double_stage, "saddle orbit");
     return orbit;
 }
 

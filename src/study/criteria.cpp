@@ -48,8 +48,7 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
     check_orbit_energy(model, a, energy);
     const saddle_orbit<double> orbit = find_or_solve_saddle_orbit<double>(model, a, energy);
     if (orbit.status == orbit_status::not_converged)
-        throw std::runtime_error("saddle criterion: the saddle orbit of arm " + to_string(a) +
-                                 " at E = " + to_decimal(energy) + " did not converge");
+        throw_not_converged(model, a, energy, orbit.double_stage, "saddle criterion: saddle orbit");
     return {name, make_flip_detector(make_saddle_curve<double>(model, orbit), flow)};
 }
 

@@ -68,8 +68,8 @@ std::vector<curve_at<Real>> curves(const double_pendulum<Real>& model,
                 }
                 const saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy);
                 if (orbit.status == orbit_status::not_converged)
-                    throw std::runtime_error("trajectory: the saddle orbit of arm " + to_string(a) +
-                                             " did not converge at E = " + to_decimal(energy));
+                    throw_not_converged(model, a, energy, orbit.double_stage,
+                                        "trajectory: saddle orbit");
                 out.push_back(erase<Real>(name, make_saddle_curve(model, orbit)));
             }
         }
@@ -190,6 +190,9 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
             for (long level = up ? la + 1 : la; up ? level <= lb : level > lb;
                  level += up ? 1 : -1) {
                 const Real target = 2 * pi<Real>() * Real(level);
+                // a state on the curve at the trajectory's start is not a crossing, in either
+                // direction (crossings are counted in (0, T]; the ensemble route's rule)
+                if (t0 == 0 && p == 1 && points[0].second == target) continue;
                 // bracket on the collocation polynomial, then Newton with exact-length steps
                 Real a = points[p - 1].first, b = points[p].first;
                 for (int it = 0; it < 200 && b - a > 64 * eps; ++it) {

@@ -39,6 +39,17 @@ TEST(LimitsCommand, SimulateTrajectoriesBeyondMemoryAreRefused) {
     ::unsetenv("FLIPFLUX_MEMORY_LIMIT");
 }
 
+// Within 1e-13 of E_max the saddle orbit's period diverges and double's continuation from the
+// saddle stops short: a refusal naming the energy and E_max, not "internal error" (exit 1) as
+// before. (A pendulum whose continuation gives up in ~1 s; the paper's takes ~5 s.)
+TEST(LimitsCommand, SaddleOrbitsTooCloseToTheMaximumAreRefused) {
+    const std::string pendulum = " --arm 2 --m1 2 --m2 0.5 --L1 0.7 --L2 1.5";  // E_max = 5
+    expect_refused("eval period --energy 4.9999999999999" + pendulum,
+                   {"--energy: '4.99999999999989", "too close to E_max = 5", "arm-2 saddle orbit",
+                    "E_max - E = 1e-13"});
+    expect_refused("orbit --energy 4.9999999999999" + pendulum, {"too close to E_max = 5"});
+}
+
 TEST(LimitsCommand, SimulateTinySampleIntervalIsRefused) {
     const std::string dir = ::testing::TempDir() + "flipflux_limits_" + std::to_string(getpid());
     expect_refused(simulate + "--sample-interval 1e-300 --csv-dir " + dir,

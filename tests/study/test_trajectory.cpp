@@ -121,6 +121,46 @@ TEST(Trajectory, EveryCrossingIsReportedOnce) {
     EXPECT_EQ(static_cast<long>(r.events.size()), crossings);
 }
 
+// A state on the curve at t = 0 (theta2 equal to the working precision's pi) is not a crossing in
+// either direction, by every route: crossings are counted in (0, T]. Before, the ensemble route
+// reported a flip at t = 0 and the reference and Taylor routes one at t = -1e-35 (quad) when the
+// arm left the curve downwards, and none when it left upwards. A state a little off the curve
+// still has its crossing, at t = delta / |theta2'| to first order, after the start.
+template <class Real, class Route>
+void check_start_on_the_curve(Route route, const char* name) {
+    const double_pendulum<Real> m;
+    const Real pi_r = boost::math::constants::pi<Real>();
+    const Real delta = Real(1) / 1000000;
+    for (const double l2 : {-0.5, 0.5}) {
+        trajectory_request<Real> q;
+        q.time = 1;
+        q.criteria = {"upright"};
+        q.arms = {arm::two};
+        q.state = {Real(3) / 10, pi_r, Real(0), Real(l2)};
+        EXPECT_TRUE(route(m, q).events.empty()) << name << " l2 = " << l2;
+        // off the curve by delta on the side the arm leaves from: one crossing, towards pi
+        q.state[1] = l2 < 0 ? pi_r + delta : pi_r - delta;
+        const trajectory_record<Real> r = route(m, q);
+        ASSERT_EQ(r.events.size(), 1u) << name << " l2 = " << l2;
+        const double speed = std::abs(static_cast<double>(m.rhs(q.state)[1]));
+        const double t = static_cast<double>(r.events[0].time);
+        EXPECT_EQ(r.events[0].direction, l2 < 0 ? -1 : 1) << name;
+        // theta2' changes by O(t) over the step to the crossing: a relative 1e-5 covers it
+        EXPECT_NEAR(t, 1e-6 / speed, 1e-5 * 1e-6 / speed) << name << " l2 = " << l2;
+    }
+}
+
+TEST(Trajectory, AStateOnTheCurveAtTheStartIsNotACrossing) {
+    check_start_on_the_curve<double>(
+        [](const auto& m, const auto& q) { return integrate_trajectory(m, q); }, "ensemble");
+    check_start_on_the_curve<double>(
+        [](const auto& m, const auto& q) { return reference_trajectory(m, q); }, "reference");
+    check_start_on_the_curve<quad>(
+        [](const auto& m, const auto& q) { return reference_trajectory(m, q); }, "quad reference");
+    check_start_on_the_curve<quad>(
+        [](const auto& m, const auto& q) { return taylor_trajectory(m, q); }, "quad taylor");
+}
+
 // A grazing flip: arm 2 rises towards upright and falls back. Bisection on the initial momentum
 // l2 finds where the number of upright events in a short time changes from 0 to 2; just beyond
 // it the two events are close in time, opposite in direction, and both on the curve.

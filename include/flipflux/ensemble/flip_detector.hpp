@@ -204,6 +204,7 @@ class flip_detector final : public flip_detector_base {
         last_w_ = {f0[0], f0[1]};
         start_ = evaluate(x0, last_w_);
         start_valid_ = true;
+        at_start_ = true;
     }
 
     void shift(double d1, double d2) override {
@@ -214,6 +215,8 @@ class flip_detector final : public flip_detector_base {
     }
 
     int step(const step_view& v, std::vector<crossing>& out) override {
+        const bool first = at_start_;
+        at_start_ = false;
         // the prefilter: a crossing needs the flip angle f within offset_bound_ of pi (mod 2 pi)
         // somewhere in the step; the cubic Hermite range of f (from f, f' at both ends), widened
         // by the margin of the main test below, is checked first, and the curve is not even
@@ -249,7 +252,7 @@ class flip_detector final : public flip_detector_base {
         int found = 0;
         if (std::ceil(lo / two_pi) <= std::floor(hi / two_pi)) {
             ++examined_;
-            found = examine(v, end, crit, ncrit, out);
+            found = examine(v, end, crit, ncrit, first, out);
         }
         start_ = end;
         return found;
@@ -307,7 +310,7 @@ class flip_detector final : public flip_detector_base {
     }
 
     int examine(const step_view& v, const value& end, const std::array<double, 2>& crit, int ncrit,
-                std::vector<crossing>& out) {
+                bool first, std::vector<crossing>& out) {
         const double h = v.t1 - v.t0;
         // sample points: ends, quarters, cubic critical points
         std::array<double, 8> us{};
@@ -359,8 +362,12 @@ class flip_detector final : public flip_detector_base {
                 if ((a.phi >= level) == (b.phi >= level)) continue;
                 auto g = [&](double t) { return evaluate_at(v, t).phi - level; };
                 // NOTE: tx == t0 is possible only when phi(t0) equals the level exactly and
-                // leaves it downwards; the previous step saw no indicator change then.
+                // leaves it downwards; the previous step saw no indicator change then (it ended
+                // with phi at the level, indicator true). At the trajectory's start there is no
+                // previous step: a state on the curve is not a crossing in either direction
+                // (crossings are counted in (0, T]).
                 const double tx = root(g, a.t, b.t, a.phi - level, b.phi - level);
+                if (first && tx == v.t0) continue;
                 const value at = tx == v.t1 ? end : evaluate_at(v, tx);
                 if (at.s < lo_ || at.s > hi_) continue;  // outside the curve's domain
                 out.push_back({tx, dir, at.s});
@@ -377,6 +384,7 @@ class flip_detector final : public flip_detector_base {
     bool full_ = true;
     value start_{};
     bool start_valid_ = false;
+    bool at_start_ = false;           ///< no step since start(): the next one begins the trajectory
     std::array<double, 4> last_x_{};  ///< state at the last step's end (shifted with the angles)
     std::array<double, 2> last_w_{};  ///< its angular velocities
     double offset_bound_ = 0;         ///< the prefilter's bound on |h|

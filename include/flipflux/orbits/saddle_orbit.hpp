@@ -224,22 +224,35 @@ phase_point<Real> orbit_state(const double_pendulum<Real>& model, const saddle_o
 template <class Real>
 void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy);
 
-#define FLIPFLUX_ORBIT_EXTERN(R)                                                       \
-    extern template int default_stages<R>();                                           \
-    extern template floquet_multipliers<R> floquet_analysis<R>(                        \
-        const std::array<std::array<R, 4>, 4>&);                                       \
-    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);    \
-    extern template saddle_orbit<R> solve_saddle_orbit<R>(                             \
-        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&); \
-    extern template saddle_orbit<R> refine_saddle_orbit<R>(                            \
-        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_guess<R>&,    \
-        const orbit_options<R>&);                                                      \
-    extern template saddle_family<R> continue_saddle_family<R>(                        \
-        const double_pendulum<R>&, arm, const std::vector<energy_level<R>>&,           \
-        const orbit_options<R>&);                                                      \
-    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,           \
-                                                  const saddle_orbit<R>&, const R&);   \
-    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm, const level_arg<R>&);
+/// Throws for an orbit that did not converge: input_error naming the energy where it lies within
+/// a relative 1e-6 of E_max - E_s below E_max (the orbit's period diverges there and each
+/// precision's continuation stops short of E_max, docs/theory.md, "Near E_max"), else
+/// std::runtime_error (`what` names the caller).
+template <class Real>
+[[noreturn]] void throw_not_converged(const double_pendulum<Real>& model, arm a,
+                                      const level_arg<Real>& energy, const std::string& stage,
+                                      const std::string& what);
+
+#define FLIPFLUX_ORBIT_EXTERN(R)                                                         \
+    extern template int default_stages<R>();                                             \
+    extern template floquet_multipliers<R> floquet_analysis<R>(                          \
+        const std::array<std::array<R, 4>, 4>&);                                         \
+    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);      \
+    extern template saddle_orbit<R> solve_saddle_orbit<R>(                               \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&);   \
+    extern template saddle_orbit<R> refine_saddle_orbit<R>(                              \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_guess<R>&,      \
+        const orbit_options<R>&);                                                        \
+    extern template saddle_family<R> continue_saddle_family<R>(                          \
+        const double_pendulum<R>&, arm, const std::vector<energy_level<R>>&,             \
+        const orbit_options<R>&);                                                        \
+    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,             \
+                                                  const saddle_orbit<R>&, const R&);     \
+    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm,           \
+                                               const level_arg<R>&);                     \
+    extern template void throw_not_converged<R>(const double_pendulum<R>&, arm,          \
+                                                const level_arg<R>&, const std::string&, \
+                                                const std::string&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_EXTERN)
 #undef FLIPFLUX_ORBIT_EXTERN
 
