@@ -195,9 +195,27 @@ def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle"
         per_trajectory = {}
         for path in sorted(_glob.glob(_os.path.join(tmp, "*.csv"))):
             name = _os.path.splitext(_os.path.basename(path))[0]
-            per_trajectory[name] = _np.genfromtxt(path, delimiter=",", names=True, dtype=None,
-                                                  encoding="utf-8")
+            per_trajectory[name] = _read_table(path)
     return report, per_trajectory
+
+
+def _read_table(path):
+    """A --csv-dir table as a NumPy structured array. A column empty in every row (lyapunov
+    without the chaos indicator: not computed) is NaN, as the file means, not the False that
+    genfromtxt infers for it."""
+    table = _np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    with open(path, encoding="utf-8", newline="") as f:
+        rows = list(_csv.reader(f))
+    header, body = rows[0], rows[1:]
+    empty = {table.dtype.names[i] for i in range(min(len(header), len(table.dtype.names)))
+             if body and all(i < len(r) and r[i] == "" for r in body)}
+    if not empty:
+        return table
+    out = _np.empty(table.shape, dtype=[(n, float if n in empty else table.dtype[n])
+                                        for n in table.dtype.names])
+    for n in table.dtype.names:
+        out[n] = _np.nan if n in empty else table[n]
+    return out
 
 
 def golden_dir():

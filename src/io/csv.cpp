@@ -49,6 +49,9 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 }
 
 csv_table read_csv(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec))
+        throw input_error(file.string() + ": is a directory, not a CSV file");
     std::ifstream in(file);
     if (!in) throw input_error(file.string() + ": cannot read the file");
     csv_table t;
@@ -67,11 +70,20 @@ csv_table read_csv(const std::filesystem::path& file) {
             throw input_error(file.string() + ":" + std::to_string(number) + ": " + e.what());
         }
         if (t.header.empty()) {
+            // a column named twice would be read from its first occurrence only, silently
+            for (std::size_t i = 0; i < fields.size(); ++i)
+                for (std::size_t j = 0; j < i; ++j)
+                    if (!trim(fields[i]).empty() && trim(fields[i]) == trim(fields[j]))
+                        throw input_error(file.string() + ":" + std::to_string(number) +
+                                          ": the header names the column '" + trim(fields[i]) +
+                                          "' twice");
             t.header = fields;
         } else {
             t.rows.push_back({number, fields});
         }
     }
+    if (in.bad())
+        throw input_error(file.string() + ": read error after line " + std::to_string(number));
     if (t.header.empty()) throw input_error(file.string() + ": empty file (no header line)");
     return t;
 }

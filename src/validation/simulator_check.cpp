@@ -11,6 +11,9 @@
 #include <map>
 #include <vector>
 
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/special_functions/gamma.hpp>
+
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
@@ -126,12 +129,43 @@ bool read_row(const csv_row& row, const csv_table& t, const ensemble_columns& c,
     return x.note.empty();
 }
 
-void grade(ensemble_check_entry& x, const ensemble_check_options& o) {
+// The least variance of an integer-valued count with mean mu: its values floor(mu) and ceil(mu)
+// alone, {mu} (1 - {mu}) ({mu} the fractional part). A floor that holds for any simulator, also
+// where a pilot or the candidate saw every trajectory count the same (a zero sample variance).
+double least_count_variance(double mu) {
+    const double f = mu - std::floor(mu);
+    return f * (1 - f);
+}
+
+// Grades a row from its z. Where few flips are expected the normal approximation behind z fails
+// (a count of 1 where 0.03 are expected is 5 standard errors off, yet happens 3 % of the time),
+// so z is then the normal quantile of the count's tail probability under a compound Poisson law
+// with the row's mean and variance: bursts of D = max(1, Var N / E N) flips (recrossings come in
+// bursts; D = 1 where counts are sub-Poisson, which widens the tail), lambda / D of them
+// expected among the M trajectories.
+void grade(ensemble_check_entry& x, const ensemble_check_options& o, double variance) {
     using status = ensemble_check_entry::status;
-    if (x.standard_error > 0) {
+    const double M = static_cast<double>(x.trajectories), mu = x.predicted * x.time;
+    const double lambda = M * mu, n = static_cast<double>(x.flips);
+    if (x.predicted == 0) {  // no flip possible: exact agreement or none
+        x.z = x.flips == 0 ? 0 : std::numeric_limits<double>::infinity();
+    } else if (const double D = std::max(1.0, variance / mu); lambda / D < few_flips_expected) {
+        const boost::math::normal_distribution<double> normal;
+        const double bursts = lambda / D, k = n / D;
+        if (n > lambda) {  // P(at least k bursts)
+            const double p = boost::math::gamma_p(k, bursts);
+            x.z = p >= 0.5 ? 0
+                  : p > 0  ? boost::math::quantile(boost::math::complement(normal, p))
+                           : std::numeric_limits<double>::infinity();
+        } else {  // P(at most k bursts)
+            const double p = boost::math::gamma_q(k + 1, bursts);
+            x.z = p >= 0.5 ? 0
+                  : p > 0  ? boost::math::quantile(normal, p)
+                           : -std::numeric_limits<double>::infinity();
+        }
+        x.note = "few flips expected (" + to_decimal(lambda, 3) + "): z from the Poisson tail";
+    } else {
         x.z = (x.simulated - x.predicted) / x.standard_error;
-    } else {  // no flips possible and none counted: exact agreement or none
-        x.z = x.simulated == x.predicted ? 0 : std::numeric_limits<double>::infinity();
     }
     const double a = std::abs(x.z);
     x.what = a < o.warn_z ? status::pass : a < o.fail_z ? status::warn : status::fail;
@@ -202,11 +236,11 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
         // NOTE: a zero sample variance (every trajectory with the same count: a regularly
         // rotating arm, a short time) says nothing about the count's true variance; the pilot's
         // bound is used then, as without flips_sq
-        if (has_flips_sq && own > 0) {
+        if (x.predicted == 0) {  // at or below the arm's saddle energy: no flip possible
+            x.variance = "none";
+        } else if (has_flips_sq && own > 0) {
             variance = own;
             x.variance = "candidate";
-        } else if (x.predicted == 0) {  // at or below the arm's saddle energy: no flip possible
-            x.variance = "none";
         } else {
             const pilot_key k{E, x.time, x.criterion, a};
             try {
@@ -220,8 +254,10 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
             variance = pilots[k];
             x.variance = "pilot " + std::to_string(options.pilot_trajectories);
         }
+        if (x.predicted > 0)
+            variance = std::max(variance, least_count_variance(x.predicted * x.time));
         x.standard_error = std::sqrt(std::max(variance, 0.0) / M) / x.time;
-        grade(x, options);
+        grade(x, options, variance);
         report.entries.push_back(x);
     }
     return report;
@@ -276,6 +312,10 @@ std::map<std::pair<std::string, std::string>, std::vector<flip_row>> read_events
     if (tc < 0 || ac < 0 || cc < 0 || dc < 0)
         throw input_error(file.string() +
                           ":1: the header must name the columns time, arm, criterion, direction");
+    if (reference && sc < 0 && !o.state.empty())
+        throw input_error::about("state", "'" + o.state +
+                                              "' names a trajectory, but the reference '" +
+                                              file.string() + "' has no state column");
     if (reference && sc >= 0 && o.state.empty())
         throw input_error::about("state", "the reference '" + file.string() +
                                               "' lists several trajectories: choose one");
@@ -300,7 +340,14 @@ std::map<std::pair<std::string, std::string>, std::vector<flip_row>> read_events
         const std::string& c = r.fields[cc];
         if (c != "upright" && c != "approx" && c != "saddle")
             throw input_error(at("criterion '" + c + "' is not upright, approx or saddle"));
-        const double time = parse_real<double>(r.fields[tc], "time");
+        double time = 0;
+        try {
+            time = parse_real<double>(r.fields[tc], "time");
+        } catch (const input_error&) {  // overflows double: the file's line, not an option
+            throw input_error(at("time '" + r.fields[tc] + "' is not a finite double"));
+        }
+        if (!std::isfinite(time))
+            throw input_error(at("time '" + r.fields[tc] + "' is not a finite double"));
         if (o.until > 0 && time >= o.until) continue;
         if (!o.criteria.empty() &&
             std::find(o.criteria.begin(), o.criteria.end(), r.fields[cc]) == o.criteria.end())

@@ -207,6 +207,18 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
             report.entries.push_back(x);
             continue;
         }
+        // a typo must not drop the row as "unmatched": the name and the arm are checked
+        const auto known = std::find_if(quantities().begin(), quantities().end(),
+                                        [&](const quantity& k) { return k.name == x.quantity; });
+        if (known == quantities().end() || (known->per_arm && x.arm != "1" && x.arm != "2")) {
+            x.note =
+                known == quantities().end()
+                    ? "quantity '" + x.quantity +
+                          "' is not a registered quantity (flipflux eval --help)"
+                    : "arm '" + row.fields[a] + "' is not 1 or 2 (" + x.quantity + " is per arm)";
+            report.entries.push_back(x);
+            continue;
+        }
         seen.insert({x.quantity, x.arm});
         const std::size_t match = index.find(x.quantity, x.arm, x.energy);
         if (match == golden.size()) {

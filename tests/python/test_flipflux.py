@@ -2,10 +2,12 @@
 every precision, exact inputs, mpmath round trips, errors, validation, simulation, and the
 docs/python.md example. Run by ctest (python_module, label unit) with PYTHONPATH=BUILD/python,
 FLIPFLUX_EXE (the CLI) and FLIPFLUX_SOURCE_DIR set."""
+import csv
 import json
 import os
 import re
 import subprocess
+import tempfile
 from fractions import Fraction
 
 import mpmath
@@ -181,6 +183,23 @@ def test_simulate_equals_cli():
     assert per_trajectory, "no per-trajectory arrays"
     for name, a in per_trajectory.items():
         assert isinstance(a, np.ndarray) and a.dtype.names, name
+    # the CLI's files, column by column: the same numbers; lyapunov, empty in the file (not
+    # computed without the chaos indicator), is NaN, not genfromtxt's False
+    with tempfile.TemporaryDirectory() as d:
+        cli("simulate", "--energy", "3,5", "--trajectories", "6", "--time", "10", "--seed", "7",
+            "--no-chaos", "--threads", "1", "--csv-dir", d)
+        for name, a in per_trajectory.items():
+            with open(os.path.join(d, name + ".csv"), newline="") as f:
+                rows = list(csv.DictReader(f))
+            assert len(rows) == a.size, name
+            for field in a.dtype.names:
+                for row, value in zip(rows, np.atleast_1d(a[field])):
+                    if row[field] == "":
+                        assert np.isnan(value), (name, field)
+                    elif a.dtype[field].kind == "f":
+                        assert value == float(row[field]), (name, field)
+        lyapunov = [a["lyapunov"] for a in per_trajectory.values() if "lyapunov" in a.dtype.names]
+        assert lyapunov and all(np.all(np.isnan(x)) for x in lyapunov)
     for kwargs, args in ((dict(trajectories=0), ["--trajectories", "0"]),
                          (dict(trajectories=-5), ["--trajectories", "-5"]),
                          (dict(trajectories=2.5), ["--trajectories", "2.5"]),

@@ -155,6 +155,48 @@ TEST_F(SimulatorCheck, RowsWhereNoFlipIsPossibleOrNothingIsPredicted) {
     EXPECT_FALSE(r.passed());
 }
 
+// Below the saddle energy any flip fails, also when the candidate's own counts (flips_sq) give a
+// variance: before, "upright,2,1,1000,10,5,5" passed with z = +2.24.
+TEST_F(SimulatorCheck, FlipsBelowTheSaddleFailAlsoWithTheirOwnVariance) {
+    const auto r = check_simulated_ensemble(
+        double_pendulum<double>(),
+        write("below.csv", header + "upright,2,1,1000,10,5,5\nupright,2,1,1000,10,0,0\n"), {});
+    const std::string text = format_ensemble_check(r);
+    ASSERT_EQ(r.entries.size(), 2u) << text;
+    EXPECT_EQ(r.entries[0].what, ensemble_check_entry::status::fail) << text;
+    EXPECT_EQ(r.entries[0].variance, "none") << text;
+    EXPECT_EQ(r.entries[1].what, ensemble_check_entry::status::pass) << text;
+}
+
+// A budget where few flips are expected (M = 100 trajectories of tau = 0.001 at E = 8: lambda =
+// M tau R = 0.033 flips in all). A correct simulator sees no flip (probability 0.97): before, the
+// pilot's zero variance made that a FAIL with z = +inf. The normal law cannot grade such counts
+// (one flip would be 5 standard errors off, yet happens 3 % of the time), so z is the normal
+// quantile of the Poisson tail: one flip has tail probability 1 - exp(-lambda) (checked here by
+// that formula, not the code's regularised gamma function) and passes; six fail.
+TEST_F(SimulatorCheck, FewExpectedFlipsAreGradedByTheirPoissonTail) {
+    ensemble_check_options o;
+    o.pilot_trajectories = 200;
+    const auto r = check_simulated_ensemble(
+        double_pendulum<double>(),
+        write("few.csv", header + "upright,2,8,100,0.001,0,\nupright,2,8,100,0.001,1,\n"
+                                  "upright,2,8,100,0.001,6,\n"),
+        o);
+    const std::string text = format_ensemble_check(r);
+    std::printf("%s", text.c_str());
+    ASSERT_EQ(r.entries.size(), 3u) << text;
+    const double lambda = 100 * 0.001 * r.entries[0].predicted;
+    EXPECT_NEAR(lambda, 0.0328, 0.0005);  // rate-upright arm 2 at E = 8: 0.3277...
+    EXPECT_EQ(r.entries[0].what, ensemble_check_entry::status::pass) << text;
+    EXPECT_EQ(r.entries[0].z, 0) << text;  // fewer than expected, tail probability > 1/2
+    EXPECT_EQ(r.entries[1].what, ensemble_check_entry::status::pass) << text;
+    const double tail = 0.5 * std::erfc(r.entries[1].z / std::sqrt(2.0));
+    EXPECT_NEAR(tail, -std::expm1(-lambda), 1e-9 * -std::expm1(-lambda)) << text;
+    EXPECT_EQ(r.entries[2].what, ensemble_check_entry::status::fail) << text;
+    EXPECT_GT(r.entries[2].z, 5) << text;
+    EXPECT_FALSE(r.passed());
+}
+
 // Events: the same file agrees; a shifted time, a flipped direction, a missing event are the
 // first difference of their stream, and the earliest over the streams is reported.
 const std::string events =
@@ -237,6 +279,29 @@ TEST_F(SimulatorCheck, ReferenceWithStatesNeedsAState) {
                                      ref, o),
                  input_error);
     EXPECT_THROW(compare_flip_events(write("bad2.csv", "time,arm\n0.7,2\n"), ref, o), input_error);
+}
+
+// An event time that overflows double names the file and line (before: "--time: '1e400'
+// overflows double", an option never given); a state chosen for a reference without a state
+// column is refused, not ignored.
+TEST_F(SimulatorCheck, EventFileErrorsNameTheFileAndTheState) {
+    const auto ref = write("ref.csv", events);
+    const auto cand = write("over.csv", "time,arm,criterion,direction\n1e400,2,upright,1\n");
+    try {
+        (void)compare_flip_events(cand, ref, {});
+        ADD_FAILURE() << "accepted 1e400";
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(cand.string() + ":2: time '1e400'", 0), 0u)
+            << e.what();
+    }
+    event_comparison_options o;
+    o.state = "s08";
+    try {
+        (void)compare_flip_events(ref, ref, o);
+        ADD_FAILURE() << "--state ignored";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("no state column"), std::string::npos) << e.what();
+    }
 }
 
 // Issue 20's probe campaign: an events row with arm 3 or an unknown criterion made a stream of

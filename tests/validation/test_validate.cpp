@@ -100,12 +100,47 @@ TEST_F(Validate, CatchesMalformedAndUnmatchedLines) {
                          "flux-upright,2,3,1.0e\n" + "omega-typo,2,3,1\n" + "flux-upright,2,9,1\n" +
                          row2 + row3);
     EXPECT_FALSE(r.passed());
-    EXPECT_EQ(r.count(validation_entry::status::malformed), 3u);
-    EXPECT_EQ(r.count(validation_entry::status::unmatched), 2u);
+    // an unknown quantity is malformed (a typo must not drop the row as "unmatched")
+    EXPECT_EQ(r.count(validation_entry::status::malformed), 4u);
+    EXPECT_EQ(r.count(validation_entry::status::unmatched), 1u);
     EXPECT_EQ(r.entries[1].line, 3);
     EXPECT_EQ(r.entries[2].line, 4);
+    EXPECT_NE(r.entries[4].note.find("'omega-typo' is not a registered quantity"),
+              std::string::npos)
+        << r.entries[4].note;
     const std::string text = format_report(r, 1e-12);
     EXPECT_NE(text.find("FAILED"), std::string::npos);
+}
+
+// A per-arm quantity needs arm 1 or 2: arm 3, 2.0 or none was "unmatched" and the report passed.
+// omega (one value for both arms) ignores the column.
+TEST_F(Validate, APerArmQuantityWithoutAValidArmIsMalformed) {
+    const auto r = check(header + row1 + "flux-upright,3,2.5,1\n" + "flux-upright,2.0,2.5,1\n" +
+                         "flux-upright,,2.5,1\n" + row2 + row3);
+    EXPECT_FALSE(r.passed()) << format_report(r, 1e-12);
+    EXPECT_EQ(r.count(validation_entry::status::malformed), 3u) << format_report(r, 1e-12);
+    EXPECT_NE(r.entries[1].note.find("arm '3' is not 1 or 2"), std::string::npos)
+        << r.entries[1].note;
+}
+
+// Unusable files: a directory (was "empty file"), a header naming a column twice (the second
+// was ignored).
+TEST_F(Validate, ADirectoryOrAHeaderWithATwiceNamedColumnIsRefused) {
+    fs::create_directories(dir_ / "adir.csv");
+    try {
+        (void)validate_candidate(dir_ / "adir.csv", dir_ / "golden", 1e-12, false);
+        ADD_FAILURE() << "a directory was read";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+    }
+    try {
+        (void)check("quantity,arm,energy,value,value\nflux-upright,2,2.5,1,1.2345678901234568\n");
+        ADD_FAILURE() << "a column named twice was accepted";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find(":1: the header names the column 'value' twice"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 // Issue 20: golden files given to validate are outside data too. `digits = -5` made a 6834 %

@@ -13,7 +13,13 @@
 // pilot's counts: s^2 plus three standard errors of s^2). Not the Poisson value R tau: counts in
 // short trajectories are over-dispersed by recrossing bursts and under-dispersed where flips are
 // regular (a rotating arm), so neither is exact.
-// z = (R^ - R) / sqrt(Var R^); pass |z| < warn_z (3), warn |z| < fail_z (5), FAIL beyond.
+// Either variance is at least {mu} (1 - {mu}), mu = R tau ({mu} its fractional part): the least
+// variance of any integer count with mean mu.
+// z = (R^ - R) / sqrt(Var R^); pass |z| < warn_z (3), warn |z| < fail_z (5), FAIL beyond. Where
+// fewer than few_flips_expected bursts of D = max(1, Var N / E N) flips are expected in all
+// (M R tau / D), the normal law does not hold; z is then the normal quantile of the count's tail
+// probability under the compound Poisson law (bursts of D flips). Below an arm's saddle energy
+// (R = 0) any flip fails.
 //
 // Trajectories. Candidate and reference are events CSVs (time, arm, criterion, direction); the
 // reference may have a `state` column (data/golden/trajectories/events.csv), then `state` selects
@@ -32,6 +38,9 @@
 #include "flipflux/model/double_pendulum.hpp"
 
 namespace flipflux {
+
+/// Bursts of flips expected in a row below which its z comes from the Poisson tail.
+inline constexpr double few_flips_expected = 10;
 
 struct ensemble_check_options {
     double warn_z = 3, fail_z = 5;
