@@ -32,9 +32,7 @@ void add_precision_option(CLI::App& app, precision_option& option);
 /// The parameters and, under "coefficients", the Lagrangian coefficients (model/model_json.hpp).
 template <class Real>
 json parameters_json(const double_pendulum<Real>& model) {
-    json out = flipflux::parameters_json(model.parameters());
-    out["coefficients"] = coefficients_json(model.coefficients());
-    return out;
+    return model_parameters_json(model);
 }
 
 /// Registry of subcommands: each src/cli/*_command.cpp registers one at static-init time.

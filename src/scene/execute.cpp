@@ -1,7 +1,9 @@
 // Scene execution: runs each plan step and writes its outputs atomically under the scene's output
 // directory (file formats: docs/scenes.md).
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -116,7 +118,18 @@ void run_orbit_family(context& ctx, const plan_step& step) {
         const energy_level<Real> energy = parse_energy_level<Real>(text, "energy");
         if (recall_saddle_orbit(model, a, energy, options.method, options.integrator)) continue;
         const auto file = dir / ("E" + text + ".json");
-        if (!dir.empty() && std::filesystem::exists(file)) {
+        std::error_code ec;
+        const bool present = !dir.empty() && std::filesystem::symlink_status(file, ec).type() !=
+                                                 std::filesystem::file_type::not_found;
+        // a folder, a device, a dangling link or a link loop is not an entry: recomputed (and
+        // not overwritten)
+        const bool regular = present && std::filesystem::is_regular_file(file, ec);
+        if (present && !regular) {
+            ++ctx.counters.orbit_cache_rejected;
+            ctx.log << "  cache entry " << file.string()
+                    << " is not a regular file; recomputing (the entry is left as it is)\n";
+        }
+        if (regular) {
             std::ifstream in(file);
             std::stringstream buffer;
             buffer << in.rdbuf();
@@ -156,9 +169,20 @@ void run_orbit_family(context& ctx, const plan_step& step) {
                                               missing[i].above(model.saddle_energy(a)) != o.excess))
                     ++i;
                 if (i < missing.size()) {
-                    std::filesystem::create_directories(dir);
-                    write_file_atomically(dir / ("E" + missing_text[i] + ".json"),
-                                          orbit_to_json(o));
+                    const auto file = dir / ("E" + missing_text[i] + ".json");
+                    std::error_code ec;
+                    const auto type = std::filesystem::symlink_status(file, ec).type();
+                    // the cache only saves time: an entry that cannot be stored is a note
+                    try {
+                        if (type != std::filesystem::file_type::not_found &&
+                            type != std::filesystem::file_type::regular)
+                            throw std::runtime_error("'" + file.string() +
+                                                     "' is not a regular file");
+                        std::filesystem::create_directories(dir);
+                        write_file_atomically(file, orbit_to_json(o));
+                    } catch (const std::exception& e) {
+                        ctx.log << "  note: the orbit was not cached: " << e.what() << "\n";
+                    }
                 }
             }
         }
@@ -362,7 +386,6 @@ void run_ensemble(context& ctx, const plan_step& step) {
     for (simulation_request& q : requests)
         q.checkpoint = checkpoint;
     const std::vector<study_result> results = *simulate(model, requests);
-    std::filesystem::remove(checkpoint);
     // what was integrated (once per energy of the step) and detected
     ctx.counters.trajectories += results.front().options.trajectories * step.energies.size();
     for (std::size_t r = 0; r < results.size(); ++r) {
@@ -377,7 +400,9 @@ void run_ensemble(context& ctx, const plan_step& step) {
                 if (c.statistics.criterion != "upright") ++ctx.counters.curve_criteria;
         }
         const std::string base = "ensemble-" + x.name;
-        ctx.write(base + ".json", study_json(result).dump(2) + "\n");
+        json out = study_json(result);
+        out["model"] = model_parameters_json(model);  // as `flipflux simulate` writes it
+        ctx.write(base + ".json", out.dump(2) + "\n");
         ctx.summary["ensembles"].push_back({{"name", x.name},
                                             {"file", base + ".json"},
                                             {"csv_dir", requests[r].csv_dir.string()},
@@ -385,6 +410,9 @@ void run_ensemble(context& ctx, const plan_step& step) {
                                             {"residence_times", x.residence_times},
                                             {"histogram", x.histogram}});
     }
+    // the results are on disk: only now may the trajectories go (a kill before this point
+    // resumes from the checkpoint)
+    std::filesystem::remove(checkpoint);
 }
 
 // ---- single trajectories ------------------------------------------------------------------
@@ -557,6 +585,30 @@ void create_output_dir(const scene& s, const std::filesystem::path& dir, int lin
     test.close();
     std::filesystem::remove(probe, ec);
     if (!writable) throw scene_error(where + "is not writable");
+    // the scene's files are *.csv, *.json and *.checkpoint directly in it: a folder (or anything
+    // but a file) in such a place would fail its write late, after the computation
+    std::vector<std::filesystem::path> stale;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string ext = e.path().extension().string();
+        std::error_code fe;
+        // NAME.tmp.PID of write_file_atomically, left by a process that was killed: removed
+        // when PID no longer runs
+        const std::string name = e.path().filename().string();
+        if (const std::size_t at = name.rfind(".tmp."); at != std::string::npos) {
+            const std::string pid = name.substr(at + 5);
+            if (!pid.empty() && pid.size() < 10 &&
+                pid.find_first_not_of("0123456789") == std::string::npos &&
+                ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH)
+                stale.push_back(e.path());
+            continue;
+        }
+        if ((ext == ".csv" || ext == ".json" || ext == ".checkpoint") &&
+            !std::filesystem::is_regular_file(e.path(), fe))
+            throw scene_error(where + "holds '" + e.path().filename().string() +
+                              "', which is not a regular file, where the scene writes its files");
+    }
+    for (const std::filesystem::path& f : stale)
+        std::filesystem::remove(f, ec);
 }
 
 }  // namespace

@@ -617,6 +617,20 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
         }
         const auto start = std::chrono::steady_clock::now();
         std::map<std::uint64_t, trajectory_result>& have = saved.trajectories[k];
+        // NOTE: a record's hash covers the record, not the run: one spliced in from another run
+        // (another seed, say) would pass. Its initial state must be this run's sample.
+        if (!have.empty()) {
+            const microcanonical_sampler sampler(model, o.energy);
+            for (const auto& [index, t] : have)
+                if (!(sampler.sample(o.seed, index) == t.initial_state))
+                    throw input_error::about(
+                        "checkpoint", "'" + request.checkpoint.string() +
+                                          "': the record of trajectory " + std::to_string(index) +
+                                          " at E = " + energies[k].label +
+                                          " is not this run's (its initial state is not the "
+                                          "sample of seed " +
+                                          std::to_string(o.seed) + "): the file mixes runs");
+        }
         // the trajectories still to do, dealt out round-robin over the ranks
         std::vector<std::uint64_t> mine;
         std::uint64_t position = 0;

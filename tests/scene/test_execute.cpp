@@ -148,6 +148,51 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
     EXPECT_EQ(third.orbit_cache_rejected, 2u);
     EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
 
+    // an entry that is not a regular file (a folder, a link to a device, a link loop) was an
+    // "internal error" or a hang: it is recomputed and left as it is (the result not cached)
+    {
+        std::vector<fs::path> files;
+        for (const auto& f : fs::recursive_directory_iterator(cache))
+            if (f.is_regular_file()) files.push_back(f.path());
+        ASSERT_EQ(files.size(), 2u);
+        fs::remove(files[0]);
+        fs::create_directory(files[0]);
+        fs::remove(files[1]);
+        fs::create_symlink("/dev/zero", files[1]);
+        forget_saddle_orbits();
+        const run_counters odd = run(s, cache);
+        EXPECT_EQ(odd.orbit_solves, 2u);
+        EXPECT_EQ(odd.orbit_cache_rejected, 2u);
+        EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
+        EXPECT_TRUE(fs::is_directory(files[0]));
+        EXPECT_TRUE(fs::is_symlink(files[1]));
+        fs::remove(files[0]);
+        fs::remove(files[1]);
+    }
+
+    // a folder where the scene writes a file, and a temporary file of a killed process: the
+    // folder is refused before anything is computed, the temporary file removed
+    {
+        fs::remove(out / "predictions.csv");
+        fs::create_directory(out / "predictions.csv");
+        forget_saddle_orbits();
+        try {
+            (void)run(s, cache);
+            ADD_FAILURE() << "a folder predictions.csv was accepted";
+        } catch (const scene_error& e) {
+            EXPECT_NE(
+                std::string(e.what()).find("holds 'predictions.csv', which is not a regular file"),
+                std::string::npos)
+                << e.what();
+        }
+        fs::remove(out / "predictions.csv");
+        // pid 2^22 + 1 is above Linux's pid_max limit: no process has it
+        std::ofstream(out / "run.json.tmp.4194305") << "{";
+        (void)run(s, cache);
+        EXPECT_FALSE(fs::exists(out / "run.json.tmp.4194305"));
+        EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
+    }
+
     // an output directory that cannot be created is refused before anything is computed
     const fs::path file = out / "predictions.csv";
     const scene blocked = scene_in(file / "sub",
@@ -220,6 +265,10 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     ASSERT_EQ(u["energies"].size(), 2u);
     EXPECT_EQ(u["energies"][0]["criteria"].size(), 1u);
     EXPECT_TRUE(u["energies"][0]["criteria"].contains("upright"));
+    // the pendulum, as `flipflux simulate` writes it (the scene's file did not say which)
+    EXPECT_EQ(u["model"]["m1"], "1");
+    EXPECT_EQ(u["model"]["coefficients"]["A"], "2");
+    EXPECT_FALSE(fs::exists(out / "ensemble-u+ua.checkpoint"));  // removed once complete
     fs::remove_all(out);
 }
 

@@ -814,6 +814,65 @@ TEST(SharedStudies, ChaosThresholdsClassifyOneSetOfTrajectories) {
     fs::remove(file);
 }
 
+// A record's hash covers the record, not the run: trajectory records spliced in from a run with
+// another seed passed before (an independent audit: the rerun exited 0 with changed statistics).
+// Their initial states are not this run's samples, so the resumption is refused naming the file.
+TEST(Interruption, CheckpointRecordsOfAnotherRunAreRefused) {
+    const double_pendulum<double> m;
+    const fs::path dir =
+        fs::path(::testing::TempDir()) / ("flipflux_splice_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    auto interrupted = [&](std::uint64_t seed, const fs::path& file) {
+        simulation_request q;
+        q.criteria = {"upright"};
+        q.energies = {{"5", 5.0}};
+        q.options.trajectories = 40;
+        q.options.time = 20;
+        q.options.seed = seed;
+        q.options.chaos = false;
+        q.options.threads = 1;
+        q.timing = false;
+        q.checkpoint = file;
+        q.checkpoint_interval = 0;
+        std::atomic<int> stop{0};
+        q.options.stop = &stop;
+        q.progress = [&](const simulation_progress& p) {
+            if (p.done >= 10) stop = SIGTERM;
+        };
+        EXPECT_THROW(simulate(m, q), simulation_interrupted);
+        q.options.stop = nullptr;
+        q.progress = nullptr;
+        return q;
+    };
+    const simulation_request mine = interrupted(7, dir / "seed7.ckpt");
+    (void)interrupted(8, dir / "seed8.ckpt");
+    auto lines = [](const fs::path& f) {
+        std::ifstream in(f);
+        std::vector<std::string> out;
+        for (std::string l; std::getline(in, l);)
+            out.push_back(l);
+        return out;
+    };
+    const std::vector<std::string> a = lines(dir / "seed7.ckpt"), b = lines(dir / "seed8.ckpt");
+    ASSERT_GE(a.size(), 2u);
+    ASSERT_GE(b.size(), 2u);
+    // seed 7's header, seed 8's trajectory records
+    std::ofstream(dir / "seed7.ckpt") << [&] {
+        std::string text = a[0] + "\n";
+        for (std::size_t i = 1; i < b.size(); ++i)
+            if (b[i].rfind("T ", 0) == 0) text += b[i] + "\n";
+        return text;
+    }();
+    try {
+        simulate(m, mine);
+        ADD_FAILURE() << "records of seed 8 were used in a run of seed 7";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("is not this run's"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("seed7.ckpt"), std::string::npos) << e.what();
+    }
+    fs::remove_all(dir);
+}
+
 // A stop request before the run: nothing is integrated, simulate() reports the interruption.
 TEST(Interruption, StopFlagEndsTheStudy) {
     const double_pendulum<double> m;

@@ -26,4 +26,13 @@ nlohmann::ordered_json coefficients_json(const lagrangian_coefficients<Real>& k)
             {"alpha", to_decimal(k.alpha)}, {"beta", to_decimal(k.beta)}, {"D0", to_decimal(k.D0)}};
 }
 
+/// The parameters and, under "coefficients", the Lagrangian coefficients: the "model" block of
+/// `flipflux eval`, `simulate` and a scene's ensemble-<name>.json.
+template <class Real>
+nlohmann::ordered_json model_parameters_json(const double_pendulum<Real>& model) {
+    nlohmann::ordered_json out = parameters_json(model.parameters());
+    out["coefficients"] = coefficients_json(model.coefficients());
+    return out;
+}
+
 }  // namespace flipflux
