@@ -163,7 +163,13 @@ class table_reader {
             g.to = r.required_number("to");
             g.step = r.required_number("step");
             r.finish();
-            // validated further when the grid is expanded (energies_of)
+            // the grid rule checked here, where the key's line is known (expanded again by
+            // energies_of)
+            try {
+                (void)decimal_grid(g.from, g.to, g.step, key);
+            } catch (const input_error& e) {
+                fail(n, key, e.detail());
+            }
             return g;
         }
         if (n->is_integer() || n->is_floating_point() || n->is_string()) {

@@ -57,6 +57,9 @@ TEST(Scene, ErrorsNameFileLineAndKey) {
         {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = { from = 2, to = 3, step = 1, x = 1 "
          "}\n",
          "s.toml:4: ensemble[0].energies.x: unknown key"},
+        // a grid's rule is checked where its line is known (before: no file or line)
+        {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = { from = 2, to = 3, step = 0.3 }\n",
+         "s.toml:4: ensemble[0].energies: to - from = 1 is not a multiple of step = 0.3"},
         {"[scene]\noutput = \"o\"\nname = \n", "s.toml:3: malformed TOML"},
         {"[scene]\noutput = \"o\"\n[accuracy]\nmax_seconds = 0\n",
          "s.toml:4: accuracy.max_seconds: '0' must be finite and > 0"},
