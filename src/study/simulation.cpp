@@ -578,6 +578,28 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
             if (!saved.completed.count(k * studies + m.study)) return false;
         return true;
     };
+    // A complete energy's checkpoint holds its statistics only: its per-trajectory CSVs were
+    // written when it completed. Where one is gone (a folder deleted before the rerun), the
+    // energy is integrated again rather than reported without its files. Rank 0 decides.
+    {
+        std::string redo(energies.size(), '0');
+        if (root)
+            for (std::size_t k = 0; k < energies.size(); ++k)
+                for (const shared_energies::member& m : energies[k].members) {
+                    const simulation_request& q = requests[m.study];
+                    std::error_code ec;
+                    if (complete(k) && !q.csv_dir.empty() &&
+                        !std::filesystem::is_regular_file(
+                            q.csv_dir / ("trajectories_E" + q.energies[m.position].first + ".csv"),
+                            ec))
+                        redo[k] = '1';
+                }
+        if (group.size() > 1) redo = group.broadcast(redo);
+        for (std::size_t k = 0; k < energies.size(); ++k)
+            if (redo[k] == '1')
+                for (const shared_energies::member& m : energies[k].members)
+                    saved.completed.erase(k * studies + m.study);
+    }
 
     std::vector<study_result> out;
     std::vector<std::vector<std::optional<energy_result>>> done(studies);

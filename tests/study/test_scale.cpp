@@ -873,6 +873,46 @@ TEST(Interruption, CheckpointRecordsOfAnotherRunAreRefused) {
     fs::remove_all(dir);
 }
 
+// A complete energy's checkpoint record holds its statistics, not its per-trajectory CSVs: when
+// they are gone before the rerun (a CSV folder deleted), the energy is integrated again. Before,
+// the rerun exited 0 without them (an independent audit).
+TEST(Interruption, ACompleteEnergyWhoseFilesAreGoneIsIntegratedAgain) {
+    const double_pendulum<double> m;
+    const fs::path dir =
+        fs::path(::testing::TempDir()) / ("flipflux_gone_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    simulation_request q;
+    q.criteria = {"upright"};
+    q.energies = {{"4.5", 4.5}, {"5", 5.0}};
+    q.options.trajectories = 12;
+    q.options.time = 10;
+    q.options.seed = 5;
+    q.options.chaos = false;
+    q.options.threads = 1;
+    q.timing = false;
+    q.csv_dir = dir / "whole";
+    const json whole = study_json(*simulate(m, q));
+    const std::string first = read_text(dir / "whole" / "trajectories_E4.5.csv");
+    q.csv_dir = dir / "csv";
+    q.checkpoint = dir / "run.ckpt";
+    q.checkpoint_interval = 0;
+    std::atomic<int> stop{0};
+    q.options.stop = &stop;
+    q.progress = [&](const simulation_progress& p) {
+        if (p.done >= 12 + 2) stop = SIGTERM;  // E = 4.5 complete, E = 5 begun
+    };
+    EXPECT_THROW(simulate(m, q), simulation_interrupted);
+    ASSERT_TRUE(fs::exists(dir / "csv" / "trajectories_E4.5.csv"));
+    fs::remove_all(dir / "csv");
+    q.options.stop = nullptr;
+    std::uint64_t integrated = 0;
+    q.progress = [&](const simulation_progress& p) { integrated = p.done - p.resumed; };
+    EXPECT_EQ(study_json(*simulate(m, q)), whole);
+    EXPECT_EQ(read_text(dir / "csv" / "trajectories_E4.5.csv"), first);
+    EXPECT_GE(integrated, 12u + 1);  // E = 4.5 again, and what E = 5 still needed
+    fs::remove_all(dir);
+}
+
 // A stop request before the run: nothing is integrated, simulate() reports the interruption.
 TEST(Interruption, StopFlagEndsTheStudy) {
     const double_pendulum<double> m;
