@@ -611,6 +611,25 @@ void create_output_dir(const scene& s, const std::filesystem::path& dir, int lin
         std::filesystem::remove(f, ec);
 }
 
+/// The output directory is this scene's, or nobody's: another scene's run.json there means its
+/// files would be mixed with this run's (a resumed run of this scene finds its own name).
+void check_output_owner(const scene& s) {
+    const std::filesystem::path file = s.output / "run.json";
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return;
+    std::ifstream in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    const json j = json::parse(text.str(), nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("scene") || !j["scene"].is_string())
+        return;  // not a run.json this program wrote: rewritten like any output
+    const std::string owner = j["scene"].get<std::string>();
+    if (owner != s.name)
+        throw scene_error(s.file.string() + ":" + std::to_string(s.output_line) +
+                          ": scene.output: '" + s.output.string() + "' holds the run of scene '" +
+                          owner + "' (its run.json): choose another output, or remove it");
+}
+
 }  // namespace
 
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
@@ -630,6 +649,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     // the output directories before anything is computed (make_plan checked what it could
     // without creating them): a refusal names the scene's key, never a filesystem error after hours
     create_output_dir(s, s.output, s.output_line, "scene.output");
+    check_output_owner(s);
     if (s.golden) create_output_dir(s, s.golden->dir, s.golden->line, "golden.dir");
     if (s.accuracy && std::filesystem::path(s.accuracy->out).has_parent_path())
         create_output_dir(s, std::filesystem::path(s.accuracy->out).parent_path(), s.accuracy->line,

@@ -272,6 +272,28 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     fs::remove_all(out);
 }
 
+// Two scenes with one output directory mixed their files (an audit found scene A's
+// orbits-arm2.csv beside scene B's run.json): another scene's run.json there is refused before
+// anything is computed; the same scene runs there again.
+TEST(Execute, AnotherScenesOutputDirectoryIsRefused) {
+    const fs::path out = fresh_dir("owner");
+    const std::string body = "[predictions]\nquantities = [\"omega\"]\nenergies = [3]\n";
+    (void)run(scene_in(out, body));
+    (void)run(scene_in(out, body));  // the same scene again
+    const scene other = parse_scene(
+        "[scene]\nname = \"other\"\noutput = \"" + out.string() + "\"\n" + body, "b.toml");
+    try {
+        (void)run(other);
+        ADD_FAILURE() << "scene 'other' wrote into scene 't''s directory";
+    } catch (const scene_error& e) {
+        EXPECT_NE(std::string(e.what()).find("b.toml:3: scene.output: '" + out.string() +
+                                             "' holds the run of scene 't'"),
+                  std::string::npos)
+            << e.what();
+    }
+    fs::remove_all(out);
+}
+
 // Every crossing time (residence_E<E>_<criterion>.csv, the largest output by far) is written only
 // for an ensemble that asks for it, also when it shares its trajectories with one that does not;
 // the residence statistics are in every ensemble's JSON, and the file holds exactly the gaps they
