@@ -41,13 +41,14 @@ TEST(LimitsCommand, SimulateTrajectoriesBeyondMemoryAreRefused) {
 
 // Within 1e-13 of E_max the saddle orbit's period diverges and double's continuation from the
 // saddle stops short: a refusal naming the energy and E_max, not "internal error" (exit 1) as
-// before. (A pendulum whose continuation gives up in ~1 s; the paper's takes ~5 s.)
+// before. (A pendulum whose continuation gives up in ~1 s, ~65 s in CI's instrumented build; the
+// paper's takes ~5 s. `orbit` and the other callers share throw_not_converged, unit-tested in
+// SaddleOrbit.NoConvergenceJustBelowTheMaximumIsTheEnergysFault.)
 TEST(LimitsCommand, SaddleOrbitsTooCloseToTheMaximumAreRefused) {
     const std::string pendulum = " --arm 2 --m1 2 --m2 0.5 --L1 0.7 --L2 1.5";  // E_max = 5
     expect_refused("eval period --energy 4.9999999999999" + pendulum,
                    {"--energy: '4.99999999999989", "too close to E_max = 5", "arm-2 saddle orbit",
                     "E_max - E = 1e-13"});
-    expect_refused("orbit --energy 4.9999999999999" + pendulum, {"too close to E_max = 5"});
 }
 
 TEST(LimitsCommand, SimulateTinySampleIntervalIsRefused) {

@@ -313,6 +313,36 @@ TEST(SaddleOrbit, BadEnergiesAreInputErrors) {
     EXPECT_EQ(to_string(orbit_status::converged), "converged");
 }
 
+// An orbit that did not converge is the user's energy's fault within 1e-6 (E_max - E_s) of E_max
+// (the period diverges there; each precision's continuation stops short): an input_error naming
+// the energy, E_max and E_max - E, carried from the decimal. Elsewhere it stays a runtime error.
+// (LimitsCommand.SaddleOrbitsTooCloseToTheMaximumAreRefused runs a real case end to end.)
+TEST(SaddleOrbit, NoConvergenceJustBelowTheMaximumIsTheEnergysFault) {
+    const double_pendulum<double> model;
+    try {
+        throw_not_converged(model, arm::two, parse_energy_level<double>("5.9999999999", "energy"),
+                            "the stage", "saddle orbit");
+        FAIL();
+    } catch (const input_error& e) {
+        EXPECT_EQ(e.field(), "energy") << e.what();
+        const std::string w = e.what();
+        EXPECT_NE(w.find("'5.9999999999' is too close to E_max = 6"), std::string::npos) << w;
+        EXPECT_NE(w.find("E_max - E = 1e-10"), std::string::npos) << w;
+        EXPECT_NE(w.find("the stage"), std::string::npos) << w;
+    }
+    // 4e-6 below E_max is 1e-6 of (E_max - E_s) = 4: beyond it the failure is not the energy's
+    for (const char* e : {"5.99999", "4"}) {
+        try {
+            throw_not_converged(model, arm::two, parse_energy_level<double>(e, "energy"), "s", "w");
+            FAIL();
+        } catch (const input_error& x) {
+            ADD_FAILURE() << e << ": " << x.what();
+        } catch (const std::runtime_error& x) {
+            EXPECT_NE(std::string(x.what()).find("no convergence"), std::string::npos);
+        }
+    }
+}
+
 TEST(SaddleOrbit, HopelessGuessesAreReportedNotThrown) {
     const double_pendulum<double> model;
     // a direction far from the orbit's and a wrong period: Ceres does not find a zero
