@@ -585,25 +585,35 @@ void create_output_dir(const scene& s, const std::filesystem::path& dir, int lin
     test.close();
     std::filesystem::remove(probe, ec);
     if (!writable) throw scene_error(where + "is not writable");
-    // the scene's files are *.csv, *.json and *.checkpoint directly in it: a folder (or anything
-    // but a file) in such a place would fail its write late, after the computation
+}
+
+/// The scene's output directory, before anything is computed. Its files are *.csv, *.json and
+/// *.checkpoint directly in it: a folder (or anything but a file) in such a place would fail its
+/// write late, after the computation.
+void check_output_entries(const scene& s) {
+    const std::string where = s.file.string() + ":" + std::to_string(s.output_line) +
+                              ": scene.output: '" + s.output.string() + "' ";
+    const auto ours = [](const std::filesystem::path& p) {
+        const std::string ext = p.extension().string();
+        return ext == ".csv" || ext == ".json" || ext == ".checkpoint";
+    };
+    std::error_code ec;
     std::vector<std::filesystem::path> stale;
-    for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
-        const std::string ext = e.path().extension().string();
+    for (const auto& e : std::filesystem::directory_iterator(s.output, ec)) {
         std::error_code fe;
-        // NAME.tmp.PID of write_file_atomically, left by a process that was killed: removed
-        // when PID no longer runs
+        // NAME.tmp.PID of write_file_atomically for one of the scene's files, left by a process
+        // that was killed: removed when PID no longer runs (nothing else is touched)
         const std::string name = e.path().filename().string();
         if (const std::size_t at = name.rfind(".tmp."); at != std::string::npos) {
             const std::string pid = name.substr(at + 5);
-            if (!pid.empty() && pid.size() < 10 &&
+            if (ours(name.substr(0, at)) && !pid.empty() && pid.size() < 10 &&
                 pid.find_first_not_of("0123456789") == std::string::npos &&
+                std::filesystem::is_regular_file(e.path(), fe) &&
                 ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH)
                 stale.push_back(e.path());
             continue;
         }
-        if ((ext == ".csv" || ext == ".json" || ext == ".checkpoint") &&
-            !std::filesystem::is_regular_file(e.path(), fe))
+        if (ours(e.path()) && !std::filesystem::is_regular_file(e.path(), fe))
             throw scene_error(where + "holds '" + e.path().filename().string() +
                               "', which is not a regular file, where the scene writes its files");
     }
@@ -649,6 +659,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     // the output directories before anything is computed (make_plan checked what it could
     // without creating them): a refusal names the scene's key, never a filesystem error after hours
     create_output_dir(s, s.output, s.output_line, "scene.output");
+    check_output_entries(s);
     check_output_owner(s);
     if (s.golden) create_output_dir(s, s.golden->dir, s.golden->line, "golden.dir");
     if (s.accuracy && std::filesystem::path(s.accuracy->out).has_parent_path())
