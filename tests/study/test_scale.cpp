@@ -814,6 +814,21 @@ TEST(SharedStudies, ChaosThresholdsClassifyOneSetOfTrajectories) {
     fs::remove(file);
 }
 
+// A small upright study on one thread, for the interruption tests: no chaos indicator, no timing.
+simulation_request small_study(std::vector<std::pair<std::string, double>> energies,
+                               std::uint64_t trajectories, double time, std::uint64_t seed) {
+    simulation_request q;
+    q.criteria = {"upright"};
+    q.energies = std::move(energies);
+    q.options.trajectories = trajectories;
+    q.options.time = time;
+    q.options.seed = seed;
+    q.options.chaos = false;
+    q.options.threads = 1;
+    q.timing = false;
+    return q;
+}
+
 // A record's hash covers the record, not the run: trajectory records spliced in from a run with
 // another seed passed before (an independent audit: the rerun exited 0 with changed statistics).
 // Their initial states are not this run's samples, so the resumption is refused naming the file.
@@ -823,15 +838,7 @@ TEST(Interruption, CheckpointRecordsOfAnotherRunAreRefused) {
         fs::path(::testing::TempDir()) / ("flipflux_splice_" + std::to_string(getpid()));
     fs::create_directories(dir);
     auto interrupted = [&](std::uint64_t seed, const fs::path& file) {
-        simulation_request q;
-        q.criteria = {"upright"};
-        q.energies = {{"5", 5.0}};
-        q.options.trajectories = 40;
-        q.options.time = 20;
-        q.options.seed = seed;
-        q.options.chaos = false;
-        q.options.threads = 1;
-        q.timing = false;
+        simulation_request q = small_study({{"5", 5.0}}, 40, 20, seed);
         q.checkpoint = file;
         q.checkpoint_interval = 0;
         std::atomic<int> stop{0};
@@ -881,15 +888,7 @@ TEST(Interruption, ACompleteEnergyWhoseFilesAreGoneIsIntegratedAgain) {
     const fs::path dir =
         fs::path(::testing::TempDir()) / ("flipflux_gone_" + std::to_string(getpid()));
     fs::remove_all(dir);
-    simulation_request q;
-    q.criteria = {"upright"};
-    q.energies = {{"4.5", 4.5}, {"5", 5.0}};
-    q.options.trajectories = 12;
-    q.options.time = 10;
-    q.options.seed = 5;
-    q.options.chaos = false;
-    q.options.threads = 1;
-    q.timing = false;
+    simulation_request q = small_study({{"4.5", 4.5}, {"5", 5.0}}, 12, 10, 5);
     q.csv_dir = dir / "whole";
     const json whole = study_json(*simulate(m, q));
     const std::string first = read_text(dir / "whole" / "trajectories_E4.5.csv");
