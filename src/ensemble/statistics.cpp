@@ -32,7 +32,8 @@ summary_statistics summarize(std::span<const double> v) {
     double ss = 0;
     for (double x : v)
         ss += (x - s.mean) * (x - s.mean);
-    s.standard_deviation = v.size() > 1 ? std::sqrt(ss / (n - 1)) : 0.0;
+    // one value has no sample spread (n - 1 = 0): undefined, not 0 (and no z-score follows)
+    s.standard_deviation = v.size() > 1 ? std::sqrt(ss / (n - 1)) : nan;
     s.standard_error = s.standard_deviation / std::sqrt(n);
     return s;
 }
@@ -180,7 +181,9 @@ std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
         double r2 = 0, s2 = 0, floor2 = 0;
         for (const quality_sample& x : samples) {
             if (!(x.energy >= g.lower && x.energy < g.upper)) continue;
-            if (!(x.predicted > 0) || !std::isfinite(x.predicted) || !std::isfinite(x.simulated))
+            // an energy with one trajectory has no spread (NaN): no PQI term, no noise estimate
+            if (!(x.predicted > 0) || !std::isfinite(x.predicted) || !std::isfinite(x.simulated) ||
+                !std::isfinite(x.spread) || !std::isfinite(x.standard_error))
                 continue;
             const double R = std::abs(x.simulated / x.predicted - 1);
             const double S = x.spread / x.predicted;

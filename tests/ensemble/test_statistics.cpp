@@ -20,7 +20,10 @@ TEST(Statistics, Summary) {
     EXPECT_EQ(s.minimum, 1);
     EXPECT_EQ(s.maximum, 4);
     const std::vector<double> one{7};
-    EXPECT_EQ(summarize(one).standard_deviation, 0);
+    // one value: the mean is that value, its spread undefined (regression: reported as 0)
+    EXPECT_EQ(summarize(one).mean, 7);
+    EXPECT_TRUE(std::isnan(summarize(one).standard_deviation));
+    EXPECT_TRUE(std::isnan(summarize(one).standard_error));
     EXPECT_TRUE(std::isnan(summarize(std::vector<double>{}).mean));
 }
 
@@ -141,6 +144,12 @@ TEST(Statistics, QualityIndicesPerRegime) {
     };
     const auto q = quality(samples, g2);
     EXPECT_EQ(q[0].energies, 3u);
+    // an energy with one trajectory (spread and standard error undefined, NaN) has no term
+    std::vector<quality_sample> with_single = samples;
+    const double undefined = std::numeric_limits<double>::quiet_NaN();
+    with_single.push_back({3.0, 5.0, 1.0, undefined, undefined, 1});
+    EXPECT_EQ(quality(with_single, g2)[0].energies, 3u);
+    EXPECT_NEAR(quality(with_single, g2)[0].iqi, q[0].iqi, 1e-15);
     EXPECT_NEAR(q[0].iqi, std::sqrt((0.01 + 0.0009) / 3), 1e-15);
     EXPECT_NEAR(q[0].pqi, std::sqrt((0.01 + 0.04 + 0.0009 + 0.01) / 3), 1e-15);
     EXPECT_NEAR(q[1].iqi, 0.1, 1e-15);

@@ -27,7 +27,8 @@ struct summary_statistics {
     double mean = 0, standard_deviation = 0, standard_error = 0, minimum = 0, maximum = 0;
 };
 
-/// Two-pass mean and sample standard deviation (0 for a single value; NaN for none).
+/// Two-pass mean and sample standard deviation (standard deviation and standard error NaN for a
+/// single value, where n - 1 = 0; everything NaN for none).
 summary_statistics summarize(std::span<const double> values);
 
 /// Equal-width bins on [lower, upper); values outside are counted in underflow/overflow.
