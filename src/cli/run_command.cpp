@@ -52,6 +52,7 @@ const register_command registration([](CLI::App& app) {
         (void)checked_threads(static_cast<std::uint64_t>(s->threads), "--threads");
         const scene sc = load_scene(s->file);
         const plan p = make_plan(sc);
+        if (s->dry_run) check_existing_output(sc);  // what run would refuse, refused here too
         print_plan(sc, p, std::cout);
         if (s->dry_run) return;
         run_options options;

@@ -166,7 +166,7 @@ void run_orbit_family(context& ctx, const plan_step& step) {
             if (!dir.empty() && o.status != orbit_status::not_converged) {
                 std::size_t i = 0;
                 while (i < missing.size() && (missing[i].value != o.energy ||
-                                              missing[i].above(model.saddle_energy(a)) != o.excess))
+                                              missing[i].above(model.saddle_level(a)) != o.excess))
                     ++i;
                 if (i < missing.size()) {
                     const auto file = dir / ("E" + missing_text[i] + ".json");
@@ -219,7 +219,7 @@ void write_orbit_tables(context& ctx, int arm_number) {
     for (std::size_t i = 0; i < levels.size(); ++i) {
         const energy_level<Real>& level = levels[i];
         const std::string& e = texts[i];  // the energy as the scene gives it (not rounded)
-        if (!(level.above(es) > 0 && level.below(emax) > 0)) {
+        if (!(level.above(model.saddle_level(a)) > 0 && level.below(model.maximum_level()) > 0)) {
             skipped.push_back({{"arm", std::to_string(arm_number)},
                                {"energy", e},
                                {"reason", "outside the arm's saddle-orbit family (" +
@@ -282,9 +282,9 @@ json rate_differences(const double_pendulum<Real>& model,
             std::size_t n = 0;
             for (const auto& [text, v] : other->second) {
                 const auto s = saddle->second.find(text);
-                const Real e = parse_real<Real>(text, "energy");
-                if (s == saddle->second.end() || !(e > model.saddle_energy(a)) ||
-                    !(e < model.maximum_energy()) || !(s->second > 0))
+                const energy_level<Real> e = parse_energy_level<Real>(text, "energy");
+                if (s == saddle->second.end() || !(e.above(model.saddle_level(a)) > 0) ||
+                    !(e.below(model.maximum_level()) > 0) || !(s->second > 0))
                     continue;
                 const Real rel = v / s->second - 1;
                 sum += rel * rel;
@@ -589,8 +589,9 @@ void create_output_dir(const scene& s, const std::filesystem::path& dir, int lin
 
 /// The scene's output directory, before anything is computed. Its files are *.csv, *.json and
 /// *.checkpoint directly in it: a folder (or anything but a file) in such a place would fail its
-/// write late, after the computation.
-void check_output_entries(const scene& s) {
+/// write late, after the computation. With `remove_stale`, dead processes' temporary files of
+/// them are removed.
+void check_output_entries(const scene& s, bool remove_stale) {
     const std::string where = s.file.string() + ":" + std::to_string(s.output_line) +
                               ": scene.output: '" + s.output.string() + "' ";
     const auto ours = [](const std::filesystem::path& p) {
@@ -617,8 +618,9 @@ void check_output_entries(const scene& s) {
             throw scene_error(where + "holds '" + e.path().filename().string() +
                               "', which is not a regular file, where the scene writes its files");
     }
-    for (const std::filesystem::path& f : stale)
-        std::filesystem::remove(f, ec);
+    if (remove_stale)
+        for (const std::filesystem::path& f : stale)
+            std::filesystem::remove(f, ec);
 }
 
 /// The output directory is this scene's, or nobody's: another scene's run.json there means its
@@ -642,6 +644,13 @@ void check_output_owner(const scene& s) {
 
 }  // namespace
 
+void check_existing_output(const scene& s) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(s.output, ec)) return;  // run creates it (make_plan checked)
+    check_output_entries(s, false);
+    check_output_owner(s);
+}
+
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                           const run_options& options) {
     context ctx{s, log, options, {}};
@@ -659,7 +668,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     // the output directories before anything is computed (make_plan checked what it could
     // without creating them): a refusal names the scene's key, never a filesystem error after hours
     create_output_dir(s, s.output, s.output_line, "scene.output");
-    check_output_entries(s);
+    check_output_entries(s, true);
     check_output_owner(s);
     if (s.golden) create_output_dir(s, s.golden->dir, s.golden->line, "golden.dir");
     if (s.accuracy && std::filesystem::path(s.accuracy->out).has_parent_path())

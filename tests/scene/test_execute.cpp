@@ -176,6 +176,7 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
         fs::remove(out / "predictions.csv");
         fs::create_directory(out / "predictions.csv");
         forget_saddle_orbits();
+        EXPECT_THROW(check_existing_output(s), scene_error);  // --dry-run's check, the same
         try {
             (void)run(s, cache);
             ADD_FAILURE() << "a folder predictions.csv was accepted";
@@ -188,6 +189,8 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
         fs::remove(out / "predictions.csv");
         // pid 2^22 + 1 is above Linux's pid_max limit: no process has it
         std::ofstream(out / "run.json.tmp.4194305") << "{";
+        check_existing_output(s);  // --dry-run removes nothing
+        EXPECT_TRUE(fs::exists(out / "run.json.tmp.4194305"));
         (void)run(s, cache);
         EXPECT_FALSE(fs::exists(out / "run.json.tmp.4194305"));
         EXPECT_EQ(read_text(out / "predictions.csv"), predictions);
@@ -282,6 +285,9 @@ TEST(Execute, AnotherScenesOutputDirectoryIsRefused) {
     (void)run(scene_in(out, body));  // the same scene again
     const scene other = parse_scene(
         "[scene]\nname = \"other\"\noutput = \"" + out.string() + "\"\n" + body, "b.toml");
+    // --dry-run refuses it too (check_existing_output), and the scene itself passes
+    EXPECT_THROW(check_existing_output(other), scene_error);
+    EXPECT_NO_THROW(check_existing_output(scene_in(out, body)));
     try {
         (void)run(other);
         ADD_FAILURE() << "scene 'other' wrote into scene 't''s directory";

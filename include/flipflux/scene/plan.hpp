@@ -99,6 +99,11 @@ struct run_options {
 /// $HOME/.cache/flipflux, else .flipflux-cache.
 std::filesystem::path default_cache_dir();
 
+/// The checks execute_plan makes of an existing output directory before computing anything (a
+/// folder where the scene writes a file; another scene's run.json), for --dry-run: it creates and
+/// removes nothing. Throws scene_error naming scene.output.
+void check_existing_output(const scene& s);
+
 /// Executes the plan, writing outputs under s.output (atomically); progress to `log`.
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                           const run_options& options = {});
