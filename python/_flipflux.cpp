@@ -111,7 +111,7 @@ py::dict evaluate(const std::string& name, const std::string& energy_text,
         return dispatch(p, [&]<class Real>() {
             const quantity& q = find_quantity(name);
             const arm a = cli::parse_arm(arm_text);
-            const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
+            const double_pendulum<Real> model = make_model<Real>(model_of(parameters));
             const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
             const Real& energy = level.value;
             const auto start = std::chrono::steady_clock::now();
@@ -157,7 +157,7 @@ py::dict saddle_orbit_text(const std::string& energy_text, const std::string& ar
         const precision p = parse_precision(precision_text, "--precision");
         return dispatch(p, [&]<class Real>() {
             const arm a = cli::parse_arm(arm_text);
-            const double_pendulum<Real> model(parse_parameters<Real>(model_of(parameters)));
+            const double_pendulum<Real> model = make_model<Real>(model_of(parameters));
             const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
             const Real& energy = level.value;
             orbit_options<Real> options;
@@ -226,7 +226,7 @@ std::string simulate_json(const std::map<std::string, std::string>& a,
     s.chaos_threshold = a.at("chaos_threshold");
     s.csv_dir = csv_dir;
     s.model = model_of(parameters);
-    const double_pendulum<double> model(parse_parameters<double>(s.model));
+    const double_pendulum<double> model = make_model<double>(s.model);
     simulation_request q = cli::make_request(s);
     auto stop = std::make_shared<std::atomic<int>>(0);
     q.options.stop = stop.get();

@@ -466,6 +466,14 @@ void enclose_centre_mode_slope(arb_t res, const pendulum_balls& p, arm a, slong 
     arb_div(res, res, t.x, prec);
 }
 
+bool approximate_curve_above_saddle(const pendulum_balls& p, arm a, slong prec) {
+    curve_data c;
+    arb_set(c.ws.x, a == arm::two ? p.alpha.x : p.beta.x);
+    arb_set(c.wf.x, a == arm::two ? p.beta.x : p.alpha.x);
+    enclose_centre_mode_slope(c.A.x, p, a, prec);
+    return saddle_isolated(c, prec);
+}
+
 void enclose_approximate_flux(arb_t res, const pendulum_balls& p, arm a, const arb_t E,
                               slong prec) {
     const bool two = a == arm::two;

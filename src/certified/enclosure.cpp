@@ -8,7 +8,9 @@
 #include <mutex>
 #include <optional>
 
+#include "flipflux/core/decimal.hpp"
 #include "flipflux/core/key_claims.hpp"
+#include "flipflux/model/model_text.hpp"
 #include "prediction_enclosures.hpp"
 #include "saddle_orbit_proof.hpp"
 
@@ -232,11 +234,32 @@ void enclose_orbit_quantity(arb_t res, certified_quantity q, const model_text& m
     }
 }
 
+/// True when E <= E_s of arm a, decided exactly from the decimal inputs (model/model_text.hpp
+/// critical_decimals_of): where the balls of E and of E_s = 2 g m2 a2 (say) overlap, as they do
+/// at E = E_s for decimal parameters, no precision separates them, and the fluxes, which vanish
+/// there, would have only the enclosure [0, f(E_s + 2^-prec)] of no relative accuracy.
+bool at_or_below_saddle(const model_text& model, arm a, const std::string& energy) {
+    const critical_decimals levels = critical_decimals_of(model);
+    const std::string& saddle = a == arm::two ? levels.saddle2 : levels.saddle1;
+    if (saddle.empty()) return false;  // beyond the decimal range: the balls decide
+    const std::string d = decimal_difference(energy, saddle, "energy");
+    return d == "0" || d.front() == '-';
+}
+
 void enclose(arb_t res, certified_quantity q, const model_text& model, arm a,
              const std::string& energy, slong prec) {
     const certified_detail::pendulum_balls p = certified_detail::pendulum_from_text(model, prec);
     arb_ball E;
     certified_detail::energy_from_text(E.x, energy, prec);
+    const bool upright =
+        q == certified_quantity::flux_upright || q == certified_quantity::rate_upright;
+    const bool approx =
+        q == certified_quantity::flux_approx || q == certified_quantity::rate_approx;
+    if ((upright || (approx && certified_detail::approximate_curve_above_saddle(p, a, prec))) &&
+        at_or_below_saddle(model, a, energy)) {
+        arb_zero(res);  // no accessible point on the surface: f = 0, and f / Omega = 0
+        return;
+    }
     switch (q) {
         case certified_quantity::omega:
             certified_detail::enclose_phase_volume(res, p, E.x, prec);

@@ -47,4 +47,9 @@ void enclose_centre_mode_slope(arb_t res, const pendulum_balls& p, arm a, slong 
 /// f2(E) of arm a (prediction/curve_flux.hpp: the flux through the approximate saddle curve).
 void enclose_approximate_flux(arb_t res, const pendulum_balls& p, arm a, const arb_t E, slong prec);
 
+/// True when it is proven that the approximate curve of arm a touches the saddle's energy level
+/// only at the saddle (w_f A^2 < w_s; then V > E_s elsewhere on it, since sin^2(A sin(s)/2) <=
+/// A^2 sin^2(s/2)): f2 = 0 for every E <= E_s.
+bool approximate_curve_above_saddle(const pendulum_balls& p, arm a, slong prec);
+
 }  // namespace flipflux::certified_detail

@@ -22,23 +22,14 @@ struct eval_state {
     bool certify = false;
 };
 
-/// The decimal text of a value with every digit of its binary representation that matters here
-/// (twice the digits it resolves): the input the non-rigorous route actually computed with.
-template <class Real>
-std::string binary_decimal(const Real& x, int digits) {
-    return to_decimal(x, 2 * digits + 20);
-}
-
 /// The "enclosure" member of --certify: the proven ball at the precision's digits, and the check
 /// that the non-rigorous value lies in it, widened by the value's own error estimate (which the
-/// ball may be narrower than); certification_error (exit status 1) if not. The non-rigorous route
-/// computes with the parameters rounded to Real (the energy is carried as its decimal,
-/// model/energy_level.hpp); where that rounding moves the value by more than the widened ball
-/// (just above an inexact saddle energy, where f1 ~ E - E_s), the check is repeated with the
-/// enclosure for the rounded parameters.
+/// ball may be narrower than); certification_error (exit status 1) if not. Both are of the
+/// decimal inputs: the non-rigorous route rounds the parameters to Real but carries the energy's
+/// distances to the critical levels exactly (model/energy_level.hpp, model_text.hpp), the only
+/// place where the parameters' rounding is amplified (f1 ~ E - E_s just above a saddle).
 template <class Real>
-json enclosure_json(const eval_state& s, const quantity& q, arm a,
-                    const double_pendulum<Real>& model, const quantity_value<Real>& v) {
+json enclosure_json(const eval_state& s, const quantity& q, arm a, const quantity_value<Real>& v) {
     const int digits = decimal_digits(precision_of<Real>());
     const auto start = std::chrono::steady_clock::now();
     const certified_enclosure e = certified_value(q.name, s.model, a, s.energy, digits);
@@ -59,23 +50,11 @@ json enclosure_json(const eval_state& s, const quantity& q, arm a,
              {"proven_digits", e.proven_digits},
              {"bits", e.bits},
              {"seconds", seconds}};
-    if (enclosure_contains(e, value, slack)) return out;
-    const physical_parameters<Real>& p = model.parameters();
-    model_text rounded;
-    rounded.m1 = binary_decimal(p.m1, shown), rounded.m2 = binary_decimal(p.m2, shown);
-    rounded.L1 = binary_decimal(p.L1, shown), rounded.L2 = binary_decimal(p.L2, shown);
-    rounded.a1 = binary_decimal(p.a1, shown), rounded.a2 = binary_decimal(p.a2, shown);
-    rounded.I1 = binary_decimal(p.I1, shown), rounded.I2 = binary_decimal(p.I2, shown);
-    rounded.g = binary_decimal(p.g, shown);
-    const certified_enclosure r = certified_value(q.name, rounded, a, s.energy, digits);
-    if (!enclosure_contains(r, value, slack))
+    if (!enclosure_contains(e, value, slack))
         throw certification_error(q.name + " at E = " + s.energy + ": the value " + value +
                                   " (error estimate " + slack +
-                                  ") lies outside the proven enclosure [" + r.mid + " +/- " +
-                                  r.radius + "] for the parameters rounded to " +
-                                  precision_name<Real>() + ": a bug in one of the two routes");
-    out["value_check"] = "the value lies in the enclosure for the parameters rounded to " +
-                         precision_name<Real>() + ", [" + r.mid + " +/- " + r.radius + "]";
+                                  ") lies outside the proven enclosure [" + e.mid + " +/- " +
+                                  e.radius + "]: a bug in one of the two routes");
     return out;
 }
 
@@ -83,7 +62,7 @@ template <class Real>
 json eval_json(const eval_state& s) {
     const quantity& q = find_quantity(s.quantity);
     const arm a = parse_arm(s.arm_text);
-    const double_pendulum<Real> model(parse_parameters<Real>(s.model));
+    const double_pendulum<Real> model = make_model<Real>(s.model);
     const energy_level<Real> level = parse_energy_level<Real>(s.energy, "--energy");
     const Real& energy = level.value;
     check_magnitude(energy, "--energy");
@@ -118,7 +97,7 @@ json eval_json(const eval_state& s) {
     if (!s.model.is_default()) {
         out["model"] = parameters_json(model);
     }
-    if (s.certify) out["enclosure"] = enclosure_json(s, q, a, model, v);
+    if (s.certify) out["enclosure"] = enclosure_json(s, q, a, v);
     return out;
 }
 

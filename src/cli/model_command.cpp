@@ -7,7 +7,7 @@ namespace {
 
 template <class Real>
 json model_json(const model_options& options) {
-    const double_pendulum<Real> model(parse_parameters<Real>(options));
+    const double_pendulum<Real> model = make_model<Real>(options);
     json points = json::array();
     for (const auto& cp : critical_points(model)) {
         json modes = json::array();

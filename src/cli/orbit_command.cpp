@@ -38,7 +38,7 @@ template <class Real>
 std::string orbit_csv(const orbit_state_options& o) {
     const arm a = parse_arm(o.arm_text);
     const long samples = parse_samples(o.samples);
-    const double_pendulum<Real> model(parse_parameters<Real>(o.model));
+    const double_pendulum<Real> model = make_model<Real>(o.model);
     const energy_level<Real> level = parse_energy_level<Real>(o.energy, "--energy");
     orbit_options<Real> options;
     options.method = parse_name<orbit_method>(o.method, "--method");

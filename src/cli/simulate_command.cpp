@@ -138,7 +138,7 @@ void run(const simulate_state& s) {
     if (launched_by_mpirun()) mpi = std::make_unique<mpi_group>();
     const bool root = !mpi || mpi->rank() == 0;
     try {
-        const double_pendulum<double> model(parse_parameters<double>(s.model));
+        const double_pendulum<double> model = make_model<double>(s.model);
         simulation_request q = make_request(s);
         q.options.stop = &stop_signal;
         q.group = mpi.get();

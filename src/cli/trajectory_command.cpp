@@ -57,7 +57,7 @@ void write(const std::string& path, const std::string& option, const std::string
 
 template <class Real>
 void run(const trajectory_state& s) {
-    const double_pendulum<Real> model(parse_parameters<Real>(s.model));
+    const double_pendulum<Real> model = make_model<Real>(s.model);
     trajectory_request<Real> q;
     q.state = parse_state<Real>(s.state);
     q.time = parse_real<Real>(s.time, "--time");

@@ -79,7 +79,7 @@ void validate_ensemble(const validate_state& s) {
     const bool from_file = declared && !s.model_given;
     const double_pendulum<double> model = [&] {
         try {
-            return double_pendulum<double>(parse_parameters<double>(declared.value_or(s.model)));
+            return make_model<double>(declared.value_or(s.model));
         } catch (const input_error& e) {
             if (!from_file) throw;
             throw input_error(who + ": pendulum: " + e.what());  // the file's value, not an option

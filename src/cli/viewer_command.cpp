@@ -47,7 +47,7 @@ std::vector<arm> parse_arm_list(const std::string& text) {
 
 template <class Real>
 std::string viewer_html(const viewer_options& o, const viewer_request& request) {
-    const double_pendulum<Real> model(parse_parameters<Real>(o.model));
+    const double_pendulum<Real> model = make_model<Real>(o.model);
     orbit_options<Real> options;
     if (!o.integrator.empty())
         options.integrator = parse_name<orbit_integrator>(o.integrator, "--integrator");

@@ -1,5 +1,6 @@
 // Decimal text independently of the working precision (core/decimal.hpp): recognising a decimal
 // number, rounding it, and comparing two of them.
+#include <gmp.h>
 #include <mpfr.h>
 
 #include <boost/multiprecision/mpfr.hpp>
@@ -9,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -101,6 +104,108 @@ double decimal_agreement(std::string_view a, std::string_view b, std::string_vie
 
 double decimal_relative_error(std::string_view a, std::string_view b, std::string_view what) {
     return std::pow(10.0, log10_relative_difference(a, b, what));
+}
+
+namespace {
+
+/// m 10^e with m a GMP integer: a decimal number held exactly.
+class exact_decimal {
+  public:
+    exact_decimal() { mpz_init(m_); }
+    exact_decimal(std::string_view text, std::string_view what) : exact_decimal() {
+        if (!is_decimal_number(text))
+            throw input_error::about(std::string(what),
+                                     "'" + std::string(text) + "' is not a finite decimal number");
+        const std::size_t e = text.find_first_of("eE");
+        std::string digits;
+        long exponent = e == std::string_view::npos
+                            ? 0
+                            : std::strtol(std::string(text.substr(e + 1)).c_str(), nullptr, 10);
+        bool fraction = false;
+        for (const char c : text.substr(0, e)) {
+            if (c == '-') digits += c;
+            if (c == '.') fraction = true;
+            if (c >= '0' && c <= '9') {
+                digits += c;
+                if (fraction) --exponent;
+            }
+        }
+        mpz_set_str(m_, digits.c_str(), 10);
+        e_ = exponent;
+    }
+    exact_decimal(const exact_decimal&) = delete;
+    exact_decimal& operator=(const exact_decimal&) = delete;
+    ~exact_decimal() { mpz_clear(m_); }
+
+    /// out = a + sign b (sign = +1 or -1), exactly.
+    static void sum(exact_decimal& out, const exact_decimal& a, const exact_decimal& b, int sign) {
+        // align to the smaller exponent: the other mantissa times 10^(difference)
+        const exact_decimal& low = a.e_ <= b.e_ ? a : b;
+        const exact_decimal& high = a.e_ <= b.e_ ? b : a;
+        mpz_t scaled;
+        mpz_init(scaled);
+        mpz_ui_pow_ui(scaled, 10, static_cast<unsigned long>(high.e_ - low.e_));
+        mpz_mul(scaled, scaled, high.m_);
+        if (&high == &a)
+            sign > 0 ? mpz_add(out.m_, scaled, low.m_) : mpz_sub(out.m_, scaled, low.m_);
+        else
+            sign > 0 ? mpz_add(out.m_, low.m_, scaled) : mpz_sub(out.m_, low.m_, scaled);
+        out.e_ = low.e_;
+        mpz_clear(scaled);
+    }
+    static void product(exact_decimal& out, const exact_decimal& a, const exact_decimal& b) {
+        mpz_mul(out.m_, a.m_, b.m_);
+        out.e_ = a.e_ + b.e_;
+    }
+
+    /// "[-]D.DDDeEXP" with every digit (trailing zeros dropped); input_error about `what` when
+    /// the exponent has more than six digits.
+    std::string text(std::string_view what) {
+        if (mpz_sgn(m_) == 0) return "0";
+        while (mpz_divisible_ui_p(m_, 10)) {
+            mpz_divexact_ui(m_, m_, 10);
+            ++e_;
+        }
+        char* digits = mpz_get_str(nullptr, 10, m_);
+        std::string out(digits);
+        void (*release)(void*, std::size_t) = nullptr;
+        mp_get_memory_functions(nullptr, nullptr, &release);
+        release(digits, std::strlen(digits) + 1);
+        // the exponent of the leading digit is what the reader's limit applies to
+        const long leading = e_ + static_cast<long>(out.size()) - (out[0] == '-' ? 2 : 1);
+        if (std::labs(leading) > 999999)
+            throw input_error::about(std::string(what), "an exact decimal result of magnitude 1e" +
+                                                            std::to_string(leading) +
+                                                            " is outside the decimal range");
+        // d.ddd...eLEADING: the exponent is that of the leading digit
+        const std::size_t first = out[0] == '-' ? 1 : 0;
+        if (out.size() > first + 1) out.insert(first + 1, ".");
+        return out + "e" + std::to_string(leading);
+    }
+
+  private:
+    mpz_t m_;
+    long e_ = 0;
+};
+
+}  // namespace
+
+std::string decimal_sum(std::string_view a, std::string_view b, std::string_view what) {
+    exact_decimal x(a, what), y(b, what), out;
+    exact_decimal::sum(out, x, y, +1);
+    return out.text(what);
+}
+
+std::string decimal_difference(std::string_view a, std::string_view b, std::string_view what) {
+    exact_decimal x(a, what), y(b, what), out;
+    exact_decimal::sum(out, x, y, -1);
+    return out.text(what);
+}
+
+std::string decimal_product(std::string_view a, std::string_view b, std::string_view what) {
+    exact_decimal x(a, what), y(b, what), out;
+    exact_decimal::product(out, x, y);
+    return out.text(what);
 }
 
 namespace {

@@ -55,8 +55,7 @@ struct memo {
     static std::string key(const double_pendulum<Real>& model, arm a,
                            const energy_level<Real>& energy, orbit_method method,
                            orbit_integrator integrator) {
-        return key(model, a, energy.value, energy.above(model.saddle_energy(a)), method,
-                   integrator);
+        return key(model, a, energy.value, energy.above(model.saddle_level(a)), method, integrator);
     }
     void refresh() {  // under the lock
         const unsigned g = saddle_orbit_memo_generation();
@@ -348,9 +347,10 @@ std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a,
     Real tol = cbrt(eps);
     if (isfinite(o.residual) && 100 * o.residual > tol) tol = 100 * o.residual;
     const Real es = model.saddle_energy(a), scale = abs(energy) + abs(es);
-    if (!(abs(o.excess - level.above(es)) <= tol * scale))
+    const Real excess = level.above(model.saddle_level(a));
+    if (!(abs(o.excess - excess) <= tol * scale))
         return "excess E - E_s = " + to_decimal(o.excess) + ", the model's is " +
-               to_decimal(level.above(es)) + " (another pendulum?)";
+               to_decimal(excess) + " (another pendulum?)";
     if (!(abs(model.potential(o.saddle[0], o.saddle[1]) - es) <= tol * scale))
         return "its saddle point is not the model's (another pendulum?)";
     if (!(abs(o.start[0] - o.saddle[0]) + abs(o.start[1] - o.saddle[1]) <= tol * scale) ||

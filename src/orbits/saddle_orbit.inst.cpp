@@ -33,8 +33,8 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_a
     using boost::multiprecision::isfinite;
     using std::isfinite;
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
-    if (!isfinite(energy.value) || !isfinite(energy.residual) || !(energy.above(lo) > 0) ||
-        !(energy.below(hi) > 0)) {
+    if (!isfinite(energy.value) || !isfinite(energy.residual) ||
+        !(energy.above(model.saddle_level(a)) > 0) || !(energy.below(model.maximum_level()) > 0)) {
         throw input_error::about("energy", "'" + to_decimal(energy.value) +
                                                "' is outside the arm-" + to_string(a) +
                                                " saddle-orbit family's range (" + to_decimal(lo) +
@@ -46,7 +46,7 @@ template <class Real>
 void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy,
                          const std::string& stage, const std::string& what) {
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
-    const Real gap = energy.below(hi);  // E_max - E, carried from the decimal input
+    const Real gap = energy.below(model.maximum_level());  // E_max - E, carried exactly
     if (gap <= (hi - lo) / 1000000)
         throw input_error::about(
             "energy", "'" + to_decimal(energy.value) +
@@ -593,7 +593,7 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     const Real tol = options.tolerance > 0 ? options.tolerance : default_tolerance<Real>();
     const int stages = taylor ? 0 : (options.stages > 0 ? options.stages : default_stages<Real>());
     const int order = taylor ? taylor_order_for(tol) : 2 * stages;
-    const Real excess = energy.above(model.saddle_energy(a));
+    const Real excess = energy.above(model.saddle_level(a));
     const Real eps = std::numeric_limits<Real>::epsilon();
 
     saddle_orbit<Real> orbit;
@@ -707,7 +707,7 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     check_orbit_energy(model, a, energy);
     const orbit_guess<Real> lin = linear_guess(model, a);
     const double_pendulum<double> md = to_double(model);
-    const double target = static_cast<double>(energy.above(model.saddle_energy(a)));
+    const double target = static_cast<double>(energy.above(model.saddle_level(a)));
     // NOTE: the continuation's corrector is the symmetric Newton iteration whatever the method:
     // its basin is that of a quarter period, about sqrt(|mu|) times wider than the periodic
     // shooting's (Ceres' continuation stalls near E_max, see docs/theory.md); the orbit itself
@@ -719,7 +719,7 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
         saddle_orbit<Real> failed;
         failed.flip_arm = a;
         failed.energy = energy.value;
-        failed.excess = energy.above(model.saddle_energy(a));
+        failed.excess = energy.above(model.saddle_level(a));
         failed.status = orbit_status::not_converged;
         failed.double_stage = "continuation from the centre mode failed: " + c.stop_reason;
         return failed;
@@ -738,8 +738,8 @@ saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, a
     std::vector<double> targets;
     for (std::size_t i = 0; i < energies.size(); ++i) {
         check_orbit_energy(model, a, energies[i]);
-        const Real excess = energies[i].above(model.saddle_energy(a));
-        if (i > 0 && !(excess > energies[i - 1].above(model.saddle_energy(a))))
+        const Real excess = energies[i].above(model.saddle_level(a));
+        if (i > 0 && !(excess > energies[i - 1].above(model.saddle_level(a))))
             throw input_error::about("energy", "the energies must increase ('" +
                                                    to_decimal(energies[i].value) + "' follows '" +
                                                    to_decimal(energies[i - 1].value) + "')");

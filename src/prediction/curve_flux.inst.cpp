@@ -38,8 +38,8 @@ struct curve_frame {
             throw std::domain_error("curve_flux: energy not finite");
         const auto& k = m.coefficients();
         const bool two = c.flip_arm == arm::two;
-        delta = energy.above(m.saddle_energy(c.flip_arm));
-        above_max = energy.above(m.maximum_energy());
+        delta = energy.above(m.saddle_level(c.flip_arm));
+        above_max = energy.above(m.maximum_level());
         w_s = two ? k.alpha : k.beta;
         w_f = two ? k.beta : k.alpha;
         M_ss = two ? k.A : k.B;
@@ -456,7 +456,7 @@ Real near_saddle_flux(const double_pendulum<Real>& model, arm a, const level_arg
             "near_saddle_flux: the curve's tangent is not transverse to the "
             "saddle's runaway direction (d^T K* d <= 0)");
     }
-    return 4 * pi<Real>() * energy.above(model.saddle_energy(a)) * sqrt(mass / stiffness);
+    return 4 * pi<Real>() * energy.above(model.saddle_level(a)) * sqrt(mass / stiffness);
 }
 
 #define FLIPFLUX_CURVE_FLUX_INSTANTIATE(R)                                                        \

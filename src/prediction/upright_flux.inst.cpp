@@ -28,8 +28,14 @@ struct upright_geometry {
         const auto& k = model.coefficients();
         J = a == arm::two ? k.A : k.B;
         w = a == arm::two ? k.alpha : k.beta;
-        delta = energy.above(model.saddle_energy(a));
-        below_max = energy.below(model.maximum_energy());
+        delta = energy.above(model.saddle_level(a));
+        below_max = energy.below(model.maximum_level());
+        // 2w = (E - E_s) + (E_max - E), exactly for the decimal inputs: taken from the two
+        // distances where their sum does not cancel (E_s < E <= E_max + w), so that the
+        // elliptic modulus m = 2w/delta and 1 - m = (E - E_max)/delta are consistent. Near E_max
+        // E(m) has the condition ~log(1/(1 - m)), and the parameters' rounding of w moved f1 by
+        // 25 ulp there (E = E_max + 1e-20 of --m1 1.3 --m2 0.45 --L1 0.8 --L2 1.7 --g 9.81).
+        if (delta > 0 && below_max > -w && isfinite(below_max)) w = (delta + below_max) / 2;
     }
 };
 

@@ -57,7 +57,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
             const auto m = method_named<phase_volume_method>("omega", method);
             require_positive_energy("omega", energy);
             if (m == phase_volume_method::closed_form &&
-                !(energy.above(model.maximum_energy()) >= 0)) {
+                !(energy.above(model.maximum_level()) >= 0)) {
                 throw input_error::about(
                     "energy", "'" + to_decimal(energy.value) +
                                   "' is below the threshold of method closed-form of omega "

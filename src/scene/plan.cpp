@@ -277,8 +277,9 @@ plan make_plan(const scene& s) {
     auto want_orbits = [&](int arm_number, const std::vector<energy_entry>& energies,
                            precision prec) {
         const arm a = arm_number == 1 ? arm::one : arm::two;
-        for (const auto& e : energies)
-            if (e.value > model.saddle_energy(a) && e.value < model.maximum_energy())
+        for (const auto& e : energies)  // the family's open range, from the exact decimals
+            if (const energy_level<double> level = parse_energy_level<double>(e.text, "energy");
+                level.above(model.saddle_level(a)) > 0 && level.below(model.maximum_level()) > 0)
                 family[{arm_number, prec}].emplace(e.value, e.text);
     };
 

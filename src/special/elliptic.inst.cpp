@@ -282,6 +282,15 @@ Real elliptic_e_carlson(const Real& s, const Real& c2, const Real& d, const Real
     }
     if (s == 0) return Real(0);
     if (c2 == 0 && d == 0) return s;  // m = 1, phi = +-pi/2: E = sin(phi)
+    if (d == 0) {
+        // the turning point m s^2 = 1 (c2 = 1 - s^2): E = s c2 R_D(0, 1, c2) / 3 (DLMF 19.25.10
+        // with c - k^2 = 0, and 2 R_G(0, 1, c2) = c2 R_F + c2 (1 - c2) R_D / 3 by DLMF 19.21.10),
+        // one positive term. s R_F - m s^3 R_D / 3 cancels there as c2 -> 0, both terms growing
+        // like log(1/c2): ~25 eps at c2 = 1e-21 (f1 just below E_max; regression).
+        // Carlson's own duplication at every precision: Boost's R_D loses ~14 eps at the spread
+        // (0, 1, 1e-40) in quad, this one < 1
+        return s * c2 * carlson_duplication(Real(0), Real(1), c2, true)[1] / 3;
+    }
     const auto [rf, rd] = rf_rd(c2, d, Real(1));
     return s * rf - m * s * s * s * rd / 3;
 }
@@ -302,6 +311,13 @@ Real elliptic_e_complete(const Real& m, const Real& mc) {
     require_finite("elliptic_e_complete", mc, m);
     if (!(mc >= 0)) domain_failure("elliptic_e_complete", mc, m, "needs 1 - m >= 0");
     if (mc == 0) return Real(1);
+    if (mc < Real(0.5)) {
+        // E = 2 R_G(0, mc, 1) = mc R_F(0, 1, mc) + m mc R_D(0, 1, mc) / 3 (DLMF 19.25.1 and
+        // 19.21.10 with the small argument last): positive terms. R_F - m R_D(0, mc, 1) / 3
+        // cancels as mc -> 0, both terms growing like log(1/mc) (~25 eps at mc = 1e-21).
+        const auto [rf, rd] = carlson_duplication(Real(0), Real(1), mc, true);  // as above
+        return mc * rf + m * mc * rd / 3;
+    }
     const auto [rf, rd] = rf_rd(Real(0), mc, Real(1));
     return rf - m * rd / 3;
 }

@@ -144,9 +144,10 @@ TEST(Enclosure, PrintedBallContainsTheComputedBall) {
 TEST(Enclosure, AnEnergyAtAnInexactKinkIsTheUnionOfBothSides) {
     // g = 0.1: E_max = 0.6 and E = 0.6 are the same decimal, neither a dyadic, so the energy ball
     // cannot be placed on one side of the maximum: Omega and f1 are the unions of the enclosures
-    // on both sides (both are monotone in E). At the saddle (E = 2 beta = 0.2) f1 is a ball
-    // [0, f1(E + 2^-prec)] that contains 0: no relative radius, the proof fails (exit status 1
-    // in the CLI).
+    // on both sides (both are monotone in E). At the saddle (E = 2 beta = 0.2) the balls would
+    // give f1 only [0, f1(E + 2^-prec)], with no relative radius (regression: the proof failed,
+    // exit status 1 in the CLI); the exact decimals decide E <= E_s, where the fluxes and the
+    // rates are exactly 0 (the approximate curve touches the level only at the saddle).
     model_text t;
     t.g = "0.1";
     for (const char* q : {"omega", "flux-upright"}) {
@@ -154,7 +155,17 @@ TEST(Enclosure, AnEnergyAtAnInexactKinkIsTheUnionOfBothSides) {
         EXPECT_GE(e.proven_digits, 20) << q << ": " << e.radius;
         EXPECT_TRUE(enclosure_contains(e, reference_value(q, t, arm::two, "0.6", 50))) << q;
     }
-    EXPECT_THROW(certified_value("flux-upright", t, arm::two, "0.2", 30), certification_error);
+    for (const char* q : {"flux-upright", "rate-upright", "flux-approx", "rate-approx"}) {
+        for (const char* e : {"0.2", "0.2000", "0.19999999999999999999999999999999999999999"}) {
+            const certified_enclosure zero = certified_value(q, t, arm::two, e, 30);
+            EXPECT_TRUE(enclosure_contains(zero, "0", "0")) << q << " at " << e;
+            EXPECT_FALSE(enclosure_contains(zero, "1e-300", "0")) << q << " at " << e;
+        }
+        // and just above it the enclosure is positive and tight
+        const certified_enclosure above = certified_value(q, t, arm::two, "0.2000000000001", 30);
+        EXPECT_GE(above.proven_digits, 30) << q;
+        EXPECT_FALSE(enclosure_contains(above, "0", "0")) << q;
+    }
 }
 
 TEST(Enclosure, BadInputIsAnInputError) {
@@ -186,15 +197,28 @@ TEST(EvalCertify, PrintsTheEnclosureAndChecksTheValue) {
     const test::command_result near = test::run_flipflux(
         "eval flux-upright --energy 2.00000000000000000001 --precision mp:30 --certify");
     ASSERT_EQ(near.status, 0) << near.err;
-    EXPECT_FALSE(nlohmann::json::parse(near.out)["enclosure"].contains("value_check")) << near.out;
-    // with g = 0.1 the saddle energy 2 beta = 0.2 is rounded to mp:30 and moves the value at
-    // E_s + 1e-20 in its 21st digit: checked against the enclosure for the rounded parameters,
-    // and said so
-    const test::command_result rounded = test::run_flipflux(
-        "eval flux-upright --energy 0.20000000000000000001 --g 0.1 --precision mp:30 --certify");
-    ASSERT_EQ(rounded.status, 0) << rounded.err;
-    EXPECT_TRUE(nlohmann::json::parse(rounded.out)["enclosure"].contains("value_check"))
-        << rounded.out;
+    // and so it is when the saddle energy is a decimal that no binary precision holds: with
+    // several such parameters (2 g m2 L2 = 15.0093) the distance E - E_s = 1e-20 is exact, and
+    // the value agrees with an independent reference (mpmath at 70 and 90 digits, the audit of
+    // 27 November 2026) to its 37 digits; regression: it was off in its 24th digit and outside
+    // the enclosure (exit status 1)
+    const test::command_result decimal = test::run_flipflux(
+        "eval flux-upright --energy 15.00930000000000000001 --m1 1.3 --m2 0.45 --L1 0.8 --L2 1.7 "
+        "--g 9.81 --precision mp:45 --certify");
+    ASSERT_EQ(decimal.status, 0) << decimal.err;
+    EXPECT_GE(decimal_agreement(nlohmann::json::parse(decimal.out)["value"].get<std::string>(),
+                                "3.5885611723730990430157922602232578938e-20"),
+              37)
+        << decimal.out;
+    // and just above E_max, where E(m) amplifies the rounding of w by log(1/(1 - m)) (25 ulp
+    // before w was taken from the two exact distances)
+    for (const char* p : {"double", "quad"}) {
+        const test::command_result top = test::run_flipflux(
+            std::string("eval flux-upright --energy 42.47730000000000000001 --m1 1.3 --m2 0.45 "
+                        "--L1 0.8 --L2 1.7 --g 9.81 --certify --precision ") +
+            p);
+        EXPECT_EQ(top.status, 0) << p << ": " << top.err;
+    }
     // a saddle-orbit quantity outside its family's range: bad input (exit status 2), before any
     // proof
     const test::command_result bad =

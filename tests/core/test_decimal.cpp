@@ -213,6 +213,26 @@ TEST(Precision, DecimalComparisonsUseEveryDigit) {
     EXPECT_THROW(decimal_agreement("1", "abc"), input_error);
 }
 
+// Exact decimal arithmetic (for the distance of a decimal energy to a critical level that is a
+// product of decimal parameters): the results checked against sums and products worked by hand.
+TEST(Decimal, ExactSumsDifferencesAndProducts) {
+    EXPECT_EQ(decimal_product("9.81", "0.45"), "4.4145e0");
+    EXPECT_EQ(decimal_product("-0.12", "250"), "-3e1");
+    EXPECT_EQ(decimal_product("1.7e-3", "2E+5"), "3.4e2");
+    EXPECT_EQ(decimal_sum("15.0093", "1e-40"),
+              "1.50093" + std::string(35, '0') + "1e1");  // 15.0093 + 1e-40: 42 digits
+    EXPECT_EQ(decimal_difference("15.0093" + std::string(30, '0') + "1", "15.0093"), "1e-35");
+    EXPECT_EQ(decimal_difference("0.1", "0.10"), "0");
+    EXPECT_EQ(decimal_difference("1", "1.5"), "-5e-1");
+    EXPECT_EQ(decimal_sum("+2.5", "-0.5"), "2e0");
+    EXPECT_EQ(decimal_product("1e-999999", "10"), "1e-999998");
+    // every digit: 0.1 + 0.2 is 0.3, not binary's 0.30000000000000004
+    EXPECT_EQ(decimal_sum("0.1", "0.2"), "3e-1");
+    EXPECT_THROW(decimal_product("1e-999999", "1e-5"), input_error);  // beyond the range
+    EXPECT_THROW(decimal_sum("1", "nan"), input_error);
+    EXPECT_THROW(decimal_difference("0x10", "1"), input_error);
+}
+
 // The one grid rule (CLI --energy FROM:TO:STEP and scene {from, to, step}): the decimals the user
 // meant, whatever the binary value of FROM + i STEP; TO exactly as given.
 TEST(DecimalGrid, GivesTheDecimalsMeant) {

@@ -147,6 +147,60 @@ TYPED_TEST(Fluxes, JustAboveASaddleTheDistanceComesFromTheDecimalInput) {
     }
 }
 
+// The same hard case for a pendulum whose critical energies are not dyadic: with g = 9.81,
+// m2 = 0.45, L2 = 1.7 the saddle energy 2 g m2 L2 = 15.0093 is a decimal that no binary precision
+// holds, and E = 15.0093 + 10^-k must still give E - E_s = 10^-k (the levels carry their exact
+// decimals, model/model_text.hpp make_model), not 10^-k plus the rounding of the parameters'
+// products (~eps E_s, regression: the flux was then off in its (digits - k + 17)th digit, or
+// wholly wrong in double). The critical energies below were worked out by hand; exactly at a
+// decimal saddle the flux is exactly 0, at the decimal maximum E_max - E is exactly 0.
+TYPED_TEST(Fluxes, JustAboveTheDecimalSaddlesOfDecimalParameters) {
+    using Real = TypeParam;
+    using std::sqrt;
+    const int k = full_digits(Real(1)) + 3;
+    const Real d = parse_real<Real>("1e-" + std::to_string(k), "d");
+    struct decimal_case {
+        model_text model;
+        std::string saddle2, saddle1, maximum;  // 2 g m2 a2, 2 g (m1 a1 + m2 L1), their sum
+    };
+    model_text point, rigid;
+    point.m1 = "1.3", point.m2 = "0.45", point.L1 = "0.8", point.L2 = "1.7", point.g = "9.81";
+    rigid.m1 = "0.1", rigid.m2 = "0.15", rigid.L1 = "0.18", rigid.L2 = "0.24", rigid.a1 = "0.09";
+    rigid.a2 = "0.12", rigid.I1 = "0.00027", rigid.I2 = "0.00072", rigid.g = "9.81";
+    for (const decimal_case& c : {decimal_case{point, "15.0093", "27.468", "42.4773"},
+                                  decimal_case{rigid, "0.35316", "0.70632", "1.05948"}}) {
+        const double_pendulum<Real> model = make_model<Real>(c.model);
+        const auto& k_ = model.coefficients();
+        for (arm a : {arm::two, arm::one}) {
+            const std::string& es = a == arm::two ? c.saddle2 : c.saddle1;
+            // es + 10^-k: es's fraction (es has a '.') padded to k digits, the last one a 1
+            const std::size_t fraction = es.size() - es.find('.') - 1;
+            const std::string text = es + std::string(k - 1 - fraction, '0') + "1";
+            const energy_level<Real> E = parse_energy_level<Real>(text, "--energy");
+            const Real J = a == arm::two ? k_.A : k_.B, w = a == arm::two ? k_.alpha : k_.beta;
+            const Real series = 4 * pi<Real>() * sqrt(J / w) * d * (1 + d / (16 * w));
+            for (upright_flux_method m :
+                 {upright_flux_method::elliptic, upright_flux_method::integral}) {
+                EXPECT_LE(relative_error(upright_flux(model, a, E, m).value, series),
+                          tolerance<Real>(64))
+                    << text << " arm " << to_string(a) << " " << to_string(m);
+                EXPECT_EQ(upright_flux(model, a, parse_energy_level<Real>(es, "E"), m).value,
+                          Real(0))
+                    << es << " arm " << to_string(a) << " " << to_string(m);
+            }
+            const critical_point<Real> saddle = flip_saddle(model, a);
+            EXPECT_LE(relative_error(approximate_saddle_flux(model, a, E).value,
+                                     Real(4 * pi<Real>() * d / saddle.modes[0].rate)),
+                      tolerance<Real>(1024))
+                << text << " arm " << to_string(a);
+        }
+        EXPECT_EQ(parse_energy_level<Real>(c.maximum, "E").above(model.maximum_level()), Real(0));
+        const energy_level<Real> below =
+            parse_energy_level<Real>(decimal_difference(c.maximum, "1e-" + std::to_string(k)), "E");
+        EXPECT_LE(relative_error(below.below(model.maximum_level()), d), eps<Real>()) << c.maximum;
+    }
+}
+
 // Just above each saddle (E = E_s + 1e-12) every flux keeps its relative accuracy and follows its
 // power law: f1 = 4 pi sqrt(J/w) d (1 + d/(16 w) + O(d^2)); through the approximate saddle curve
 // f2 = 4 pi d sqrt(d^T M* d / d^T K* d) (1 + O(d)) = 4 pi d / omega_centre (its tangent is the

@@ -307,6 +307,35 @@ TYPED_TEST(Elliptic, HardCases) {
     EXPECT_LE(relative_error(elliptic_e(Real(-big)), sqrt(big)), 1e-10);
 }
 
+// The edge m -> 1 of the complete E and the turning point m sin^2 = 1 with cos^2 -> 0 of the
+// incomplete one (f1 just below and above E_max): E = 1 there, but the Carlson form
+// R_F - m R_D / 3 subtracts two terms that grow like log(1/mc), which cost ~25 eps at mc = 1e-21
+// (regression). References: mpmath 1.3.0 ellipe at 150 digits; tolerance 8 eps.
+TYPED_TEST(Elliptic, NoCancellationAtTheEdgeOfTheDomain) {
+    using Real = TypeParam;
+    using std::sqrt;
+    struct edge {
+        const char *mc, *complete,
+            *turning;  // mc (= c2), E(1 - mc), E(asin(sqrt(1 - c2)) | 1/(1 - c2))
+    };
+    for (const edge& e :
+         {edge{"1e-9", "1.000000005623963641796159464617503660393892291170269011074568146408348",
+               "0.999999994376036356829099624089868403785585232039669299309309561463279"},
+          edge{"1e-21", "1.000000000000000000012531718918778685150516277278145630664912727687474",
+               "0.999999999999999999987468281081221314849480621042124674663799641320282"},
+          edge{"1e-40", "1.00000000000000000000000000000000000000234689981105004021495971466683",
+               "0.9999999999999999999999999999999999999976531001889499597850402853331698"}}) {
+        const Real mc = R<Real>(e.mc), s = sqrt(Real(1 - mc));
+        EXPECT_LE(relative_error(elliptic_e_complete(Real(1 - mc), mc), std::string(e.complete)),
+                  tolerance<Real>(8))
+            << "mc " << e.mc;
+        EXPECT_LE(relative_error(elliptic_e_carlson(s, mc, Real(0), Real(1 / (s * s))),
+                                 std::string(e.turning)),
+                  tolerance<Real>(8))
+            << "c2 " << e.mc;
+    }
+}
+
 /// Carlson's R_F and R_D (special/elliptic.hpp's carlson_rf_rd: shared duplication, series of
 /// order ~ sqrt(bits)) against Boost.Math's ellint_rf / ellint_rd (order-5/7 tails, separate
 /// duplications), at arguments with a zero, a tiny one, widely spread and near-equal ones.

@@ -54,6 +54,18 @@ Real parse_real(std::string_view text, std::string_view what);
 template <class Real>
 Real parse_difference(std::string_view text, const Real& subtrahend, std::string_view what);
 
+/// Exact decimal arithmetic on decimal texts (GMP integers: a decimal is m 10^e, and sums,
+/// differences and products of decimals are decimals): the result as a decimal text
+/// "[-]D.DDDeEXP" with no digit lost. For the distance of a decimal energy to a critical level
+/// that is itself a product of decimal parameters (E - 2 g m2 a2), which no binary precision holds.
+/// Throws input_error about `what` for a text that is not a finite decimal number, and when the
+/// result's exponent has more than six digits (is_decimal_number's limit).
+std::string decimal_sum(std::string_view a, std::string_view b, std::string_view what = "value");
+std::string decimal_difference(std::string_view a, std::string_view b,
+                               std::string_view what = "value");
+std::string decimal_product(std::string_view a, std::string_view b,
+                            std::string_view what = "value");
+
 /// Formats x with output_digits<Real>() significant digits (shortest form of that precision).
 template <class Real>
 std::string to_decimal(const Real& x);

@@ -31,6 +31,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
+#include "flipflux/model/energy_level.hpp"
 
 namespace flipflux {
 
@@ -153,13 +154,36 @@ struct sym2 {
     Real xx, xy, yy;
 };
 
+/// The critical energies 2 alpha, 2 beta and 2 (alpha + beta) of decimal parameters as exact
+/// decimal texts (model/model_text.hpp make_model computes them).
+struct critical_decimals {
+    std::string saddle1, saddle2, maximum;
+};
+
 template <class Real>
 class double_pendulum {
   public:
     /// The paper's egalitarian pendulum.
     double_pendulum() : double_pendulum(physical_parameters<Real>{}) {}
+    /// A pendulum whose parameters are the given Reals: its critical levels are their Real values
+    /// (saddle_energy, maximum_energy), with no residual.
     explicit double_pendulum(const physical_parameters<Real>& p)
-        : params_(p), k_(coefficients_of(p)) {}
+        : params_(p), k_(coefficients_of(p)) {
+        saddle1_ = saddle_energy(arm::one), saddle2_ = saddle_energy(arm::two);
+        maximum_ = maximum_energy();
+    }
+    /// A pendulum of decimal parameters, p their roundings to Real and `exact` its critical
+    /// energies as exact decimals: the critical levels carry them, so that the distance of a
+    /// decimal energy to them is exact (model/energy_level.hpp).
+    double_pendulum(const physical_parameters<Real>& p, const critical_decimals& exact)
+        : double_pendulum(p) {
+        const auto carry = [](energy_level<Real>& level, const std::string& text) {
+            level.residual = parse_difference<Real>(text, level.value, "model");
+            level.decimal = text;
+        };
+        carry(saddle1_, exact.saddle1), carry(saddle2_, exact.saddle2);
+        carry(maximum_, exact.maximum);
+    }
 
     const physical_parameters<Real>& parameters() const { return params_; }
     const lagrangian_coefficients<Real>& coefficients() const { return k_; }
@@ -256,10 +280,18 @@ class double_pendulum {
     Real saddle_energy(arm a) const { return a == arm::two ? 2 * k_.beta : 2 * k_.alpha; }
     /// Energy of the maximum (pi, pi): 2 (alpha + beta).
     Real maximum_energy() const { return 2 * (k_.alpha + k_.beta); }
+    /// The saddle's energy as a level: saddle_energy(a) and, for decimal parameters, the exact
+    /// decimal (the distance of an energy to it: energy_level::above).
+    const energy_level<Real>& saddle_level(arm a) const {
+        return a == arm::two ? saddle2_ : saddle1_;
+    }
+    /// The maximum's energy as a level (likewise).
+    const energy_level<Real>& maximum_level() const { return maximum_; }
 
   private:
     physical_parameters<Real> params_;
     lagrangian_coefficients<Real> k_;
+    energy_level<Real> saddle1_, saddle2_, maximum_;
 };
 
 }  // namespace flipflux

@@ -36,9 +36,31 @@ physical_parameters<Real> parse_parameters(const model_text& t, std::string_view
     return out;
 }
 
+/// The critical energies of the decimal parameters, exactly: 2 alpha = 2 g (m1 a1 + m2 L1),
+/// 2 beta = 2 g m2 a2 and their sum (core/decimal.hpp's exact decimal arithmetic). Empty texts
+/// (the levels then carry no decimal) when a result lies beyond the decimal exponent range.
+inline critical_decimals critical_decimals_of(const model_text& t) {
+    try {
+        const std::string& a1 = t.a1.empty() ? t.L1 : t.a1;
+        const std::string& a2 = t.a2.empty() ? t.L2 : t.a2;
+        const std::string alpha = decimal_product(
+            t.g, decimal_sum(decimal_product(t.m1, a1), decimal_product(t.m2, t.L1)));
+        const std::string beta = decimal_product(t.g, decimal_product(t.m2, a2));
+        const std::string two_alpha = decimal_sum(alpha, alpha);
+        const std::string two_beta = decimal_sum(beta, beta);
+        return {two_alpha, two_beta, decimal_sum(two_alpha, two_beta)};
+    } catch (const input_error&) {
+        return {};
+    }
+}
+
+/// The pendulum of decimal parameters: parameters rounded to Real, critical levels exact.
 template <class Real>
 double_pendulum<Real> make_model(const model_text& t) {
-    return double_pendulum<Real>(parse_parameters<Real>(t));
+    const physical_parameters<Real> p = parse_parameters<Real>(t);  // validates the texts
+    const critical_decimals exact = critical_decimals_of(t);
+    if (exact.maximum.empty()) return double_pendulum<Real>(p);
+    return double_pendulum<Real>(p, exact);
 }
 
 }  // namespace flipflux
