@@ -51,6 +51,13 @@ TEST(LimitsCommand, SaddleOrbitsTooCloseToTheMaximumAreRefused) {
                     "E_max - E = 1e-13"});
 }
 
+// A positive energy that the precision cannot hold at all is named as the user wrote it and
+// called an underflow (it said "'0' is outside the domain ... needs E > 0"); E <= 0 is named too.
+TEST(LimitsCommand, AnEnergyThatUnderflowsIsNamedAsWritten) {
+    expect_refused("eval omega --energy 1e-999999", {"--energy: '1e-999999' underflows double"});
+    expect_refused("eval flux-upright --energy=-0.5", {"--energy: '-0.5' is outside the domain"});
+}
+
 TEST(LimitsCommand, SimulateTinySampleIntervalIsRefused) {
     const std::string dir = ::testing::TempDir() + "flipflux_limits_" + std::to_string(getpid());
     expect_refused(simulate + "--sample-interval 1e-300 --csv-dir " + dir,
