@@ -466,18 +466,11 @@ void enclose_centre_mode_slope(arb_t res, const pendulum_balls& p, arm a, slong 
     arb_div(res, res, t.x, prec);
 }
 
-bool approximate_curve_above_saddle(const pendulum_balls& p, arm a, slong prec) {
-    curve_data c;
-    arb_set(c.ws.x, a == arm::two ? p.alpha.x : p.beta.x);
-    arb_set(c.wf.x, a == arm::two ? p.beta.x : p.alpha.x);
-    enclose_centre_mode_slope(c.A.x, p, a, prec);
-    return saddle_isolated(c, prec);
-}
+namespace {
 
-void enclose_approximate_flux(arb_t res, const pendulum_balls& p, arm a, const arb_t E,
-                              slong prec) {
+/// The approximate curve of arm a in the curve's coordinates (delta and above_max left unset).
+void set_curve(curve_data& c, const pendulum_balls& p, arm a, slong prec) {
     const bool two = a == arm::two;
-    curve_data c;
     arb_set(c.ws.x, two ? p.alpha.x : p.beta.x);
     arb_set(c.wf.x, two ? p.beta.x : p.alpha.x);
     arb_set(c.Mss.x, two ? p.A.x : p.B.x);
@@ -485,6 +478,20 @@ void enclose_approximate_flux(arb_t res, const pendulum_balls& p, arm a, const a
     arb_set(c.C.x, p.C.x);
     arb_const_pi(c.pi.x, prec);
     enclose_centre_mode_slope(c.A.x, p, a, prec);
+}
+
+}  // namespace
+
+bool approximate_curve_above_saddle(const pendulum_balls& p, arm a, slong prec) {
+    curve_data c;
+    set_curve(c, p, a, prec);
+    return saddle_isolated(c, prec);
+}
+
+void enclose_approximate_flux(arb_t res, const pendulum_balls& p, arm a, const arb_t E,
+                              slong prec) {
+    curve_data c;
+    set_curve(c, p, a, prec);
     arb_ball e_s, e_max;
     arb_mul_2exp_si(e_s.x, c.wf.x, 1);
     arb_mul_2exp_si(e_max.x, c.ws.x, 1);
