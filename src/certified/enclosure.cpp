@@ -255,8 +255,10 @@ void enclose(arb_t res, certified_quantity q, const model_text& model, arm a,
         q == certified_quantity::flux_upright || q == certified_quantity::rate_upright;
     const bool approx =
         q == certified_quantity::flux_approx || q == certified_quantity::rate_approx;
-    if ((upright || (approx && certified_detail::approximate_curve_above_saddle(p, a, prec))) &&
-        at_or_below_saddle(model, a, energy)) {
+    // the exact decimals first: the curve's slope (an eigenproblem in balls) only where they say
+    // E <= E_s, not again for every enclosure above the saddle
+    if ((upright || approx) && at_or_below_saddle(model, a, energy) &&
+        (upright || certified_detail::approximate_curve_above_saddle(p, a, prec))) {
         arb_zero(res);  // no accessible point on the surface: f = 0, and f / Omega = 0
         return;
     }
