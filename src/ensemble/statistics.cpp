@@ -18,6 +18,7 @@ summary_statistics summarize(std::span<const double> v) {
     s.count = v.size();
     if (v.empty()) {
         s.mean = s.standard_deviation = s.standard_error = s.minimum = s.maximum = nan;
+        s.skewness = s.kurtosis = nan;
         return s;
     }
     double sum = 0;
@@ -29,12 +30,19 @@ summary_statistics summarize(std::span<const double> v) {
     }
     const double n = static_cast<double>(v.size());
     s.mean = sum / n;
-    double ss = 0;
-    for (double x : v)
-        ss += (x - s.mean) * (x - s.mean);
+    double ss = 0, s3 = 0, s4 = 0;
+    for (double x : v) {
+        const double d = x - s.mean, d2 = d * d;
+        ss += d2;
+        s3 += d2 * d;
+        s4 += d2 * d2;
+    }
     // one value has no sample spread (n - 1 = 0): undefined, not 0 (and no z-score follows)
     s.standard_deviation = v.size() > 1 ? std::sqrt(ss / (n - 1)) : nan;
     s.standard_error = s.standard_deviation / std::sqrt(n);
+    const double m2 = ss / n;
+    s.skewness = v.size() > 1 && m2 > 0 ? s3 / n / (m2 * std::sqrt(m2)) : nan;
+    s.kurtosis = v.size() > 1 && m2 > 0 ? s4 / n / (m2 * m2) : nan;
     return s;
 }
 
@@ -166,6 +174,24 @@ double sample_sd(const std::vector<double>& v) {
     return summarize(v).standard_deviation;
 }
 
+/// The sampling law of an energy's (mean, s^2) as a bivariate normal, drawn as
+///     mean* = mean + a z1,   s2* = s^2 + b z1 + c z2   (z1, z2 independent standard normals),
+/// a^2 = Var(mean), b a = Cov(mean, s^2), b^2 + c^2 = Var(s^2) (quality_indices).
+struct sampling_law {
+    double a = 0, b = 0, c = 0;
+    explicit sampling_law(const quality_sample& x) {
+        const double n = static_cast<double>(std::max<std::size_t>(x.trajectories, 2));
+        const double skewness = std::isfinite(x.skewness) ? x.skewness : 0;
+        const double kurtosis = std::isfinite(x.kurtosis) ? x.kurtosis : 3;
+        const double s2 = x.spread * x.spread, m2 = s2 * (n - 1) / n;  // population variance
+        const double m3 = skewness * m2 * std::sqrt(m2), m4 = kurtosis * m2 * m2;
+        const double var_s2 = std::max(0.0, (m4 - s2 * s2 * (n - 3) / (n - 1)) / n);
+        a = x.standard_error;
+        b = a > 0 ? m3 / n / a : 0;
+        c = std::sqrt(std::max(0.0, var_s2 - b * b));
+    }
+};
+
 }  // namespace
 
 std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
@@ -207,12 +233,16 @@ std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
             std::normal_distribution<double> normal;
             std::vector<double> iqi(resamples), pqi(resamples), ref(resamples), R(in.size()),
                 S(in.size());
+            std::vector<sampling_law> law;
+            for (const quality_sample* x : in)
+                law.emplace_back(*x);
             for (int b = 0; b < resamples; ++b) {
                 for (std::size_t i = 0; i < in.size(); ++i) {
                     const quality_sample& x = *in[i];
-                    const double dof = std::max(1.0, static_cast<double>(x.trajectories) - 1);
-                    R[i] = (x.simulated + x.standard_error * normal(engine)) / x.predicted - 1;
-                    S[i] = x.spread * (1 + normal(engine) / std::sqrt(2 * dof)) / x.predicted;
+                    const double z1 = normal(engine), z2 = normal(engine);
+                    const double s2 = x.spread * x.spread + law[i].b * z1 + law[i].c * z2;
+                    R[i] = (x.simulated + law[i].a * z1) / x.predicted - 1;
+                    S[i] = std::sqrt(std::max(0.0, s2)) / x.predicted;
                 }
                 iqi[static_cast<std::size_t>(b)] = rms_index(R, S, 0);
                 pqi[static_cast<std::size_t>(b)] = rms_index(R, S, 1);

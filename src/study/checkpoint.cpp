@@ -166,6 +166,8 @@ void put_summary(std::string& s, const summary_statistics& x) {
     put(s, x.standard_error);
     put(s, x.minimum);
     put(s, x.maximum);
+    put(s, x.skewness);
+    put(s, x.kurtosis);
 }
 
 summary_statistics get_summary(tokens& t) {
@@ -176,6 +178,8 @@ summary_statistics get_summary(tokens& t) {
     x.standard_error = t.real();
     x.minimum = t.real();
     x.maximum = t.real();
+    x.skewness = t.real();
+    x.kurtosis = t.real();
     return x;
 }
 

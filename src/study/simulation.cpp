@@ -354,12 +354,13 @@ void add_quality(study_result& out, const double_pendulum<double>& model) {
             const criterion_result& x = e.criteria[c];
             if (!x.prediction) continue;
             const criterion_statistics& st = x.statistics;
-            all.push_back({e.energy, st.rates.mean, x.prediction->value,
-                           st.rates.standard_deviation, st.rates.standard_error, st.rates.count});
-            if (st.chaotic > 0)
-                chaotic.push_back({e.energy, st.chaotic_rates.mean, x.prediction->value,
-                                   st.chaotic_rates.standard_deviation,
-                                   st.chaotic_rates.standard_error, st.chaotic_rates.count});
+            const auto sample = [&](const summary_statistics& r) {
+                return quality_sample{e.energy,         r.mean,           x.prediction->value,
+                                      r.standard_deviation, r.standard_error, r.count,
+                                      r.skewness,       r.kurtosis};
+            };
+            all.push_back(sample(st.rates));
+            if (st.chaotic > 0) chaotic.push_back(sample(st.chaotic_rates));
         }
         const double scale = out.reference_time > 0 ? out.options.time / out.reference_time : 0;
         out.quality.push_back(

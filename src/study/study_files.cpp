@@ -33,6 +33,8 @@ json criterion_json(const criterion_result& c, double max_energy_drift) {
            {"mean_rate", number(st.rates.mean)},
            {"std", number(st.rates.standard_deviation)},
            {"standard_error", number(st.rates.standard_error)},
+           {"skewness", number(st.rates.skewness)},
+           {"kurtosis", number(st.rates.kurtosis)},
            {"z_score", number(st.z_score)},
            {"flips", st.flips},
            {"chaotic_fraction", number(st.chaotic_fraction)},
@@ -41,6 +43,8 @@ json criterion_json(const criterion_result& c, double max_energy_drift) {
                         {"mean_rate", number(st.chaotic_rates.mean)},
                         {"std", number(st.chaotic_rates.standard_deviation)},
                         {"standard_error", number(st.chaotic_rates.standard_error)},
+                        {"skewness", number(st.chaotic_rates.skewness)},
+                        {"kurtosis", number(st.chaotic_rates.kurtosis)},
                         {"z_score", number(st.chaotic_z_score)}};
     const residence_statistics& r = st.residence;
     j["residence_times"] = json{{"count", r.summary.count},   {"min", number(r.summary.minimum)},

@@ -3,6 +3,7 @@
 // and the paper's energy regimes.
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "flipflux/ensemble/statistics.hpp"
 #include "support.hpp"
@@ -25,6 +26,16 @@ TEST(Statistics, Summary) {
     EXPECT_TRUE(std::isnan(summarize(one).standard_deviation));
     EXPECT_TRUE(std::isnan(summarize(one).standard_error));
     EXPECT_TRUE(std::isnan(summarize(std::vector<double>{}).mean));
+    // the shape, by hand: {1, 2, 3, 4, 10} has mean 4, deviations -3 -2 -1 0 6, m2 = 50 / 5,
+    // m3 = 180 / 5, m4 = 1394 / 5
+    const std::vector<double> tail{1, 2, 3, 4, 10};
+    EXPECT_NEAR(summarize(tail).skewness, 36 / std::pow(10.0, 1.5), 1e-14);
+    EXPECT_NEAR(summarize(tail).kurtosis, 278.8 / 100, 1e-14);
+    EXPECT_NEAR(summarize(v).kurtosis, (2 * 81.0 / 16 + 2 / 16.0) / 4 / (1.25 * 1.25), 1e-14);
+    EXPECT_EQ(summarize(v).skewness, 0);
+    // no spread, no shape
+    EXPECT_TRUE(std::isnan(summarize(one).kurtosis));
+    EXPECT_TRUE(std::isnan(summarize(std::vector<double>{2, 2, 2}).skewness));
 }
 
 TEST(Statistics, HistogramsAndQuantiles) {
@@ -193,6 +204,64 @@ TEST(Statistics, QualityIndicesCarryTheirStatisticalErrors) {
     // a sample without a positive prediction is left out
     const std::vector<quality_sample> bad{{3.0, 1.0, 0.0, 0.1, 0.01, 10}};
     EXPECT_EQ(quality(bad, regimes)[0].energies, 0u);
+}
+
+// The PQI's error where the rates are heavy-tailed (regression: the spread was drawn as if the
+// rates were normal, which underestimated PQI_sd several times over all trajectories, where the
+// regular trajectories flip at ~3x the mean). Independent route: the nonparametric bootstrap,
+// resampling whole trajectories at every energy and recomputing PQI from the resampled rates.
+TEST(Statistics, QualityIndexErrorsFollowHeavyTailedRates) {
+    const double_pendulum<double> m;
+    const auto regimes = paper_regimes(m, arm::two);
+    // five energies in "central", 100 trajectories each: 90 chaotic rates spread evenly over
+    // [0.8, 1.2] x p and 10 regular ones over [2.9, 3.1] x p (skewed, kurtosis ~ 8)
+    const std::vector<double> energies{3.0, 3.5, 4.0, 4.5, 4.9};
+    std::vector<std::vector<double>> rates;
+    std::vector<quality_sample> samples, as_if_normal;
+    for (std::size_t k = 0; k < energies.size(); ++k) {
+        const double p = 0.1 * static_cast<double>(k + 1);
+        std::vector<double> r;
+        for (int i = 0; i < 90; ++i)
+            r.push_back(p * (0.8 + 0.4 * i / 89.0));
+        for (int i = 0; i < 10; ++i)
+            r.push_back(p * (2.9 + 0.2 * i / 9.0));
+        const summary_statistics s = summarize(r);
+        samples.push_back({energies[k], s.mean, p, s.standard_deviation, s.standard_error, s.count,
+                           s.skewness, s.kurtosis});
+        as_if_normal.push_back(samples.back());
+        as_if_normal.back().skewness = 0;
+        as_if_normal.back().kurtosis = 3;
+        rates.push_back(std::move(r));
+    }
+    EXPECT_GT(samples[0].kurtosis, 6);
+    const quality_indices q = quality(samples, regimes)[2];
+    ASSERT_EQ(q.regime, "central");
+    ASSERT_EQ(q.energies, 5u);
+
+    std::mt19937_64 engine(2026);
+    std::uniform_int_distribution<std::size_t> pick(0, 99);
+    std::vector<double> iqi, pqi, resampled(100);
+    for (int b = 0; b < 4000; ++b) {
+        double r2 = 0, s2 = 0;
+        for (std::size_t k = 0; k < rates.size(); ++k) {
+            for (double& x : resampled)
+                x = rates[k][pick(engine)];
+            const summary_statistics s = summarize(resampled);
+            const double p = samples[k].predicted;
+            r2 += (s.mean / p - 1) * (s.mean / p - 1);
+            s2 += (s.standard_deviation / p) * (s.standard_deviation / p);
+        }
+        iqi.push_back(std::sqrt(r2 / 5));
+        pqi.push_back(std::sqrt((r2 + s2) / 5));
+    }
+    const double iqi_sd = summarize(iqi).standard_deviation;
+    const double pqi_sd = summarize(pqi).standard_deviation;
+    // two bootstraps of 2000 and 4000 resamples: each sd to ~1.6 % and ~1.1 %; the normal law of
+    // (mean, s^2) is the delta method's, exact to O(1/n) here: 10 % covers both
+    EXPECT_NEAR(q.iqi_sd, iqi_sd, 0.1 * iqi_sd);
+    EXPECT_NEAR(q.pqi_sd, pqi_sd, 0.1 * pqi_sd);
+    // the normal-law spread is far off on these rates: the check can tell the two apart
+    EXPECT_LT(quality(as_if_normal, regimes)[2].pqi_sd, 0.6 * pqi_sd);
 }
 
 }  // namespace

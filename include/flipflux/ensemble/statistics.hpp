@@ -25,10 +25,15 @@ namespace flipflux {
 struct summary_statistics {
     std::size_t count = 0;
     double mean = 0, standard_deviation = 0, standard_error = 0, minimum = 0, maximum = 0;
+    /// The sample's shape: skewness m3 / m2^(3/2) and kurtosis m4 / m2^2 (not the excess; 3 for
+    /// a normal law), m_k = mean (x - mean)^k. They set the uncertainty of the spread and its
+    /// correlation with the mean (the quality indices' errors). NaN for fewer than two values
+    /// or no spread (m2 = 0).
+    double skewness = 0, kurtosis = 0;
 };
 
-/// Two-pass mean and sample standard deviation (standard deviation and standard error NaN for a
-/// single value, where n - 1 = 0; everything NaN for none).
+/// Two-pass mean, sample standard deviation and shape (standard deviation and standard error NaN
+/// for a single value, where n - 1 = 0; everything NaN for none).
 summary_statistics summarize(std::span<const double> values);
 
 /// Equal-width bins on [lower, upper); values outside are counted in underflow/overflow.
@@ -82,6 +87,9 @@ struct quality_sample {
     double energy, simulated, predicted, spread;  ///< spread: trajectory-to-trajectory sd
     double standard_error = 0;     ///< of `simulated` (the bootstrap's and the noise floor's)
     std::size_t trajectories = 0;  ///< behind `simulated` (the bootstrap of `spread`)
+    /// The per-trajectory rates' shape (summary_statistics), which sets the spread's uncertainty;
+    /// the defaults are a normal law's (a non-finite value is read as the default).
+    double skewness = 0, kurtosis = 3;
 };
 
 /// An energy interval [lower, upper).
@@ -101,9 +109,15 @@ struct quality_indices {
     std::string regime;
     std::size_t energies = 0;  ///< samples in the regime (the rest is NaN when 0)
     double iqi = 0, pqi = 0;
-    /// Statistical errors: standard deviations over a parametric bootstrap (per energy the
-    /// simulated mean ~ N(mean, standard_error), the spread ~ N(spread, spread / sqrt(2 (n - 1))),
-    /// 2000 resamples, a fixed seed: the same numbers every run).
+    /// Statistical errors: standard deviations over a parametric bootstrap, 2000 resamples with a
+    /// fixed seed (the same numbers every run). Per energy the simulated mean and the sample
+    /// variance s^2 are drawn from the bivariate normal law of their sampling distribution,
+    ///     Var(mean) = standard_error^2,  Var(s^2) = (m4 - s^4 (n - 3) / (n - 1)) / n,
+    ///     Cov(mean, s^2) = m3 / n,
+    /// with m3, m4 the sample's central moments (its skewness and kurtosis), and the spread is
+    /// sqrt(max(s^2, 0)). For a normal law this is spread ~ N(spread, spread / sqrt(2 (n - 1)))
+    /// to first order; heavy-tailed rates (regular trajectories among chaotic ones) have a
+    /// spread several times more uncertain than that.
     double iqi_sd = 0, pqi_sd = 0;
     /// sqrt(mean_E (standard_error / R_pred)^2): the IQI of an exact prediction, pure noise.
     double noise_floor = 0;
