@@ -355,9 +355,9 @@ void add_quality(study_result& out, const double_pendulum<double>& model) {
             if (!x.prediction) continue;
             const criterion_statistics& st = x.statistics;
             const auto sample = [&](const summary_statistics& r) {
-                return quality_sample{e.energy,         r.mean,           x.prediction->value,
-                                      r.standard_deviation, r.standard_error, r.count,
-                                      r.skewness,       r.kurtosis};
+                return quality_sample{
+                    e.energy,         r.mean,  x.prediction->value, r.standard_deviation,
+                    r.standard_error, r.count, r.skewness,          r.kurtosis};
             };
             all.push_back(sample(st.rates));
             if (st.chaotic > 0) chaotic.push_back(sample(st.chaotic_rates));
