@@ -75,6 +75,15 @@ bool is_decimal_number(std::string_view t) {
     return i == n;
 }
 
+int decimal_sign(std::string_view t) {
+    const bool negative = !t.empty() && t.front() == '-';
+    for (const char c : t) {
+        if (c == 'e' || c == 'E') break;
+        if (c >= '1' && c <= '9') return negative ? -1 : 1;
+    }
+    return 0;
+}
+
 std::string round_decimal(std::string_view text, int significant_digits, std::string_view what) {
     mpfr_number x(static_cast<mpfr_prec_t>(4 * text.size() + 64));
     set_decimal(x, text, what);

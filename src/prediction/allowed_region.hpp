@@ -27,35 +27,31 @@ struct angle_support {
     Real theta_full;                        ///< t = pi on [0, theta_full]
     Real theta_edge;                        ///< t = 0 beyond theta_edge
     Real full_supplement, edge_supplement;  ///< pi - theta_full, pi - theta_edge (accurate)
-    Real above_other;  ///< E - 2 w_other (0 within rounding of that level, see below)
-    Real below_this;   ///< 2 w_this - E (likewise)
+    Real above_other;  ///< E - 2 w_other
+    Real below_this;   ///< 2 w_this - E
 
-    angle_support(const double_pendulum<Real>& model, const Real& E, configuration_angle which)
-        : energy(E) {
+    /// The support at E: the distances of E to the levels 2 w_other, 2 w_this and E_max are
+    /// energy_level::above, exact when E and the model come from decimal texts. They set where
+    /// the support's edges are and, near a level, the square-root branch points of the
+    /// half-width ~sqrt(distance) from the integration path (singularity_distances), where the
+    /// graded quadrature concentrates its nodes. No distance is rounded to the level: Omega's
+    /// derivative is log-singular at a saddle (~330 at E = 2 + 1e-14 for the paper's pendulum),
+    /// so moving E by up to 16 eps E_max onto the level, as an earlier version did, moved Omega by 15x
+    /// its error estimate in double and quad.
+    angle_support(const double_pendulum<Real>& model, const energy_level<Real>& E,
+                  configuration_angle which)
+        : energy(E.value) {
         const auto& k = model.coefficients();
-        w_this = which == configuration_angle::theta1 ? k.alpha : k.beta;
-        w_other = which == configuration_angle::theta1 ? k.beta : k.alpha;
-        // NOTE: an energy within rounding of a critical level is that level. The levels come from
-        // the rounded parameters, so an E given exactly at a saddle (E = 2 alpha = 0.70632 for
-        // bars with decimal parameters) lands 1e-(digits) off it, which puts a square-root
-        // branch point of the half-width ~1e-(digits/2) from the integration path and stalls
-        // the quadrature at high precision (minutes at mp:30), while at the level the marginal
-        // is analytic there. Omega is continuous at the levels (its derivative is log-singular),
-        // so the snap changes it by O(d log(1/d)) for d <= 16 eps E_max: the size of what the
-        // rounding of E and of the parameters already does to it.
-        const Real emax = model.maximum_energy();
-        above_other = snapped(Real(E - 2 * w_other), emax);
-        below_this = snapped(Real(2 * w_this - E), emax);
+        const bool first = which == configuration_angle::theta1;
+        w_this = first ? k.alpha : k.beta;
+        w_other = first ? k.beta : k.alpha;
+        // 2 alpha is arm 1's saddle level, 2 beta arm 2's
+        above_other = E.above(model.saddle_level(first ? arm::two : arm::one));
+        below_this = E.below(model.saddle_level(first ? arm::one : arm::two));
         // sin^2(theta_full/2) = (E - 2 w_other)/(2 w_this), cos^2(...) = (E_max - E)/(2 w_this)
-        half_angles(above_other, snapped(Real(emax - E), emax), theta_full, full_supplement);
+        half_angles(above_other, E.below(model.maximum_level()), theta_full, full_supplement);
         // sin^2(theta_edge/2) = E/(2 w_this), cos^2(...) = (2 w_this - E)/(2 w_this)
-        half_angles(E, below_this, theta_edge, edge_supplement);
-    }
-
-    /// d, or 0 when |d| <= 16 eps scale (a difference of E and a level within their rounding).
-    static Real snapped(const Real& d, const Real& scale) {
-        using std::abs;
-        return abs(d) <= 16 * epsilon<Real>() * scale ? Real(0) : d;
+        half_angles(energy, below_this, theta_edge, edge_supplement);
     }
 
     /// theta in [0, pi] with sin^2(theta/2) = p/(2 w_this), cos^2(theta/2) = q/(2 w_this)

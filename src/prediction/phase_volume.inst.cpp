@@ -50,7 +50,8 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
 
 /// The integral of the marginal rho_which over [0, x], 0 <= x <= pi.
 template <class Real>
-quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model, const Real& energy,
+quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model,
+                                          const level_arg<Real>& energy,
                                           configuration_angle which, const Real& x) {
     using std::min;
     const detail::angle_support<Real> sup(model, energy, which);
@@ -129,13 +130,13 @@ prediction_result<Real> marginal_cdf(const double_pendulum<Real>& model, const R
 }
 
 template <class Real>
-prediction_result<Real> phase_volume(const double_pendulum<Real>& model, const Real& energy,
-                                     phase_volume_method method) {
-    require_finite_energy(energy, "phase_volume");
+prediction_result<Real> phase_volume(const double_pendulum<Real>& model,
+                                     const level_arg<Real>& energy, phase_volume_method method) {
+    require_finite_energy(energy.value, "phase_volume");
     prediction_result<Real> r;
     switch (method) {
         case phase_volume_method::closed_form:
-            if (!(energy >= model.maximum_energy())) {
+            if (!(energy.above(model.maximum_level()) >= 0)) {
                 throw std::domain_error("phase_volume: the closed form needs E >= E_max");
             }
             r.value = phase_volume_above_maximum(model);
@@ -146,7 +147,7 @@ prediction_result<Real> phase_volume(const double_pendulum<Real>& model, const R
         case phase_volume_method::elliptic:
             break;
     }
-    if (!(energy > 0)) return r;
+    if (!(energy.value > 0)) return r;
     // Omega = 2 * integral_0^pi rho_1 (rho_1 is even).
     const quadrature_result<Real> half =
         marginal_integral(model, energy, configuration_angle::theta1, pi<Real>());
@@ -157,8 +158,8 @@ prediction_result<Real> phase_volume(const double_pendulum<Real>& model, const R
 }
 
 #define FLIPFLUX_PHASE_VOLUME_INSTANTIATE(R)                                                      \
-    template prediction_result<R> phase_volume<R>(const double_pendulum<R>&, const R&,            \
-                                                  phase_volume_method);                           \
+    template prediction_result<R> phase_volume<R>(const double_pendulum<R>&,                      \
+                                                  const energy_level<R>&, phase_volume_method);   \
     template R phase_volume_above_maximum<R>(const double_pendulum<R>&);                          \
     template R configuration_density<R>(const double_pendulum<R>&, const R&, const R&, const R&); \
     template R allowed_half_width<R>(const double_pendulum<R>&, const R&, configuration_angle,    \

@@ -45,11 +45,11 @@ quadrature_result<Real> sqrt_det_integral(const lagrangian_coefficients<Real>& k
 
 template <class Real>
 prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& model,
-                                                   const Real& energy) {
+                                                   const energy_level<Real>& energy) {
     using std::asinh;
     using std::sqrt;
     prediction_result<Real> r;
-    if (!(energy > 0)) return r;
+    if (!(energy.value > 0)) return r;
     const auto& k = model.coefficients();
     const Real strip = asinh(sqrt(k.D0) / k.C);
     const angle_support<Real> sup(model, energy, configuration_angle::theta2);
@@ -80,6 +80,6 @@ prediction_result<Real> phase_volume_quadrature_2d(const double_pendulum<Real>& 
 }
 
 template prediction_result<inst_real> phase_volume_quadrature_2d<inst_real>(
-    const double_pendulum<inst_real>&, const inst_real&);
+    const double_pendulum<inst_real>&, const energy_level<inst_real>&);
 
 }  // namespace flipflux::detail

@@ -17,12 +17,12 @@ prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a
                                        rate_route route) {
     using boost::multiprecision::isfinite;
     using std::isfinite;
-    if (!isfinite(energy.value) || !energy.positive()) {
+    if (!isfinite(energy.value) || !energy.positive() || !(energy.value > 0)) {
         throw std::domain_error("predicted_rate: needs a finite E > 0 (Omega = 0 otherwise)");
     }
     const bool closed = route == rate_route::closed_form;
     const prediction_result<Real> omega =
-        phase_volume(model, energy.value,
+        phase_volume(model, energy,
                      closed ? phase_volume_method::elliptic : phase_volume_method::quadrature_2d);
     prediction_result<Real> flux;
     if (criterion == flip_criterion::upright) {

@@ -145,7 +145,7 @@ struct rate_fn {
                                     const std::string& method) const {
         const auto o = orbit_for(model, a, energy, method);
         const prediction_result<Real> flux{o.flux(), 2 * o.error_estimate_action, 0};
-        const auto omega = phase_volume(model, energy.value, phase_volume_method::elliptic);
+        const auto omega = phase_volume(model, energy, phase_volume_method::elliptic);
         const auto r = rate_from(flux, omega);
         return {r.value, r.error_estimate,
                 "R3 = f3 / Omega (Omega: elliptic route), " + method_text(o)};

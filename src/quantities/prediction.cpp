@@ -33,18 +33,16 @@ Method method_named(const std::string& quantity, const std::string& method) {
 
 template <class Real>
 void require_positive_energy(const std::string& quantity, const energy_level<Real>& energy) {
-    if (!energy.positive()) {
-        const std::string text = energy.decimal.empty() ? to_decimal(energy.value) : energy.decimal;
-        // a positive decimal that Real cannot hold at all (1e-999999 in double) is not E <= 0
-        if (!energy.decimal.empty() && energy.decimal.front() != '-' &&
-            decimal_difference(energy.decimal, "0", "energy") != "0")
-            throw input_error::about("energy", "'" + text + "' underflows " +
-                                                   precision_name<Real>() + " (it rounds to " +
-                                                   to_decimal(energy.value) + "); try mp:N");
+    const std::string text = energy.decimal.empty() ? to_decimal(energy.value) : energy.decimal;
+    if (!energy.positive())
         throw input_error::about("energy", "'" + text + "' is outside the domain of " + quantity +
                                                " (needs E > 0: the energy surface is empty at "
                                                "and below the potential minimum 0)");
-    }
+    // a positive decimal that Real cannot hold at all (1e-999999 in double)
+    if (!(energy.value > 0))
+        throw input_error::about("energy", "'" + text + "' underflows " + precision_name<Real>() +
+                                               " (it rounds to " + to_decimal(energy.value) +
+                                               "); try mp:N");
 }
 
 template <class Real>
@@ -70,7 +68,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
                                   "(needs E >= E_max = " +
                                   to_decimal(model.maximum_energy()) + ", the potential maximum)");
             }
-            return value_of(phase_volume(model, energy.value, m), to_string(m));
+            return value_of(phase_volume(model, energy, m), to_string(m));
         }));
     list.push_back(make_quantity(
         "flux-upright", "phase flux f1 through the upright surface th_arm = pi (both directions)",

@@ -215,6 +215,17 @@ TEST(Precision, DecimalComparisonsUseEveryDigit) {
 
 // Exact decimal arithmetic (for the distance of a decimal energy to a critical level that is a
 // product of decimal parameters): the results checked against sums and products worked by hand.
+// The sign of a decimal text, exactly: a zero written any way, and sizes no binary precision holds.
+TEST(Decimal, SignOfADecimalText) {
+    EXPECT_EQ(decimal_sign("1e-999999"), 1);
+    EXPECT_EQ(decimal_sign("-0.0000000000000000000000001"), -1);
+    EXPECT_EQ(decimal_sign("+3"), 1);
+    for (const char* zero : {"0", "-0", "+0.000", "0e999999", "-0.0E-5", ".0"})
+        EXPECT_EQ(decimal_sign(zero), 0) << zero;
+    EXPECT_EQ(decimal_sign("00.010e-3"), 1);  // a zero before the first nonzero digit
+    EXPECT_EQ(decimal_sign("-9E9"), -1);
+}
+
 TEST(Decimal, ExactSumsDifferencesAndProducts) {
     EXPECT_EQ(decimal_product("9.81", "0.45"), "4.4145e0");
     EXPECT_EQ(decimal_product("-0.12", "250"), "-3e1");

@@ -4,7 +4,9 @@
 // (More energies, pendulums and precisions: verification/prediction_routes.cpp.)
 #include <stdexcept>
 
+#include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/constants.hpp"
+#include "flipflux/core/decimal.hpp"
 #include "flipflux/model/model_text.hpp"
 #include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
@@ -139,32 +141,89 @@ TYPED_TEST(PhaseVolume, HigherPrecisionReference) {
 }
 
 // The bars of data/golden/compound-bars-si (decimal parameters, not binary) at E = 2 alpha =
-// 0.70632, the arm-1 saddle level. The rounded parameters put the level 1e-(digits) off the
-// decimal E, a spurious square-root branch point ~1e-(digits/2) from the quadrature's path: both
-// routes once took minutes at mp:30 there. An energy within rounding of a level is that level
-// (prediction/allowed_region.hpp). Reference: the Arb enclosure, `eval omega --energy 0.70632
-// --precision mp:80 --certify` (radius 5.5e-81). Condition: Omega's derivative is log-singular
-// at the level, so the parameters' rounding costs ~log(1/eps) ulps.
+// 0.70632, the arm-1 saddle level. From the decimal texts (make_model, parse_energy_level) E is
+// exactly at the level, where the half-width is analytic: no more work than nearby. From the
+// rounded parameters and a Real E, the level lies a genuine 1e-(digits) off E: a square-root
+// branch point of the half-width ~1e-(digits/2) from the quadrature's path, which the graded
+// quadrature resolves with ~log(1/eps) more pieces (in double and quad; mp's ~50 pieces are left
+// to verification for test time). Reference: the Arb enclosure, `eval omega --energy 0.70632
+// --precision mp:80 --certify` (radius 5.5e-81). Condition of the Real route: Omega's derivative
+// is log-singular at the level, so the parameters' rounding costs ~log(1/eps) ulps.
 TYPED_TEST(PhaseVolume, AnEnergyAtASaddleLevelOfDecimalParametersIsThatLevel) {
     using Real = TypeParam;
     using std::log;
     model_text t;
     t.m1 = "0.1", t.m2 = "0.15", t.L1 = "0.18", t.L2 = "0.24", t.a1 = "0.09", t.a2 = "0.12";
     t.I1 = "0.00027", t.I2 = "0.00072", t.g = "9.81";
-    const double_pendulum<Real> model(parse_parameters<Real>(t));
     const std::string expected =
         "0.578887516875970341629898769786514113189077638733678881329032773023104616208028226";
     const double condition = -std::log(static_cast<double>(eps<Real>()));
-    const Real E = parse_real<Real>("0.70632", "E");
-    const prediction_result<Real> r = phase_volume(model, E);
-    EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(16 * condition));
-    // no more work than at a generic energy nearby
-    const prediction_result<Real> nearby = phase_volume(model, parse_real<Real>("0.7", "E"));
-    EXPECT_LE(r.evaluations, 2 * nearby.evaluations);
-    if constexpr (!has_variable_precision_v<Real>) {  // test time: mp's 2-D route in verification
-        const prediction_result<Real> q =
-            phase_volume(model, E, phase_volume_method::quadrature_2d);
-        EXPECT_LE(relative_error(q.value, expected), tolerance<Real>(16 * condition));
+    const double_pendulum<Real> exact = make_model<Real>(t);
+    const double_pendulum<Real> rounded(parse_parameters<Real>(t));
+    const energy_level<Real> E = parse_energy_level<Real>("0.70632", "E");
+    const prediction_result<Real> nearby = phase_volume(exact, parse_real<Real>("0.7", "E"));
+    for (const phase_volume_method m :
+         {phase_volume_method::elliptic, phase_volume_method::quadrature_2d}) {
+        SCOPED_TRACE(to_string(m));
+        const bool mp = has_variable_precision_v<Real>;
+        if (mp && m == phase_volume_method::quadrature_2d) continue;  // in verification
+        const prediction_result<Real> r = phase_volume(exact, E, m);
+        EXPECT_LE(relative_error(r.value, expected), tolerance<Real>(16));
+        if (m == phase_volume_method::elliptic) {
+            EXPECT_LE(r.evaluations, 2 * nearby.evaluations);
+        }
+        if (mp) continue;
+        const prediction_result<Real> inexact = phase_volume(rounded, E.value, m);
+        EXPECT_LE(relative_error(inexact.value, expected), tolerance<Real>(16 * condition));
+    }
+}
+
+// Just above a saddle Omega's derivative is log-singular (~330 at E = 2 + 1e-14, paper's
+// pendulum), so Omega needs E's distance to the level to full relative precision. Regression: an
+// energy within 16 eps E_max of a level was moved onto it, and Omega at E = 2 + 1e-14 was off by
+// 3.2e-12 against an error estimate of 2.1e-13 in double (quad likewise). Reference: the Arb
+// enclosure of the decimal inputs (certified/, an independent route). Two pendulums (the paper's;
+// point masses with decimal parameters, levels 15.0093, 27.468 and 42.4773), each saddle level and
+// E_max, at distances inside the old snap (~10 eps) and far below the precision (eps^2, where the
+// half-width's branch point is ~eps from the quadrature's path). The value must lie within its
+// own error estimate of the proven one.
+TYPED_TEST(PhaseVolume, JustAboveASaddleOmegaFollowsTheExactDistanceToTheLevel) {
+    using Real = TypeParam;
+    using std::abs;
+    model_text decimal_pendulum;
+    decimal_pendulum.m1 = "1.3", decimal_pendulum.m2 = "0.45", decimal_pendulum.L1 = "0.8";
+    decimal_pendulum.L2 = "1.7", decimal_pendulum.g = "9.81";
+    const int digits = static_cast<int>(-std::log10(static_cast<double>(eps<Real>())));
+    const std::string tiny = "1e-" + std::to_string(digits - 1),
+                      tinier = "1e-" + std::to_string(2 * digits);
+    struct level {
+        model_text model;
+        const char* value;
+        bool from_below;
+    };
+    for (const level& l : {level{model_text{}, "2", false}, level{model_text{}, "4", false},
+                           level{model_text{}, "6", true}, level{decimal_pendulum, "15.0093", false},
+                           level{decimal_pendulum, "27.468", false},
+                           level{decimal_pendulum, "42.4773", true}}) {
+        // test time (~5 s a case at mp, ~1 s in quad): mp checks arm 2's saddle of the paper's
+        // pendulum, quad every level, each at the distance inside the old snap; double both
+        const bool mp = has_variable_precision_v<Real>, quad = std::is_same_v<Real, flipflux::quad>;
+        if (mp && std::string(l.value) != "2") continue;
+        const double_pendulum<Real> model = make_model<Real>(l.model);
+        for (const std::string& d : {tiny, tinier}) {
+            if ((mp || quad) && d == tinier) continue;
+            const std::string E = l.from_below ? decimal_difference(l.value, d, "E")
+                                               : decimal_sum(l.value, d, "E");
+            SCOPED_TRACE("E = " + E);
+            const prediction_result<Real> r =
+                phase_volume(model, parse_energy_level<Real>(E, "E"));
+            const certified_enclosure ref =
+                certified_value("omega", l.model, arm::two, E, digits + 5);
+            const Real err = abs(r.value - parse_real<Real>(ref.mid, "mid"));
+            EXPECT_LE(err, r.error_estimate) << "value " << to_decimal(r.value) << ", proven "
+                                             << ref.mid << " +/- " << ref.radius;
+            EXPECT_LE(relative_error(r.value, ref.mid), tolerance<Real>(16));
+        }
     }
 }
 

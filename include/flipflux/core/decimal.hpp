@@ -41,6 +41,10 @@ int full_digits(const Real& x) {
 /// True when `text` is a plain finite decimal number: [+-]digits[.digits][(e|E)[+-]digits].
 bool is_decimal_number(std::string_view text);
 
+/// The sign (-1, 0 or +1) of a text accepted by is_decimal_number, exactly (whatever its size:
+/// "1e-999999" is positive where every binary precision rounds it to 0).
+int decimal_sign(std::string_view text);
+
 /// Parses a finite decimal number into Real with correct rounding. Throws input_error
 /// "<what>: '<text>' is not a finite decimal number" for anything else (NaN, inf, hex, junk).
 template <class Real>

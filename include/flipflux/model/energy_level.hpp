@@ -44,8 +44,9 @@ struct energy_level {
     }
     /// level - E.
     Real below(const energy_level& level) const { return level.above(*this); }
-    /// E > 0 (the exact E, so a positive input that underflows Real still counts).
-    bool positive() const { return value > 0 || (value == 0 && residual > 0); }
+    /// E > 0, for the exact E: from the decimal when known (so a positive input that underflows
+    /// Real, 1e-999999 in double, counts; a computation needs value > 0 as well).
+    bool positive() const { return decimal.empty() ? value > 0 : decimal_sign(decimal) > 0; }
 };
 
 /// Parses a decimal energy: its correctly rounded value and the residual of the exact decimal.

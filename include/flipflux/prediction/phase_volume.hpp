@@ -48,9 +48,13 @@ struct enum_table<phase_volume_method> {
          {phase_volume_method::closed_form, "closed-form"}}};
 };
 
-/// Omega(E) by the chosen route.
+/// Omega(E) by the chosen route. Near a critical level (a saddle, E_max) Omega has a
+/// log-singular derivative, so E's distance to the level matters to full relative precision:
+/// it is taken as energy_level::above (exact when the energy and the model both come from
+/// decimal texts; a Real energy converts, and is then the exact E).
 template <class Real>
-prediction_result<Real> phase_volume(const double_pendulum<Real>& model, const Real& energy,
+prediction_result<Real> phase_volume(const double_pendulum<Real>& model,
+                                     const level_arg<Real>& energy,
                                      phase_volume_method method = phase_volume_method::elliptic);
 
 /// 16 pi^2 sqrt(D0) E(-C^2/D0): Omega(E) for every E >= E_max (the whole torus is allowed).
@@ -91,7 +95,8 @@ prediction_result<Real> marginal_cdf(const double_pendulum<Real>& model, const R
                                      configuration_angle which, const Real& theta);
 
 #define FLIPFLUX_PHASE_VOLUME_EXTERN(R)                                                       \
-    extern template prediction_result<R> phase_volume<R>(const double_pendulum<R>&, const R&, \
+    extern template prediction_result<R> phase_volume<R>(const double_pendulum<R>&,           \
+                                                         const energy_level<R>&,              \
                                                          phase_volume_method);                \
     extern template R phase_volume_above_maximum<R>(const double_pendulum<R>&);               \
     extern template R configuration_density<R>(const double_pendulum<R>&, const R&, const R&, \
