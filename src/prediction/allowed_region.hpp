@@ -27,8 +27,8 @@ struct angle_support {
     Real theta_full;                        ///< t = pi on [0, theta_full]
     Real theta_edge;                        ///< t = 0 beyond theta_edge
     Real full_supplement, edge_supplement;  ///< pi - theta_full, pi - theta_edge (accurate)
-    Real above_other;  ///< E - 2 w_other
-    Real below_this;   ///< 2 w_this - E
+    Real above_other;                       ///< E - 2 w_other
+    Real below_this;                        ///< 2 w_this - E
 
     /// The support at E: the distances of E to the levels 2 w_other, 2 w_this and E_max are
     /// energy_level::above, exact when E and the model come from decimal texts. They set where
@@ -36,8 +36,8 @@ struct angle_support {
     /// half-width ~sqrt(distance) from the integration path (singularity_distances), where the
     /// graded quadrature concentrates its nodes. No distance is rounded to the level: Omega's
     /// derivative is log-singular at a saddle (~330 at E = 2 + 1e-14 for the paper's pendulum),
-    /// so moving E by up to 16 eps E_max onto the level, as an earlier version did, moved Omega by 15x
-    /// its error estimate in double and quad.
+    /// so moving E by up to 16 eps E_max onto the level, as an earlier version did, moved Omega by
+    /// 15x its error estimate in double and quad.
     angle_support(const double_pendulum<Real>& model, const energy_level<Real>& E,
                   configuration_angle which)
         : energy(E.value) {

@@ -51,8 +51,8 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
 /// The integral of the marginal rho_which over [0, x], 0 <= x <= pi.
 template <class Real>
 quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model,
-                                          const level_arg<Real>& energy,
-                                          configuration_angle which, const Real& x) {
+                                          const level_arg<Real>& energy, configuration_angle which,
+                                          const Real& x) {
     using std::min;
     const detail::angle_support<Real> sup(model, energy, which);
     quadrature_result<Real> r;

@@ -21,9 +21,8 @@ prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a
         throw std::domain_error("predicted_rate: needs a finite E > 0 (Omega = 0 otherwise)");
     }
     const bool closed = route == rate_route::closed_form;
-    const prediction_result<Real> omega =
-        phase_volume(model, energy,
-                     closed ? phase_volume_method::elliptic : phase_volume_method::quadrature_2d);
+    const prediction_result<Real> omega = phase_volume(
+        model, energy, closed ? phase_volume_method::elliptic : phase_volume_method::quadrature_2d);
     prediction_result<Real> flux;
     if (criterion == flip_criterion::upright) {
         flux = upright_flux(model, a, energy,

@@ -201,10 +201,10 @@ TYPED_TEST(PhaseVolume, JustAboveASaddleOmegaFollowsTheExactDistanceToTheLevel) 
         const char* value;
         bool from_below;
     };
-    for (const level& l : {level{model_text{}, "2", false}, level{model_text{}, "4", false},
-                           level{model_text{}, "6", true}, level{decimal_pendulum, "15.0093", false},
-                           level{decimal_pendulum, "27.468", false},
-                           level{decimal_pendulum, "42.4773", true}}) {
+    for (const level& l :
+         {level{model_text{}, "2", false}, level{model_text{}, "4", false},
+          level{model_text{}, "6", true}, level{decimal_pendulum, "15.0093", false},
+          level{decimal_pendulum, "27.468", false}, level{decimal_pendulum, "42.4773", true}}) {
         // test time (~5 s a case at mp, ~1 s in quad): mp checks arm 2's saddle of the paper's
         // pendulum, quad every level, each at the distance inside the old snap; double both
         const bool mp = has_variable_precision_v<Real>, quad = std::is_same_v<Real, flipflux::quad>;
@@ -212,11 +212,10 @@ TYPED_TEST(PhaseVolume, JustAboveASaddleOmegaFollowsTheExactDistanceToTheLevel) 
         const double_pendulum<Real> model = make_model<Real>(l.model);
         for (const std::string& d : {tiny, tinier}) {
             if ((mp || quad) && d == tinier) continue;
-            const std::string E = l.from_below ? decimal_difference(l.value, d, "E")
-                                               : decimal_sum(l.value, d, "E");
+            const std::string E =
+                l.from_below ? decimal_difference(l.value, d, "E") : decimal_sum(l.value, d, "E");
             SCOPED_TRACE("E = " + E);
-            const prediction_result<Real> r =
-                phase_volume(model, parse_energy_level<Real>(E, "E"));
+            const prediction_result<Real> r = phase_volume(model, parse_energy_level<Real>(E, "E"));
             const certified_enclosure ref =
                 certified_value("omega", l.model, arm::two, E, digits + 5);
             const Real err = abs(r.value - parse_real<Real>(ref.mid, "mid"));

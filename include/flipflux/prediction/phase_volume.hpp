@@ -95,9 +95,8 @@ prediction_result<Real> marginal_cdf(const double_pendulum<Real>& model, const R
                                      configuration_angle which, const Real& theta);
 
 #define FLIPFLUX_PHASE_VOLUME_EXTERN(R)                                                       \
-    extern template prediction_result<R> phase_volume<R>(const double_pendulum<R>&,           \
-                                                         const energy_level<R>&,              \
-                                                         phase_volume_method);                \
+    extern template prediction_result<R> phase_volume<R>(                                     \
+        const double_pendulum<R>&, const energy_level<R>&, phase_volume_method);              \
     extern template R phase_volume_above_maximum<R>(const double_pendulum<R>&);               \
     extern template R configuration_density<R>(const double_pendulum<R>&, const R&, const R&, \
                                                const R&);                                     \
