@@ -102,32 +102,44 @@ quadrature_result<Real> tanh_sinh_integrate_graded(endpoint_integrand<Real> f, c
     const Real width = b - a;
     // NOTE: no grading below the rounding level of the interval (nothing to resolve there)
     const Real finest = 64 * epsilon<Real>() * width;
-    // offsets from a of the break points: the a-side grading, then the b-side one
-    std::vector<Real> left{Real(0)}, right;
+    // The break points as pairs (distance from a, distance to b), each exact on its own side:
+    // a break point r_b 4^k before b keeps its distance to b as computed, never as width minus
+    // an offset, which near b = pi loses the distance's digits to the rounding of pi (a branch
+    // point 1e-23 from pi at mp:30 then came out to 17 digits, and tanh-sinh ran to its last
+    // level on every piece: 25 s instead of 1).
+    struct break_point {
+        Real from_a, to_b;
+    };
+    std::vector<break_point> points{{Real(0), width}};
     if (r_a > finest && 4 * r_a < width) {
         for (Real x = r_a; x < width / 2; x *= 4)
-            left.push_back(x);
+            points.push_back({x, Real(width - x)});
     }
+    std::vector<Real> right;  // distances from b, increasing
     if (r_b > finest && 4 * r_b < width) {
         for (Real x = r_b; x < width / 2; x *= 4)
-            right.push_back(x);  // distances from b
+            right.push_back(x);
     }
-    std::vector<Real> offsets = left;  // increasing offsets from a; b-side as width - distance
-    for (auto it = right.rbegin(); it != right.rend(); ++it) {
-        const Real o = width - *it;
-        if (o > offsets.back()) offsets.push_back(o);
-    }
+    for (auto it = right.rbegin(); it != right.rend(); ++it)
+        if (width - *it > points.back().from_a) points.push_back({Real(width - *it), *it});
+    points.push_back({width, Real(0)});
     quadrature_result<Real> total;
-    for (std::size_t i = 0; i < offsets.size(); ++i) {
-        const bool last = i + 1 == offsets.size();
-        const Real lo = a + offsets[i];
-        const Real hi = last ? b : a + offsets[i + 1];
-        const Real from_a = offsets[i];  // exact 0 on the first piece
-        const Real to_end = last ? Real(0) : Real(width - offsets[i + 1]);  // exact 0 on the last
-        auto g = [&](const Real& x, const Real& da, const Real& db) -> Real {
-            return f(x, from_a + da, to_end + db);
-        };
-        total += tanh_sinh_integrate<Real>(g, lo, hi, opt);
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+        const break_point &lo = points[i], &hi = points[i + 1];
+        if (lo.from_a <= lo.to_b) {  // a piece that starts on a's side: in x itself
+            const Real x_lo = a + lo.from_a;
+            const Real x_hi = i + 2 == points.size() ? b : Real(a + hi.from_a);
+            auto g = [&](const Real& x, const Real& da, const Real& db) -> Real {
+                return f(x, lo.from_a + da, hi.to_b + db);
+            };
+            total += tanh_sinh_integrate<Real>(g, x_lo, x_hi, opt);
+        } else {  // on b's side: in u = x - x_lo in [0, length], length from the exact distances
+            const Real x_lo = b - lo.to_b, length = lo.to_b - hi.to_b;
+            auto g = [&](const Real& u, const Real& du_lo, const Real& du_hi) -> Real {
+                return f(x_lo + u, lo.from_a + du_lo, hi.to_b + du_hi);
+            };
+            total += tanh_sinh_integrate<Real>(g, Real(0), length, opt);
+        }
     }
     return total;
 }
