@@ -17,7 +17,7 @@ prediction_result<Real> predicted_rate(const double_pendulum<Real>& model, arm a
                                        rate_route route) {
     using boost::multiprecision::isfinite;
     using std::isfinite;
-    if (!isfinite(energy.value) || !energy.positive() || !(energy.value > 0)) {
+    if (!isfinite(energy.value) || !(energy.value > 0)) {  // value > 0: the decimal is too
         throw std::domain_error("predicted_rate: needs a finite E > 0 (Omega = 0 otherwise)");
     }
     const bool closed = route == rate_route::closed_form;

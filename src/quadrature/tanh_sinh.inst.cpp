@@ -106,7 +106,7 @@ quadrature_result<Real> tanh_sinh_integrate_graded(endpoint_integrand<Real> f, c
     // a break point r_b 4^k before b keeps its distance to b as computed, never as width minus
     // an offset, which near b = pi loses the distance's digits to the rounding of pi (a branch
     // point 1e-23 from pi at mp:30 then came out to 17 digits, and tanh-sinh ran to its last
-    // level on every piece: 25 s instead of 1).
+    // level on every piece: 24 s where 6.5 s do now).
     struct break_point {
         Real from_a, to_b;
     };
