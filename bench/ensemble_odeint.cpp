@@ -145,17 +145,18 @@ odeint_result odeint_trajectory(const Rhs& rhs, const state4& x0, double T,
     return r;
 }
 
-// CPU seconds per right-hand side and lane: pendulum_flow::lanes on 4 x 16 independent states
-// (AVX2, four lanes per vector; the SSE2 path when the processor has no AVX2).
-__attribute__((target("avx2"), flatten)) double rhs_seconds_avx2(const pendulum_flow& flow,
-                                                                 const std::vector<state4>& x,
-                                                                 int rounds) {
-    constexpr int groups = 16;
-    v4d in[groups][4], out[groups][4];
+// CPU seconds per right-hand side and lane: pendulum_flow::lanes on W x 16 independent states in
+// the widest vectors the ensemble's lanes use on this processor (AVX-512: eight lanes per vector;
+// AVX2: four; the four-lane code in SSE2 registers otherwise).
+template <class V>
+[[gnu::always_inline]] inline double rhs_seconds_lanes(const pendulum_flow& flow,
+                                                       const std::vector<state4>& x, int rounds) {
+    constexpr int groups = 16, W = lanes_of<V>;
+    V in[groups][4], out[groups][4];
     for (int g = 0; g < groups; ++g)
         for (int c = 0; c < 4; ++c)
-            for (int l = 0; l < 4; ++l)
-                in[g][c][l] = x[(4 * g + l) % x.size()][c];
+            for (int l = 0; l < W; ++l)
+                in[g][c][l] = x[(W * g + l) % x.size()][c];
     const double c0 = cpu_seconds();
     for (int r = 0; r < rounds; ++r) {
         for (int g = 0; g < groups; ++g) {
@@ -164,13 +165,30 @@ __attribute__((target("avx2"), flatten)) double rhs_seconds_avx2(const pendulum_
         }
         benchmark::ClobberMemory();
     }
-    return (cpu_seconds() - c0) / (static_cast<double>(rounds) * groups * 4);
+    return (cpu_seconds() - c0) / (static_cast<double>(rounds) * groups * W);
+}
+__attribute__((target("avx512f"), flatten)) double rhs_seconds_avx512(const pendulum_flow& flow,
+                                                                      const std::vector<state4>& x,
+                                                                      int rounds) {
+    return rhs_seconds_lanes<v8d>(flow, x, rounds);
+}
+__attribute__((target("avx2"), flatten)) double rhs_seconds_avx2(const pendulum_flow& flow,
+                                                                 const std::vector<state4>& x,
+                                                                 int rounds) {
+    return rhs_seconds_lanes<v4d>(flow, x, rounds);
+}
+double flipflux_bench_rhs_seconds(const pendulum_flow& flow, const std::vector<state4>& x,
+                                  int rounds) {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f")) return rhs_seconds_avx512(flow, x, rounds / 2);
+    if (__builtin_cpu_supports("avx2")) return rhs_seconds_avx2(flow, x, rounds);
+    return rhs_seconds_lanes<v4d>(flow, x, rounds);
 }
 
 void ensemble_vs_odeint(benchmark::State& state) {
     const double_pendulum<double> m;
     const double E = 5, T = 100;
-    const std::uint64_t batch = 4;
+    const std::uint64_t batch = 8;  // the trajectories one thread advances in lockstep
     const pendulum_flow flow(m);
     const microcanonical_sampler sampler(m, E);
     std::vector<ensemble_criterion> criteria;
@@ -233,7 +251,7 @@ void ensemble_vs_odeint(benchmark::State& state) {
         units += static_cast<double>(batch) * T;
     }
     const double evaluations_per_unit = static_cast<double>(evaluations_ours) / units;
-    const double rhs_seconds = rhs_seconds_avx2(flow, starts, 200000);
+    const double rhs_seconds = flipflux_bench_rhs_seconds(flow, starts, 200000);
     const double bound = 1 / (evaluations_per_unit * rhs_seconds);
     state.counters["ours_units_per_cpu_s"] = units / cpu_ours;
     state.counters["ours_chaos_units_per_cpu_s"] = units / cpu_chaos;

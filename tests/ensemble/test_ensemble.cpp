@@ -40,8 +40,9 @@ void expect_identical(const trajectory_result& a, const trajectory_result& b) {
 }
 
 // Within a thread, trajectories advance in lockstep lanes whose right-hand sides are evaluated
-// together in vectors (four per AVX2 vector when the processor has AVX2, two per SSE2 vector
-// otherwise and for the last two lanes): every trajectory must have the bits of the same
+// together in vectors (eight per AVX-512 vector for five to eight lanes when the processor has
+// AVX-512, four per AVX2 vector for three or four lanes or more without AVX-512, two per SSE2
+// vector otherwise and for the last two lanes): every trajectory must have the bits of the same
 // trajectory integrated alone (one lane), with and without the tangent equations, for DOP853 and
 // DOPRI5. (That each lane's arithmetic is the scalar integrator's: ExplicitRk.VectorLanesHave
 // TheBitsOfTheDoubleStagesAndErrorSums.)
@@ -51,7 +52,8 @@ TEST(Ensemble, LockstepLanesGiveTheBitsOfALoneTrajectory) {
     for (const integration_method method : {integration_method::dop853, integration_method::dopri5})
         for (bool chaos : {false, true}) {
             ensemble_options o = small_run(1);
-            o.trajectories = 7;  // 4 lanes, then the last 3 (a padded group) and the last 1 or 2
+            // 8 lanes, refilled, then the last 7, ..., 1: every vector width and padded groups
+            o.trajectories = 11;
             o.chaos = chaos;
             o.method = method;
             const ensemble_result lanes = run_ensemble(m, o, criteria);

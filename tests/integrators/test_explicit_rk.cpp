@@ -338,11 +338,10 @@ struct unused_rhs {
 // bits of the double instantiation, which is what step() computes. Random steps, states and
 // stages of mixed signs and magnitudes, with signed zeros, for every stage of DOP853 and DOPRI5
 // and for 4 and 8 components (of which 4 controlled).
-template <class Method, std::size_t N>
+template <class Method, std::size_t N, class V>
 void expect_vector_lanes_equal_doubles() {
     using rk = explicit_rk<Method, N, unused_rhs<N>>;
     constexpr int S = Method::stages;
-    using V = v4d;  // the ensemble's four-lane vector
     constexpr int W = lanes_of<V>;
     test::random_reals rnd(2026);
     auto uniform = [&] { return rnd(-1, 1); };
@@ -395,11 +394,19 @@ void expect_vector_lanes_equal_doubles() {
     }
 }
 
+template <class V>
+void expect_vector_lanes_equal_doubles_for_both_methods() {
+    expect_vector_lanes_equal_doubles<dormand_prince_853, 4, V>();
+    expect_vector_lanes_equal_doubles<dormand_prince_853, 8, V>();
+    expect_vector_lanes_equal_doubles<dormand_prince_5, 4, V>();
+    expect_vector_lanes_equal_doubles<dormand_prince_5, 8, V>();
+}
+
+// The ensemble's vectors: two (SSE2), four (AVX2) and eight (AVX-512) lanes.
 TEST(ExplicitRk, VectorLanesHaveTheBitsOfTheDoubleStagesAndErrorSums) {
-    expect_vector_lanes_equal_doubles<dormand_prince_853, 4>();
-    expect_vector_lanes_equal_doubles<dormand_prince_853, 8>();
-    expect_vector_lanes_equal_doubles<dormand_prince_5, 4>();
-    expect_vector_lanes_equal_doubles<dormand_prince_5, 8>();
+    expect_vector_lanes_equal_doubles_for_both_methods<v2d>();
+    expect_vector_lanes_equal_doubles_for_both_methods<v4d>();
+    expect_vector_lanes_equal_doubles_for_both_methods<v8d>();
 }
 
 }  // namespace

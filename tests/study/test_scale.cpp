@@ -393,6 +393,86 @@ TEST(FastTrig, VectorTangentAndFourLaneRightHandSidesEqualTheSingleOnes) {
     }
 }
 
+// The flow's vector forms compiled for the instruction sets the ensemble dispatches to (AVX2,
+// AVX-512): the right-hand side, its tangent equations and H of eight states at once, per lane
+// the bits of one state at a time. The tests above run the same templates in generic code; here
+// the compiler emits the wide instructions (masked blends, 512-bit divisions) the ensemble runs.
+template <class V>
+struct flow_lanes_out {
+    V f[4], g[8], h;
+};
+template <class V>
+[[gnu::always_inline]] inline void flow_lanes_at(const pendulum_flow& flow, const V (&t)[8],
+                                                 flow_lanes_out<V>& out) {
+    flow.lanes(t, out.f);
+    flow.tangent_lanes(t, out.g);
+    flow.hamiltonian_lanes(t, out.h);
+}
+__attribute__((target("avx512f"), flatten)) void flow_lanes_avx512(const pendulum_flow& flow,
+                                                                   const v8d (&t)[8],
+                                                                   flow_lanes_out<v8d>& out) {
+    flow_lanes_at(flow, t, out);
+}
+__attribute__((target("avx2"), flatten)) void flow_lanes_avx2(const pendulum_flow& flow,
+                                                              const v4d (&t)[8],
+                                                              flow_lanes_out<v4d>& out) {
+    flow_lanes_at(flow, t, out);
+}
+
+TEST(FastTrig, WideInstructionSetsGiveTheBitsOfOneStateAtATime) {
+    __builtin_cpu_init();
+    const bool avx512 = __builtin_cpu_supports("avx512f") != 0,
+               avx2 = __builtin_cpu_supports("avx2") != 0;
+    if (!avx2) GTEST_SKIP() << "the processor has neither AVX2 nor AVX-512";
+    random_reals rnd(11);
+    const pendulum_flow flow(double_pendulum<double>(
+        physical_parameters<double>{0.7, 1.3, 0.8, 1.2, 0.5, 0.65, 0.04, 0.09, 1.5}));
+    for (int k = 0; k < 1000; ++k) {
+        std::array<std::array<double, 8>, 8> y{};
+        for (auto& one : y)
+            one = {rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3),
+                   rnd(-1, 1), rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)};
+        if (k == 0) y[5][1] = 4e6;  // the libm fallback in one lane
+        v8d t8[8];
+        v4d t4[8];
+        for (int i = 0; i < 8; ++i)
+            for (int l = 0; l < 8; ++l) {
+                t8[i][l] = y[l][i];
+                if (l < 4) t4[i][l] = y[l][i];
+            }
+        flow_lanes_out<v8d> o8{};
+        flow_lanes_out<v4d> o4{};
+        if (avx512) flow_lanes_avx512(flow, t8, o8);
+        flow_lanes_avx2(flow, t4, o4);
+        for (int l = 0; l < 8; ++l) {
+            const auto f = flow(0.0, {y[l][0], y[l][1], y[l][2], y[l][3]});
+            const auto g = flow.tangent(y[l]);
+            const double h = flow.hamiltonian_absolute({y[l][0], y[l][1], y[l][2], y[l][3]});
+            for (int i = 0; i < 8; ++i) {
+                if (avx512) {
+                    if (i < 4) {
+                        EXPECT_TRUE(same_bits(o8.f[i][l], f[i])) << k << " " << l << " " << i;
+                    }
+                    EXPECT_TRUE(same_bits(o8.g[i][l], g[i])) << k << " " << l << " " << i;
+                }
+                if (l < 4) {
+                    if (i < 4) {
+                        EXPECT_TRUE(same_bits(o4.f[i][l], f[i])) << k << " " << l << " " << i;
+                    }
+                    EXPECT_TRUE(same_bits(o4.g[i][l], g[i])) << k << " " << l << " " << i;
+                }
+            }
+            if (avx512) {
+                EXPECT_TRUE(same_bits(o8.h[l], h)) << k << " " << l;
+            }
+            if (l < 4) {
+                EXPECT_TRUE(same_bits(o4.h[l], h)) << k << " " << l;
+            }
+        }
+    }
+    if (!avx512) GTEST_SKIP() << "AVX2 checked; the processor has no AVX-512";
+}
+
 // ---- the command line ------------------------------------------------------------------------
 
 const std::string study =

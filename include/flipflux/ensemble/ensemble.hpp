@@ -191,7 +191,7 @@ batch_outcome run_trajectories(const double_pendulum<double>& model,
                                std::span<const std::uint64_t> indices,
                                const std::function<void(trajectory_result&&)>& finished);
 
-/// Simulates the ensemble (OpenMP across trajectories; within a thread, 4 trajectories advance
+/// Simulates the ensemble (OpenMP across trajectories; within a thread, 8 trajectories advance
 /// in lockstep, stage by stage -- docs/scale.md -- with the same arithmetic per trajectory as
 /// alone). With options.stop set during the run
 /// it throws std::runtime_error (the ensemble is incomplete).

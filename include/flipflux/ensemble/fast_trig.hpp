@@ -63,6 +63,10 @@ using v2l = long long __attribute__((vector_size(16)));
 /// time), two SSE2 registers elsewhere.
 using v4d = double __attribute__((vector_size(32)));
 using v4l = long long __attribute__((vector_size(32)));
+/// Eight doubles: AVX-512 registers in functions compiled for AVX-512 (ensemble.cpp dispatches at
+/// run time), narrower registers elsewhere.
+using v8d = double __attribute__((vector_size(64)));
+using v8l = long long __attribute__((vector_size(64)));
 
 /// The number of lanes of a vector type.
 template <class V>
@@ -78,11 +82,15 @@ template <>
 struct lane_mask<v4d> {
     using type = v4l;
 };
+template <>
+struct lane_mask<v8d> {
+    using type = v8l;
+};
 
-/// fast_sincos in every lane of a vector V (v2d or v4d),
+/// fast_sincos in every lane of a vector V (v2d, v4d or v8d),
 /// |x| <= 2^19 in each (the caller checks, fast_sincos_in_range): the same operations in the same
 /// order per lane as fast_sincos, hence the same bits (tested). Always inlined, so that a caller
-/// compiled for AVX2 gets it in AVX2.
+/// compiled for AVX2 or AVX-512 gets it in their instructions.
 template <class V>
 [[gnu::always_inline]] inline void fast_sincos_lanes(V x, V& s, V& c) {
     using L = typename lane_mask<V>::type;

@@ -42,10 +42,11 @@ class pendulum_flow {
         return {w1, w2, -P - k_.alpha * g.s1, P - k_.beta * g.s2};
     }
 
-    /// Hamilton's equations at lanes_of<V> states at once (V = v2d or v4d), x[i] = (component i
-    /// of each state): per lane the same operations in the same order as operator(), hence the
+    /// Hamilton's equations at lanes_of<V> states at once (V = v2d, v4d or v8d), x[i] = (component
+    /// i of each state): per lane the same operations in the same order as operator(), hence the
     /// same bits (tested), in a fraction of the instructions. Used by the ensemble's lockstep
-    /// lanes; always inlined, so that a caller compiled for AVX2 gets AVX2 code.
+    /// lanes; always inlined, so that a caller compiled for AVX2 or AVX-512 gets
+    /// their instructions.
     template <class V>
     [[gnu::always_inline]] void lanes(const V x[4], V f[4]) const {
         if (!fast_sincos_in_range(x[0]) || !fast_sincos_in_range(x[1])) {

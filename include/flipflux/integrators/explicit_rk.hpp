@@ -316,8 +316,8 @@ class explicit_rk {
     /// y = base + h sum_{j < s} a[s][j] k[j] with the tableau row known at compile time (zero
     /// terms dropped), in the order of stage<s>(), for T double or a vector of lanes (each lane
     /// the same operations as a double).
-    /// (always_inline throughout, no lambda: inlined into a caller compiled for AVX2, all of it
-    /// is compiled for AVX2.)
+    /// (always_inline throughout, no lambda: inlined into a caller compiled for AVX2 or AVX-512,
+    /// all of it is compiled for that instruction set.)
     template <int s, class T, class Stages>
     [[gnu::always_inline]] static void stage_sum(const T& h, const T* base, const Stages& k, T* y) {
         static_assert(s >= 1 && s < S);
