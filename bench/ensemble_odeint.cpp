@@ -146,8 +146,9 @@ odeint_result odeint_trajectory(const Rhs& rhs, const state4& x0, double T,
 }
 
 // CPU seconds per right-hand side and lane: pendulum_flow::lanes on W x 16 independent states in
-// the widest vectors the ensemble's lanes use on this processor (AVX-512: eight lanes per vector;
-// AVX2: four; the four-lane code in SSE2 registers otherwise).
+// the widest vectors the ensemble's lanes use (ensemble_vector_isa: AVX-512, eight lanes per
+// vector; AVX2, four; the four-lane code in SSE2 registers otherwise). FLIPFLUX_VECTOR_ISA selects
+// another instruction set for the whole bench.
 template <class V>
 [[gnu::always_inline]] inline double rhs_seconds_lanes(const pendulum_flow& flow,
                                                        const std::vector<state4>& x, int rounds) {
@@ -179,10 +180,14 @@ __attribute__((target("avx2"), flatten)) double rhs_seconds_avx2(const pendulum_
 }
 double flipflux_bench_rhs_seconds(const pendulum_flow& flow, const std::vector<state4>& x,
                                   int rounds) {
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f")) return rhs_seconds_avx512(flow, x, rounds / 2);
-    if (__builtin_cpu_supports("avx2")) return rhs_seconds_avx2(flow, x, rounds);
-    return rhs_seconds_lanes<v4d>(flow, x, rounds);
+    switch (ensemble_vector_isa()) {
+        case vector_isa::avx512:
+            return rhs_seconds_avx512(flow, x, rounds / 2);
+        case vector_isa::avx2:
+            return rhs_seconds_avx2(flow, x, rounds);
+        default:
+            return rhs_seconds_lanes<v4d>(flow, x, rounds);
+    }
 }
 
 void ensemble_vs_odeint(benchmark::State& state) {
@@ -273,7 +278,9 @@ void ensemble_vs_odeint(benchmark::State& state) {
         state.counters[std::string("flips_odeint_") + names[c]] = b;
         state.counters[std::string("z_") + names[c]] = a + b > 0 ? (a - b) / std::sqrt(a + b) : 0;
     }
-    state.SetLabel(o.method == integration_method::dop853 ? "ours=dop853" : "ours=dopri5");
+    state.SetLabel(std::string(o.method == integration_method::dop853 ? "ours=dop853"
+                                                                       : "ours=dopri5") +
+                   " vector_isa=" + to_string(ensemble_vector_isa()));
 }
 BENCHMARK(ensemble_vs_odeint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(3);
 

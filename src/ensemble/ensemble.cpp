@@ -1,12 +1,14 @@
 // The ensemble runner: one trajectory per index, OpenMP across indices (see ensemble.hpp).
 #include "flipflux/ensemble/ensemble.hpp"
 
+#include <cpuid.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -96,8 +98,8 @@ namespace {
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2 * std::numbers::pi;
 
-// Trajectories each thread advances in lockstep (see run_lockstep).
-constexpr std::size_t ensemble_lanes = 8;
+// The most trajectories a thread advances in lockstep (lanes_per_thread: 8 with AVX-512, else 4).
+constexpr std::size_t max_lanes = 8;
 
 // Reduces an angle that left [-pi, pi] during one step; returns the shift applied.
 // NOTE: a step moves an angle by far less than 2 pi, so |th| < 4 pi and th -/+ 2 pi is exact
@@ -473,18 +475,44 @@ bool processor_has_avx2() {
     return has;
 }
 
+// AMD family 19h (Zen 3 and Zen 4; of them only Zen 4 has AVX-512): CPUID leaf 1's base family
+// 0xF plus its extended family 0x0A.
+bool processor_is_amd_family_19h() {
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    if (__get_cpuid(0, &a, &b, &c, &d) == 0) return false;
+    const bool amd = b == 0x68747541 && d == 0x69746e65 && c == 0x444d4163;  // "AuthenticAMD"
+    if (!amd || __get_cpuid(1, &a, &b, &c, &d) == 0) return false;
+    const unsigned family = (a >> 8) & 0xF, extended = (a >> 20) & 0xFF;
+    return family == 0xF && family + extended == 0x19;
+}
+
+vector_isa automatic_isa() {
+    if (processor_has_avx512() && !processor_is_amd_family_19h()) return vector_isa::avx512;
+    if (processor_has_avx2()) return vector_isa::avx2;
+    return vector_isa::sse2;
+}
+
+// The choice of set_ensemble_vector_isa (automatic: none made).
+std::atomic<vector_isa> chosen_isa{vector_isa::automatic};
+
+// Trajectories per thread in lockstep with `isa`.
+std::size_t lanes_per_thread(vector_isa isa) {
+    return isa == vector_isa::avx512 ? 8 : 4;
+}
+
 // One trial step of every unfinished lane, stage by stage (lanes of one type), the lanes'
-// stages computed together in vectors (vector_stages).
+// stages computed together in vectors (vector_stages) of `isa`'s widest width that the active
+// lanes fill more than half of.
 template <class Lane>
-void lockstep_round(std::span<Lane* const> lanes) {
-    std::array<Lane*, 16> active{};
+void lockstep_round(std::span<Lane* const> lanes, vector_isa isa) {
+    std::array<Lane*, max_lanes> active{};
     std::size_t m = 0;
     for (Lane* l : lanes)
         if (l != nullptr && l->begin()) active[m++] = l;
     if (m == 0) return;
-    if (m > 4 && processor_has_avx512())
+    if (m > 4 && isa == vector_isa::avx512)
         vector_stages_avx512<Lane>(active.data(), m);
-    else if (m > 2 && processor_has_avx2())
+    else if (m > 2 && isa != vector_isa::sse2)
         vector_stages_avx2<Lane>(active.data(), m);
     else
         vector_stages_sse2<Lane>(active.data(), m);
@@ -492,19 +520,20 @@ void lockstep_round(std::span<Lane* const> lanes) {
         active[i]->end();
 }
 
-// Runs one thread's share: ensemble_lanes trajectories advanced in lockstep, the next index
+// Runs one thread's share: lanes_per_thread trajectories advanced in lockstep, the next index
 // taken whenever one finishes. `deliver` gets each finished (or abandoned) lane's result.
 template <class Method, bool Tangent, class Next, class Deliver>
 void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
-               std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
+               std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
                Next&& next_index, Deliver&& deliver) {
     using lane_type = lane<Method, Tangent>;
-    std::array<std::unique_ptr<lane_type>, ensemble_lanes> lanes;
-    std::array<lane_type*, ensemble_lanes> view{};
+    const std::size_t count = lanes_per_thread(isa);
+    std::array<std::unique_ptr<lane_type>, max_lanes> lanes;
+    std::array<lane_type*, max_lanes> view{};
     for (;;) {
         bool any = false;
-        for (std::size_t l = 0; l < ensemble_lanes; ++l) {
+        for (std::size_t l = 0; l < count; ++l) {
             if (lanes[l] && lanes[l]->finished()) {
                 deliver(lanes[l]->result());
                 lanes[l].reset();
@@ -519,25 +548,29 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
             any = any || lanes[l] != nullptr;
         }
         if (!any) return;
-        lockstep_round<lane_type>(view);
+        lockstep_round<lane_type>(std::span<lane_type* const>(view.data(), count), isa);
     }
 }
 
 template <class Next, class Deliver>
 void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
-               std::array<std::vector<flip_detector_base*>, ensemble_lanes>& detectors,
+               std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
                Next&& next_index, Deliver&& deliver) {
     if (o.method == integration_method::dop853) {
         if (o.chaos)
-            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, next_index, deliver);
+            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, isa, next_index,
+                                                deliver);
         else
-            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, next_index, deliver);
+            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, isa, next_index,
+                                                 deliver);
     } else {
         if (o.chaos)
-            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, next_index, deliver);
+            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, isa, next_index,
+                                              deliver);
         else
-            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, next_index, deliver);
+            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, isa, next_index,
+                                               deliver);
     }
 }
 
@@ -549,11 +582,41 @@ trajectory_result single_trajectory(const double_pendulum<double>& model, const 
     lane_type l(model, o, x0, index, detectors);
     lane_type* const one[1] = {&l};
     while (!l.finished())
-        lockstep_round<lane_type>(one);
+        lockstep_round<lane_type>(one, vector_isa::sse2);
     return std::move(l.result());
 }
 
 }  // namespace
+
+bool processor_supports(vector_isa isa) {
+    switch (isa) {
+        case vector_isa::avx512:
+            return processor_has_avx512();
+        case vector_isa::avx2:
+            return processor_has_avx2();
+        default:
+            return true;
+    }
+}
+
+void set_ensemble_vector_isa(vector_isa isa) {
+    if (!processor_supports(isa))
+        throw input_error::about("vector_isa",
+                                 "'" + to_string(isa) + "' is not supported by this processor");
+    chosen_isa.store(isa);
+}
+
+vector_isa ensemble_vector_isa() {
+    if (const vector_isa isa = chosen_isa.load(); isa != vector_isa::automatic) return isa;
+    const char* env = std::getenv("FLIPFLUX_VECTOR_ISA");
+    if (env == nullptr || *env == 0) return automatic_isa();
+    const std::string field = "environment variable FLIPFLUX_VECTOR_ISA";
+    const vector_isa isa = parse_name<vector_isa>(env, field);
+    if (!processor_supports(isa))
+        throw input_error::about(field,
+                                 "'" + std::string(env) + "' is not supported by this processor");
+    return isa == vector_isa::automatic ? automatic_isa() : isa;
+}
 
 trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,
@@ -589,6 +652,7 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
             throw std::invalid_argument("run_trajectories: criterion without detector");
     const microcanonical_sampler sampler(model, o.energy);
     const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    const vector_isa isa = ensemble_vector_isa();
     std::exception_ptr failure;
     const std::size_t n = indices.size();
     std::atomic<std::size_t> next{0};
@@ -600,18 +664,18 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
     {
 #pragma omp single
         used = omp_get_num_threads();
-        // each thread advances ensemble_lanes trajectories in lockstep (run_lockstep), taking the
+        // each thread advances lanes_per_thread trajectories in lockstep (run_lanes), taking the
         // next index whenever one finishes
-        std::array<std::vector<std::unique_ptr<flip_detector_base>>, ensemble_lanes> own;
-        std::array<std::vector<flip_detector_base*>, ensemble_lanes> detectors;
-        for (std::size_t l = 0; l < ensemble_lanes; ++l)
+        std::array<std::vector<std::unique_ptr<flip_detector_base>>, max_lanes> own;
+        std::array<std::vector<flip_detector_base*>, max_lanes> detectors;
+        for (std::size_t l = 0; l < max_lanes; ++l)
             for (const ensemble_criterion& c : criteria) {
                 own[l].push_back(c.detector->clone());
                 detectors[l].push_back(own[l].back().get());
             }
         try {
             run_lanes(
-                model, o, sampler, detectors,
+                model, o, sampler, detectors, isa,
                 [&](std::uint64_t& index) {
                     if (failed.load(std::memory_order_relaxed)) return false;
                     if (stopped()) {

@@ -3,6 +3,7 @@
 // validation; energy drift scales with the tolerance; the finite-time Lyapunov exponent against
 // Benettin's two-trajectory estimate and on a regular and a chaotic trajectory.
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "ensemble_support.hpp"
@@ -40,38 +41,76 @@ void expect_identical(const trajectory_result& a, const trajectory_result& b) {
 }
 
 // Within a thread, trajectories advance in lockstep lanes whose right-hand sides are evaluated
-// together in vectors (eight per AVX-512 vector for five to eight lanes when the processor has
-// AVX-512, four per AVX2 vector for three or four lanes or more without AVX-512, two per SSE2
-// vector otherwise and for the last two lanes): every trajectory must have the bits of the same
-// trajectory integrated alone (one lane), with and without the tangent equations, for DOP853 and
-// DOPRI5. (That each lane's arithmetic is the scalar integrator's: ExplicitRk.VectorLanesHave
-// TheBitsOfTheDoubleStagesAndErrorSums.)
+// together in vectors: with each instruction set the processor has (ensemble.hpp, vector_isa:
+// eight lanes per thread in AVX-512 vectors, then AVX2 and SSE2 ones as lanes finish; four lanes
+// in AVX2 vectors; four lanes in SSE2 vectors, two per vector), every trajectory must have the bits
+// of the same trajectory integrated alone (one lane), with and without the tangent equations, for
+// DOP853 and DOPRI5. (That each lane's arithmetic is the scalar integrator's: ExplicitRk.
+// VectorLanesHaveTheBitsOfTheDoubleStagesAndErrorSums.)
 TEST(Ensemble, LockstepLanesGiveTheBitsOfALoneTrajectory) {
     const double_pendulum<double> m;
     const auto criteria = arm2_criteria(m);
-    for (const integration_method method : {integration_method::dop853, integration_method::dopri5})
-        for (bool chaos : {false, true}) {
-            ensemble_options o = small_run(1);
-            // 8 lanes, refilled, then the last 7, ..., 1: every vector width and padded groups
-            o.trajectories = 11;
-            o.chaos = chaos;
-            o.method = method;
-            const ensemble_result lanes = run_ensemble(m, o, criteria);
-            const microcanonical_sampler sampler(m, o.energy);
-            for (std::uint64_t i = 0; i < o.trajectories; ++i) {
-                std::vector<std::unique_ptr<flip_detector_base>> own;
-                std::vector<flip_detector_base*> raw;
-                for (const ensemble_criterion& c : criteria) {
-                    own.push_back(c.detector->clone());
-                    raw.push_back(own.back().get());
+    struct restore {
+        ~restore() { set_ensemble_vector_isa(vector_isa::automatic); }
+    } restore_isa;
+    int tested = 0;
+    for (const vector_isa isa : {vector_isa::sse2, vector_isa::avx2, vector_isa::avx512}) {
+        if (!processor_supports(isa)) continue;
+        set_ensemble_vector_isa(isa);
+        ASSERT_EQ(ensemble_vector_isa(), isa);
+        ++tested;
+        for (const integration_method method :
+             {integration_method::dop853, integration_method::dopri5})
+            for (bool chaos : {false, true}) {
+                ensemble_options o = small_run(1);
+                // 8 (or 4) lanes, refilled, then the last ones: every vector width, padded groups
+                o.trajectories = 11;
+                o.chaos = chaos;
+                o.method = method;
+                const ensemble_result lanes = run_ensemble(m, o, criteria);
+                const microcanonical_sampler sampler(m, o.energy);
+                for (std::uint64_t i = 0; i < o.trajectories; ++i) {
+                    std::vector<std::unique_ptr<flip_detector_base>> own;
+                    std::vector<flip_detector_base*> raw;
+                    for (const ensemble_criterion& c : criteria) {
+                        own.push_back(c.detector->clone());
+                        raw.push_back(own.back().get());
+                    }
+                    const trajectory_result alone = run_trajectory(m, sampler, o, i, raw);
+                    SCOPED_TRACE(to_string(isa) + ", " + to_string(method) + ", chaos " +
+                                 std::to_string(chaos) + ", trajectory " + std::to_string(i));
+                    expect_identical(lanes.trajectories[i], alone);
+                    EXPECT_GT(alone.flips(0), 0u);
                 }
-                const trajectory_result alone = run_trajectory(m, sampler, o, i, raw);
-                SCOPED_TRACE(to_string(method) + ", chaos " + std::to_string(chaos) +
-                             ", trajectory " + std::to_string(i));
-                expect_identical(lanes.trajectories[i], alone);
-                EXPECT_GT(alone.flips(0), 0u);
             }
-        }
+    }
+    EXPECT_GE(tested, 1);
+}
+
+// The instruction set from the environment: a name, checked; an unknown one is refused naming the
+// variable and the value.
+TEST(Ensemble, VectorInstructionSetFromTheEnvironment) {
+    set_ensemble_vector_isa(vector_isa::automatic);
+    struct restore {
+        ~restore() { unsetenv("FLIPFLUX_VECTOR_ISA"); }
+    } restore_env;
+    ASSERT_EQ(setenv("FLIPFLUX_VECTOR_ISA", "sse2", 1), 0);
+    EXPECT_EQ(ensemble_vector_isa(), vector_isa::sse2);
+    ASSERT_EQ(setenv("FLIPFLUX_VECTOR_ISA", "auto", 1), 0);
+    EXPECT_NE(ensemble_vector_isa(), vector_isa::automatic);
+    ASSERT_EQ(setenv("FLIPFLUX_VECTOR_ISA", "avx9", 1), 0);
+    try {
+        (void)ensemble_vector_isa();
+        ADD_FAILURE() << "no error for avx9";
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "environment variable FLIPFLUX_VECTOR_ISA: 'avx9' is not a vector instruction "
+                  "set (auto, sse2, avx2, avx512)");
+    }
+    // a choice made in the program takes precedence over the environment
+    set_ensemble_vector_isa(vector_isa::sse2);
+    EXPECT_EQ(ensemble_vector_isa(), vector_isa::sse2);
+    set_ensemble_vector_isa(vector_isa::automatic);
 }
 
 TEST(Ensemble, ResultsDoNotDependOnThreadCountOrIndexSplit) {

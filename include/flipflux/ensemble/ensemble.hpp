@@ -47,6 +47,40 @@ struct enum_table<integration_method> {
         {{integration_method::dop853, "dop853"}, {integration_method::dopri5, "dopri5"}}};
 };
 
+/// The vector instructions of the ensemble's lockstep lanes (within a thread, several
+/// trajectories advance stage by stage with their stages computed together in vectors). Every
+/// choice gives the same bits, trajectory by trajectory (tested); only the speed differs.
+///   - avx512: eight lanes per thread, eight per AVX-512 vector (AVX2 then SSE2 as lanes finish);
+///   - avx2: four lanes per thread, four per AVX2 vector (SSE2 for the last two);
+///   - sse2: four lanes per thread, two per SSE2 vector (any x86-64);
+///   - automatic: avx512 where the processor has AVX-512F, except AMD family 19h (Zen 4, whose
+///     512-bit operations are two 256-bit halves: eight lanes measured 6 % slower there,
+///     docs/scale.md); else avx2 where it has AVX2; else sse2.
+enum class vector_isa { automatic, sse2, avx2, avx512 };
+template <>
+struct enum_table<vector_isa> {
+    static constexpr std::string_view noun = "a vector instruction set";
+    static constexpr std::array<std::pair<vector_isa, std::string_view>, 4> entries{
+        {{vector_isa::automatic, "auto"},
+         {vector_isa::sse2, "sse2"},
+         {vector_isa::avx2, "avx2"},
+         {vector_isa::avx512, "avx512"}}};
+};
+
+/// The instruction set the ensemble uses (never automatic): the one set by
+/// set_ensemble_vector_isa, else $FLIPFLUX_VECTOR_ISA (auto, sse2, avx2 or avx512) when set and
+/// not empty, else the automatic choice. Throws input_error naming FLIPFLUX_VECTOR_ISA when its
+/// value is not one of those or the processor lacks the instructions.
+vector_isa ensemble_vector_isa();
+
+/// Sets the instruction set of the ensembles started after this call (automatic: back to the
+/// default, $FLIPFLUX_VECTOR_ISA or the automatic choice); throws input_error ("vector_isa: ...")
+/// when the processor lacks it. For tests and benchmarks.
+void set_ensemble_vector_isa(vector_isa isa);
+
+/// Whether this processor can run `isa` (automatic and sse2: always, on x86-64).
+bool processor_supports(vector_isa isa);
+
 /// An accepted step may change H by at most this times (atol + rtol |E|); otherwise it is retried
 /// with half the size (the error estimate passed a bad step). See docs/theory.md#ensembles.
 inline constexpr double energy_jump_factor = 64;
