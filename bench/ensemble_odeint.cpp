@@ -15,7 +15,8 @@
 //   - ours with the chaos indicator (the tangent equations, ensemble_options::chaos):
 //     speedup_chaos = odeint's CPU time / this one's;
 //   - the right-hand-side bound: the CPU time of one Hamilton right-hand side per lane in the
-//     four-lane AVX2 path (pendulum_flow::lanes on independent states) times our evaluations per
+//     widest vectors of the instruction set in use (vector_isa: eight AVX-512 lanes, four AVX2
+//     lanes; pendulum_flow::lanes on independent states) times our evaluations per
 //     time unit gives the throughput if nothing but right-hand sides cost anything
 //     (rhs_bound_units_per_cpu_s); ours / that is fraction_of_rhs_bound.
 // Counters: throughputs (time units per CPU-second), the ratios, flips of each criterion for
@@ -278,9 +279,9 @@ void ensemble_vs_odeint(benchmark::State& state) {
         state.counters[std::string("flips_odeint_") + names[c]] = b;
         state.counters[std::string("z_") + names[c]] = a + b > 0 ? (a - b) / std::sqrt(a + b) : 0;
     }
-    state.SetLabel(std::string(o.method == integration_method::dop853 ? "ours=dop853"
-                                                                       : "ours=dopri5") +
-                   " vector_isa=" + to_string(ensemble_vector_isa()));
+    state.SetLabel(
+        std::string(o.method == integration_method::dop853 ? "ours=dop853" : "ours=dopri5") +
+        " vector_isa=" + to_string(ensemble_vector_isa()));
 }
 BENCHMARK(ensemble_vs_odeint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(3);
 

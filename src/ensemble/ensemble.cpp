@@ -487,7 +487,8 @@ bool processor_is_amd_family_19h() {
 }
 
 vector_isa automatic_isa() {
-    if (processor_has_avx512() && !processor_is_amd_family_19h()) return vector_isa::avx512;
+    if (processor_has_avx512() && processor_has_avx2() && !processor_is_amd_family_19h())
+        return vector_isa::avx512;
     if (processor_has_avx2()) return vector_isa::avx2;
     return vector_isa::sse2;
 }
@@ -590,8 +591,8 @@ trajectory_result single_trajectory(const double_pendulum<double>& model, const 
 
 bool processor_supports(vector_isa isa) {
     switch (isa) {
-        case vector_isa::avx512:
-            return processor_has_avx512();
+        case vector_isa::avx512:  // its last lanes run in AVX2 vectors
+            return processor_has_avx512() && processor_has_avx2();
         case vector_isa::avx2:
             return processor_has_avx2();
         default:
@@ -668,7 +669,7 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
         // next index whenever one finishes
         std::array<std::vector<std::unique_ptr<flip_detector_base>>, max_lanes> own;
         std::array<std::vector<flip_detector_base*>, max_lanes> detectors;
-        for (std::size_t l = 0; l < max_lanes; ++l)
+        for (std::size_t l = 0; l < lanes_per_thread(isa); ++l)
             for (const ensemble_criterion& c : criteria) {
                 own[l].push_back(c.detector->clone());
                 detectors[l].push_back(own[l].back().get());

@@ -92,7 +92,14 @@ TEST(Ensemble, LockstepLanesGiveTheBitsOfALoneTrajectory) {
 TEST(Ensemble, VectorInstructionSetFromTheEnvironment) {
     set_ensemble_vector_isa(vector_isa::automatic);
     struct restore {
-        ~restore() { unsetenv("FLIPFLUX_VECTOR_ISA"); }
+        const char* old = std::getenv("FLIPFLUX_VECTOR_ISA");
+        std::string value = old != nullptr ? old : "";
+        ~restore() {
+            if (old != nullptr)
+                setenv("FLIPFLUX_VECTOR_ISA", value.c_str(), 1);
+            else
+                unsetenv("FLIPFLUX_VECTOR_ISA");
+        }
     } restore_env;
     ASSERT_EQ(setenv("FLIPFLUX_VECTOR_ISA", "sse2", 1), 0);
     EXPECT_EQ(ensemble_vector_isa(), vector_isa::sse2);

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -432,7 +433,8 @@ TEST(FastTrig, WideInstructionSetsGiveTheBitsOfOneStateAtATime) {
         for (auto& one : y)
             one = {rnd(-7, 7), rnd(-7, 7), rnd(-3, 3), rnd(-3, 3),
                    rnd(-1, 1), rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)};
-        if (k == 0) y[5][1] = 4e6;  // the libm fallback in one lane
+        if (k == 0) y[5][1] = 4e6;   // the libm fallback in one lane of the eight ...
+        if (k == 1) y[2][0] = -4e6;  // ... and of the four
         v8d t8[8];
         v4d t4[8];
         for (int i = 0; i < 8; ++i)
@@ -470,7 +472,7 @@ TEST(FastTrig, WideInstructionSetsGiveTheBitsOfOneStateAtATime) {
             }
         }
     }
-    if (!avx512) GTEST_SKIP() << "AVX2 checked; the processor has no AVX-512";
+    if (!avx512) std::cout << "[ NOTE     ] AVX2 checked; the processor has no AVX-512\n";
 }
 
 // ---- the command line ------------------------------------------------------------------------

@@ -225,9 +225,9 @@ batch_outcome run_trajectories(const double_pendulum<double>& model,
                                std::span<const std::uint64_t> indices,
                                const std::function<void(trajectory_result&&)>& finished);
 
-/// Simulates the ensemble (OpenMP across trajectories; within a thread, 8 trajectories advance
-/// in lockstep, stage by stage -- docs/scale.md -- with the same arithmetic per trajectory as
-/// alone). With options.stop set during the run
+/// Simulates the ensemble (OpenMP across trajectories; within a thread, 8 or 4 trajectories
+/// advance in lockstep, stage by stage -- vector_isa, docs/scale.md -- with the same arithmetic
+/// per trajectory as alone). With options.stop set during the run
 /// it throws std::runtime_error (the ensemble is incomplete).
 ensemble_result run_ensemble(const double_pendulum<double>& model, const ensemble_options& options,
                              const std::vector<ensemble_criterion>& criteria);
