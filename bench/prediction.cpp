@@ -3,7 +3,13 @@
 // representative energy (omega: E = 3.5 and 7; arm 2: E = 3.5; arm 1: E = 5). Registered from the
 // quantity registry at start-up, so new quantities are benchmarked without an edit here.
 // Filter with --benchmark_filter, e.g. 'omega/elliptic' or '/mp:50'.
+// omega_just_above_the_saddles/<precision>: Omega at E = 2 beta + 1e-D and 2 alpha + 1e-D (decimal
+// energies, the distances exact; D = the working digits + 15), each side timed in the same run,
+// counter arm1_over_arm2 their ratio: the graded quadrature's hard case on either end of its
+// interval (theta1 = 0 for arm 2's saddle, theta1 = pi for arm 1's).
 #include <benchmark/benchmark.h>
+
+#include <time.h>
 
 #include <optional>
 
@@ -11,6 +17,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/prediction/phase_volume.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace {
@@ -59,11 +66,47 @@ void register_all(const precision& p) {
     }
 }
 
+double cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+template <class Real>
+void omega_near_saddles_in(benchmark::State& state) {
+    const double_pendulum<Real> model;
+    const std::string tail =
+        std::string(static_cast<std::size_t>(binary_digits<Real>() * 3 / 10 + 14), '0') + "1";
+    const energy_level<Real> above2 = parse_energy_level<Real>("2." + tail, "energy"),
+                             above1 = parse_energy_level<Real>("4." + tail, "energy");
+    double arm2 = 0, arm1 = 0;
+    for (auto _ : state) {
+        const double c0 = cpu_seconds();
+        benchmark::DoNotOptimize(phase_volume(model, above2));
+        const double c1 = cpu_seconds();
+        benchmark::DoNotOptimize(phase_volume(model, above1));
+        arm2 += c1 - c0;
+        arm1 += cpu_seconds() - c1;
+    }
+    state.counters["arm2_side_s"] = arm2 / static_cast<double>(state.iterations());
+    state.counters["arm1_side_s"] = arm1 / static_cast<double>(state.iterations());
+    state.counters["arm1_over_arm2"] = arm1 / arm2;
+}
+
+void omega_near_saddles(benchmark::State& state, precision p) {
+    dispatch(p, [&]<class Real>() { omega_near_saddles_in<Real>(state); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     for (const char* p : {"double", "quad", "mp:50", "mp:100"})
         register_all(parse_precision(p));
+    for (const char* p : {"double", "quad", "mp:30", "mp:50"}) {
+        const std::string name = std::string("omega_just_above_the_saddles/") + p;
+        benchmark::RegisterBenchmark(name.c_str(), omega_near_saddles, parse_precision(p))
+            ->Unit(benchmark::kMillisecond);
+    }
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

@@ -81,15 +81,16 @@ struct angle_support {
         return theta <= half_pi<Real>() ? sin(theta + d / 2) : sin(supplement - d / 2);
     }
 
-    /// rem(th) for 0 <= th <= pi, given d_edge = theta_edge - th (used when theta_edge < pi).
-    Real rem(const Real& th, const Real& d_edge) const {
-        using std::cos;
+    /// rem(th) for 0 <= th <= pi, given d_edge = theta_edge - th.
+    Real rem(const Real& d_edge) const {
         using std::sin;
         if (theta_edge < pi<Real>()) {
             return 2 * w_this * sin(d_edge / 2) *
                    sine_of_mean(theta_edge, edge_supplement, -d_edge);
         }
-        const Real c = cos(th / 2);  // E >= 2 w_this: rem = (E - 2 w_this) + 2 w_this cos^2(th/2)
+        // E >= 2 w_this: rem = (E - 2 w_this) + 2 w_this cos^2(th/2), cos(th/2) = sin(d_edge/2)
+        // with d_edge = pi - th here: from the distance, accurate where th is near pi
+        const Real c = sin(d_edge / 2);
         return 2 * w_this * c * c - below_this;
     }
 
@@ -110,7 +111,7 @@ struct angle_support {
         using std::sqrt;
         if (theta_edge < pi<Real>() && !(d_edge > 0)) return Real(0);
         if (theta_full > 0 && !(d_full > 0)) return pi<Real>();
-        const Real r = rem(th, d_edge), g = gap(th, d_full);
+        const Real r = rem(d_edge), g = gap(th, d_full);
         if (!(r > 0)) return Real(0);
         if (!(g > 0)) return pi<Real>();
         return 2 * atan2(sqrt(r), sqrt(g));

@@ -39,13 +39,19 @@ Real full_marginal(const double_pendulum<Real>& model) {
            elliptic_e_complete(density_parameter(model), Real(k.A * k.B / k.D0));
 }
 
-/// 2 pi sqrt(D0) [E(t + x|m) + E(t - x|m)]: the marginal at x in [0, pi] with half-width t.
+/// 2 pi sqrt(D0) [E(t + x|m) + E(t - x|m)]: the marginal at x in [0, pi] with half-width t,
+/// given to_pi = pi - x. Since E(phi + k pi|m) = E(phi|m) + 2 k E(m), the bracket is also
+/// E(t + u|m) + E(t - u|m) with u = pi - x; near x = pi (where t can be small: just above the
+/// saddle level 2 w_this) that form keeps t - u and t + u to full relative precision, where the
+/// form in x adds and removes 2 E(m) and leaves the small sum to the rounding of t + x.
 template <class Real>
-Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x, const Real& t) {
+Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x, const Real& t,
+                              const Real& to_pi) {
     using std::sqrt;
     const Real m = density_parameter(model);
+    const Real& y = to_pi < x ? to_pi : x;
     return two_pi<Real>() * sqrt(model.coefficients().D0) *
-           (elliptic_e(Real(t + x), m) + elliptic_e(Real(t - x), m));
+           (elliptic_e(Real(t + y), m) + elliptic_e(Real(t - y), m));
 }
 
 /// The integral of the marginal rho_which over [0, x], 0 <= x <= pi.
@@ -64,9 +70,11 @@ quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model,
     const Real b = sup.theta_edge < x ? sup.theta_edge : x;
     if (a < b) {
         const Real edge_gap = sup.theta_edge - b;  // 0 when the piece ends at theta_edge
+        // pi - b, from the support's supplement when the piece ends at its edge
+        const Real b_to_pi = b == sup.theta_edge ? sup.edge_supplement : Real(pi<Real>() - b);
         auto f = [&](const Real& th, const Real& to_a, const Real& to_b) -> Real {
             const Real t = sup.half_width(th, Real(edge_gap + to_b), to_a);
-            return marginal_from_half_width(model, th, t);
+            return marginal_from_half_width(model, th, t, Real(b_to_pi + to_b));
         };
         const std::array<Real, 2> near = detail::singularity_distances(sup, b);
         r += tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
@@ -108,7 +116,7 @@ Real marginal_density(const double_pendulum<Real>& model, const Real& energy,
     const Real t = allowed_half_width(model, energy, which, theta);
     if (t == 0) return Real(0);
     if (t == pi<Real>()) return full_marginal(model);
-    return marginal_from_half_width(model, x, t);
+    return marginal_from_half_width(model, x, t, Real(pi<Real>() - x));
 }
 
 template <class Real>
