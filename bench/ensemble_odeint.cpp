@@ -22,7 +22,6 @@
 // Counters: throughputs (time units per CPU-second), the ratios, flips of each criterion for
 // ours and odeint, and z = (n_ours - n_odeint) / sqrt(n_ours + n_odeint) per criterion (|z| of
 // a few at most: both integrate the same initial conditions).
-#include <time.h>
 
 #include <benchmark/benchmark.h>
 
@@ -33,6 +32,7 @@
 #include <functional>
 #include <numbers>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/ensemble/sampler.hpp"
@@ -46,12 +46,6 @@ using namespace flipflux;
 namespace odeint = boost::numeric::odeint;
 using state4 = std::array<double, 4>;
 constexpr double two_pi = 2 * std::numbers::pi;
-
-double cpu_seconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 // A criterion as the baseline sees it: h(s) on [lo, hi] (continued by its end values outside).
 struct plain_curve {
@@ -159,7 +153,7 @@ template <class V>
         for (int c = 0; c < 4; ++c)
             for (int l = 0; l < W; ++l)
                 in[g][c][l] = x[(W * g + l) % x.size()][c];
-    const double c0 = cpu_seconds();
+    const double c0 = thread_cpu_seconds();
     for (int r = 0; r < rounds; ++r) {
         for (int g = 0; g < groups; ++g) {
             flow.lanes(in[g], out[g]);
@@ -167,7 +161,7 @@ template <class V>
         }
         benchmark::ClobberMemory();
     }
-    return (cpu_seconds() - c0) / (static_cast<double>(rounds) * groups * W);
+    return (thread_cpu_seconds() - c0) / (static_cast<double>(rounds) * groups * W);
 }
 __attribute__((target("avx512f"), flatten)) double rhs_seconds_avx512(const pendulum_flow& flow,
                                                                       const std::vector<state4>& x,
@@ -226,18 +220,18 @@ void ensemble_vs_odeint(benchmark::State& state) {
         std::vector<std::uint64_t> indices;
         for (std::uint64_t i = 0; i < batch; ++i)
             indices.push_back(next++);
-        double c0 = cpu_seconds();
+        double c0 = thread_cpu_seconds();
         run_trajectories(m, o, criteria, indices, [&](trajectory_result&& r) {
             for (std::size_t c = 0; c < 3; ++c)
                 ours[c] += static_cast<long>(r.flips(c));
             steps_ours += r.steps;
             evaluations_ours += r.evaluations;
         });
-        double c1 = cpu_seconds();
+        double c1 = thread_cpu_seconds();
         cpu_ours += c1 - c0;
         run_trajectories(m, chaos, criteria, indices,
                          [&](trajectory_result&& r) { benchmark::DoNotOptimize(r.lyapunov); });
-        const double c1c = cpu_seconds();
+        const double c1c = thread_cpu_seconds();
         cpu_chaos += c1c - c1;
         c1 = c1c;
         for (const std::uint64_t i : indices) {
@@ -248,12 +242,12 @@ void ensemble_vs_odeint(benchmark::State& state) {
                 theirs[c] += r.flips[c];
             steps_theirs += r.steps;
         }
-        const double c2 = cpu_seconds();
+        const double c2 = thread_cpu_seconds();
         cpu_theirs += c2 - c1;
         for (const std::uint64_t i : indices)
             benchmark::DoNotOptimize(
                 odeint_trajectory(our_rhs, sampler.sample(o.seed, i), T, curves));
-        cpu_fast += cpu_seconds() - c2;
+        cpu_fast += thread_cpu_seconds() - c2;
         units += static_cast<double>(batch) * T;
     }
     const double evaluations_per_unit = static_cast<double>(evaluations_ours) / units;

@@ -9,10 +9,9 @@
 // interval (theta1 = 0 for arm 2's saddle, theta1 = pi for arm 1's).
 #include <benchmark/benchmark.h>
 
-#include <time.h>
-
 #include <optional>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/model/dividing_curve.hpp"
@@ -66,12 +65,6 @@ void register_all(const precision& p) {
     }
 }
 
-double cpu_seconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 template <class Real>
 void omega_near_saddles_in(benchmark::State& state) {
     const double_pendulum<Real> model;
@@ -81,12 +74,12 @@ void omega_near_saddles_in(benchmark::State& state) {
                              above1 = parse_energy_level<Real>("4." + tail, "energy");
     double arm2 = 0, arm1 = 0;
     for (auto _ : state) {
-        const double c0 = cpu_seconds();
+        const double c0 = thread_cpu_seconds();
         benchmark::DoNotOptimize(phase_volume(model, above2));
-        const double c1 = cpu_seconds();
+        const double c1 = thread_cpu_seconds();
         benchmark::DoNotOptimize(phase_volume(model, above1));
         arm2 += c1 - c0;
-        arm1 += cpu_seconds() - c1;
+        arm1 += thread_cpu_seconds() - c1;
     }
     state.counters["arm2_side_s"] = arm2 / static_cast<double>(state.iterations());
     state.counters["arm1_side_s"] = arm1 / static_cast<double>(state.iterations());
