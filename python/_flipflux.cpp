@@ -224,6 +224,7 @@ std::string simulate_json(const std::map<std::string, std::string>& a,
     s.threads = a.at("threads");
     s.no_chaos = a.at("chaos") != "1";
     s.chaos_threshold = a.at("chaos_threshold");
+    s.replicates = a.at("replicates");
     s.csv_dir = csv_dir;
     s.model = model_of(parameters);
     const double_pendulum<double> model = make_model<double>(s.model);

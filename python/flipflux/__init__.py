@@ -174,10 +174,11 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
 
 def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle", seed=0,
              rtol=1e-10, method="dop853", threads=0, chaos=True, chaos_threshold=0.05,
-             pendulum=None):
+             pendulum=None, replicates=1):
     """A Monte Carlo study -- `flipflux simulate` (at double). energy: one value, a list, or a
     "FROM:TO:STEP" string. Returns (report, trajectories): the study's JSON report as a dict (what
-    the command-line tool prints) and, per energy label, the per-trajectory results as NumPy
+    the command-line tool prints; with replicates R > 1, `trajectories` each, every statistic
+    also with its spread over the replicates) and, per energy label, the per-trajectory results as NumPy
     structured arrays (the columns of the --csv-dir trajectory files). Ctrl-C stops it."""
     if isinstance(energy, (list, tuple)):
         energy = ",".join(_text(e, "--energy") for e in energy)
@@ -189,7 +190,8 @@ def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle"
             "time": _text(time, "--time"), "arm": _text(arm, "--arm"), "criteria": criteria,
             "seed": _text(seed, "--seed"), "rtol": _text(rtol, "--rtol"), "method": method,
             "threads": _text(threads, "--threads"), "chaos": "1" if chaos else "0",
-            "chaos_threshold": _text(chaos_threshold, "--chaos-threshold")}
+            "chaos_threshold": _text(chaos_threshold, "--chaos-threshold"),
+            "replicates": _text(replicates, "--replicates")}
     with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
         report = _json.loads(_flipflux.simulate_json(args, _parameters(pendulum), tmp))
         per_trajectory = {}

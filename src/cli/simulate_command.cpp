@@ -203,6 +203,11 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--criteria", s->criteria,
                     "comma-separated flip criteria: upright, approx, saddle")
         ->capture_default_str();
+    sub->add_option("--replicates", s->replicates,
+                    "independent replicates of --trajectories each (trajectories in index "
+                    "blocks, distinct random streams): every statistic pooled and with its "
+                    "spread over the replicates, verdicts from that spread (1 to 1000)")
+        ->capture_default_str();
     sub->add_option("--trajectories", s->trajectories, "number of trajectories per energy (> 0)")
         ->required();
     sub->add_option("--time", s->time, "integration time T per trajectory (> 0)")->required();

@@ -31,6 +31,10 @@ simulation_request make_request(const simulate_state& s) {
     q.criteria = parse_criterion_list(s.criteria);
     ensemble_options& o = q.options;
     o.trajectories = parse_unsigned(s.trajectories, "--trajectories", true);
+    q.replicates = parse_unsigned(s.replicates, "--replicates", true);
+    if (q.replicates > max_replicates)
+        throw input_error("--replicates: '" + s.replicates + "' is too many (at most " +
+                          std::to_string(max_replicates) + ")");
     o.time = parse_positive(s.time, "--time");
     o.seed = parse_unsigned(s.seed, "--seed", false);
     o.first_index = parse_unsigned(s.first_index, "--first-index", false);

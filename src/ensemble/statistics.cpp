@@ -46,6 +46,51 @@ summary_statistics summarize(std::span<const double> v) {
     return s;
 }
 
+summary_statistics merge(std::span<const summary_statistics> parts) {
+    summary_statistics s;
+    double n = 0, mean = 0, m2 = 0;
+    s.minimum = s.maximum = nan;
+    for (const summary_statistics& p : parts) {
+        if (p.count == 0) continue;
+        const double k = static_cast<double>(p.count);
+        const double pm2 = p.count > 1 ? p.standard_deviation * p.standard_deviation * (k - 1) : 0;
+        const double delta = p.mean - mean, total = n + k;
+        mean += delta * k / total;
+        m2 += pm2 + delta * delta * n * k / total;
+        n = total;
+        s.minimum = s.count ? std::min(s.minimum, p.minimum) : p.minimum;
+        s.maximum = s.count ? std::max(s.maximum, p.maximum) : p.maximum;
+        s.count += p.count;
+    }
+    s.mean = s.count ? mean : nan;
+    s.standard_deviation = s.count > 1 ? std::sqrt(m2 / (n - 1)) : nan;
+    s.standard_error = s.standard_deviation / std::sqrt(n);
+    s.skewness = s.kurtosis = nan;
+    return s;
+}
+
+double replicate_standard_error(std::span<const summary_statistics> replicates) {
+    std::vector<double> loo;
+    std::vector<summary_statistics> rest;
+    for (std::size_t k = 0; k < replicates.size(); ++k) {
+        if (replicates[k].count == 0) continue;
+        rest.clear();
+        for (std::size_t j = 0; j < replicates.size(); ++j)
+            if (j != k) rest.push_back(replicates[j]);
+        const double m = merge(rest).mean;
+        if (!std::isfinite(m)) return nan;  // every other replicate empty
+        loo.push_back(m);
+    }
+    if (loo.size() < 2) return nan;
+    const double r = static_cast<double>(loo.size());
+    double mean = 0, ss = 0;
+    for (double x : loo)
+        mean += x / r;
+    for (double x : loo)
+        ss += (x - mean) * (x - mean);
+    return std::sqrt((r - 1) / r * ss);
+}
+
 std::uint64_t histogram::total() const {
     std::uint64_t t = underflow + overflow;
     for (std::uint64_t c : counts)
@@ -100,8 +145,13 @@ double sorted_quantile(std::span<const double> v, double q) {
 }
 
 criterion_statistics analyze(const ensemble_result& r, std::size_t c, double predicted,
-                             std::size_t rate_bins, std::size_t residence_bins) {
+                             std::size_t rate_bins, std::size_t residence_bins,
+                             std::size_t replicates) {
     if (c >= r.criteria.size()) throw std::out_of_range("analyze: no such criterion");
+    if (replicates == 0 || r.trajectories.size() % replicates != 0)
+        throw std::invalid_argument("analyze: " + std::to_string(replicates) +
+                                    " replicates do not divide " +
+                                    std::to_string(r.trajectories.size()) + " trajectories");
     criterion_statistics s;
     s.criterion = r.criteria[c];
     s.predicted_rate = predicted;
@@ -140,7 +190,103 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
     s.residence.q01 = sorted_quantile(residence, 0.01);
     s.residence.median = sorted_quantile(residence, 0.5);
     s.rate_distribution = auto_histogram(rates, rate_bins);
+    if (replicates > 1) {
+        const std::size_t size = r.trajectories.size() / replicates;
+        for (std::size_t k = 0; k < replicates; ++k) {
+            rates.clear();
+            chaotic_rates.clear();
+            for (std::size_t i = k * size; i < (k + 1) * size; ++i) {
+                const trajectory_result& t = r.trajectories[i];
+                if (t.status != rk_status::ok) continue;
+                const double rate = static_cast<double>(t.crossing_times[c].size()) / r.time;
+                rates.push_back(rate);
+                if (t.chaotic) chaotic_rates.push_back(rate);
+            }
+            s.replicate_rates.push_back(summarize(rates));
+            s.replicate_chaotic_rates.push_back(summarize(chaotic_rates));
+        }
+    }
+    s.counts = flip_counts(r, c);
     return s;
+}
+
+flip_count_statistics flip_counts(const ensemble_result& r, std::size_t c) {
+    flip_count_statistics out;
+    // window counts: sums of n and n^2 over windows, in long double (up to ~1e9 windows)
+    for (double window = r.time; window >= 1 && out.fano.size() < 5; window /= 10) {
+        window_fano f;
+        f.window = window;
+        const auto per = static_cast<std::uint64_t>(std::floor(r.time / window * (1 + 1e-12)));
+        long double sum[2] = {0, 0}, sum2[2] = {0, 0};
+        std::uint64_t windows[2] = {0, 0};
+        std::vector<std::uint64_t> count(per);
+        for (const trajectory_result& t : r.trajectories) {
+            if (t.status != rk_status::ok || per == 0) continue;
+            std::fill(count.begin(), count.end(), 0);
+            for (double x : t.crossing_times[c]) {
+                const auto w = static_cast<std::uint64_t>(x / window);
+                if (w < per) ++count[w];
+            }
+            for (int chaotic = 0; chaotic < 2; ++chaotic) {
+                if (chaotic && !t.chaotic) continue;
+                for (std::uint64_t n : count) {
+                    sum[chaotic] += n;
+                    sum2[chaotic] += static_cast<long double>(n) * n;
+                }
+                windows[chaotic] += per;
+            }
+        }
+        double mean[2], fano[2];
+        for (int k = 0; k < 2; ++k) {
+            const auto w = static_cast<long double>(windows[k]);
+            mean[k] = windows[k] ? static_cast<double>(sum[k] / w) : nan;
+            const long double var =
+                windows[k] > 1 ? (sum2[k] - sum[k] * sum[k] / w) / (w - 1) : nan;
+            fano[k] = mean[k] > 0 ? static_cast<double>(var / (sum[k] / w)) : nan;
+        }
+        f.windows = windows[0];
+        f.windows_chaotic = windows[1];
+        f.mean_count = mean[0];
+        f.fano = fano[0];
+        f.mean_count_chaotic = mean[1];
+        f.fano_chaotic = fano[1];
+        out.fano.push_back(f);
+    }
+    // inter-flip times: all trajectories and the chaotic ones, sorted
+    std::vector<double> tau[2];
+    for (const trajectory_result& t : r.trajectories) {
+        if (t.status != rk_status::ok) continue;
+        const auto& times = t.crossing_times[c];
+        for (int chaotic = 0; chaotic < 2; ++chaotic) {
+            if (chaotic && !t.chaotic) continue;
+            for (std::size_t i = 1; i < times.size(); ++i)
+                tau[chaotic].push_back(times[i] - times[i - 1]);
+        }
+    }
+    double cv2[2];
+    for (int k = 0; k < 2; ++k) {
+        const summary_statistics s = summarize(tau[k]);
+        cv2[k] =
+            s.count > 1 ? (s.standard_deviation / s.mean) * (s.standard_deviation / s.mean) : nan;
+        std::sort(tau[k].begin(), tau[k].end());
+    }
+    out.cv2 = cv2[0];
+    out.cv2_chaotic = cv2[1];
+    const std::vector<double>& all = tau[0];
+    if (all.size() > 1 && all.front() > 0 && all.back() > all.front()) {
+        constexpr int points = 24;
+        const double ratio = all.back() / all.front();
+        const auto survival = [](const std::vector<double>& v, double t) {
+            if (v.empty()) return nan;
+            const auto above = v.end() - std::upper_bound(v.begin(), v.end(), t);
+            return static_cast<double>(above) / static_cast<double>(v.size());
+        };
+        for (int j = 0; j < points; ++j) {
+            const double t = all.front() * std::pow(ratio, j / double(points - 1));
+            out.survival.push_back({t, survival(all, t), survival(tau[1], t)});
+        }
+    }
+    return out;
 }
 
 std::vector<energy_regime> paper_regimes(const double_pendulum<double>& model, arm a) {
@@ -195,8 +341,8 @@ struct sampling_law {
 }  // namespace
 
 std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
-                                     const std::vector<energy_regime>& regimes,
-                                     double spread_scale) {
+                                     const std::vector<energy_regime>& regimes, double spread_scale,
+                                     bool bootstrap) {
     constexpr int resamples = 2000;
     std::vector<quality_indices> out;
     for (const energy_regime& g : regimes) {
@@ -227,7 +373,7 @@ std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
         q.pqi_reference =
             q.energies && spread_scale > 0 ? std::sqrt((r2 + spread_scale * s2) / n) : nan;
         q.iqi_sd = q.pqi_sd = q.pqi_reference_sd = nan;
-        if (q.energies) {
+        if (q.energies && bootstrap) {
             // the parametric bootstrap, seeded per regime: the same numbers every run
             std::mt19937_64 engine(seed);
             std::normal_distribution<double> normal;
@@ -255,6 +401,39 @@ std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
         out.push_back(q);
     }
     return out;
+}
+
+void replicate_quality(std::vector<quality_indices>& pooled,
+                       const std::vector<std::vector<quality_sample>>& replicates,
+                       const std::vector<std::vector<quality_sample>>& without,
+                       const std::vector<energy_regime>& regimes) {
+    if (replicates.size() < 2 || without.size() != replicates.size()) return;
+    std::vector<std::vector<quality_indices>> own, loo;
+    for (std::size_t k = 0; k < replicates.size(); ++k) {
+        own.push_back(quality(replicates[k], regimes, 0, false));
+        loo.push_back(quality(without[k], regimes, 0, false));
+    }
+    const auto jackknife = [](const std::vector<double>& v) {
+        const double r = static_cast<double>(v.size());
+        double mean = 0, ss = 0;
+        for (double x : v)
+            mean += x / r;
+        for (double x : v)
+            ss += (x - mean) * (x - mean);
+        return std::sqrt((r - 1) / r * ss);  // NaN when any leave-one-out value is
+    };
+    for (std::size_t g = 0; g < pooled.size(); ++g) {
+        quality_indices& q = pooled[g];
+        std::vector<double> iqi, pqi;
+        for (std::size_t k = 0; k < replicates.size(); ++k) {
+            q.iqi_replicates.push_back(own[k][g].iqi);
+            q.pqi_replicates.push_back(own[k][g].pqi);
+            iqi.push_back(loo[k][g].iqi);
+            pqi.push_back(loo[k][g].pqi);
+        }
+        q.iqi_replicate_se = q.energies ? jackknife(iqi) : nan;
+        q.pqi_replicate_se = q.energies ? jackknife(pqi) : nan;
+    }
 }
 
 }  // namespace flipflux

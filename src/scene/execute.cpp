@@ -353,6 +353,7 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
         request.energies.emplace_back(text, parse_real<double>(text, where + ": energies"));
     ensemble_options& o = request.options;
     o.trajectories = static_cast<std::uint64_t>(x.trajectories);
+    request.replicates = static_cast<std::size_t>(x.replicates);
     o.time = parse_real<double>(x.time, where + ": time");
     o.seed = x.seed;
     o.rtol = parse_real<double>(x.rtol, where + ": rtol");

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "flipflux/core/decimal.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/golden.hpp"
@@ -316,6 +317,8 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     }
     x.energies = r.energies("energies", true);
     x.trajectories = r.integer("trajectories", 1, 1000000000LL).value_or(x.trajectories);
+    x.replicates =
+        r.integer("replicates", 1, static_cast<long long>(max_replicates)).value_or(x.replicates);
     x.time = r.number("time").value_or(x.time);
     x.seed = static_cast<unsigned long long>(
         r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(1));

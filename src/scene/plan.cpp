@@ -146,7 +146,7 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
     }
     // the short estimator spends trajectories x time on trajectories of simulation_request's
     // default short_time
-    double n = static_cast<double>(x.trajectories);
+    double n = static_cast<double>(x.trajectories) * static_cast<double>(x.replicates);
     // (the simulation refuses a short time longer than the time: so does the plan, before the
     // scene's other steps run)
     if (x.estimator == "short" &&
@@ -261,9 +261,10 @@ bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b) {
             return x == y;  // refused when the ensemble runs, naming its key
         }
     };
-    return a.trajectories == b.trajectories && same(a.time, b.time) && a.seed == b.seed &&
-           same(a.rtol, b.rtol) && same(a.atol, b.atol) && a.integrator == b.integrator &&
-           a.estimator == b.estimator && a.chaos == b.chaos;
+    return a.trajectories == b.trajectories && a.replicates == b.replicates &&
+           same(a.time, b.time) && a.seed == b.seed && same(a.rtol, b.rtol) &&
+           same(a.atol, b.atol) && a.integrator == b.integrator && a.estimator == b.estimator &&
+           a.chaos == b.chaos;
 }
 
 }  // namespace
@@ -364,6 +365,7 @@ plan make_plan(const scene& s) {
                             join(y.criteria) + ")");
         }
         const std::string what =
+            (x.replicates > 1 ? std::to_string(x.replicates) + " replicates x " : "") +
             std::to_string(x.trajectories) + " trajectories x T = " + x.time + " at " +
             range_text(step.energies) + ", " + x.integrator + " rtol " + x.rtol +
             (x.atol != "0" ? " atol " + x.atol : "") + ", estimator " + x.estimator +

@@ -207,6 +207,54 @@ histogram get_histogram(tokens& t, std::size_t limit) {
     return h;
 }
 
+void put_counts(std::string& s, const flip_count_statistics& x) {
+    put_int(s, x.fano.size());
+    for (const window_fano& f : x.fano) {
+        put(s, f.window);
+        put_int(s, f.windows);
+        put_int(s, f.windows_chaotic);
+        put(s, f.mean_count);
+        put(s, f.fano);
+        put(s, f.mean_count_chaotic);
+        put(s, f.fano_chaotic);
+    }
+    put(s, x.cv2);
+    put(s, x.cv2_chaotic);
+    put_int(s, x.survival.size());
+    for (const auto& p : x.survival) {
+        put(s, p.time);
+        put(s, p.survival);
+        put(s, p.survival_chaotic);
+    }
+}
+
+flip_count_statistics get_counts(tokens& t, std::size_t limit) {
+    flip_count_statistics x;
+    const auto n = t.integer<std::size_t>();
+    if (n > limit) throw std::runtime_error("bad window count");
+    x.fano.resize(n);
+    for (window_fano& f : x.fano) {
+        f.window = t.real();
+        f.windows = t.integer<std::uint64_t>();
+        f.windows_chaotic = t.integer<std::uint64_t>();
+        f.mean_count = t.real();
+        f.fano = t.real();
+        f.mean_count_chaotic = t.real();
+        f.fano_chaotic = t.real();
+    }
+    x.cv2 = t.real();
+    x.cv2_chaotic = t.real();
+    const auto m = t.integer<std::size_t>();
+    if (m > limit) throw std::runtime_error("bad tail count");
+    x.survival.resize(m);
+    for (auto& p : x.survival) {
+        p.time = t.real();
+        p.survival = t.real();
+        p.survival_chaotic = t.real();
+    }
+    return x;
+}
+
 }  // namespace
 
 std::string energy_record(std::size_t energy, const energy_result& e) {
@@ -236,6 +284,12 @@ std::string energy_record(std::size_t energy, const energy_result& e) {
         put(s, x.residence.median);
         put_histogram(s, x.residence.distribution);
         put_histogram(s, x.rate_distribution);
+        put_int(s, x.replicate_rates.size());
+        for (std::size_t k = 0; k < x.replicate_rates.size(); ++k) {
+            put_summary(s, x.replicate_rates[k]);
+            put_summary(s, x.replicate_chaotic_rates[k]);
+        }
+        put_counts(s, x.counts);
     }
     put_int(s, e.paired.size());
     for (const paired_difference& d : e.paired) {
@@ -282,6 +336,13 @@ energy_result parse_energy_record(std::string_view line, std::size_t criteria,
         x.residence.median = t.real();
         x.residence.distribution = get_histogram(t, content.size());
         x.rate_distribution = get_histogram(t, content.size());
+        const auto replicates = t.integer<std::size_t>();
+        if (replicates > content.size()) throw std::runtime_error("bad replicate count");
+        for (std::size_t k = 0; k < replicates; ++k) {
+            x.replicate_rates.push_back(get_summary(t));
+            x.replicate_chaotic_rates.push_back(get_summary(t));
+        }
+        x.counts = get_counts(t, content.size());
     }
     const auto pairs = t.integer<std::size_t>();
     if (pairs != criteria * (criteria - 1) / 2) throw std::runtime_error("bad pair count");

@@ -118,7 +118,8 @@ json checkpoint_header(const double_pendulum<double>& model,
                 {"atol", to_decimal(o.atol)},
                 {"chaos", o.chaos},
                 {"chaos_threshold", one ? thresholds[0] : thresholds},
-                {"bins", one ? bins[0] : bins}};
+                {"bins", one ? bins[0] : bins},
+                {"replicates", q.replicates}};
 }
 
 }  // namespace
@@ -197,6 +198,17 @@ ensemble_options checked_options(const simulation_request& request, const proces
         o.time = request.short_time;
     }
     o.atol = o.atol > 0 ? o.atol : o.rtol;
+    if (request.replicates == 0 || request.replicates > max_replicates)
+        throw input_error::about("replicates", "'" + std::to_string(request.replicates) +
+                                                   "' is invalid (must be 1 to " +
+                                                   std::to_string(max_replicates) + ")");
+    if (request.replicates > 1) {
+        if (o.trajectories > std::numeric_limits<std::uint64_t>::max() / request.replicates)
+            throw input_error::about(
+                "replicates", "'" + std::to_string(request.replicates) + "' replicates of " +
+                                  std::to_string(o.trajectories) + " trajectories are too many");
+        o.trajectories *= request.replicates;
+    }
     check_sizes(request, o);
     const std::filesystem::path& dir = request.csv_dir;
     if (!dir.empty() && group.rank() == 0) {
@@ -282,6 +294,7 @@ study_result result_head(const double_pendulum<double>& model, const simulation_
         o.chaos && chaos_classification_reliable(model, o.chaos_threshold, o.time);
     out.timing = request.timing;
     out.reference_time = request.reference_time;
+    out.replicates = request.replicates;
     return out;
 }
 
@@ -328,7 +341,8 @@ energy_result summarise_energy(
         static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
     for (std::size_t c = 0; c < request.criteria.size(); ++c) {
         const auto& p = predictions[c];
-        e.criteria.push_back({p, analyze(r, c, p ? p->value : nan, request.bins, request.bins)});
+        e.criteria.push_back(
+            {p, analyze(r, c, p ? p->value : nan, request.bins, request.bins, request.replicates)});
     }
     std::vector<double> d;
     for (std::size_t i = 0; i < request.criteria.size(); ++i)
@@ -341,6 +355,39 @@ energy_result summarise_energy(
             e.paired.push_back({i, j, summarize(d)});
         }
     return e;
+}
+
+/// The replicate errors of criterion c's quality indices: the indices of each replicate alone and
+/// of the ensemble without each replicate (statistics.hpp, replicate_quality), over the energies
+/// the pooled indices use.
+void add_replicate_quality(study_result& out, std::size_t c) {
+    const std::size_t R = out.replicates;
+    for (const bool chaotic : {false, true}) {
+        std::vector<std::vector<quality_sample>> own(R), without(R);
+        for (const energy_result& e : out.energies) {
+            const criterion_result& x = e.criteria[c];
+            if (!x.prediction) continue;
+            const criterion_statistics& st = x.statistics;
+            if (chaotic && st.chaotic == 0) continue;
+            const auto& parts = chaotic ? st.replicate_chaotic_rates : st.replicate_rates;
+            const auto sample = [&](const summary_statistics& r) {
+                return quality_sample{
+                    e.energy,         r.mean, x.prediction->value, r.standard_deviation,
+                    r.standard_error, r.count};
+            };
+            std::vector<summary_statistics> rest;
+            for (std::size_t k = 0; k < R; ++k) {
+                own[k].push_back(sample(parts[k]));
+                rest.clear();
+                for (std::size_t j = 0; j < R; ++j)
+                    if (j != k) rest.push_back(parts[j]);
+                without[k].push_back(sample(merge(rest)));
+            }
+        }
+        auto& pooled =
+            chaotic ? out.quality[c].chaotic_trajectories : out.quality[c].all_trajectories;
+        replicate_quality(pooled, own, without, out.regimes);
+    }
 }
 
 /// The quality indices (paper Sec. 5.6) of each criterion over the energies, per regime: IQI
@@ -365,6 +412,7 @@ void add_quality(study_result& out, const double_pendulum<double>& model) {
         const double scale = out.reference_time > 0 ? out.options.time / out.reference_time : 0;
         out.quality.push_back(
             {quality(all, out.regimes, scale), quality(chaotic, out.regimes, scale)});
+        if (out.replicates > 1) add_replicate_quality(out, c);
     }
 }
 
@@ -388,12 +436,54 @@ criterion_agreement agreement(const std::vector<energy_result>& energies, std::s
     return a;
 }
 
+/// The agreement of criterion c's pooled means with its predictions by the replicate errors,
+/// and each replicate's own chi^2 (criterion_agreement::replicate_verdict).
+criterion_agreement::replicate_verdict replicate_agreement(
+    const std::vector<energy_result>& energies, std::size_t c, bool chaotic, std::size_t R) {
+    criterion_agreement::replicate_verdict v;
+    v.worst_z = v.max_error_ratio = v.min_error_ratio = nan;
+    v.chi2_of_replicates.assign(R, 0);
+    for (const energy_result& e : energies) {
+        const criterion_statistics& st = e.criteria[c].statistics;
+        const summary_statistics& s = chaotic ? st.chaotic_rates : st.rates;
+        const auto& parts = chaotic ? st.replicate_chaotic_rates : st.replicate_rates;
+        const double p = st.predicted_rate;
+        if (!(p > 0) || !std::isfinite(s.mean) || parts.size() != R) continue;
+        for (std::size_t k = 0; k < R; ++k) {
+            const double z = (parts[k].mean - p) / parts[k].standard_error;
+            if (std::isfinite(z)) v.chi2_of_replicates[k] += z * z;
+        }
+        const double se = replicate_standard_error(parts);
+        if (!(se > 0)) continue;
+        const double z = (s.mean - p) / se;
+        v.chi2 += z * z;
+        if (!(std::abs(z) <= std::abs(v.worst_z))) v.worst_z = z;
+        const double ratio = se / s.standard_error;
+        if (std::isfinite(ratio)) {
+            if (!(ratio <= v.max_error_ratio)) v.max_error_ratio = ratio;
+            if (!(ratio >= v.min_error_ratio)) v.min_error_ratio = ratio;
+            v.error_mismatches += ratio > 2 || ratio < 0.5;
+        }
+        ++v.energies;
+    }
+    const double r = static_cast<double>(R);
+    v.expected_chi2 = R > 3 ? static_cast<double>(v.energies) * (r - 1) / (r - 3) : nan;
+    return v;
+}
+
 /// The agreement of every criterion and the differences between the criteria's predictions.
 void add_comparisons(study_result& out) {
     const std::size_t n = out.criteria.size();
-    for (std::size_t c = 0; c < n; ++c)
+    for (std::size_t c = 0; c < n; ++c) {
         out.agreement.push_back(
             {agreement(out.energies, c, false), agreement(out.energies, c, true)});
+        if (out.replicates > 1) {
+            out.agreement.back().all_trajectories.replicates =
+                replicate_agreement(out.energies, c, false, out.replicates);
+            out.agreement.back().chaotic_trajectories.replicates =
+                replicate_agreement(out.energies, c, true, out.replicates);
+        }
+    }
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j) {
             prediction_difference d{i, j, 0, 0};
@@ -534,7 +624,7 @@ void check_shareable(const simulation_request& a, const simulation_request& b) {
         x.sample_interval == y.sample_interval && x.unwrapped_angles == y.unwrapped_angles &&
         a.estimator == b.estimator && a.short_time == b.short_time &&
         a.checkpoint == b.checkpoint && a.checkpoint_interval == b.checkpoint_interval &&
-        a.timing == b.timing && a.group == b.group;
+        a.timing == b.timing && a.group == b.group && a.replicates == b.replicates;
     if (!same)
         throw std::invalid_argument(
             "simulate: studies sharing trajectories need the same ensemble options, estimator, "

@@ -25,6 +25,47 @@ json histogram_json(const histogram& h) {
                 {"counts", h.counts}};
 }
 
+/// The pooled mean's replicate error (jackknife), its z and its ratio to the per-trajectory
+/// standard error, with every replicate's mean and size: over all trajectories and the chaotic.
+json replicates_json(const criterion_statistics& st) {
+    const auto part = [&](const std::vector<summary_statistics>& parts,
+                          const summary_statistics& pooled) {
+        json means = json::array(), counts = json::array();
+        for (const summary_statistics& r : parts) {
+            means.push_back(number(r.mean));
+            counts.push_back(r.count);
+        }
+        const double se = replicate_standard_error(parts);
+        return json{{"standard_error", number(se)},
+                    {"z_score", number((pooled.mean - st.predicted_rate) / se)},
+                    {"error_ratio", number(se / pooled.standard_error)},
+                    {"trajectories", counts},
+                    {"means", means}};
+    };
+    return json{{"count", st.replicate_rates.size()},
+                {"all_trajectories", part(st.replicate_rates, st.rates)},
+                {"chaotic_trajectories", part(st.replicate_chaotic_rates, st.chaotic_rates)}};
+}
+
+json counts_json(const flip_count_statistics& x) {
+    json fano = json::array(), tail = json::array();
+    for (const window_fano& f : x.fano)
+        fano.push_back(json{{"window", to_decimal(f.window)},
+                            {"windows", f.windows},
+                            {"mean_count", number(f.mean_count)},
+                            {"fano", number(f.fano)},
+                            {"windows_chaotic", f.windows_chaotic},
+                            {"mean_count_chaotic", number(f.mean_count_chaotic)},
+                            {"fano_chaotic", number(f.fano_chaotic)}});
+    for (const auto& p : x.survival)
+        tail.push_back(
+            json::array({to_decimal(p.time), number(p.survival), number(p.survival_chaotic)}));
+    return json{{"fano", fano},
+                {"inter_flip_cv2", number(x.cv2)},
+                {"inter_flip_cv2_chaotic", number(x.cv2_chaotic)},
+                {"inter_flip_survival", tail}};
+}
+
 json criterion_json(const criterion_result& c, double max_energy_drift) {
     const criterion_statistics& st = c.statistics;
     const auto& p = c.prediction;
@@ -52,6 +93,8 @@ json criterion_json(const criterion_result& c, double max_energy_drift) {
                                 {"median", number(r.median)}, {"mean", number(r.summary.mean)}};
     j["rate_histogram"] = histogram_json(st.rate_distribution);
     j["max_rate"] = number(st.rates.maximum);
+    if (!st.replicate_rates.empty()) j["replicates"] = replicates_json(st);
+    j["flip_counts"] = counts_json(st.counts);
     return j;
 }
 
@@ -96,6 +139,17 @@ json quality_table(const std::vector<quality_indices>& table, double reference_t
             j["reference"] = json{{"time", to_decimal(reference_time)},
                                   {"PQI", number(q.pqi_reference)},
                                   {"PQI_sd", number(q.pqi_reference_sd)}};
+        if (!q.iqi_replicates.empty()) {
+            json iqi = json::array(), pqi = json::array();
+            for (std::size_t k = 0; k < q.iqi_replicates.size(); ++k) {
+                iqi.push_back(number(q.iqi_replicates[k]));
+                pqi.push_back(number(q.pqi_replicates[k]));
+            }
+            j["replicates"] = json{{"IQI_se", number(q.iqi_replicate_se)},
+                                   {"PQI_se", number(q.pqi_replicate_se)},
+                                   {"IQI", iqi},
+                                   {"PQI", pqi}};
+        }
         arr.push_back(j);
     }
     return arr;
@@ -173,6 +227,13 @@ json study_json(const study_result& s) {
              {"time", to_decimal(o.time)},     {"seed", o.seed},
              {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
              {"atol", to_decimal(o.atol)},     {"estimator", to_string(s.estimator)}};
+    if (s.replicates > 1)
+        out["replicates"] =
+            json{{"count", s.replicates},
+                 {"trajectories_each", o.trajectories / s.replicates},
+                 {"rule",
+                  "replicate k holds the trajectories first_index + k N ... + (k + 1) N - 1 "
+                  "(N = trajectories_each): distinct random streams of (seed, E, index)"}};
     if (s.estimator == rate_estimator::short_trajectories)
         out["budget"] =
             json{{"trajectories", s.budget_trajectories}, {"time", to_decimal(s.budget_time)}};
@@ -202,10 +263,25 @@ json study_json(const study_result& s) {
     out["regimes"] = regimes;
     json agreement = json::object();
     auto agreement_json = [](const criterion_agreement& a) {
-        return json{{"energies", a.energies},
-                    {"chi2", number(a.chi2)},
-                    {"worst_z", number(a.worst_z)},
-                    {"max_relative_deviation", number(a.max_relative_deviation)}};
+        json j{{"energies", a.energies},
+               {"chi2", number(a.chi2)},
+               {"worst_z", number(a.worst_z)},
+               {"max_relative_deviation", number(a.max_relative_deviation)}};
+        if (a.replicates) {
+            const auto& v = *a.replicates;
+            json each = json::array();
+            for (double x : v.chi2_of_replicates)
+                each.push_back(number(x));
+            j["replicates"] = json{{"energies", v.energies},
+                                   {"chi2", number(v.chi2)},
+                                   {"expected_chi2", number(v.expected_chi2)},
+                                   {"worst_z", number(v.worst_z)},
+                                   {"chi2_of_replicates", each},
+                                   {"max_error_ratio", number(v.max_error_ratio)},
+                                   {"min_error_ratio", number(v.min_error_ratio)},
+                                   {"error_mismatches", v.error_mismatches}};
+        }
+        return j;
     };
     for (std::size_t c = 0; c < s.criteria.size() && c < s.agreement.size(); ++c)
         agreement[s.criteria[c]] =

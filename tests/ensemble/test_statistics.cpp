@@ -99,6 +99,129 @@ TEST(Statistics, AnalyzeAnEnsemble) {
     EXPECT_TRUE(std::isnan(analyze(r, 0, 0.25).chaotic_fraction));
 }
 
+// Replicates (issue 41): merge() against summarize() of the union, the jackknife against the
+// standard deviation of equal replicates' means over sqrt(R) (an identity for equal sizes) and
+// against a leave-one-out computed by hand for unequal ones.
+TEST(Statistics, ReplicatesMergeAndTheirJackknifeError) {
+    std::mt19937_64 engine(7);
+    std::exponential_distribution<double> law(3.0);
+    std::vector<double> all;
+    std::vector<summary_statistics> parts;
+    for (int k = 0; k < 6; ++k) {
+        std::vector<double> v;
+        for (int i = 0; i < 40; ++i)
+            v.push_back(law(engine));
+        all.insert(all.end(), v.begin(), v.end());
+        parts.push_back(summarize(v));
+    }
+    const summary_statistics whole = summarize(all), merged = merge(parts);
+    EXPECT_EQ(merged.count, whole.count);
+    EXPECT_NEAR(merged.mean, whole.mean, 1e-15 * whole.mean);
+    EXPECT_NEAR(merged.standard_deviation, whole.standard_deviation,
+                1e-13 * whole.standard_deviation);
+    EXPECT_DOUBLE_EQ(merged.minimum, whole.minimum);
+    EXPECT_DOUBLE_EQ(merged.maximum, whole.maximum);
+    std::vector<double> means;
+    for (const summary_statistics& p : parts)
+        means.push_back(p.mean);
+    const double expected = summarize(means).standard_deviation / std::sqrt(6.0);
+    EXPECT_NEAR(replicate_standard_error(parts), expected, 1e-13 * expected);
+    // unequal sizes: replicates {1, 2}, {4}, {6, 7, 8}: leave-one-out means 25/4, 24/5, 7/3
+    const std::vector<summary_statistics> uneven{summarize(std::vector<double>{1, 2}),
+                                                 summarize(std::vector<double>{4}),
+                                                 summarize(std::vector<double>{6, 7, 8})};
+    const std::vector<double> loo{25.0 / 4, 24.0 / 5, 7.0 / 3};
+    const double m = (loo[0] + loo[1] + loo[2]) / 3;
+    double ss = 0;
+    for (double x : loo)
+        ss += (x - m) * (x - m);
+    EXPECT_NEAR(replicate_standard_error(uneven), std::sqrt(2.0 / 3 * ss), 1e-14);
+    // an empty replicate is skipped; one replicate with values has no spread
+    const std::vector<summary_statistics> one{summarize(std::vector<double>{1, 2}),
+                                              summarize(std::vector<double>{})};
+    EXPECT_TRUE(std::isnan(replicate_standard_error(one)));
+    EXPECT_EQ(merge(one).count, 2u);
+}
+
+// analyze() with replicates: each block of trajectories summarised alone, the pooled statistics
+// unchanged; a count that R does not divide is refused.
+TEST(Statistics, AnalyzeSplitsReplicatesInIndexBlocks) {
+    ensemble_result r;
+    r.time = 10;
+    r.chaos = true;
+    r.criteria = {"a"};
+    for (int i = 0; i < 6; ++i) {
+        trajectory_result t;
+        t.index = static_cast<std::uint64_t>(i);
+        t.crossing_times = {std::vector<double>(static_cast<std::size_t>(i + 1), 1.0)};
+        t.chaotic = i % 2 == 0;
+        r.trajectories.push_back(t);
+    }
+    const criterion_statistics one = analyze(r, 0, 0.3), three = analyze(r, 0, 0.3, 0, 0, 3);
+    EXPECT_TRUE(one.replicate_rates.empty());
+    EXPECT_EQ(three.rates.mean, one.rates.mean);
+    EXPECT_EQ(three.z_score, one.z_score);
+    ASSERT_EQ(three.replicate_rates.size(), 3u);
+    EXPECT_DOUBLE_EQ(three.replicate_rates[0].mean, 0.15);  // rates 0.1, 0.2
+    EXPECT_DOUBLE_EQ(three.replicate_rates[2].mean, 0.55);  // rates 0.5, 0.6
+    EXPECT_EQ(three.replicate_chaotic_rates[1].count, 1u);  // index 2
+    EXPECT_DOUBLE_EQ(three.replicate_chaotic_rates[1].mean, 0.3);
+    EXPECT_THROW(analyze(r, 0, 0.3, 0, 0, 4), std::invalid_argument);
+}
+
+// Flip counts beyond the mean: exactly periodic flips have Fano factor 0 in windows holding a
+// whole number of periods and CV^2 = 0; a Poisson process (exponential inter-flip times) has
+// Fano ~ 1 = CV^2 within its sampling error; the tail P(tau > t) is exp(-t / mean) there.
+TEST(Statistics, FanoFactorsAndInterFlipTails) {
+    ensemble_result periodic;
+    periodic.time = 1000;
+    periodic.criteria = {"a"};
+    trajectory_result t;
+    t.crossing_times = {{}};
+    for (int i = 0; i < 2000; ++i)
+        t.crossing_times[0].push_back(0.25 + 0.5 * i);  // period 0.5
+    periodic.trajectories = {t, t};
+    const flip_count_statistics p = flip_counts(periodic, 0);
+    ASSERT_EQ(p.fano.size(), 4u);  // windows 1000, 100, 10, 1
+    for (const window_fano& f : p.fano) {
+        EXPECT_NEAR(f.mean_count, f.window / 0.5, 1e-9 * f.window);
+        EXPECT_NEAR(f.fano, 0, 1e-12);
+        EXPECT_TRUE(std::isnan(f.fano_chaotic));  // no chaotic trajectory
+    }
+    EXPECT_EQ(p.fano[3].windows, 2000u);
+    EXPECT_NEAR(p.cv2, 0, 1e-20);
+
+    ensemble_result poisson;
+    poisson.time = 20000;
+    poisson.chaos = true;
+    poisson.criteria = {"a"};
+    std::mt19937_64 engine(11);
+    std::exponential_distribution<double> law(2.0);  // rate 2, mean 0.5
+    for (int k = 0; k < 4; ++k) {
+        trajectory_result x;
+        x.chaotic = true;
+        x.crossing_times = {{}};
+        for (double s = law(engine); s < poisson.time; s += law(engine))
+            x.crossing_times[0].push_back(s);
+        poisson.trajectories.push_back(x);
+    }
+    const flip_count_statistics q = flip_counts(poisson, 0);
+    // windows 20000 ... 2 (five at most); the Fano factor of 40,000 windows of mean count 2 has
+    // a relative standard error ~ sqrt(2 / 40000 + ...) < 2 %
+    ASSERT_EQ(q.fano.size(), 5u);
+    EXPECT_NEAR(q.fano[4].fano, 1, 0.05);
+    EXPECT_NEAR(q.fano[3].fano, 1, 0.1);
+    EXPECT_EQ(q.fano[4].fano_chaotic, q.fano[4].fano);
+    EXPECT_NEAR(q.cv2, 1, 0.03);
+    ASSERT_EQ(q.survival.size(), 24u);
+    for (const auto& pt : q.survival) {
+        if (pt.survival > 1e-3) {
+            EXPECT_NEAR(std::log(pt.survival), -2 * pt.time, 0.15 + 0.1 * 2 * pt.time)
+                << "t = " << pt.time;
+        }
+    }
+}
+
 // Issue 20: with --rtol 1e-300 both trajectories failed and the mean rate was 0 (a failed
 // trajectory's flips were averaged as zero flips over T). A failed trajectory is no data.
 TEST(Statistics, FailedTrajectoriesAreNotCountedAsZeroFlips) {

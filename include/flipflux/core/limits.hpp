@@ -15,6 +15,9 @@ inline constexpr std::uint64_t max_threads = 4096;
 
 /// The most histogram bins per histogram.
 inline constexpr std::uint64_t max_bins = 1000000;
+/// Independent replicates of one ensemble (study/simulation.hpp): each is summarised on its own
+/// and the quality indices are recomputed without each, so the cost grows as R^2 energies.
+inline constexpr std::uint64_t max_replicates = 1000;
 
 /// The most turns the arms of one trajectory may make (an upper bound from the energy and the
 /// integration time, ensemble.hpp's check_trajectory_work): at tens of steps per turn, more than

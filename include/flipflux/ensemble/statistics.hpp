@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -35,6 +36,20 @@ struct summary_statistics {
 /// Two-pass mean, sample standard deviation and shape (standard deviation and standard error NaN
 /// for a single value, where n - 1 = 0; everything NaN for none).
 summary_statistics summarize(std::span<const double> values);
+
+/// The summary of the union of disjoint samples from their summaries (count, mean, standard
+/// deviation, standard error, minimum, maximum; Chan et al.'s pairwise update of the squared
+/// deviations). Parts with no values are skipped; the shape (skewness, kurtosis) is NaN.
+summary_statistics merge(std::span<const summary_statistics> parts);
+
+/// The jackknife standard error of the pooled mean over R >= 2 independent replicates: with
+/// m_(k) the mean of the union of every replicate but k,
+///     se = sqrt((R - 1) / R sum_k (m_(k) - mean_k m_(k))^2).
+/// For equal replicate sizes this is the standard deviation of the replicate means over sqrt(R);
+/// for unequal ones (the chaotic sub-ensemble of each replicate) it is the ratio estimator's. It
+/// sees whatever makes replicates differ (rare islands, sticky orbits), not only the
+/// trajectory-to-trajectory spread. NaN with fewer than two replicates with values.
+double replicate_standard_error(std::span<const summary_statistics> replicates);
 
 /// Equal-width bins on [lower, upper); values outside are counted in underflow/overflow.
 struct histogram {
@@ -62,6 +77,31 @@ struct residence_statistics {
     histogram distribution;
 };
 
+/// The Fano factor of the flip counts in windows of length `window`: every trajectory's
+/// [0, T) cut into floor(T / window) windows, var / mean of their counts (over all trajectories
+/// and over the chaotic ones; NaN where no window has a flip). For a renewal process of flips it
+/// tends to the CV^2 of the inter-flip times as the window grows; the single window T (the
+/// counts of whole trajectories) also holds the trajectory-to-trajectory spread of the rates.
+struct window_fano {
+    double window = 0;
+    std::uint64_t windows = 0, windows_chaotic = 0;
+    double mean_count = 0, fano = 0, mean_count_chaotic = 0, fano_chaotic = 0;
+};
+
+/// Flip statistics beyond the mean: Fano factors against the window length (T, T/10, ... down
+/// to at least one time unit, at most five), the renewal prediction CV^2 = var / mean^2 of the
+/// inter-flip (residence) times, and the tail of their distribution: P(tau > t) at 24 times
+/// spaced geometrically from the smallest to the largest residence time (a sticky regime shows
+/// as a power law there, chaotic mixing as an exponential).
+struct flip_count_statistics {
+    std::vector<window_fano> fano;
+    double cv2 = 0, cv2_chaotic = 0;  ///< NaN with fewer than two residence times
+    struct tail_point {
+        double time = 0, survival = 0, survival_chaotic = 0;
+    };
+    std::vector<tail_point> survival;
+};
+
 struct criterion_statistics {
     std::string criterion;
     double predicted_rate = 0;  ///< NaN when no prediction is available
@@ -74,12 +114,23 @@ struct criterion_statistics {
     double chaotic_z_score = 0;  ///< z of the chaotic sub-ensemble's mean
     residence_statistics residence;
     histogram rate_distribution;
+    /// With R > 1 replicates (analyze's `replicates`): the summaries of each replicate's rates,
+    /// over all its trajectories and over its chaotic ones (replicate k: the k-th block of
+    /// trajectories in index order). Empty with one replicate.
+    std::vector<summary_statistics> replicate_rates, replicate_chaotic_rates;
+    flip_count_statistics counts;
 };
 
 /// Statistics of criterion `c` of an ensemble over its trajectories that reached T (status ok):
 /// a failed trajectory is excluded, never counted as zero flips. predicted_rate may be NaN.
+/// `replicates` R > 1: the trajectories (in index order) are R replicates of equal size, each
+/// summarised on its own too (std::invalid_argument when R does not divide their number).
 criterion_statistics analyze(const ensemble_result& result, std::size_t c, double predicted_rate,
-                             std::size_t rate_bins = 0, std::size_t residence_bins = 0);
+                             std::size_t rate_bins = 0, std::size_t residence_bins = 0,
+                             std::size_t replicates = 1);
+
+/// The flip statistics beyond the mean of criterion `c` (criterion_statistics::counts).
+flip_count_statistics flip_counts(const ensemble_result& result, std::size_t c);
 
 // ---- quality indices over energies ---------------------------------------------------------
 
@@ -126,6 +177,13 @@ struct quality_indices {
     /// scaled by T / T_ref (S of time averages falls as 1/sqrt(T) for mixing trajectories; an
     /// estimate), and its bootstrap sd. NaN without a reference.
     double pqi_reference = 0, pqi_reference_sd = 0;
+    /// With replicates (replicate_quality): the jackknife standard errors of iqi and pqi over the
+    /// replicates (each recomputed without one replicate), and every replicate's own iqi and pqi
+    /// (at its own, smaller size: their spread is the seed-to-seed spread of such a run).
+    /// NaN and empty without replicates.
+    double iqi_replicate_se = std::numeric_limits<double>::quiet_NaN(),
+           pqi_replicate_se = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> iqi_replicates, pqi_replicates;
 };
 
 /// The quality indices of `samples` per regime (samples without a positive, finite prediction
@@ -133,6 +191,14 @@ struct quality_indices {
 /// (0: none).
 std::vector<quality_indices> quality(const std::vector<quality_sample>& samples,
                                      const std::vector<energy_regime>& regimes,
-                                     double spread_scale = 0);
+                                     double spread_scale = 0, bool bootstrap = true);
+
+/// The replicate errors of `pooled` (quality() of the whole ensemble): `replicates[k]` are the
+/// samples of replicate k alone and `without[k]` those of every replicate but k (the same
+/// energies, summaries merged); sets iqi/pqi_replicate_se (jackknife) and iqi/pqi_replicates.
+void replicate_quality(std::vector<quality_indices>& pooled,
+                       const std::vector<std::vector<quality_sample>>& replicates,
+                       const std::vector<std::vector<quality_sample>>& without,
+                       const std::vector<energy_regime>& regimes);
 
 }  // namespace flipflux

@@ -59,6 +59,9 @@ struct ensemble_spec {
     std::vector<std::string> criteria{"upright", "approx", "saddle"};
     energy_grid energies;
     long long trajectories = 1000;
+    /// Independent replicates of `trajectories` each (simulation_request::replicates): every
+    /// statistic pooled over R x trajectories and with its spread over the replicates.
+    long long replicates = 1;
     std::string time = "10000";
     unsigned long long seed = 1;
     std::string rtol = "1e-10";

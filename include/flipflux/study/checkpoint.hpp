@@ -36,7 +36,7 @@
 
 namespace flipflux {
 
-inline constexpr int checkpoint_format_version = 3;
+inline constexpr int checkpoint_format_version = 4;
 
 /// One line (with its hash and the newline) holding trajectory r of energy k, and back.
 /// Everything but `crossings` and `samples` (never checkpointed) is stored.

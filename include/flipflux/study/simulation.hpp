@@ -60,7 +60,11 @@ struct simulation_request {
     std::vector<std::string> criteria;  ///< names (criteria.hpp), each at most once
     /// (label, value): the label names the energy in the report and in file names
     std::vector<std::pair<std::string, double>> energies;
-    ensemble_options options;       ///< options.energy is set per energy
+    ensemble_options options;  ///< options.energy is set per energy
+    /// R >= 1 independent replicates of options.trajectories trajectories each: the study
+    /// integrates R x trajectories (indices first_index + k N ... for replicate k) and reports
+    /// every statistic pooled and with its spread over the replicates (study_result::replicates).
+    std::size_t replicates = 1;
     std::size_t bins = 0;           ///< histogram bins (0: square-root rule)
     std::filesystem::path csv_dir;  ///< empty: no CSV output
     /// With csv_dir: also write residence_E<label>_<criterion>.csv, every crossing time and the

@@ -76,6 +76,22 @@ struct criterion_agreement {
     double chi2 = 0;                    ///< sum of z^2 (about `energies` for a correct chain)
     double worst_z = 0;                 ///< the z of largest magnitude (NaN without energies)
     double max_relative_deviation = 0;  ///< max |mean / predicted - 1| (NaN without energies)
+    /// With R > 1 replicates: the same with z = (mean - predicted) / replicate error (the
+    /// jackknife over replicates, replicate_standard_error), over the energies where that error is
+    /// positive. Such a z is Student-t with R - 1 degrees of freedom for a correct prediction, so
+    /// chi2 is expected near energies (R - 1) / (R - 3) (expected_chi2; NaN for R <= 3).
+    struct replicate_verdict {
+        std::size_t energies = 0;
+        double chi2 = 0, expected_chi2 = 0, worst_z = 0;
+        /// each replicate's own sum of z^2 (its mean against its per-trajectory error)
+        std::vector<double> chi2_of_replicates;
+        /// The heavy-tail check: per energy, replicate error / per-trajectory standard error of
+        /// the pooled mean (about 1 when the per-trajectory error is trustworthy): its largest
+        /// and smallest value, and the energies where it is above 2 or below 1/2.
+        double max_error_ratio = 0, min_error_ratio = 0;
+        std::size_t error_mismatches = 0;
+    };
+    std::optional<replicate_verdict> replicates;
 };
 
 /// The relative difference of two criteria's predicted rates over the study's energies (both
@@ -89,6 +105,10 @@ struct prediction_difference {
 /// A completed study.
 struct study_result {
     arm flip_arm = arm::two;
+    /// Independent replicates R: the trajectories, in index order, are R blocks of equal size
+    /// (distinct Philox streams: trajectory i's numbers depend on (seed, E, i) only), each
+    /// summarised on its own; options.trajectories is their total.
+    std::size_t replicates = 1;
     std::vector<std::string> criteria;
     /// As integrated: the short estimator's trajectories and time; atol resolved; energy unset.
     ensemble_options options;
