@@ -410,6 +410,9 @@ void run_ensemble(context& ctx, const plan_step& step) {
                                             {"shared_with", names},
                                             {"residence_times", x.residence_times},
                                             {"histogram", x.histogram}});
+        if (!x.census_of.empty()) ctx.summary["ensembles"].back()["census_of"] = x.census_of;
+        if (!x.classification_check_of.empty())
+            ctx.summary["ensembles"].back()["classification_check_of"] = x.classification_check_of;
     }
     // the results are on disk: only now may the trajectories go (a kill before this point
     // resumes from the checkpoint)

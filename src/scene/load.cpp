@@ -350,6 +350,8 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     }
     x.residence_times = r.boolean("residence_times").value_or(false);
     x.histogram = r.boolean("histogram").value_or(false);
+    x.census_of = r.string("census_of").value_or("");
+    x.classification_check_of = r.string("classification_check_of").value_or("");
     const std::string time_text = x.time;
     if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
         r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");

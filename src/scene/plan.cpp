@@ -183,6 +183,59 @@ void check_trajectory(const scene& s, std::size_t i, const double_pendulum<doubl
 
 /// The checks of a scene that need no computation (so that --dry-run promises only what run
 /// does): names, duplicates, domains, memory, output directories.
+bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b);
+
+/// The island census's cross-references (ensemble_spec::census_of, classification_check_of).
+void check_census(const scene& s, std::size_t i) {
+    const ensemble_spec& x = s.ensembles[i];
+    const std::string key = "ensemble[" + std::to_string(i) + "]";
+    const auto find = [&](const std::string& name, const std::string& field) {
+        for (const ensemble_spec& y : s.ensembles)
+            if (y.name == name && &y != &x) return &y;
+        fail(s, x.line, key + "." + field, "'" + name + "' names no other ensemble of the scene");
+    };
+    const auto energies_within = [&](const ensemble_spec& y, const std::string& field) {
+        std::set<double> theirs;
+        for (const std::string& t : energy_texts(y.energies, "energies"))
+            theirs.insert(parse_real<double>(t, "energies"));
+        for (const std::string& t : energy_texts(x.energies, "energies"))
+            if (!theirs.count(parse_real<double>(t, "energies")))
+                fail(s, x.line, key + "." + field,
+                     "E = " + t + " is not an energy of ensemble '" + y.name + "'");
+    };
+    if (!x.census_of.empty()) {
+        const ensemble_spec& y = *find(x.census_of, "census_of");
+        if (!x.chaos || !y.chaos)
+            fail(s, x.line, key + ".census_of",
+                 "a census and the ensemble it tests need chaos = true (the classification)");
+        if (x.arm != y.arm)
+            fail(s, x.line, key + ".census_of",
+                 "the census counts arm " + std::to_string(x.arm) + ", ensemble '" + y.name +
+                     "' arm " + std::to_string(y.arm));
+        // no trajectory in common: another seed than the tested ensemble's and than every
+        // ensemble whose trajectories it shares (each trajectory is a function of (seed, E, i))
+        for (const ensemble_spec& z : s.ensembles)
+            if (z.seed == x.seed && (&z == &y || (same_trajectories(z, y) && &z != &x)))
+                fail(s, x.line, key + ".seed",
+                     "'" + std::to_string(x.seed) + "' is the seed of ensemble '" + z.name +
+                         "': a census must share no trajectory with the ensemble it tests");
+        energies_within(y, "census_of");
+    }
+    if (!x.classification_check_of.empty()) {
+        const ensemble_spec& y = *find(x.classification_check_of, "classification_check_of");
+        if (y.census_of.empty())
+            fail(s, x.line, key + ".classification_check_of",
+                 "'" + y.name + "' is not a census (it has no census_of)");
+        if (x.seed != y.seed || !x.chaos || x.chaos_threshold != y.chaos_threshold ||
+            x.trajectories * x.replicates > y.trajectories * y.replicates)
+            fail(s, x.line, key + ".classification_check_of",
+                 "a classification check re-integrates census '" + y.name +
+                     "''s trajectories: the same seed and chaos threshold, chaos = true, and at "
+                     "most its number of trajectories");
+        energies_within(y, "classification_check_of");
+    }
+}
+
 void check_scene(const scene& s, const double_pendulum<double>& model) {
     check_output_dir(s.output, s, s.output_line, "scene.output");
     if (s.predictions)
@@ -191,6 +244,8 @@ void check_scene(const scene& s, const double_pendulum<double>& model) {
     if (s.orbits) check_distinct(s.orbits->energies, s.prec, s, s.orbits->line, "orbits.energies");
     for (std::size_t i = 0; i < s.ensembles.size(); ++i)
         check_ensemble(s, i, model);
+    for (std::size_t i = 0; i < s.ensembles.size(); ++i)
+        check_census(s, i);
     for (std::size_t i = 0; i < s.trajectories.size(); ++i)
         check_trajectory(s, i, model);
     if (s.golden) {

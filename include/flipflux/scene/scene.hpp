@@ -76,6 +76,15 @@ struct ensemble_spec {
     /// figure reads them. Without it only the residence statistics (ensemble JSON, histograms).
     bool residence_times = false;
     bool histogram = false;  ///< the ensemble whose per-trajectory rates the report histograms
+    /// An island census (docs/theory.md, "The island census"): the name of the ensemble whose
+    /// chaotic sub-ensemble this census's regular fraction and regular rate predict. The plan
+    /// requires another seed than the tested ensemble's (no shared trajectory), its arm, the
+    /// chaos indicator, and energies among the tested ensemble's.
+    std::string census_of;
+    /// The name of a census whose classification this ensemble re-measures at another T: the
+    /// census's seed and chaos threshold, energies among the census's, trajectories (index
+    /// blocks from 0) at most the census's; the report pairs trajectories by index.
+    std::string classification_check_of;
     int line = 0;
 };
 
