@@ -13,6 +13,8 @@ install(TARGETS flipflux_shared flipflux_deps EXPORT flipflux-targets
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/flipflux DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/tools/report/make_report.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/flipflux/report)
+install(FILES ${PROJECT_SOURCE_DIR}/tools/report/statistics_sections.py
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/flipflux/report)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/golden/ DESTINATION ${CMAKE_INSTALL_DATADIR}/flipflux/golden)
 
 set(FLIPFLUX_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/flipflux)

@@ -36,8 +36,8 @@ FIGURES = ["potential", "allowed-region", "criteria", "orbit-family", "period-ac
            "period-action-arm1", "fluxes", "rates-arm2-all", "rates-arm2-chaotic",
            "rates-arm1-chaotic", "rates-arm1-all", "rates-criteria", "residence-E5",
            "rate-histogram-E5.3", "approx-vs-saddle", "schematic", "energy-regimes",
-           "keyframes-E2.5", "multipliers", "residence-gap", "chaotic-fraction", "flip-counts",
-           "island-correction"]
+           "keyframes-E2.5", "multipliers", "residence-gap", "chaotic-fraction",
+           "flip-statistics-arm2", "flip-statistics-arm1"]
 # drawn from the scene's [[trajectory]] tables and the sensitivity ensembles (paper-quick.toml has
 # them; the synthetic run too)
 OPTIONAL_FIGURES = ["trajectory-typical", "trajectory-recrossing", "sensitivity-tolerance",
@@ -75,14 +75,41 @@ def write_csv(path, header, rows):
         w.writerows(rows)
 
 
+def replicate_block(p, m, n, R, chaotic_mean, chaotic_n, all_se, chaotic_se):
+    """flipflux's replicate block of a criterion: replicate k's mean m (1 + 0.01 (k - (R-1)/2))
+    (their average is m), chaotic means all chaotic_mean; the jackknife errors as given."""
+    def part(mean, count, se, spread):
+        return {"standard_error": repr(se), "z_score": repr((mean - p) / se),
+                "error_ratio": "1.25", "trajectories": [count // R] * R,
+                "means": [repr(mean * (1 + spread * (k - (R - 1) / 2))) for k in range(R)]}
+    return {"count": R, "all_trajectories": part(m, n, all_se, 0.01),
+            "chaotic_trajectories": part(chaotic_mean, chaotic_n, chaotic_se, 0.0)}
+
+
+def flip_counts(t):
+    """A Poisson-like flip_counts block: Fano 1 in every window, CV^2 1, an exponential tail."""
+    windows = [t / 10 ** k for k in range(5) if t / 10 ** k >= 1]
+    return {"fano": [{"window": repr(w), "windows": 10, "mean_count": "1", "fano": "1.5",
+                      "windows_chaotic": 9, "mean_count_chaotic": "1", "fano_chaotic": "1.2"}
+                     for w in windows],
+            "inter_flip_cv2": "1", "inter_flip_cv2_chaotic": "0.8",
+            "inter_flip_survival": [[repr(0.1 * 2 ** j), repr(math.exp(-0.1 * 2 ** j)),
+                                     repr(math.exp(-0.1 * 2 ** j))] for j in range(24)]}
+
+
 def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop853",
-                  rtol="1e-10", atol="1e-10", threshold="0.050000000000000003"):
-    """Simulated mean = predicted (1 + deviation); sd = 0.1 predicted (chaotic: 0.05)."""
+                  rtol="1e-10", atol="1e-10", threshold="0.050000000000000003", replicates=5,
+                  census=None):
+    """Simulated mean = predicted (1 + deviation); sd = 0.1 predicted (chaotic: 0.05); R
+    replicates (0: none) with jackknife errors 1.25x the per-trajectory ones. census (f_r, r_r):
+    a census's replicate blocks with regular fraction f_r and regular rate r_r x predicted."""
     out = {"command": "simulate", "arm": str(arm), "trajectories": n, "first_index": 0,
            "time": str(t), "seed": seed, "method": method, "rtol": rtol, "atol": atol,
            "chaos": {"indicator": "finite-time maximal Lyapunov exponent",
                      "threshold": threshold},
            "energies": [], "quality": {}, "regimes": []}
+    if replicates:
+        out["replicates"] = {"count": replicates, "trajectories_each": n // replicates}
     for e in energies:
         crit = {}
         for c in criteria:
@@ -96,7 +123,18 @@ def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop8
                        "chaotic": {"trajectories": int(0.9 * n), "mean_rate": repr(p),
                                    "std": repr(0.05 * p),
                                    "standard_error": repr(0.05 * p / math.sqrt(0.9 * n)),
-                                   "z_score": "0"}}
+                                   "z_score": "0"},
+                       "flip_counts": flip_counts(t)}
+            if census:
+                f_r, r_r = census
+                rc = (1 - f_r * r_r) / (1 - f_r) * p  # so that the mean is p
+                crit[c]["replicates"] = replicate_block(p, p, n, replicates, rc,
+                                                        int(round((1 - f_r) * n)), 0.01 * p,
+                                                        0.001 * p)
+            elif replicates:
+                crit[c]["replicates"] = replicate_block(
+                    p, m, n, replicates, p, int(0.9 * n), 1.25 * sd / math.sqrt(n),
+                    1.25 * 0.05 * p / math.sqrt(0.9 * n))
         paired = [{"criteria": [c, d], "mean": repr(rates(e)[c] - rates(e)[d]), "std": "0.001",
                    "standard_error": repr(0.001 / math.sqrt(n))}
                   for i, c in enumerate(criteria) for d in criteria[i + 1:]] if arm == 2 else []
@@ -112,6 +150,13 @@ def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop8
                                                      "worst_z": "0",
                                                      "max_relative_deviation": "0"}}
                         for c in criteria}
+    if replicates:
+        for c in criteria:
+            out["agreement"][c]["all_trajectories"]["replicates"] = {
+                "energies": len(energies), "chi2": repr(len(energies) * (z / 1.25) ** 2),
+                "expected_chi2": repr(len(energies) * (replicates - 1) / (replicates - 3)),
+                "worst_z": repr(z / 1.25), "chi2_of_replicates": ["1"] * replicates,
+                "max_error_ratio": "1.25", "min_error_ratio": "1.25", "error_mismatches": 0}
     out["prediction_differences"] = [
         {"criteria": [c, d], "energies": len(energies),
          "rms_relative": repr(math.sqrt(sum((rates(e)[c] / rates(e)[d] - 1) ** 2
@@ -121,10 +166,16 @@ def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop8
     # all trajectories R = deviation, S = 0.1; chaotic R = 0, S = 0.05
     names = ("full", "low", "central", "high") if arm == 2 else ("full", "low", "high")
     def table(r, spread):
-        return [{"regime": g, "energies": len(energies), "IQI": repr(abs(r)),
+        rows = [{"regime": g, "energies": len(energies), "IQI": repr(abs(r)),
                  "PQI": repr(math.sqrt(r * r + spread * spread)), "IQI_sd": "0.001",
                  "PQI_sd": "0.002", "noise_floor": repr(spread / math.sqrt(n)),
                  "rms_S": repr(spread)} for g in names]
+        if replicates:
+            for q in rows:
+                q["replicates"] = {"IQI_se": "0.002", "PQI_se": "0.003",
+                                   "IQI": [repr(abs(r))] * replicates,
+                                   "PQI": [repr(math.sqrt(r * r + spread * spread))] * replicates}
+        return rows
     for c in criteria:
         out["quality"][c] = {"all_trajectories": table(deviation, 0.1),
                              "chaotic_trajectories": table(0.0, 0.05)}
@@ -165,6 +216,10 @@ def make_synthetic_run(run_dir):
     run["ensembles"] = [{"name": n, "file": "ensemble-%s.json" % n,
                          "residence_times": n == "residence-E5", "histogram": n == "arm2"}
                         for n in ("arm2", "arm1", "residence-E5")]
+    run["ensembles"] += [{"name": "census-arm2", "file": "ensemble-census-arm2.json",
+                          "census_of": "arm2"},
+                         {"name": "census-check", "file": "ensemble-census-check.json",
+                          "classification_check_of": "census-arm2"}]
     with open(os.path.join(run_dir, "run.json"), "w") as f:
         json.dump(run, f, indent=1)
     rows = []
@@ -213,6 +268,21 @@ def make_synthetic_run(run_dir):
                                            for i in range(2000)])
     write_ensemble(run_dir, "residence-E5", ensemble_json(2, [5], ("upright", "saddle"), 0.0,
                                                           20, 200, seed=3), res)
+    # the island census: regular fraction 10 %, regular rate 2 R, so R_c = 8/9 R (-11.111 %); its
+    # check re-integrates 20 of its trajectories with one changing class per energy
+    census_traj = (["index", "lyapunov", "chaotic"],
+                   [[i, "0.3" if i % 10 else "0.001", int(i % 10 != 0)] for i in range(100)])
+    check_traj = (["index", "lyapunov", "chaotic"],
+                  [[i, "0.3" if i % 10 and i != 3 else "0.001", int(i % 10 != 0 and i != 3)]
+                   for i in range(20)])
+    write_ensemble(run_dir, "census-arm2",
+                   ensemble_json(2, [2.5, 3.5], ("saddle",), 0.0, 100, 200, seed=1001,
+                                 census=(0.1, 2.0)),
+                   {"trajectories_E%g.csv" % e: census_traj for e in (2.5, 3.5)})
+    write_ensemble(run_dir, "census-check",
+                   ensemble_json(2, [2.5, 3.5], ("saddle",), 0.0, 20, 1000, seed=1001,
+                                 replicates=0),
+                   {"trajectories_E%g.csv" % e: check_traj for e in (2.5, 3.5)})
     # the sensitivity studies: the main arm-2 ensemble's seed, ode45's tolerances (rates 5 % high)
     # and another chaos threshold
     write_ensemble(run_dir, "tolerance-ode45",
@@ -279,6 +349,20 @@ def check_report(report, optional=True):
     return text
 
 
+def check_statistics_helpers():
+    """The report's Student-t tail and Poisson bound against tabulated values (an independent
+    route: the tables, not the code's continued fraction)."""
+    sys.path.insert(0, os.path.join(REPO, "tools", "report"))
+    import statistics_sections as st
+    for t, dof, p in ((2.262157163, 9, 0.05), (3.249835541, 9, 0.01), (1.812461123, 10, 0.10),
+                      (12.70620474, 1, 0.05), (1.959963985, 10 ** 7, 0.05)):
+        check(abs(st.student_t_two_sided(t, dof) - p) < 1e-6 * p + 1e-9,
+              "P(|t_%d| > %g) = %g: %r" % (dof, t, p, st.student_t_two_sided(t, dof)))
+    check(abs(st.poisson_upper(0) - 2.995732274) < 1e-9 and
+          abs(st.poisson_upper(10) - 17.0) < 0.05,
+          "95 %% Poisson upper bounds: %r %r" % (st.poisson_upper(0), st.poisson_upper(10)))
+
+
 def check_synthetic_values(report):
     """The tables carry the values the synthetic data implies."""
     iqi = {r[0]: r for r in read_table(report, "iqi-arm2")[1:]}
@@ -286,7 +370,16 @@ def check_synthetic_values(report):
     check(abs(float(full[2]) - 1.0) < 1e-9, "IQI arm 2 = 1 %% (simulated means 1 %% high): %s"
           % full[2])
     check(full[4] == "1.05", "IQI arm 2 beside the paper's 1.05: %s" % full[4])
-    check(full[3] == "0.10", "its bootstrap sd from the JSON (0.001 = 0.10 %%): %s" % full[3])
+    check(full[3] == "0.20", "its replicate error from the JSON (0.002 = 0.20 %%): %s" % full[3])
+    check(full[5].startswith("agrees") or full[5].startswith("**differs"),
+          "a verdict from the replicate error: %s" % full[5])
+    census = read_table(report, "census-main-census-arm2")[1:]
+    check(len(census) == 2 and all(r[4].startswith("-11.111") and r[2].startswith("10.000")
+                                   for r in census),
+          "census: f_r = 10 %%, R_c = 8/9 R from the census's replicates: %s" % census)
+    mis = read_table(report, "misclassification-main-census-check")[1:]
+    check([r[1:] for r in mis] == [["20", "2", "3", "0", "1", "5.000"]] * 2,
+          "census check: 1 of 20 trajectories changes class per energy: %s" % mis)
     iqi1 = read_table(report, "iqi-arm1")[1]
     check(abs(float(iqi1[2]) - 2.0) < 1e-9, "IQI arm 1 = 2 %%: %s" % iqi1[2])
     pqi = read_table(report, "pqi-arm2-saddle")[1]  # chaotic: mean = predicted, sd = 5 %
@@ -406,6 +499,7 @@ def main():
             r = run_generator(run_dir, os.path.join(base, "report-bad-jobs"), ["--jobs", "-1"])
             check(r.returncode == 2 and "--jobs -1" in r.stderr, "--jobs -1 is named: %r" % r.stderr)
             check_synthetic_values(report)
+            check_statistics_helpers()
             text = open(os.path.join(report, "README.md"), encoding="utf-8").read()
             check("figures/other-synthetic.png" in text and "largest |R_sim/R_pred − 1| = 5.00 %"
                   in text, "the other pendulum's section: its largest deviation (ode45 rows 5 %)")

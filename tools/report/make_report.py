@@ -78,6 +78,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import statistics_sections  # noqa: E402
+
 matplotlib.rcParams.update({"svg.hashsalt": "flipflux", "figure.dpi": 100, "font.size": 9,
                             "axes.grid": True, "grid.alpha": 0.3,
                             "figure.constrained_layout.use": True})
@@ -104,6 +107,9 @@ REGIME_LABELS = {
 }
 CRITERIA = ("upright", "approx", "saddle")
 COLORS = {"upright": "tab:blue", "approx": "tab:green", "saddle": "tab:red"}
+
+
+statistics_sections.bind(sys.modules[__name__])
 
 
 class InputError(Exception):
@@ -441,14 +447,17 @@ def rate_series(ensemble, criterion, chaotic=False):
         if chaotic and s is None:
             continue
         n = s.get("trajectories", ensemble["trajectories"]) if chaotic else ensemble["trajectories"]
+        r = statistics_sections.replicate_entry(c, chaotic) or {}
         rows.append((en["energy"], num(c.get("predicted_rate")), num(s.get("mean_rate")),
                      num(s.get("std")), num(s.get("standard_error")), float(n),
-                     num(s.get("z_score"))))
-    a = np.array(rows, dtype=float).reshape(-1, 7)
+                     num(s.get("z_score")), num(r.get("standard_error")), num(r.get("z_score")),
+                     num(r.get("error_ratio"))))
+    a = np.array(rows, dtype=float).reshape(-1, 10)
     order = np.argsort(a[:, 0])
     a = a[order]
     return {"energy": a[:, 0], "predicted": a[:, 1], "mean": a[:, 2], "std": a[:, 3],
-            "se": a[:, 4], "n": a[:, 5], "z": a[:, 6]}
+            "se": a[:, 4], "n": a[:, 5], "z": a[:, 6], "rse": a[:, 7], "rz": a[:, 8],
+            "ratio": a[:, 9]}
 
 
 def energy_label_files(directory, prefix, suffix):
@@ -512,6 +521,7 @@ def load_inputs(run_dir):
     main = {}
     for a, needed in ((2, CRITERIA), (1, ("saddle",))):
         cands = [e for e in ensembles if e["arm"] == a and
+                 not statistics_sections.is_census_or_check(e, run) and
                  all(c in e["energies"][0]["criteria"] for c in needed if e["energies"])]
         if not cands:
             problems.append("%s: no ensemble-<name>.json of arm %d with criteria %s" %
@@ -593,15 +603,21 @@ def json_quality(ensemble, criterion, subset, regime):
     return None
 
 
-def compare(ours, sd_ours, paper, ensemble, kind):
-    """(difference in sigma, verdict). The paper's own statistical error is estimated by scaling
-    ours to its ensemble: IQI error ~ 1/sqrt(N T), PQI error ~ 1/sqrt(N)."""
+def compare(ours, se_ours, paper, ensemble, kind):
+    """(difference in sigma, verdict) from our replicate error (the jackknife over independent
+    replicates; None without replicates: no verdict). The paper states no error: its own is
+    estimated as ours scaled to its ensemble (IQI error ~ 1/sqrt(N T), PQI error ~ 1/sqrt(N)), an
+    assumption the verdict names; z against our error alone is printed beside it."""
+    if se_ours is None or not math.isfinite(se_ours) or not se_ours > 0:
+        return float("nan"), "no verdict (no replicates: a per-trajectory error alone is not " \
+                             "trusted)"
     n, t = ensemble["trajectories"], ensemble["time"]
     scale = math.sqrt(n * t / (PAPER["N"] * PAPER["T"])) if kind == "IQI" else \
         math.sqrt(n / PAPER["N"])
-    sigma = math.sqrt(sd_ours ** 2 + (sd_ours * scale) ** 2)
-    z = (ours - paper) / sigma if sigma > 0 else float("inf")
-    return z, ("agrees (%.1fσ)" % z) if abs(z) <= 2 else ("**differs (%.1fσ)**" % z)
+    sigma = math.sqrt(se_ours ** 2 + (se_ours * scale) ** 2)
+    z, z_ours = (ours - paper) / sigma, (ours - paper) / se_ours
+    word = "agrees" if abs(z) <= 2 else "**differs**"
+    return z, "%s (%.1fσ; %.1fσ by our error alone)" % (word, z, z_ours)
 
 
 # ---- figures ------------------------------------------------------------------------------------
@@ -893,20 +909,26 @@ def fig_rates(data, out, a, subset):
                xlim=(s["energy"].min() - 0.1, s["energy"].max() + 0.1))
         ax.legend(fontsize=7)
     rel = s["mean"] / s["predicted"] - 1
-    axes[2].errorbar(s["energy"], 100 * rel, yerr=100 * s["se"] / s["predicted"], fmt="o", ms=3,
+    replicated = bool(np.isfinite(s["rse"]).any())
+    err = s["rse"] if replicated else s["se"]
+    axes[2].errorbar(s["energy"], 100 * rel, yerr=100 * err / s["predicted"], fmt="o", ms=3,
                      capsize=2, color="k")
     axes[2].axhline(0, color=COLORS["saddle"])
     if subset == "all" and a == 2:
         axes[2].axhspan(-1, 1, color="0.85", zorder=0, label="the paper: 'at the 1 % level'")
         axes[2].legend(fontsize=7)
     axes[2].set(xlabel=units(data["model"])["E"], ylabel="R_sim / R_pred − 1 [%]",
-                title="relative deviation ± SE")
+                title="relative deviation ± %s" % ("replicate error" if replicated else "SE"))
     fig.suptitle("Saddle-orbit criterion, arm %d, %s trajectories (N = %d, T = %g)" %
                  (a, subset, ens["trajectories"], ens["time"]))
     g = ((ens.get("agreement") or {}).get("saddle") or {}).get(
         "chaotic_trajectories" if subset == "chaotic" else "all_trajectories") or {}
+    rg = g.get("replicates") if isinstance(g.get("replicates"), dict) else {}
     stats = {"max_rel": 100 * num(g.get("max_relative_deviation")), "chi2": num(g.get("chi2")),
-             "dof": int(g.get("energies", 0)), "worst_z": num(g.get("worst_z"))}
+             "dof": int(g.get("energies", 0)), "worst_z": num(g.get("worst_z")),
+             "chi2_rep": num(rg.get("chi2")), "expected_rep": num(rg.get("expected_chi2")),
+             "worst_z_rep": num(rg.get("worst_z")), "dof_rep": int(rg.get("energies", 0)),
+             "mismatches": rg.get("error_mismatches"), "R": statistics_sections.replicates_of(ens)}
     return save_figure(fig, out, "rates-arm%d-%s" % (a, subset)), stats
 
 
@@ -1237,95 +1259,6 @@ def fig_residence_gap(data, out):
     return save_figure(fig, out, "residence-gap"), stats
 
 
-def count_statistics(ens, criterion, chaotic=False):
-    """Per energy: Var(N_T)/T = T sd² and the Fano factor Var(N_T)/E[N_T] = T sd² / mean of the
-    flip counts N_T = T r, from the per-trajectory rates' mean and sd in the ensemble JSON."""
-    s = rate_series(ens, criterion, chaotic)
-    t = ens["time"]
-    return s["energy"], t * s["std"] ** 2, t * s["std"] ** 2 / s["mean"], s["mean"]
-
-
-def fig_flip_counts(data, out):
-    u = units(data["model"])
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
-    stats = {}
-    for a, crits in ((2, CRITERIA), (1, ("saddle",))):
-        ens = data["main"][a]
-        for c in crits:
-            if c not in ens["energies"][0]["criteria"]:
-                continue
-            for chaotic, ls in ((False, "-"), (True, ":")):
-                e, d, fano, mean = count_statistics(ens, c, chaotic)
-                lab = "arm %d %s%s" % (a, c, ", chaotic" if chaotic else "")
-                color = COLORS[c] if a == 2 else "tab:purple"
-                axes[0].semilogy(e, positive(d), "o" + ls, ms=3, color=color, label=lab)
-                axes[1].semilogy(e, positive(fano), "o" + ls, ms=3, color=color, label=lab)
-                stats[(a, c, chaotic)] = {"fano_min": float(np.nanmin(fano)),
-                                          "fano_max": float(np.nanmax(fano)),
-                                          "at_max": float(e[np.nanargmax(fano)]),
-                                          "fano_median": float(np.nanmedian(fano))}
-    axes[0].set(xlabel=u["E"], ylabel="Var(N_T) / T " + u["rate"],
-                title="Variance growth of the flip count (a diffusion constant)")
-    axes[1].axhline(1, color="k", lw=0.8, ls="--", label="Poisson process (Fano = 1)")
-    axes[1].set(xlabel=u["E"], ylabel="Fano factor Var(N_T) / ⟨N_T⟩",
-                title="Fano factor (T = %s)" % as_written(data["main"][2]["time"]))
-    axes[0].legend(fontsize=6, ncol=2)
-    axes[1].legend(fontsize=6, ncol=2)
-    return save_figure(fig, out, "flip-counts"), stats
-
-
-def island_correction(ens, criterion="saddle"):
-    """Per energy: the prediction R for the whole (microcanonical) ensemble corrected for the
-    regular islands, R_c = (R − f_r R_r) / (1 − f_r), f_r = 1 − chaotic fraction, R_r the regular
-    trajectories' mean rate = (mean − f_c mean_c) / f_r; against the measured chaotic mean.
-    R_c − mean_c = (R − mean) / f_c exactly, so its standard error is SE(mean) / f_c."""
-    rows = []
-    for en in ens["energies"]:
-        c = en["criteria"].get(criterion) or {}
-        ch = c.get("chaotic") or {}
-        fc = num(c.get("chaotic_fraction"))
-        pred, m, mc = num(c.get("predicted_rate")), num(c.get("mean_rate")), num(ch.get("mean_rate"))
-        if not (fc > 0 and np.isfinite(mc)):
-            continue
-        regular_part = m - fc * mc  # f_r R_r
-        rc = (pred - regular_part) / fc
-        rows.append((en["energy"], pred, rc, mc, num(ch.get("standard_error")),
-                     num(c.get("standard_error")) / fc, 1 - fc))
-    return np.array(rows, dtype=float).reshape(-1, 7)
-
-
-def fig_island_correction(data, out):
-    u = units(data["model"])
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
-    stats = {}
-    for ax, a in zip(axes, (2, 1)):
-        t = island_correction(data["main"][a])
-        if not len(t):
-            continue
-        e, pred, rc, mc, se_c, se_corr, fr = t.T
-        ax.errorbar(e, 100 * (mc / pred - 1), yerr=100 * se_c / pred, fmt="o", ms=3, capsize=2,
-                    color="0.5", label="measured chaotic mean vs R (uncorrected)")
-        ax.errorbar(e + 0.01, 100 * (mc / rc - 1), yerr=100 * se_corr / rc, fmt="s", ms=3,
-                    capsize=2, color="k", label="measured chaotic mean vs island-corrected R_c")
-        ax2 = ax.twinx()
-        ax2.plot(e, 100 * fr, "-", color="tab:green", lw=0.8)
-        ax2.set_ylabel("regular fraction f_r [%]", color="tab:green")
-        ax.axhline(0, color="k", lw=0.6)
-        ax.set(xlabel=u["E"], ylabel="chaotic mean / prediction − 1 [%]",
-               title="Island correction, arm %d (saddle criterion)" % a)
-        ax.legend(fontsize=7)
-        z_un = (mc - pred) / se_c
-        z_co = (mc - rc) / se_corr
-        i = int(np.argmax(fr))
-        stats[a] = {"chi2_uncorrected": float(np.nansum(z_un ** 2)),
-                    "chi2_corrected": float(np.nansum(z_co ** 2)), "n": int(len(e)),
-                    "e_max_regular": float(e[i]), "f_r": float(fr[i]),
-                    "dev_un": float(100 * (mc[i] / pred[i] - 1)),
-                    "dev_co": float(100 * (mc[i] / rc[i] - 1)),
-                    "se_un": float(100 * se_c[i] / pred[i]), "se_co": float(100 * se_corr[i] / rc[i])}
-    return save_figure(fig, out, "island-correction"), stats
-
-
 # ---- single trajectories ([[trajectory]] of the scene) --------------------------------------------
 
 def load_trajectories(run_dir, run, problems):
@@ -1597,8 +1530,9 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
         abs(float(reference[0]["time"]) - ens["time"]) > 1e-12 * ens["time"]
     # the IQI is the RMS of R(E) by definition: its table does not repeat it as a column
     rms_r = kind != "IQI"
-    header = ["regime", "energies", "%s [%%]" % kind, "± (bootstrap)", "paper [%]", "comparison",
-              "noise floor [%]"] + (["RMS R(E) [%]"] if rms_r else []) + ["RMS S(E) [%]"]
+    header = ["regime", "energies", "%s [%%]" % kind, "± (replicates)", "paper [%]", "comparison",
+              "noise floor [%]"] + (["RMS R(E) [%]"] if rms_r else []) + ["RMS S(E) [%]"] + \
+        ["± (bootstrap)", "replicates' own %s [%%]" % kind]
     if rescale:
         header.append("PQI with S rescaled to T = %s [%%]" % reference[0]["time"])
     rows = []
@@ -1610,22 +1544,31 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
             "%s (%.4g ≤ E < %.4g)" % (reg, lo, hi)
         if q is None:
             rows.append([label, 0, "—", "—", paper_values[reg], "no energies", ""] +
-                        ([""] if rms_r else []) + [""] + (["—"] if rescale else []))
+                        ([""] if rms_r else []) + ["", "", ""] + (["—"] if rescale else []))
             continue
-        ours, sd = 100 * num(q[kind]), 100 * num(q[kind + "_sd"])
+        ours, boot = 100 * num(q[kind]), 100 * num(q[kind + "_sd"])
+        rep = q.get("replicates") if isinstance(q.get("replicates"), dict) else {}
+        sd = 100 * num(rep.get(kind + "_se"))
+        own = [100 * num(x) for x in rep.get(kind) or []]
         if rescale:
             # S = sd / R_pred of time averages falls as 1/sqrt(T) for mixing trajectories: compare
             # the paper's value with flipflux's estimate at the paper's T (marked as such)
             ref = q["reference"]
-            z, verdict = compare(100 * num(ref["PQI"]), 100 * num(ref["PQI_sd"]),
+            rel_se = sd / ours if ours > 0 and math.isfinite(sd) else float("nan")
+            z, verdict = compare(100 * num(ref["PQI"]), 100 * num(ref["PQI"]) * rel_se,
                                  paper_values[reg], ens, kind)
             verdict = "T-rescaled: " + verdict
         else:
-            z, verdict = compare(ours, sd, paper_values[reg], ens, kind)
-        rows.append([label, q["energies"], "%.2f" % ours, "%.2f" % sd, "%.2f" % paper_values[reg],
-                     verdict, "%.2f" % (100 * num(q["noise_floor"]))] +
+            z, verdict = compare(ours, sd if math.isfinite(sd) else None, paper_values[reg], ens,
+                                 kind)
+        rows.append([label, q["energies"], "%.2f" % ours, "%.2f" % sd if math.isfinite(sd) else "—",
+                     "%.2f" % paper_values[reg], verdict, "%.2f" % (100 * num(q["noise_floor"]))] +
                     (["%.2f" % (100 * num(q["IQI"]))] if rms_r else []) +
                     ["%.2f" % (100 * num(q["rms_S"]))] +
+                    ["%.2f%s" % (boot, " (⚠ %.1f× the replicates')" % (boot / sd)
+                                 if math.isfinite(sd) and sd > 0 and not 0.5 <= boot / sd <= 2
+                                 else ""),
+                     "%.2f – %.2f" % (min(own), max(own)) if own else "—"] +
                     (["%.2f ± %.2f" % (100 * num(q["reference"]["PQI"]),
                                        100 * num(q["reference"]["PQI_sd"]))] if rescale else []))
     return write_table(out, name, header, rows), header, rows
@@ -1660,7 +1603,9 @@ def table_rates(data, out, a):
     header = ["energy"]
     for c in crit:
         header += ["%s predicted" % c, "%s mean" % c, "%s standard error" % c, "%s sd" % c,
-                   "%s chaotic mean" % c, "%s chaotic sd" % c, "%s z" % c]
+                   "%s chaotic mean" % c, "%s chaotic sd" % c, "%s z" % c,
+                   "%s replicate error" % c, "%s z (replicates)" % c,
+                   "%s replicate / per-trajectory error" % c]
     series = {c: (rate_series(ens, c), rate_series(ens, c, True)) for c in crit}
     rows = []
     for i, e in enumerate(series[crit[0]][0]["energy"]):
@@ -1671,7 +1616,8 @@ def table_rates(data, out, a):
             cm, csd = (sc["mean"][j[0]], sc["std"][j[0]]) if len(j) else (np.nan, np.nan)
             z = s["z"][i]
             row += ["%.17g" % s["predicted"][i], "%.17g" % s["mean"][i], "%.6g" % s["se"][i],
-                    "%.6g" % s["std"][i], "%.17g" % cm, "%.6g" % csd, "%.3f" % z]
+                    "%.6g" % s["std"][i], "%.17g" % cm, "%.6g" % csd, "%.3f" % z,
+                    "%.6g" % s["rse"][i], "%.3f" % s["rz"][i], "%.3f" % s["ratio"][i]]
         rows.append(row)
     return write_table(out, "rates-arm%d" % a, header, rows)
 
@@ -1758,8 +1704,8 @@ def trajectory_sections(data, out):
 
 
 def beyond_the_paper(data, out):
-    """What the run computes and the paper does not show: chaotic fractions, flip-count
-    statistics, the island correction."""
+    """What the run computes and the paper does not show: chaotic fractions, the replicate errors
+    the verdicts rest on, flip statistics beyond the mean, the island census."""
     md = ["## What the ensembles show beyond the paper's figures\n"]
     paths, st = fig_chaotic_fraction(data, out)
     md.append(figure_md(paths, "Fraction of trajectories classified as chaotic per energy "
@@ -1768,51 +1714,9 @@ def beyond_the_paper(data, out):
         md.append("Lowest chaotic fraction: %s.\n" % "; ".join(
             "arm %d %.1f %% at E = %s" % (a, 100 * v["min"], as_written(v["at"]))
             for a, v in sorted(st.items())))
-    paths, st = fig_flip_counts(data, out)
-    md.append(figure_md(paths, "Flip-count statistics: the variance growth Var(N_T)/T = T sd² "
-                        "(left; a diffusion constant of the count) and the Fano factor "
-                        "Var(N_T)/⟨N_T⟩ = T sd²/mean (right), solid all trajectories, dotted "
-                        "chaotic ones; sd and mean are the ensemble JSON's per-trajectory rate "
-                        "statistics."))
-    k = (2, "saddle", False), (2, "saddle", True)
-    if all(x in st for x in k):
-        a, c = st[k[0]], st[k[1]]
-        md.append("Arm 2, saddle criterion: Fano factor %.2f to %.2f (median %.2f) over all "
-                  "trajectories and %.2f to %.2f (median %.2f) over the chaotic ones; a Poisson "
-                  "process of independent flips has 1. Above 1 the flips cluster (bursts of "
-                  "rotation, sticking near regular islands) and the count's variance grows faster "
-                  "than its mean; below 1 they are more regular than random. For mixing "
-                  "(chaotic) motion Var(N_T) grows ∝ T, so the Fano factor tends to a constant "
-                  "as T grows; regular trajectories have rates that differ from trajectory to "
-                  "trajectory for any T, which adds T × (their spread)² to Var(N_T)/T. %s\n" %
-                  (a["fano_min"], a["fano_max"], a["fano_median"], c["fano_min"], c["fano_max"],
-                   c["fano_median"],
-                   "Here the chaotic sub-ensemble's median is the lower one: part of the "
-                   "clustering over all trajectories is the regular ones' spread."
-                   if c["fano_median"] < a["fano_median"] else
-                   "Here the chaotic sub-ensemble's median is not lower: the clustering is in "
-                   "the chaotic motion itself (sticking and bursts), not only in the regular "
-                   "trajectories."))
-    paths, st = fig_island_correction(data, out)
-    md.append(figure_md(paths, "The island correction the paper leaves open: the chaotic-only "
-                        "rate predicted as R_c = (R − f_r R_r)/(1 − f_r) from the regular fraction "
-                        "f_r and the regular trajectories' measured rate R_r, against the "
-                        "measured chaotic mean (black), and the uncorrected prediction R (grey)."))
-    if st:
-        lines = []
-        for a, v in sorted(st.items()):
-            lines.append("arm %d: Σz² = %.1f uncorrected and %.1f corrected over %d energies; at "
-                         "E = %s, where %.1f %% of the trajectories are regular, the chaotic mean "
-                         "deviates by %+.2f ± %.2f %% from R and by %+.2f ± %.2f %% from R_c"
-                         % (a, v["chi2_uncorrected"], v["chi2_corrected"], v["n"],
-                            as_written(v["e_max_regular"]), 100 * v["f_r"], v["dev_un"],
-                            v["se_un"], v["dev_co"], v["se_co"]))
-        md.append("%s. Since R_c − mean_chaotic = (R − mean_all)/f_c exactly, the corrected "
-                  "prediction agrees with the chaotic sub-ensemble exactly as well as the "
-                  "microcanonical prediction agrees with the whole ensemble (z unchanged, error "
-                  "scaled by 1/f_c): the chaotic-only bias of the paper's chaotic figures is the "
-                  "regular islands' share, and the correction removes it wherever the whole "
-                  "ensemble agrees with R.\n" % "; ".join(lines))
+    md.append(statistics_sections.replicate_section(data, out, data["main"]))
+    md.append(statistics_sections.flip_statistics_section(data, out))
+    md.append(statistics_sections.census_sections(data, out))
     return "\n".join(md)
 
 
@@ -2017,6 +1921,46 @@ def other_run_sections(data, out):
     return "## Another pendulum (paper Appendix C)\n\n" + "\n".join(md)
 
 
+def source_state(out, run_dirs, allow_dirty):
+    """The git state the report is generated from: {"commit", "dirty"} of the work tree that
+    holds the report directory when that directory is tracked there (not ignored); None outside
+    git. A tree with uncommitted changes outside the report and run directories is refused
+    (InputError) unless allow_dirty: a committed report must say which code drew it."""
+    import subprocess
+    d = os.path.abspath(out)
+    while not os.path.isdir(d):
+        d = os.path.dirname(d)
+
+    def git(*args):
+        r = subprocess.run(["git", "-C", d] + list(args), capture_output=True, text=True)
+        return r.returncode, r.stdout.strip()
+    try:
+        code, top = git("rev-parse", "--show-toplevel")
+    except OSError:
+        return None
+    if code != 0 or not top:
+        return None
+    rel = os.path.relpath(os.path.abspath(out), top)
+    if rel.startswith("..") or git("check-ignore", "-q", os.path.abspath(out))[0] == 0:
+        return None
+    excluded = [":(exclude)%s" % rel]
+    for r in run_dirs:
+        rr = os.path.relpath(os.path.abspath(r), top)
+        if not rr.startswith(".."):
+            excluded.append(":(exclude)%s" % rr)
+    _, status = git("-C", top, "status", "--porcelain", "--", ".", *excluded)
+    _, commit = git("-C", top, "rev-parse", "HEAD")
+    dirty = bool(status)
+    if dirty and not allow_dirty:
+        paths = [line[3:] for line in status.splitlines()]
+        raise InputError("--out: '%s' is in the git work tree %s, which has uncommitted changes "
+                         "(%s%s): commit them first, or pass --allow-dirty "
+                         "(FLIPFLUX_REPORT_ALLOW_DIRTY=1 through flipflux run) and the report "
+                         "says so" % (out, top, ", ".join(paths[:3]),
+                                      " and %d more" % (len(paths) - 3) if len(paths) > 3 else ""))
+    return {"commit": commit or "?", "dirty": dirty}
+
+
 def build_report(data, out):
     t0 = time.time()
     for sub in ("", "figures", "tables"):
@@ -2025,9 +1969,14 @@ def build_report(data, out):
     md = []
     md.append("# Reproduction of the paper's figures and tables\n")
     md.append("Generated by `tools/report/make_report.py` from the run directory of scene "
-              "**%s** (`%s`), commit `%s`, precision %s; the run took **%.1f s** of wall time.\n"
+              "**%s** (`%s`), computed by flipflux built from commit `%s`, precision %s; the run "
+              "took **%.1f s** of wall time.%s\n"
               % (run.get("scene", "?"), run.get("scene_file", "?"), run.get("git_commit", "?"),
-                 run.get("precision", "?"), float(run.get("seconds", float("nan")))))
+                 run.get("precision", "?"), float(run.get("seconds", float("nan"))),
+                 "" if not data.get("source") else
+                 " The report itself was drawn at commit `%s`%s." %
+                 (data["source"]["commit"], " **from a work tree with uncommitted changes**"
+                  if data["source"]["dirty"] else " (a clean work tree)")))
     ens_lines = []
     for e in data["ensembles"]:
         ens_lines.append("- `ensemble-%s`: arm %d, %d energies (%.4g…%.4g), N = %d trajectories, "
@@ -2040,10 +1989,13 @@ def build_report(data, out):
                             as_written((e.get("chaos") or {}).get("threshold", "—")),
                             (e.get("chaos") or {}).get("classification_reliable", "?")))
     md.append("Ensembles (the paper: N = 1000, T = 10000):\n\n" + "\n".join(ens_lines) + "\n")
-    md.append("Statistical errors: ± values are bootstrap standard deviations over our ensemble; "
-              "a value 'agrees' with the paper's when within 2σ of the combined error (the paper's "
-              "own error estimated by scaling ours to N = 1000, T = 10000). Numbers are never "
-              "tuned to match.\n")
+    md.append("Statistical errors: every verdict rests on the spread of independent replicates "
+              "(the jackknife over the R replicates of each ensemble; section 'The errors every "
+              "verdict rests on'), never on a per-trajectory Gaussian error alone; where an "
+              "ensemble has no replicates no verdict is printed. A value 'agrees' with the "
+              "paper's when within 2σ of the combined error, the paper's own (it states none) "
+              "estimated by scaling ours to N = 1000, T = 10000; z against our error alone is "
+              "printed beside it. Numbers are never tuned to match.\n")
 
     # Configuration space
     md.append("## The pendulum, its energy regimes and its trajectories\n")
@@ -2136,13 +2088,22 @@ def build_report(data, out):
                             "flux-over-a-saddle prediction; error bars: standard error (left), "
                             "trajectory-to-trajectory sd (middle); right: relative deviation (%s)."
                             % (a, subset, cap)))
-        md.append("Largest |R_sim/R_pred − 1| = %.2f %%; Σz² = %.1f over %d energies (≈ %d "
-                  "expected from statistics alone%s); worst z = %.2f.%s\n" %
-                  (st["max_rel"], st["chi2"], st["dof"], st["dof"],
-                   "" if subset == "all" else "; the chaotic sub-ensemble is not the "
-                   "microcanonical one, so a bias is expected", st["worst_z"],
-                   " The paper: 'the relative difference remains at the 1 % level'." if
-                   (a, subset) == (2, "all") else ""))
+        if st["R"] > 1:
+            md.append("Largest |R_sim/R_pred − 1| = %.2f %%; with the replicate errors (R = %d "
+                      "independent replicates) Σz² = %.1f over %d energies, %.1f expected for a "
+                      "correct prediction%s; worst z = %.2f; %s energies where the replicate and "
+                      "per-trajectory errors differ by more than 2× (Σz² by the per-trajectory "
+                      "error alone: %.1f).%s\n" %
+                      (st["max_rel"], st["R"], st["chi2_rep"], st["dof_rep"], st["expected_rep"],
+                       "" if subset == "all" else " (the chaotic sub-ensemble is not the "
+                       "microcanonical one, so a bias is expected: the census section tests it)",
+                       st["worst_z_rep"], st["mismatches"], st["chi2"],
+                       " The paper: 'the relative difference remains at the 1 % level'." if
+                       (a, subset) == (2, "all") else ""))
+        else:
+            md.append("Largest |R_sim/R_pred − 1| = %.2f %% over %d energies. No replicates: no "
+                      "Σz² verdict is printed (by the per-trajectory error alone it would be "
+                      "%.1f).\n" % (st["max_rel"], st["dof"], st["chi2"]))
     md.append(figure_md(fig_rates_criteria(data, out), "Predicted and simulated rates of the "
                         "upright, approximate and saddle criteria, arm 2, chaotic trajectories "
                         "(paper Fig. saddle orbit and upright criterion)."))
@@ -2244,6 +2205,10 @@ def main(argv=None):
     p.add_argument("--other-run-dir", action="append", default=[],
                    help="another scene's output directory (another pendulum) to draw as well; "
                         "repeatable; a missing one is noted in the report")
+    p.add_argument("--allow-dirty", action="store_true",
+                   default=os.environ.get("FLIPFLUX_REPORT_ALLOW_DIRTY") == "1",
+                   help="generate the report into a git work tree with uncommitted changes (it "
+                        "then says so); default: refused. Also FLIPFLUX_REPORT_ALLOW_DIRTY=1")
     p.add_argument("--jobs", type=int, default=0,
                    help="processes that draw the figures (default: the processors this "
                         "process may run on, at most 4; 1: this process alone)")
@@ -2255,7 +2220,9 @@ def main(argv=None):
     jobs = args.jobs or min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
                             else os.cpu_count() or 1)
     try:
+        source = source_state(args.out, [args.run_dir] + args.other_run_dir, args.allow_dirty)
         data = load_inputs(args.run_dir)
+        data["source"] = source
         data["other_run_dirs"] = args.other_run_dir
         data["other_runs"] = {d: load_other_run(d) for d in args.other_run_dir}
         start_rendering(jobs)
