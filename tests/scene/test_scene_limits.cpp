@@ -166,5 +166,39 @@ TEST(SceneLimits, ProbeOrbitEnergiesWithoutAnOrbitAreListedInRunJson) {
     std::filesystem::remove_all(dir);
 }
 
+// The island census (issue 41): a census shares no trajectory with the ensemble it tests (its
+// seed differs from that ensemble's and from those sharing its trajectories), names an existing
+// ensemble of its arm, classifies (chaos = true) and has energies among the tested ones'; a
+// classification check names a census and re-integrates its trajectories (same seed).
+TEST(SceneLimits, ACensusMustBeIndependentOfTheEnsembleItTests) {
+    const auto ens = [](const std::string& name, const std::string& extra) {
+        return "[[ensemble]]\nname = \"" + name + "\"\nenergies = [5, 5.5]\ncriteria = " +
+               "[\"upright\"]\nchaos = true\ntrajectories = 10\n" + extra;
+    };
+    const std::string tested = ens("a", "seed = 1\n");
+    EXPECT_EQ(refusal(head + tested + ens("c", "seed = 2\ncensus_of = \"a\"\n")), "");
+    expect_refused(head + tested + ens("c", "seed = 1\ncensus_of = \"a\"\n"),
+                   "ensemble[1].seed: '1' is the seed of ensemble 'a': a census must share no "
+                   "trajectory");
+    expect_refused(head + tested + ens("c", "seed = 2\ncensus_of = \"b\"\n"),
+                   "ensemble[1].census_of: 'b' names no other ensemble");
+    expect_refused(head + tested + ens("c", "seed = 2\narm = 1\ncensus_of = \"a\"\n"),
+                   "the census counts arm 1, ensemble 'a' arm 2");
+    expect_refused(head + tested +
+                       "[[ensemble]]\nname = \"c\"\nenergies = [4.5]\nchaos = true\nseed = "
+                       "2\ncensus_of = \"a\"\n",
+                   "E = 4.5 is not an energy of ensemble 'a'");
+    // a check of the census: the census's seed, at most its trajectories
+    const std::string census = ens("c", "seed = 2\ncensus_of = \"a\"\n");
+    EXPECT_EQ(refusal(head + tested + census +
+                      ens("k", "seed = 2\ntime = 50000\nclassification_check_of = \"c\"\n")),
+              "");
+    expect_refused(head + tested + census + ens("k", "seed = 3\nclassification_check_of = \"c\"\n"),
+                   "ensemble[2].classification_check_of: a classification check re-integrates");
+    expect_refused(head + tested + census + ens("k", "seed = 1\nclassification_check_of = \"a\"\n"),
+                   "'a' is not a census");
+    expect_refused(head + ens("a", "replicates = 0\n"), "replicates");
+}
+
 }  // namespace
 }  // namespace flipflux::test

@@ -1,6 +1,9 @@
 // The study driver behind `flipflux simulate` and scenes (study/simulation.hpp), called
 // directly: energy and criterion lists, refusal of incomplete requests, and a report whose
 // statistics are consistent with the per-trajectory results it was built from.
+#include <cmath>
+#include <filesystem>
+
 #include "flipflux/core/error.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
@@ -103,6 +106,83 @@ TEST(Simulation, ReportMatchesTheEnsemble) {
     ASSERT_EQ(result.quality.size(), 2u);
     EXPECT_EQ(result.quality[0].all_trajectories.at(0).regime, "full");
     EXPECT_EQ(j["quality"]["upright"]["all_trajectories"][0]["regime"], "full");
+}
+
+// Replicates (issue 41): replicate k is the study of the k-th index block run on its own (an
+// independent route: separate simulate() calls with first_index), the pooled statistics are the
+// unreplicated study's of all R N trajectories bit for bit, and a checkpointed run resumed after
+// one energy gives the same replicate statistics.
+TEST(Simulation, ReplicatesAreIndexBlocksAndPoolToTheWholeEnsemble) {
+    const double_pendulum<double> m;
+    simulation_request q;
+    q.criteria = {"upright", "saddle"};
+    q.energies = {{"4.5", 4.5}, {"5", 5.0}};
+    q.options.trajectories = 6;
+    q.options.time = 30;
+    q.options.seed = 9;
+    q.options.threads = 2;
+    q.timing = false;
+    simulation_request whole = q;
+    whole.options.trajectories = 18;
+    q.replicates = 3;
+    const study_result r = *simulate(m, q), w = *simulate(m, whole);
+    EXPECT_EQ(r.options.trajectories, 18u);
+    for (std::size_t k = 0; k < 2; ++k)
+        for (std::size_t c = 0; c < 2; ++c) {
+            const criterion_statistics &x = r.energies[k].criteria[c].statistics,
+                                       &y = w.energies[k].criteria[c].statistics;
+            EXPECT_EQ(x.rates.mean, y.rates.mean);
+            EXPECT_EQ(x.rates.standard_deviation, y.rates.standard_deviation);
+            EXPECT_EQ(x.z_score, y.z_score);
+            EXPECT_TRUE(y.replicate_rates.empty());
+            ASSERT_EQ(x.replicate_rates.size(), 3u);
+            for (std::size_t b = 0; b < 3; ++b) {
+                simulation_request one = q;
+                one.replicates = 1;
+                one.options.first_index = 6 * b;
+                one.energies = {q.energies[k]};
+                one.criteria = {q.criteria[c]};
+                const criterion_statistics z = simulate(m, one)->energies[0].criteria[0].statistics;
+                EXPECT_EQ(x.replicate_rates[b].mean, z.rates.mean) << k << c << b;
+                EXPECT_EQ(x.replicate_rates[b].count, z.rates.count);
+                EXPECT_EQ(x.replicate_chaotic_rates[b].count, z.chaotic_rates.count);
+            }
+        }
+    // the quality indices pooled are the whole ensemble's; their replicate errors exist
+    const quality_indices &qa = r.quality[1].all_trajectories[0],
+                          &qb = w.quality[1].all_trajectories[0];
+    EXPECT_EQ(qa.iqi, qb.iqi);
+    EXPECT_EQ(qa.pqi, qb.pqi);
+    EXPECT_EQ(qa.iqi_replicates.size(), 3u);
+    EXPECT_TRUE(std::isfinite(qa.iqi_replicate_se) && qa.iqi_replicate_se > 0);
+    EXPECT_TRUE(std::isnan(qb.iqi_replicate_se));
+    ASSERT_TRUE(r.agreement[1].all_trajectories.replicates.has_value());
+    EXPECT_EQ(r.agreement[1].all_trajectories.replicates->chi2_of_replicates.size(), 3u);
+    EXPECT_FALSE(w.agreement[1].all_trajectories.replicates.has_value());
+    // JSON: pooled fields equal, the replicate block present only with replicates
+    const auto jr = study_json(r), jw = study_json(w);
+    EXPECT_EQ(jr["energies"][0]["criteria"]["saddle"]["mean_rate"],
+              jw["energies"][0]["criteria"]["saddle"]["mean_rate"]);
+    EXPECT_EQ(jr["replicates"]["count"], 3);
+    EXPECT_FALSE(jw.contains("replicates"));
+    // a checkpointed run, interrupted after its first energy (the checkpoint holds it complete),
+    // resumes to the same replicate statistics
+    const std::filesystem::path file =
+        std::filesystem::path(::testing::TempDir()) / "flipflux_replicates.ckpt";
+    std::filesystem::remove(file);
+    simulation_request first = q;
+    first.checkpoint = file;
+    first.checkpoint_interval = 0;
+    const study_result a = *simulate(m, first);
+    const study_result b = *simulate(m, first);  // every energy read back from the checkpoint
+    EXPECT_EQ(study_json(a).dump(), study_json(r).dump());
+    EXPECT_EQ(study_json(b).dump(), study_json(r).dump());
+    std::filesystem::remove(file);
+    simulation_request bad = q;
+    bad.replicates = 0;
+    EXPECT_THROW(simulate(m, bad), input_error);
+    bad.replicates = 1001;
+    EXPECT_THROW(simulate(m, bad), input_error);
 }
 
 }  // namespace
