@@ -170,6 +170,21 @@ void run(const simulate_state& s) {
                                  e.label.c_str(),
                                  static_cast<unsigned long long>(e.failed_trajectories),
                                  static_cast<unsigned long long>(result->options.trajectories));
+        if (result)  // the heavy-tail check (docs/theory.md, "Replicate errors")
+            for (const energy_result& e : result->energies)
+                for (const criterion_result& c : e.criteria) {
+                    const criterion_statistics& st = c.statistics;
+                    if (st.replicate_rates.empty()) continue;
+                    const double ratio =
+                        replicate_standard_error(st.replicate_rates) / st.rates.standard_error;
+                    if (ratio > 2 || ratio < 0.5)
+                        std::fprintf(stderr,
+                                     "flipflux: warning: E = %s, %s: the replicate error is %.2fx "
+                                     "the per-trajectory standard error (heavy tails or rare "
+                                     "islands): trust the replicate error "
+                                     "(\"replicates\" in the report)\n",
+                                     e.label.c_str(), st.criterion.c_str(), ratio);
+                }
         if (result) {
             json out = study_json(*result);
             out["model"] = parameters_json(model);

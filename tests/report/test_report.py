@@ -478,6 +478,11 @@ def main():
                 for en in ens["energies"]:
                     for c in en["criteria"].values():
                         c["chaotic_fraction"] = "1"
+                        # and replicate errors half the per-trajectory ones: z doubles
+                        rep = (c.get("replicates") or {}).get("all_trajectories")
+                        if rep:
+                            rep["standard_error"] = repr(float(c["standard_error"]) / 2)
+                            rep["z_score"] = repr(2 * float(c["z_score"]))
                 with open(path, "w", encoding="utf-8") as f:
                     json.dump(ens, f)
             others = ["--other-run-dir", other, "--other-run-dir", os.path.join(base, "never")]
