@@ -1,6 +1,7 @@
 // Scene execution: runs each plan step and writes its outputs atomically under the scene's output
 // directory (file formats: docs/scenes.md).
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include <sys/wait.h>
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/io/atomic_file.hpp"
@@ -23,6 +25,7 @@
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
+
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/study/saddle_viewer.hpp"
 #include "flipflux/study/simulation.hpp"
@@ -565,6 +568,14 @@ void run_report(context& ctx, double seconds_so_far) {
     ctx.log << "  " << command << "\n";
     ctx.log.flush();
     const int status = std::system(command.c_str());
+    // exit status 2: the generator refused its input (a dirty work tree, a malformed run
+    // directory) and said why on stderr, in one line each: a user's error, not an internal one
+    if (status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 2)
+        throw input_error("report: make_report.py refused to write '" + r.dir +
+                          "' (its reason is above); the run's results are in '" +
+                          ctx.s.output.string() + "': rerun the report alone with python3 '" +
+                          script.string() + "' --run-dir '" + ctx.s.output.string() + "' --out '" +
+                          r.dir + "'");
     if (status != 0)
         throw std::runtime_error("report: '" + command + "' failed (status " +
                                  std::to_string(status) + ")");

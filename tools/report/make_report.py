@@ -1946,7 +1946,7 @@ def source_state(out, run_dirs, allow_dirty):
 
     def git(*args):
         r = subprocess.run(["git", "-C", d] + list(args), capture_output=True, text=True)
-        return r.returncode, r.stdout.strip()
+        return r.returncode, r.stdout.rstrip("\n")  # porcelain lines start with a space
     try:
         code, top = git("rev-parse", "--show-toplevel")
     except OSError:
@@ -1965,7 +1965,7 @@ def source_state(out, run_dirs, allow_dirty):
     _, commit = git("-C", top, "rev-parse", "HEAD")
     dirty = bool(status)
     if dirty and not allow_dirty:
-        paths = [line[3:] for line in status.splitlines()]
+        paths = [line[3:] for line in status.splitlines() if len(line) > 3]
         raise InputError("--out: '%s' is in the git work tree %s, which has uncommitted changes "
                          "(%s%s): commit them first, or pass --allow-dirty "
                          "(FLIPFLUX_REPORT_ALLOW_DIRTY=1 through flipflux run) and the report "

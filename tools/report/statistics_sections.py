@@ -323,6 +323,14 @@ def census_rows(census, tested, criteria):
             loo = [census_prediction(parts[:k] + parts[k + 1:], R)[0] for k in range(len(parts))]
             fr_loo = [census_prediction(parts[:k] + parts[k + 1:], R)[1] for k in range(len(parts))]
             se_rc, se_fr = jackknife(loo), jackknife(fr_loo)
+            # a census with few or no regular trajectories: the jackknife of a count near 0 is
+            # near 0 too, so the error of f_r is at least the binomial one of max(f_r, 1/N),
+            # carried to R_c by dR_c/df_r = (R - R_r)/(1 - f_r)^2 (R_r = 0 where none was seen)
+            n_census = sum(p[0] for p in parts)
+            f_floor = max(fr, 1.0 / n_census)
+            se_fr = max(se_fr, math.sqrt(f_floor * (1 - f_floor) / n_census))
+            slope = abs(R - (rr if math.isfinite(rr) else 0.0)) / (1 - fr) ** 2
+            se_rc = max(se_rc, slope * se_fr)
             ch = tc.get("chaotic") or {}
             mc = K.num(ch.get("mean_rate"))
             rep = replicate_entry(tc, True)
