@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <sys/wait.h>
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/io/atomic_file.hpp"

@@ -208,6 +208,12 @@ void check_census(const scene& s, std::size_t i) {
         if (!x.chaos || !y.chaos)
             fail(s, x.line, key + ".census_of",
                  "a census and the ensemble it tests need chaos = true (the classification)");
+        if (parse_real<double>(x.chaos_threshold, "chaos_threshold") !=
+            parse_real<double>(y.chaos_threshold, "chaos_threshold"))
+            fail(s, x.line, key + ".census_of",
+                 "the census classifies with chaos_threshold " + x.chaos_threshold +
+                     ", ensemble '" + y.name + "' with " + y.chaos_threshold +
+                     ": one classification must split both");
         if (x.arm != y.arm)
             fail(s, x.line, key + ".census_of",
                  "the census counts arm " + std::to_string(x.arm) + ", ensemble '" + y.name +

@@ -80,8 +80,10 @@ struct residence_statistics {
 /// The Fano factor of the flip counts in windows of length `window`: every trajectory's
 /// [0, T) cut into floor(T / window) windows, var / mean of their counts (over all trajectories
 /// and over the chaotic ones; NaN where no window has a flip). For a renewal process of flips it
-/// tends to the CV^2 of the inter-flip times as the window grows; the single window T (the
-/// counts of whole trajectories) also holds the trajectory-to-trajectory spread of the rates.
+/// tends to the CV^2 of the inter-flip times as the window grows. The windows of all
+/// trajectories are pooled, so trajectories with different rates (regular ones among chaotic)
+/// add w x (their rates' spread)^2 / mean rate at every window w, most visibly at w = T; the
+/// chaotic subset is the one to compare with the renewal CV^2.
 struct window_fano {
     double window = 0;
     std::uint64_t windows = 0, windows_chaotic = 0;

@@ -3,7 +3,8 @@
 // undefined, e.g. a z-score without prediction).
 //
 // JSON: {"command": "simulate", "arm", "trajectories", "first_index", "time", "seed", "method",
-// "rtol", "atol", "estimator", ["budget": {trajectories, time}], "chaos": {indicator, threshold,
+// "rtol", "atol", "estimator", ["budget": {trajectories, time}: per replicate], ["replicates":
+// {count, trajectories_each, rule}], "chaos": {indicator, threshold,
 // threshold_rate, classification_reliable}, "energies": [{energy, [seconds, threads,
 // processes], steps_per_trajectory, failed_trajectories, energy_check_rejections,
 // max_energy_drift, criteria: {name: {predicted_rate, prediction_method, mean_rate, std,
