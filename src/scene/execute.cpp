@@ -572,9 +572,7 @@ void run_report(context& ctx, double seconds_so_far) {
     if (status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 2)
         throw input_error("report: make_report.py refused to write '" + r.dir +
                           "' (its reason is above); the run's results are in '" +
-                          ctx.s.output.string() + "': rerun the report alone with python3 '" +
-                          script.string() + "' --run-dir '" + ctx.s.output.string() + "' --out '" +
-                          r.dir + "'");
+                          ctx.s.output.string() + "': rerun the report alone with " + command);
     if (status != 0)
         throw std::runtime_error("report: '" + command + "' failed (status " +
                                  std::to_string(status) + ")");
