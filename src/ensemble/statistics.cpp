@@ -11,7 +11,19 @@ namespace flipflux {
 
 namespace {
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+/// The jackknife standard error from leave-one-out values theta_(k), k = 1..R:
+/// sqrt((R - 1) / R sum_k (theta_(k) - mean theta_(.))^2) (NaN when any value is).
+double jackknife_error(const std::vector<double>& loo) {
+    const double r = static_cast<double>(loo.size());
+    double mean = 0, ss = 0;
+    for (double x : loo)
+        mean += x / r;
+    for (double x : loo)
+        ss += (x - mean) * (x - mean);
+    return std::sqrt((r - 1) / r * ss);
 }
+}  // namespace
 
 summary_statistics summarize(std::span<const double> v) {
     summary_statistics s;
@@ -82,13 +94,7 @@ double replicate_standard_error(std::span<const summary_statistics> replicates) 
         loo.push_back(m);
     }
     if (loo.size() < 2) return nan;
-    const double r = static_cast<double>(loo.size());
-    double mean = 0, ss = 0;
-    for (double x : loo)
-        mean += x / r;
-    for (double x : loo)
-        ss += (x - mean) * (x - mean);
-    return std::sqrt((r - 1) / r * ss);
+    return jackknife_error(loo);
 }
 
 std::uint64_t histogram::total() const {
@@ -413,15 +419,6 @@ void replicate_quality(std::vector<quality_indices>& pooled,
         own.push_back(quality(replicates[k], regimes, 0, false));
         loo.push_back(quality(without[k], regimes, 0, false));
     }
-    const auto jackknife = [](const std::vector<double>& v) {
-        const double r = static_cast<double>(v.size());
-        double mean = 0, ss = 0;
-        for (double x : v)
-            mean += x / r;
-        for (double x : v)
-            ss += (x - mean) * (x - mean);
-        return std::sqrt((r - 1) / r * ss);  // NaN when any leave-one-out value is
-    };
     for (std::size_t g = 0; g < pooled.size(); ++g) {
         quality_indices& q = pooled[g];
         std::vector<double> iqi, pqi;
@@ -431,8 +428,8 @@ void replicate_quality(std::vector<quality_indices>& pooled,
             iqi.push_back(loo[k][g].iqi);
             pqi.push_back(loo[k][g].pqi);
         }
-        q.iqi_replicate_se = q.energies ? jackknife(iqi) : nan;
-        q.pqi_replicate_se = q.energies ? jackknife(pqi) : nan;
+        q.iqi_replicate_se = q.energies ? jackknife_error(iqi) : nan;
+        q.pqi_replicate_se = q.energies ? jackknife_error(pqi) : nan;
     }
 }
 
