@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Bounded libFuzzer runs of every fuzz target (fuzz/), seeded from the bundled files.
-#   bash tools/fuzz.sh [SECONDS_PER_TARGET]   (default 8: half a minute for the seven
+#   bash tools/fuzz.sh [SECONDS_PER_TARGET]   (default 8: about half a minute for the eight
 #   targets, two at a time)
 # Builds the "fuzz" preset (clang-14, ASan+UBSan, -O1) first, or the preset named by
 # FLIPFLUX_FUZZ_PRESET (CI: "fuzz-ci", the same at -O0, which compiles in half the time). A crash
@@ -12,7 +12,7 @@ seconds=${1:-8}
 preset=${FLIPFLUX_FUZZ_PRESET:-fuzz}
 build=build/$preset
 cmake --preset "$preset" >/dev/null
-targets=(scene energy_grid decimal checkpoint orbit_cache candidate golden)
+targets=(scene energy_grid decimal checkpoint orbit_cache candidate golden options)
 cmake --build "$build" -j"${FLIPFLUX_FUZZ_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
 seeds=$build/seeds
 rm -rf "$seeds" && mkdir -p "$seeds"
@@ -23,6 +23,8 @@ done
 cp data/scenes/*.toml "$seeds/scene/"
 printf '3' >"$seeds/energy_grid/1"; printf '2.5,3,3.5' >"$seeds/energy_grid/2"
 printf '2:6:0.05' >"$seeds/energy_grid/3"
+printf -- '--threads\x002\x00--interval\x001e-3' >"$seeds/options/1"
+printf -- '--seed\x000x10\x00--list\x001,2.5,1e-400' >"$seeds/options/2"
 printf '1.5\n1.50000001' >"$seeds/decimal/1"; printf -- '-2.5e-300\n0' >"$seeds/decimal/2"
 printf '3.14159265358979323846264338327950288419716939937510' >"$seeds/decimal/3"
 cp data/golden/*.csv "$seeds/golden/"

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
@@ -29,6 +30,39 @@ struct precision_option {
 };
 void add_precision_option(CLI::App& app, precision_option& option);
 
+/// --max-seconds: the CPU seconds one evaluation may take (eval, orbit, trajectory). Before an
+/// mp:N evaluation of more than pilot_min_digits digits, its cost is estimated from two pilot
+/// evaluations at N/16 and N/4 digits (the growth of the CPU time with the digits between them,
+/// extrapolated to N): beyond the bound it is refused at once with the estimate. The evaluation
+/// itself runs under a CPU budget of that many seconds (core/budget.hpp) and is abandoned there.
+struct time_bound_option {
+    double max_seconds = 600;
+};
+void add_time_bound_option(CLI::App& app, time_bound_option& option);
+inline constexpr int pilot_min_digits = 400;
+
+namespace detail {
+/// The pilots' estimate of f's CPU seconds at p (0 when p needs none); refuses beyond the bound.
+/// `pilot` runs f at a precision and discards its result.
+void estimate_cost(const precision& p, const time_bound_option& bound,
+                   const std::function<void(const precision&)>& pilot);
+[[noreturn]] void budget_spent(const time_bound_option& bound, const precision& p);
+}  // namespace detail
+
+/// dispatch(p, f) under the bound: pilots first (when `pilots`: f must have no side effects),
+/// then f under a CPU budget of bound.max_seconds; input_error naming --max-seconds when spent.
+template <class F>
+decltype(auto) bounded_dispatch(const precision& p, const time_bound_option& bound, bool pilots,
+                                F&& f) {
+    if (pilots) detail::estimate_cost(p, bound, [&f](const precision& q) { (void)dispatch(q, f); });
+    try {
+        const cpu_budget_scope budget(bound.max_seconds);
+        return dispatch(p, f);
+    } catch (const budget_exceeded&) {
+        detail::budget_spent(bound, p);
+    }
+}
+
 /// The parameters and, under "coefficients", the Lagrangian coefficients (model/model_json.hpp).
 template <class Real>
 json parameters_json(const double_pendulum<Real>& model) {
@@ -47,6 +81,17 @@ struct register_command {
 /// The process exit status once the subcommand has run (0 unless it sets a failure, e.g.
 /// `validate` sets 1 when a row fails); bad input is reported by throwing input_error (status 2).
 int& exit_status();
+
+/// The one number grammar of the command line, added to every numeric option of every subcommand
+/// (by its CLI11 type): an integer option takes decimal digits only ("0x10", "1e3", "+-2" are
+/// refused); a real option takes a plain finite decimal number (is_decimal_number) whose double
+/// is finite and normal (an underflow to 0 or below 2.2e-308, an overflow to inf, is refused,
+/// naming the value). Applied once, in main, after every subcommand is registered.
+void apply_number_grammar(CLI::App& app);
+
+/// TEXT on one line, as an error message may quote it: control characters (a newline that could
+/// forge a second message line, a tab, an escape) and DEL written as \n, \t, \xHH.
+std::string one_line(const std::string& text);
 
 /// The one-line message of bad input as the command line names it: a library field becomes its
 /// option (`energy: ...` -> `--energy: ...`, `sample_interval` -> `--sample-interval`); names

@@ -19,6 +19,7 @@ struct eval_state {
     std::string quantity, energy, arm_text = "2", method, integrator;
     model_options model;
     precision_option precision;
+    time_bound_option bound;
     bool certify = false;
 };
 
@@ -135,9 +136,17 @@ const register_command registration([](CLI::App& app) {
                   "quantities by a Krawczyk proof of the orbit");
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
+    add_time_bound_option(*sub, s->bound);
     sub->callback([s] {
         const precision p = parse_precision(s->precision.text);
-        const json out = dispatch(p, [&]<class Real>() { return eval_json<Real>(*s); });
+        // the pilots evaluate without --certify (the proof is not what the estimate is of)
+        eval_state pilot = *s;
+        pilot.certify = false;
+        detail::estimate_cost(p, s->bound, [&pilot](const precision& q) {
+            (void)dispatch(q, [&]<class Real>() { return eval_json<Real>(pilot); });
+        });
+        const json out =
+            bounded_dispatch(p, s->bound, false, [&]<class Real>() { return eval_json<Real>(*s); });
         print(out.dump(2) + "\n");
     });
 });

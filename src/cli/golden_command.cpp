@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/core/names.hpp"
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "progress.hpp"
@@ -35,11 +36,7 @@ struct golden_state {
 
 /// A file's text, or input_error naming it.
 std::string read_text(const std::string& path, const std::string& option) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw input_error(option + ": cannot read '" + path + "'");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
+    return read_input_file(path, option);
 }
 
 /// The model options as the command line gives them back (for the provenance's command).
@@ -147,13 +144,21 @@ const register_command registration([](CLI::App& app) {
             const std::string option = s->merge ? "--merge" : "--certify-existing";
             merged_into = read_text(s->out + "/provenance.json", option);
             check_golden_merge(merged_into, options.value_precision, options.model);
-            kept = parse_golden_csv(read_text(s->out + "/golden.csv", option));
-            for (const golden_row& r : kept)
-                find_quantity(r.quantity);  // input_error naming an unknown quantity
+            const std::string csv = s->out + "/golden.csv";
+            try {
+                kept = parse_golden_csv(read_text(csv, option));
+                for (const golden_row& r : kept)
+                    find_quantity(r.quantity);  // input_error naming an unknown quantity
+            } catch (const input_error& e) {
+                throw input_error(option + ": '" + csv + "': " + e.detail());
+            }
+            if (s->certify_existing && kept.empty())
+                throw input_error(option + ": '" + csv + "' holds no golden row to prove");
         }
-        std::error_code ec;
-        std::filesystem::create_directories(s->out, ec);
-        if (ec) throw input_error("--out: cannot create '" + s->out + "': " + ec.message());
+        // every destination checked before hours of computation; nothing created yet
+        check_output_folder(s->out, "--out");
+        check_output_file(s->out + "/golden.csv", "--out");
+        check_output_file(s->out + "/provenance.json", "--out");
         std::vector<golden_row> rows;
         if (s->certify_existing) {
             rows = std::move(kept);

@@ -19,6 +19,7 @@ struct orbit_state_options {
     std::string energy, arm_text = "2", samples = "101", method = "periodic", integrator, out;
     model_options model;
     precision_option precision;
+    time_bound_option bound;
 };
 
 long parse_samples(const std::string& text) {
@@ -78,18 +79,16 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--out", s->out, "write to FILE (atomically) instead of stdout");
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
+    add_time_bound_option(*sub, s->bound);
     sub->callback([s] {
         const precision p = parse_precision(s->precision.text);
         // before the orbit is solved (seconds to minutes at mp:N): a directory, /proc or a path
         // through a file is refused first, with one line
         if (!s->out.empty()) check_output_file(s->out, "--out");
-        const std::string csv = dispatch(p, [&]<class Real>() { return orbit_csv<Real>(*s); });
+        const std::string csv =
+            bounded_dispatch(p, s->bound, true, [&]<class Real>() { return orbit_csv<Real>(*s); });
         if (s->out.empty()) return print(csv);
-        try {
-            write_file_atomically(s->out, csv);
-        } catch (const std::runtime_error& e) {
-            throw input_error("--out: cannot write '" + s->out + "' (" + e.what() + ")");
-        }
+        write_file_atomically(s->out, csv);  // output_error (exit 1) naming the path
     });
 });
 

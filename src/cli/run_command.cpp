@@ -15,7 +15,13 @@ namespace {
 /// The report generator: $FLIPFLUX_REPORT_SCRIPT, else share/flipflux/report/make_report.py
 /// beside the executable (build tree) or in ../share (installed); empty when none exists.
 std::filesystem::path find_report_script() {
-    if (const char* env = std::getenv("FLIPFLUX_REPORT_SCRIPT"); env && *env) return env;
+    if (const char* env = std::getenv("FLIPFLUX_REPORT_SCRIPT"); env && *env) {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(env, ec))
+            throw input_error("FLIPFLUX_REPORT_SCRIPT: '" + std::string(env) +
+                              "' is not a file (the report generator make_report.py)");
+        return env;
+    }
     return find_share_path("report/make_report.py");
 }
 
@@ -53,12 +59,8 @@ const register_command registration([](CLI::App& app) {
         const scene sc = load_scene(s->file);
         const plan p = make_plan(sc);
         if (s->dry_run) check_existing_output(sc);  // what run would refuse, refused here too
-        print_plan(sc, p, std::cout);
-        if (s->dry_run) return;
         run_options options;
-        options.threads = s->threads;
-        options.checkpoint_interval = s->checkpoint_interval;
-        if (sc.report) {  // refused now rather than after the computation
+        if (sc.report) {  // refused now rather than after the computation (and by --dry-run)
             options.report_script = find_report_script();
             if (options.report_script.empty())
                 throw input_error(
@@ -66,6 +68,10 @@ const register_command registration([](CLI::App& app) {
                     "installed beside this executable (share/flipflux/report/) and "
                     "FLIPFLUX_REPORT_SCRIPT is not set");
         }
+        print_plan(sc, p, std::cout);
+        if (s->dry_run) return;
+        options.threads = s->threads;
+        options.checkpoint_interval = s->checkpoint_interval;
         if (!s->no_cache)
             options.cache_dir =
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);

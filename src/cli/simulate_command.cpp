@@ -194,9 +194,11 @@ void run(const simulate_state& s) {
         if (!mpi || mpi->size() == 1) throw;
         // another rank may wait in a collective: report and end the whole job
         const auto* bad_input = dynamic_cast<const input_error*>(&e);
+        const bool io = dynamic_cast<const output_error*>(&e) != nullptr;
         if (root || bad_input == nullptr)
-            std::fprintf(stderr, "flipflux: %s%s\n", bad_input ? "error: " : "internal error: ",
-                         bad_input ? error_text(*bad_input).c_str() : e.what());
+            std::fprintf(stderr, "flipflux: %s%s\n",
+                         bad_input || io ? "error: " : "internal error: ",
+                         bad_input ? error_text(*bad_input).c_str() : one_line(e.what()).c_str());
         std::fflush(stderr);
         mpi->abort(bad_input ? 2 : 1);
     }

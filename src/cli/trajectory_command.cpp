@@ -25,6 +25,7 @@ struct trajectory_state {
                              route = "default";
     model_options model;
     precision_option precision;
+    time_bound_option bound;
 };
 
 template <class Real>
@@ -34,7 +35,19 @@ phase_point<Real> parse_state(const std::string& text) {
     while (pos <= text.size()) {
         const std::size_t comma = std::min(text.find(',', pos), text.size());
         if (i == 4) break;
-        x[i++] = parse_real<Real>(text.substr(pos, comma - pos), "--state");
+        const std::string item = text.substr(pos, comma - pos);
+        if (i < 2) {  // angles: beyond 1e6 rad reduced exactly modulo 2 pi (docs/limits.md)
+            x[i] = parse_angle<Real>(item, "--state");
+            if (is_decimal_number(item) && decimal_agreement(item, "0") < -6)
+                std::fprintf(
+                    stderr,
+                    "flipflux: note: --state: theta%zu = %s is reduced exactly modulo 2 pi "
+                    "to %s\n",
+                    i + 1, one_line(item).c_str(), to_decimal(x[i]).c_str());
+            ++i;
+        } else {
+            x[i++] = parse_real<Real>(item, "--state");
+        }
         pos = comma + 1;
     }
     if (i != 4 || pos <= text.size())
@@ -47,12 +60,8 @@ std::vector<arm> parse_arms(const std::string& text) {
     return {parse_arm(text, "--arm")};
 }
 
-void write(const std::string& path, const std::string& option, const std::string& text) {
-    try {
-        write_file_atomically(path, text);
-    } catch (const std::runtime_error&) {
-        throw input_error(option + ": cannot write '" + path + "'");
-    }
+void write(const std::string& path, const std::string& text) {
+    write_file_atomically(path, text);
 }
 
 template <class Real>
@@ -75,17 +84,21 @@ void run(const trajectory_state& s) {
     // the outputs before the integration (minutes at mp:N): refused first, with one line
     if (!s.out.empty()) check_output_file(s.out, "--out");
     if (!s.events.empty()) check_output_file(s.events, "--events");
+    if (!s.out.empty() && !s.events.empty() &&
+        std::filesystem::weakly_canonical(std::filesystem::absolute(s.out)) ==
+            std::filesystem::weakly_canonical(std::filesystem::absolute(s.events)))
+        throw input_error("--events: '" + s.events + "' is also the --out file; give two files");
     const trajectory_record<Real> r = s.route == "reference" ? reference_trajectory(model, q)
                                       : s.route == "taylor"  ? taylor_trajectory(model, q)
                                                              : integrate_trajectory(model, q);
     for (const std::string& why : r.skipped)
         std::fprintf(stderr, "flipflux: note: no flips possible for %s\n", why.c_str());
     const std::string events = trajectory_events_csv(r);
-    if (!s.out.empty()) write(s.out, "--out", trajectory_states_csv(r));
+    if (!s.out.empty()) write(s.out, trajectory_states_csv(r));
     if (s.events.empty())
         print(events);
     else
-        write(s.events, "--events", events);
+        write(s.events, events);
 }
 
 const register_command registration([](CLI::App& app) {
@@ -119,6 +132,7 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--method", s->method, "integrator: dop853 or dopri5")->capture_default_str();
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
+    add_time_bound_option(*sub, s->bound);
     sub->add_option("--route", s->route,
                     "default (double: the ensemble's; quad, mp:N: reference), ensemble, "
                     "reference (Gauss-Legendre, events polished to full precision), or taylor "
@@ -126,7 +140,8 @@ const register_command registration([](CLI::App& app) {
         ->capture_default_str();
     sub->callback([s] {
         const precision p = parse_precision(s->precision.text);
-        dispatch(p, [&]<class Real>() { run<Real>(*s); });
+        // no pilots (the run writes its files): the CPU budget alone bounds it
+        bounded_dispatch(p, s->bound, false, [&]<class Real>() { run<Real>(*s); });
     });
 });
 

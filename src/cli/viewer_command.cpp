@@ -93,11 +93,7 @@ const register_command registration([](CLI::App& app) {
         check_output_file(file, "--out");
         const std::string html =
             dispatch(p, [&]<class Real>() { return viewer_html<Real>(*s, request); });
-        try {
-            write_file_atomically(file, html);
-        } catch (const std::runtime_error&) {
-            throw input_error("--out: cannot write '" + file.string() + "'");
-        }
+        write_file_atomically(file, html);  // output_error (exit 1) naming the path
         std::fprintf(stderr, "flipflux: wrote %s\n", file.string().c_str());
     });
 });

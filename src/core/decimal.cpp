@@ -32,7 +32,55 @@ void set_decimal(mpfr_number& x, std::string_view text, std::string_view what) {
 }
 
 /// log10 |a - b| / |b| (log10 |a - b| when b == 0) in MPFR, as a double (-inf when equal).
-double log10_relative_difference(std::string_view a, std::string_view b, std::string_view what) {
+/// Significant digits of a decimal text's mantissa (leading zeros not counted).
+std::size_t significant_digits_of(std::string_view text) {
+    std::size_t n = 0;
+    bool started = false;
+    for (const char c : text.substr(0, text.find_first_of("eE"))) {
+        if (c < '0' || c > '9') continue;
+        started = started || c != '0';
+        n += started ? 1 : 0;
+    }
+    return n;
+}
+
+/// The text with its mantissa cut to `keep` significant digits (digits before the point become
+/// zeros, after it are dropped): lexical, linear in the text's length.
+std::string truncated_digits(std::string_view text, std::size_t keep) {
+    const std::size_t e = std::min(text.find_first_of("eE"), text.size());
+    std::string out;
+    std::size_t n = 0;
+    bool started = false, after_point = false;
+    for (const char c : text.substr(0, e)) {
+        if (c == '.') after_point = true;
+        if (c < '0' || c > '9') {
+            out += c;
+            continue;
+        }
+        started = started || c != '0';
+        n += started ? 1 : 0;
+        if (n <= keep)
+            out += c;
+        else if (!after_point)
+            out += '0';
+    }
+    if (!out.empty() && out.back() == '.') out.pop_back();
+    return out + std::string(text.substr(e));
+}
+
+double log10_relative_difference(std::string_view a_text, std::string_view b_text,
+                                 std::string_view what) {
+    // NOTE: a text's digits beyond the other's by more than 40 change the difference by less
+    // than 1e-40 of it, far below the double this returns: they are cut lexically first, so that
+    // a candidate value of millions of digits against a golden one of 50 costs microseconds,
+    // not a minute (both must still be decimal numbers)
+    for (const std::string_view t : {a_text, b_text})
+        if (!is_decimal_number(t))
+            throw input_error::about(std::string(what),
+                                     "'" + std::string(t) + "' is not a finite decimal number");
+    const std::size_t keep =
+        std::min(significant_digits_of(a_text), significant_digits_of(b_text)) + 40;
+    const std::string a = truncated_digits(a_text, keep), b = truncated_digits(b_text, keep);
     // every significant digit of both texts, and room for the difference
     const mpfr_prec_t bits = static_cast<mpfr_prec_t>(4 * (a.size() + b.size()) + 64);
     mpfr_number x(bits), y(bits);
@@ -82,6 +130,33 @@ int decimal_sign(std::string_view t) {
         if (c >= '1' && c <= '9') return negative ? -1 : 1;
     }
     return 0;
+}
+
+std::string reduced_angle(std::string_view text, int significant_digits, std::string_view what) {
+    mpfr_number probe(64);
+    set_decimal(probe, text, what);
+    if (mpfr_zero_p(probe.get())) return std::string(text);
+    // bits for the integer part of x / 2 pi, the digits asked for, and 64 guard bits: the
+    // remainder then keeps them all (|x| < 1e1000000, is_decimal_number's exponent limit)
+    const long exponent = std::max(0L, static_cast<long>(mpfr_get_exp(probe.get())));
+    const auto bits =
+        static_cast<mpfr_prec_t>(exponent + 3.33 * significant_digits + 4 * text.size() + 64);
+    mpfr_number x(bits), turn(bits), k(bits);
+    set_decimal(x, text, what);
+    mpfr_const_pi(turn.get(), MPFR_RNDN);
+    mpfr_mul_2ui(turn.get(), turn.get(), 1, MPFR_RNDN);
+    mpfr_div(k.get(), x.get(), turn.get(), MPFR_RNDN);
+    mpfr_rint(k.get(), k.get(), MPFR_RNDN);
+    mpfr_mul(k.get(), k.get(), turn.get(), MPFR_RNDN);
+    mpfr_sub(x.get(), x.get(), k.get(), MPFR_RNDN);
+    const int digits = significant_digits + 5;
+    std::vector<char> buffer(static_cast<std::size_t>(digits) + 16);
+    mpfr_exp_t e10 = 0;
+    mpfr_get_str(buffer.data(), &e10, 10, static_cast<std::size_t>(digits), x.get(), MPFR_RNDN);
+    std::string mantissa(buffer.data());
+    const bool negative = !mantissa.empty() && mantissa[0] == '-';
+    if (negative) mantissa.erase(0, 1);
+    return std::string(negative ? "-" : "") + "0." + mantissa + "e" + std::to_string(e10);
 }
 
 std::string round_decimal(std::string_view text, int significant_digits, std::string_view what) {

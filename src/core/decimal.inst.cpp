@@ -41,6 +41,14 @@ Real parse_real(std::string_view text, std::string_view what) {
         throw input_error::about(std::string(what),
                                  "'" + s + "' overflows " + precision_name<Real>());
     }
+    // a nonzero text that rounds to 0 (or, in a fixed type, below its normal range, where
+    // digits are lost) is refused rather than run as a meaningless limit: 1e-400 is not 0
+    using std::abs;
+    if (decimal_sign(text) != 0 && (value == 0 || (std::numeric_limits<Real>::is_bounded &&
+                                                   abs(value) < std::numeric_limits<Real>::min())))
+        throw input_error::about(std::string(what), "'" + s + "' underflows " +
+                                                        precision_name<Real>() +
+                                                        " (below its smallest normal number)");
     return value;
 }
 
@@ -63,14 +71,20 @@ void set_exactly(mpfr_ptr out, const Real& x) {
     } else if constexpr (has_variable_precision_v<Real>) {
         mpfr_set(out, x.backend().data(), MPFR_RNDN);
     } else {
-        // quad: three doubles hold its 113 bits exactly (each remainder is exact in quad)
-        const double hi = static_cast<double>(x);
-        const Real r1 = x - Real(hi);
+        // quad: three doubles hold its 113 bits exactly (each remainder is exact in quad), taken
+        // from the significand in [1/2, 1) so that quad's exponent range (1e+-4932), far beyond
+        // double's, is carried by the power of two
+        using std::frexp;
+        int e = 0;
+        const Real m = frexp(x, &e);
+        const double hi = static_cast<double>(m);
+        const Real r1 = m - Real(hi);
         const double mid = static_cast<double>(r1);
         const double lo = static_cast<double>(r1 - Real(mid));
         mpfr_set_d(out, hi, MPFR_RNDN);
         mpfr_add_d(out, out, mid, MPFR_RNDN);
         mpfr_add_d(out, out, lo, MPFR_RNDN);
+        mpfr_mul_2si(out, out, e, MPFR_RNDN);
     }
 }
 

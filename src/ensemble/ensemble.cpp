@@ -60,14 +60,14 @@ void validate(const ensemble_options& o) {
 
 double turns_bound(const double_pendulum<double>& model, double energy, double time) {
     const auto& k = model.coefficients();
-    const double half_gap = (k.A - k.B) / 2;
-    const double m = (k.A + k.B) / 2 - std::sqrt(half_gap * half_gap + k.C * k.C);
+    const double m = mass_eigenvalue_range(k)[0];
     const double w = std::sqrt(2 * std::max(energy, 0.0) / m) + std::sqrt((k.alpha + k.beta) / m);
     return time * w / (2 * std::numbers::pi);
 }
 
 void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
-                           const std::string& field) {
+                           const std::string& field, double epsilon) {
+    check_conditioning(model.coefficients(), epsilon);
     const double turns = turns_bound(model, energy, time);
     if (!(turns <= max_turns_per_trajectory))
         throw input_error::about(

@@ -1,33 +1,245 @@
-// Files written whole or not at all (io/atomic_file.hpp): a temporary name in the same directory,
-// fsync, then rename, so an interrupted run leaves no half-written output.
+// Output destinations and input files (io/atomic_file.hpp): atomic replacement of regular files,
+// in-place writes to devices and FIFOs, regular-file inputs read with a size bound.
 #include "flipflux/io/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
-#include <stdexcept>
+#include <cstdlib>
+#include <cstring>
 
 #include "flipflux/core/error.hpp"
 
 namespace flipflux {
+namespace {
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& content) {
-    namespace fs = std::filesystem;
-    if (path.has_parent_path()) fs::create_directories(path.parent_path());
+namespace fs = std::filesystem;
+
+std::string quoted(const fs::path& p) {
+    return "'" + p.string() + "'";
+}
+
+enum class kind { missing, dangling, regular, in_place, refused };
+
+struct destination {
+    fs::path path;  ///< the file written: the link's target for a symbolic link
+    kind what;
+    std::string noun;  ///< "a folder", "a block device", "a socket" for refused kinds
+};
+
+destination classify(const fs::path& path) {
+    std::error_code ec;
+    fs::file_status st = fs::symlink_status(path, ec);
+    if (!fs::exists(st)) return {path, kind::missing, {}};
+    fs::path target = path;
+    if (fs::is_symlink(st)) {
+        st = fs::status(path, ec);
+        if (!fs::exists(st)) return {path, kind::dangling, "a symbolic link to a missing file"};
+        target = fs::canonical(path, ec);
+        if (ec) return {path, kind::dangling, "a symbolic link that cannot be resolved"};
+    }
+    if (fs::is_regular_file(st)) return {target, kind::regular, {}};
+    if (fs::is_character_file(st) || fs::is_fifo(st)) return {target, kind::in_place, {}};
+    if (fs::is_directory(st)) return {target, kind::refused, "a folder, not a file"};
+    if (fs::is_block_file(st)) return {target, kind::refused, "a block device, not a file"};
+    if (fs::is_socket(st)) return {target, kind::refused, "a socket, not a file"};
+    return {target, kind::refused, "not a file"};
+}
+
+// Writes to a device or FIFO in place; a FIFO with no reader is an error, not a wait.
+void write_in_place(const fs::path& shown, const fs::path& target, const std::string& content) {
+    const int fd = ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        const int err = errno;
+        throw output_error("cannot write " + quoted(shown) + ": " +
+                           (err == ENXIO ? std::string("a FIFO with no reader")
+                                         : std::string(std::strerror(err))));
+    }
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags != -1) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    std::size_t done = 0;
+    while (done < content.size()) {
+        const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int err = errno;
+            ::close(fd);
+            throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(err));
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0 && errno != EINTR)
+        throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(errno));
+}
+
+void write_replacing(const fs::path& shown, const fs::path& path, const std::string& content) {
+    std::error_code ec;
+    if (path.has_parent_path()) {
+        fs::create_directories(path.parent_path(), ec);
+        if (ec)
+            throw output_error("cannot write " + quoted(shown) + ": its folder " +
+                               quoted(path.parent_path()) + " cannot be created (" + ec.message() +
+                               ")");
+    }
     const fs::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
     FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (f == nullptr) throw std::runtime_error("cannot write '" + path.string() + "'");
-    const bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
-                    std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-    if (std::fclose(f) != 0 || !ok) {
+    if (f == nullptr)
+        throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(errno));
+    bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
+              std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
+    const int err = errno;
+    ok = std::fclose(f) == 0 && ok;
+    if (!ok) {
         std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path.string() + "'");
+        throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(err));
     }
-    std::error_code ec;
     fs::rename(tmp, path, ec);
     if (ec) {
         std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path.string() + "': " + ec.message());
+        throw output_error("cannot write " + quoted(shown) + ": " + ec.message());
     }
+}
+
+// Whether something can be created in the folder: the permission bits do not tell all (root
+// passes access() on /proc and on read-only mounts), so a folder is made there and removed.
+bool can_create_in(const fs::path& dir) {
+    std::string probe = (dir / ".flipflux-probe-XXXXXX").string();
+    if (::mkdtemp(probe.data()) == nullptr) return false;
+    ::rmdir(probe.c_str());
+    return true;
+}
+
+// The nearest existing ancestor folder of a new path must be a writable folder.
+void check_new_path(const fs::path& path, const std::string& field, const std::string& what) {
+    std::error_code ec;
+    fs::path dir = path.parent_path();
+    while (!dir.empty() && !fs::exists(fs::symlink_status(dir, ec)))
+        dir = dir.parent_path();
+    if (dir.empty()) dir = ".";
+    if (!fs::is_directory(dir, ec))
+        throw input_error::about(
+            field, quoted(path) + " cannot be " + what + ": " + quoted(dir) + " is not a folder");
+    if (::access(dir.c_str(), W_OK | X_OK) != 0 || !can_create_in(dir))
+        throw input_error::about(field, quoted(path) + " cannot be " + what + ": the folder " +
+                                            quoted(dir) + " is not writable (" +
+                                            std::strerror(errno) + ")");
+}
+
+}  // namespace
+
+void write_file_atomically(const fs::path& path, const std::string& content) {
+    const destination d = classify(path);
+    switch (d.what) {
+        case kind::missing:
+        case kind::regular:
+            write_replacing(path, d.path, content);
+            return;
+        case kind::in_place:
+            write_in_place(path, d.path, content);
+            return;
+        case kind::dangling:
+        case kind::refused:
+            throw output_error("cannot write " + quoted(path) + ": it is " + d.noun);
+    }
+}
+
+void check_output_file(const fs::path& path, const std::string& field) {
+    if (path.empty()) throw input_error::about(field, "an empty path is not a file");
+    const destination d = classify(path);
+    switch (d.what) {
+        case kind::missing:
+            check_new_path(path, field, "written");
+            return;
+        case kind::regular: {
+            const fs::path dir = d.path.has_parent_path() ? d.path.parent_path() : fs::path(".");
+            if (::access(d.path.c_str(), W_OK) != 0 || ::access(dir.c_str(), W_OK | X_OK) != 0 ||
+                !can_create_in(dir))
+                throw input_error::about(
+                    field, quoted(path) + " cannot be replaced (" + std::strerror(errno) + ")");
+            return;
+        }
+        case kind::in_place:
+            if (::access(d.path.c_str(), W_OK) != 0)
+                throw input_error::about(
+                    field, quoted(path) + " cannot be written (" + std::strerror(errno) + ")");
+            return;
+        case kind::dangling:
+        case kind::refused:
+            throw input_error::about(field, quoted(path) + " is " + d.noun);
+    }
+}
+
+void check_output_folder(const fs::path& path, const std::string& field) {
+    if (path.empty()) throw input_error::about(field, "an empty path is not a folder");
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(path, ec))) {
+        if (!fs::is_directory(path, ec))
+            throw input_error::about(field, quoted(path) + " is not a folder");
+        if (::access(path.c_str(), W_OK | X_OK) != 0)
+            throw input_error::about(field, "the folder " + quoted(path) + " is not writable (" +
+                                                std::strerror(errno) + ")");
+        return;
+    }
+    check_new_path(path, field, "created");
+}
+
+std::string read_input_file(const fs::path& path, const std::string& field,
+                            std::uintmax_t max_bytes) {
+    // a positional file (a candidate CSV) has no field: the message names the file alone
+    const auto fail = [&field](const std::string& detail) {
+        return field.empty() ? input_error(detail) : input_error::about(field, detail);
+    };
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (!fs::exists(st)) {
+        if (fs::is_symlink(fs::symlink_status(path, ec)))
+            throw fail(quoted(path) + " is a symbolic link to a missing file");
+        throw fail(quoted(path) + " does not exist");
+    }
+    if (!fs::is_regular_file(st))
+        throw fail(quoted(path) + " is not a regular file (" +
+                   (fs::is_directory(st)        ? "a folder"
+                    : fs::is_fifo(st)           ? "a FIFO"
+                    : fs::is_character_file(st) ? "a character device"
+                    : fs::is_block_file(st)     ? "a block device"
+                                                : "a socket") +
+                   ")");
+    // O_NONBLOCK: should the path have become a FIFO since, opening it does not wait for a writer
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) throw fail(quoted(path) + " cannot be read (" + std::strerror(errno) + ")");
+    struct stat info {};
+    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
+        ::close(fd);
+        throw fail(quoted(path) + " is not a regular file");
+    }
+    const std::string bound = std::to_string(max_bytes) + " bytes (docs/limits.md)";
+    if (static_cast<std::uintmax_t>(info.st_size) > max_bytes) {
+        ::close(fd);
+        throw fail(quoted(path) + " has " + std::to_string(info.st_size) +
+                   " bytes, more than the bound of " + bound);
+    }
+    std::string content;
+    char buffer[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            const int err = errno;
+            ::close(fd);
+            throw fail(quoted(path) + " cannot be read (" + std::strerror(err) + ")");
+        }
+        if (n == 0) break;
+        content.append(buffer, static_cast<std::size_t>(n));
+        if (content.size() > max_bytes) {
+            ::close(fd);
+            throw fail(quoted(path) + " has more than the bound of " + bound);
+        }
+    }
+    ::close(fd);
+    return content;
 }
 
 std::string csv_field(const std::string& text) {
@@ -38,25 +250,6 @@ std::string csv_field(const std::string& text) {
         out += c;
     }
     return out + "\"";
-}
-
-void check_output_file(const std::filesystem::path& path, const std::string& field) {
-    namespace fs = std::filesystem;
-    const std::string where = "'" + path.string() + "' ";
-    std::error_code ec;
-    if (path.empty() || fs::is_directory(path, ec))
-        throw input_error::about(field, where + "is a directory, not a file");
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-        throw input_error::about(field, where + "cannot be written: its folder '" + dir.string() +
-                                            "' cannot be created" +
-                                            (ec ? " (" + ec.message() + ")" : std::string()));
-    const fs::path probe = path.string() + ".probe." + std::to_string(::getpid());
-    FILE* f = std::fopen(probe.c_str(), "wb");
-    if (f == nullptr) throw input_error::about(field, where + "cannot be written");
-    std::fclose(f);
-    std::remove(probe.c_str());
 }
 
 }  // namespace flipflux

@@ -1,10 +1,11 @@
 // CSV lines split into trimmed fields (io/csv.hpp), for the golden data and candidate files.
 #include "flipflux/io/csv.hpp"
 
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/io/atomic_file.hpp"
 
 namespace flipflux {
 namespace {
@@ -49,11 +50,7 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 }
 
 csv_table read_csv(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec))
-        throw input_error(file.string() + ": is a directory, not a CSV file");
-    std::ifstream in(file);
-    if (!in) throw input_error(file.string() + ": cannot read the file");
+    std::istringstream in(read_input_file(file, ""));
     csv_table t;
     std::string line;
     int number = 0;

@@ -28,28 +28,35 @@ critical_point<Real> make_critical_point(const double_pendulum<Real>& model, int
               : e1 < 0 && e2 < 0 ? critical_kind::maximum
                                  : critical_kind::saddle;
     const int e = e1 * e2;
+    // Scale-free: the stiffnesses divided by sa = max(alpha, beta), the inertias by
+    // sm = max(A, B), so that no product below overflows or underflows whatever the units
+    // (m = L = g = 1e30 gives omega^2 of order 1); the roots x' scale back as x = x' sa / sm.
+    const Real sa = k.alpha > k.beta ? k.alpha : k.beta;
+    const Real sm = k.A > k.B ? k.A : k.B;
+    const Real al = k.alpha / sa, be = k.beta / sa;
+    const Real A = k.A / sm, B = k.B / sm, C = k.C / sm, D0 = k.D0 / sm / sm;
     // D0 x^2 - b x + c0 = 0
-    const Real b = e1 * k.alpha * k.B + e2 * k.beta * k.A;
-    const Real c0 = e * k.alpha * k.beta;
+    const Real b = e1 * al * B + e2 * be * A;
+    const Real c0 = e * al * be;
     // NOTE: the discriminant as a sum of non-negative terms, for either sign of e.
-    const Real disc = e > 0 ? (e1 * k.alpha * k.B - e2 * k.beta * k.A) *
-                                      (e1 * k.alpha * k.B - e2 * k.beta * k.A) +
-                                  4 * k.C * k.C * k.alpha * k.beta
-                            : b * b + 4 * k.D0 * k.alpha * k.beta;
+    const Real disc =
+        e > 0 ? (e1 * al * B - e2 * be * A) * (e1 * al * B - e2 * be * A) + 4 * C * C * al * be
+              : b * b + 4 * D0 * al * be;
     const Real root = sqrt(disc);
     // stable roots: q = (b + sign(b) sqrt(disc)) / 2, x1 = q / D0, x2 = c0 / q
     const Real q = (b >= 0 ? b + root : b - root) / 2;
-    Real x1 = q / k.D0, x2 = c0 / q;
+    Real x1 = q / D0, x2 = c0 / q;
     if (x1 < x2) std::swap(x1, x2);
+    const Real unit = sa / sm;
     int i = 0;
     for (const Real& x : {x1, x2}) {
         normal_mode<Real>& m = cp.modes[i++];
-        m.omega_squared = x;
+        m.omega_squared = x * unit;
         m.oscillatory = x > 0;
-        m.rate = sqrt(abs(x));
-        // (K* - x M*) a = 0; use the row whose coefficient of a2 is larger in magnitude.
-        const Real row2_a1 = -x * k.C * e, row2_a2 = e2 * k.beta - x * k.B;
-        const Real row1_a1 = e1 * k.alpha - x * k.A, row1_a2 = -x * k.C * e;
+        m.rate = sqrt(abs(x)) * sqrt(unit);
+        // (K* - x M*) a = 0 (scaled); use the row whose coefficient of a2 is larger in magnitude.
+        const Real row2_a1 = -x * C * e, row2_a2 = e2 * be - x * B;
+        const Real row1_a1 = e1 * al - x * A, row1_a2 = -x * C * e;
         const Real ratio = abs(row2_a2) >= abs(row1_a2) ? -row2_a1 / row2_a2 : -row1_a1 / row1_a2;
         m.direction = {Real(1), ratio};
     }

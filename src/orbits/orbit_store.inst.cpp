@@ -378,7 +378,7 @@ std::string cached_orbit_problem(const double_pendulum<Real>& model, arm a,
         if (!(abs(model.hamiltonian(p) - energy) <= tol * scale))
             return "its quarter orbit leaves the energy surface";
     }
-    return {};
+    return orbit_replica_problem(model, o);
 }
 
 using R = inst_real;

@@ -378,8 +378,17 @@ std::vector<golden_row> parse_golden_csv(const std::string& text) {
     std::size_t number = 0;
     while (std::getline(in, line)) {
         ++number;
-        if (number == 1 || line.empty()) continue;  // header
-        std::vector<std::string> fields{""};        // every comma separates, trailing empties kept
+        if (number == 1) {  // the header golden_csv writes, or the file is not a golden set
+            if (line != "quantity,arm,energy,value,digits,method" &&
+                line != "quantity,arm,energy,value,digits,method,radius,proven_digits")
+                throw input_error(
+                    "golden csv: line 1 is not the header "
+                    "'quantity,arm,energy,value,digits,method[,radius,proven_digits]' (not a "
+                    "golden set)");
+            continue;
+        }
+        if (line.empty()) continue;
+        std::vector<std::string> fields{""};  // every comma separates, trailing empties kept
         for (char c : line) {
             if (c == ',')
                 fields.emplace_back();

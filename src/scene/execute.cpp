@@ -132,11 +132,9 @@ void run_orbit_family(context& ctx, const plan_step& step) {
                     << " is not a regular file; recomputing (the entry is left as it is)\n";
         }
         if (regular) {
-            std::ifstream in(file);
-            std::stringstream buffer;
-            buffer << in.rdbuf();
             try {
-                saddle_orbit<Real> o = orbit_from_json<Real>(buffer.str(), file.string());
+                saddle_orbit<Real> o =
+                    orbit_from_json<Real>(read_input_file(file, "cache entry"), file.string());
                 const std::string problem = cached_orbit_problem(model, a, energy, o);
                 if (problem.empty()) {
                     remember_saddle_orbit(model, o);
@@ -432,7 +430,8 @@ void run_trajectory(context& ctx, const plan_step& step) {
     const double_pendulum<double> model = make_model<double>(ctx.s.model);
     trajectory_request<double> q;
     for (std::size_t k = 0; k < 4; ++k)
-        q.state[k] = parse_real<double>(t.state[k], where + ": state");
+        q.state[k] = k < 2 ? parse_angle<double>(t.state[k], where + ": state")
+                           : parse_real<double>(t.state[k], where + ": state");
     q.time = parse_real<double>(t.time, where + ": time");
     q.sample_interval = parse_real<double>(t.sample_interval, where + ": sample_interval");
     q.criteria = t.criteria;
@@ -521,13 +520,12 @@ void run_accuracy(context& ctx) {
     const accuracy_spec& a = *ctx.s.accuracy;
     std::string appendix;  // read first: a missing file is an error before minutes of measuring
     for (const std::string& file : a.appendices) {
-        std::ifstream in(file);
-        if (!in)
+        try {
+            appendix += "\n" + read_input_file(file, "accuracy.appendices");
+        } catch (const input_error& e) {
             throw scene_error(ctx.s.file.string() + ":" + std::to_string(a.line) +
-                              ": accuracy.appendices: cannot read '" + file + "'");
-        std::stringstream text;
-        text << in.rdbuf();
-        appendix += "\n" + text.str();
+                              ": accuracy.appendices: " + e.detail());
+        }
     }
     accuracy_options options;
     options.quantities = a.quantities;
@@ -573,9 +571,13 @@ void run_report(context& ctx, double seconds_so_far) {
         throw input_error("report: make_report.py refused to write '" + r.dir +
                           "' (its reason is above); the run's results are in '" +
                           ctx.s.output.string() + "': rerun the report alone with " + command);
-    if (status != 0)
-        throw std::runtime_error("report: '" + command + "' failed (status " +
-                                 std::to_string(status) + ")");
+    if (status != 0)  // the environment's failure (exit status 1), not an internal error
+        throw output_error("report: make_report.py failed (" +
+                           (status != -1 && WIFEXITED(status)
+                                ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                : std::string("status ") + std::to_string(status)) +
+                           "; its reason is above); the run's results are in '" +
+                           ctx.s.output.string() + "': rerun the report alone with " + command);
     ctx.summary["report"] = {{"dir", r.dir}};
 }
 
@@ -641,10 +643,13 @@ void check_output_owner(const scene& s) {
     const std::filesystem::path file = s.output / "run.json";
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) return;
-    std::ifstream in(file);
-    std::stringstream text;
-    text << in.rdbuf();
-    const json j = json::parse(text.str(), nullptr, false);
+    std::string text;
+    try {
+        text = read_input_file(file, "scene.output");
+    } catch (const input_error&) {
+        return;  // unreadable or huge: not a run.json this program wrote
+    }
+    const json j = json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_object() || !j.contains("scene") || !j["scene"].is_string())
         return;  // not a run.json this program wrote: rewritten like any output
     const std::string owner = j["scene"].get<std::string>();

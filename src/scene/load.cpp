@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/scene/scene.hpp"
@@ -18,6 +20,28 @@
 
 namespace flipflux {
 namespace {
+
+// The text of the scene being parsed (parse_scene sets it): a float literal's own digits, for the
+// literals the TOML reader rounds to 0 (1e-400).
+thread_local const std::string* scene_text = nullptr;
+
+/// A node's literal as written (one line; underscores removed), or "" when not found.
+std::string source_text(const toml::node& n) {
+    const toml::source_region& r = n.source();
+    if (scene_text == nullptr || r.begin.line != r.end.line || r.begin.line == 0) return {};
+    std::size_t at = 0;
+    for (toml::source_index line = 1; line < r.begin.line; ++line) {
+        at = scene_text->find('\n', at);
+        if (at == std::string::npos) return {};
+        ++at;
+    }
+    const std::size_t from = at + r.begin.column - 1, to = at + r.end.column - 1;
+    if (to <= from || to > scene_text->size()) return {};
+    std::string out;
+    for (const char c : scene_text->substr(from, to - from))
+        if (c != '_') out += c;
+    return out;
+}
 
 /// Reads one TOML table, remembering which keys were consumed so that leftovers are errors.
 class table_reader {
@@ -77,6 +101,17 @@ class table_reader {
             text = std::to_string(*n->value<long long>());
         } else if (n->is_floating_point()) {
             const double v = *n->value<double>();
+            // a nonzero literal the TOML reader rounded to 0 or below double's normal range
+            // (1e-400), or beyond it: refused as the command line refuses it (one grammar)
+            if (!(std::abs(v) >= std::numeric_limits<double>::min()) || !std::isfinite(v)) {
+                const std::string raw = source_text(*n);
+                if (!std::isfinite(v) || (is_decimal_number(raw) && decimal_sign(raw) != 0))
+                    fail(n, key,
+                         "'" + (raw.empty() ? std::string("?") : raw) + "' " +
+                             (std::isfinite(v) ? "underflows double (below its smallest normal "
+                                                 "number)"
+                                               : "is not a finite number in double"));
+            }
             char buf[64];
             const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round trip
             text.assign(buf, r.ptr);
@@ -471,10 +506,73 @@ report_spec read_report(table_reader& r) {
     return rep;
 }
 
+// The TOML reader recurses once per part of a dotted key or table header: 50,000 parts overflow
+// the stack. Keys and headers are counted lexically before parsing (docs/limits.md).
+constexpr std::size_t max_key_parts = 64;
+constexpr std::uintmax_t max_scene_bytes = std::uintmax_t{16} << 20;
+
+void check_key_depth(const std::string& text, const std::string& fname) {
+    std::size_t line = 1;
+    std::size_t parts = 1;
+    bool in_key = true;      // before the '=' of a key-value line, or inside a [header]
+    char quote = 0;          // the quote of a quoted key part
+    bool multiline = false;  // inside a """ or ''' string (its lines are no keys)
+    bool comment = false;    // after a '#' outside a string
+    std::size_t braces = 0;  // open inline tables
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (quote == 0 && !comment &&
+            (text.compare(i, 3, "\"\"\"") == 0 || text.compare(i, 3, "'''") == 0)) {
+            multiline = !multiline;
+            i += 2;
+            continue;
+        }
+        if (c == '\n') {
+            ++line;
+            parts = 1;
+            in_key = !multiline && braces == 0;
+            quote = 0;
+            comment = false;
+            continue;
+        }
+        if (multiline || comment) continue;
+        if (quote != 0) {
+            if (c == '\\' && quote == '"')
+                ++i;  // an escaped character in a basic string
+            else if (c == quote)
+                quote = 0;
+        } else if (c == '"' || c == '\'') {
+            quote = c;
+        } else if (c == '#') {
+            comment = true;
+        } else if (!in_key) {
+            if (c == '}' && braces > 0) --braces;
+            if (c == '{' || (c == ',' && braces > 0)) {  // an inline table's keys
+                braces += c == '{' ? 1 : 0;
+                in_key = true;
+                parts = 1;
+            }
+        } else if (c == '=' || c == ']') {
+            in_key = false;
+        } else if (c == '.' && ++parts > max_key_parts) {
+            throw scene_error(fname + ":" + std::to_string(line) +
+                              ": a key or table header with more than " +
+                              std::to_string(max_key_parts) + " dotted parts (docs/limits.md)");
+        }
+    }
+}
+
 }  // namespace
 
 scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     const std::string fname = file.string();
+    check_key_depth(text, fname);
+    struct text_scope {
+        explicit text_scope(const std::string& t) { scene_text = &t; }
+        ~text_scope() { scene_text = nullptr; }
+        text_scope(const text_scope&) = delete;
+        text_scope& operator=(const text_scope&) = delete;
+    } source(text);
     toml::table root;
     try {
         root = toml::parse(text, fname);
@@ -561,11 +659,13 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
 }
 
 scene load_scene(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    if (!in) throw scene_error(file.string() + ": cannot read the scene file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_scene(text.str(), file);
+    std::string text;
+    try {
+        text = read_input_file(file, "scene", max_scene_bytes);
+    } catch (const input_error& e) {
+        throw scene_error(e.detail());
+    }
+    return parse_scene(text, file);
 }
 
 }  // namespace flipflux

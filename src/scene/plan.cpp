@@ -10,16 +10,19 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
+#include "flipflux/io/atomic_file.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/study/saddle_viewer.hpp"
 #include "flipflux/study/simulation.hpp"
+#include "flipflux/study/trajectory.hpp"
 
 namespace flipflux {
 
@@ -172,12 +175,28 @@ void check_trajectory(const scene& s, std::size_t i, const double_pendulum<doubl
     const std::string key = "trajectory[" + std::to_string(i) + "]";
     phase_point<double> x{};
     for (std::size_t k = 0; k < 4; ++k)
-        x[k] = parse_real<double>(t.state[k], key + ".state");
+        x[k] = k < 2 ? parse_angle<double>(t.state[k], key + ".state")
+                     : parse_real<double>(t.state[k], key + ".state");
     try {
         check_trajectory_work(model, model.hamiltonian(x),
                               parse_real<double>(t.time, key + ".time"), "time");
     } catch (const input_error& err) {
         fail(s, t.line, key + ".time", err.detail());
+    }
+    // the request's own checks, as the run makes them (its sample interval, rtol, criteria)
+    trajectory_request<double> q;
+    q.state = x;
+    q.time = parse_real<double>(t.time, key + ".time");
+    q.sample_interval = parse_real<double>(t.sample_interval, key + ".sample_interval");
+    q.rtol = parse_real<double>(t.rtol, key + ".rtol");
+    q.criteria = t.criteria;
+    for (int a : t.arms)
+        q.arms.push_back(a == 1 ? arm::one : arm::two);
+    try {
+        check_trajectory_request(q);
+    } catch (const input_error& err) {
+        fail(s, t.line, key + "." + (err.field().empty() ? std::string("state") : err.field()),
+             err.detail());
     }
 }
 
@@ -242,8 +261,100 @@ void check_census(const scene& s, std::size_t i) {
     }
 }
 
+/// One file or folder a run writes, with the scene key that asks for it.
+struct scene_output {
+    std::filesystem::path path;
+    std::string key;
+    int line = 0;
+    bool folder = false;
+};
+
+/// Every path the run of the scene writes (execute.cpp's ctx.write and its folders): the one list
+/// the collision and destination checks below run over.
+std::vector<scene_output> scene_outputs(const scene& s) {
+    std::vector<scene_output> out;
+    const auto add = [&](const std::filesystem::path& p, const std::string& key, int line,
+                         bool folder = false) {
+        out.push_back({p, key, line, folder});
+    };
+    add(s.output / "run.json", "scene.output", s.output_line);
+    if (s.predictions) add(s.output / "predictions.csv", "predictions", s.predictions->line);
+    if (s.orbits)
+        for (int a : s.orbits->arms) {
+            add(s.output / ("orbits-arm" + std::to_string(a) + ".csv"), "orbits", s.orbits->line);
+            add(s.output / ("orbit-curves-arm" + std::to_string(a) + ".csv"), "orbits",
+                s.orbits->line);
+        }
+    for (std::size_t i = 0; i < s.ensembles.size(); ++i) {
+        const ensemble_spec& x = s.ensembles[i];
+        const std::string key = "ensemble[" + std::to_string(i) + "].name";
+        add(s.output / ("ensemble-" + x.name + ".json"), key, x.line);
+        add(s.output / ("ensemble-" + x.name), key, x.line, true);
+    }
+    for (std::size_t i = 0; i < s.trajectories.size(); ++i) {
+        const trajectory_spec& t = s.trajectories[i];
+        const std::string key = "trajectory[" + std::to_string(i) + "].name";
+        add(s.output / ("trajectory-" + t.name + ".csv"), key, t.line);
+        add(s.output / ("trajectory-" + t.name + "-events.csv"), key, t.line);
+    }
+    if (s.viewer) add(s.output / "viewer.html", "viewer", s.viewer->line);
+    if (s.accuracy) add(s.accuracy->out, "accuracy.out", s.accuracy->line);
+    if (s.golden) {
+        add(std::filesystem::path(s.golden->dir) / "golden.csv", "golden.dir", s.golden->line);
+        add(std::filesystem::path(s.golden->dir) / "provenance.json", "golden.dir", s.golden->line);
+    }
+    return out;
+}
+
+/// No two outputs on one path (nor a file where a folder of the run goes), no output that is a
+/// folder or another non-file where a file goes, and no symbolic link inside the output folder
+/// on the way to one (the run writes inside its folder only): all before anything is computed.
+void check_outputs(const scene& s) {
+    const std::vector<scene_output> outs = scene_outputs(s);
+    std::error_code ec;
+    const auto normal = [&ec](const std::filesystem::path& p) {
+        return std::filesystem::absolute(p, ec).lexically_normal();
+    };
+    std::map<std::filesystem::path, const scene_output*> seen;
+    for (const scene_output& o : outs) {
+        const auto [it, fresh] = seen.emplace(normal(o.path), &o);
+        if (!fresh)
+            fail(s, o.line, o.key,
+                 "writes '" + o.path.string() + "', which " + it->second->key + " (line " +
+                     std::to_string(it->second->line) + ") writes too: rename one of them");
+    }
+    const std::filesystem::path root = normal(s.output);
+    for (const scene_output& o : outs) {
+        const std::filesystem::path p = normal(o.path);
+        // inside the output folder: no component below it may be a symbolic link
+        const std::filesystem::path rel = p.lexically_relative(root);
+        if (!rel.empty() && *rel.begin() != "..") {
+            std::filesystem::path at = root;
+            for (const auto& part : rel) {
+                at /= part;
+                if (std::filesystem::is_symlink(std::filesystem::symlink_status(at, ec)))
+                    fail(s, o.line, o.key,
+                         "'" + at.string() +
+                             "' is a symbolic link: a scene writes only inside its output "
+                             "folder, and follows no link out of it (remove it)");
+            }
+        }
+        const auto st = std::filesystem::status(p, ec);
+        if (!std::filesystem::exists(st)) continue;
+        if (o.folder && !std::filesystem::is_directory(st))
+            fail(s, o.line, o.key,
+                 "'" + o.path.string() + "' is not a folder, where the run " + "writes one");
+        if (!o.folder && !std::filesystem::is_regular_file(st))
+            fail(s, o.line, o.key,
+                 "'" + o.path.string() + "' is " +
+                     (std::filesystem::is_directory(st) ? "a folder" : "not a regular file") +
+                     ", where the run writes a file");
+    }
+}
+
 void check_scene(const scene& s, const double_pendulum<double>& model) {
     check_output_dir(s.output, s, s.output_line, "scene.output");
+    check_outputs(s);
     if (s.predictions)
         check_distinct(s.predictions->energies, s.prec, s, s.predictions->line,
                        "predictions.energies");
@@ -279,6 +390,13 @@ void check_scene(const scene& s, const double_pendulum<double>& model) {
         }
         check_output_dir(std::filesystem::path(s.accuracy->out).parent_path(), s, s.accuracy->line,
                          "accuracy.out");
+        for (const std::string& file : s.accuracy->appendices) {  // as the run reads them
+            try {
+                (void)read_input_file(file, "accuracy.appendices");
+            } catch (const input_error& e) {
+                fail(s, s.accuracy->line, "accuracy.appendices", e.detail());
+            }
+        }
     }
     if (s.report) {
         if (!s.predictions && s.ensembles.empty())

@@ -362,12 +362,7 @@ std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists
     std::error_code ec;
     exists = std::filesystem::exists(file, ec);
     if (!exists) return {};
-    std::ifstream in(file, std::ios::binary);
-    if (!in || std::filesystem::is_directory(file, ec))
-        throw input_error::about("checkpoint", "'" + file.string() + "' cannot be read");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+    return read_input_file(file, "checkpoint");
 }
 
 checkpoint_layout checkpoint_layout::single(std::size_t energies, std::size_t criteria) {
@@ -497,11 +492,7 @@ void checkpoint_writer::rewrite(const std::string& tail) {
         ::close(fd_);
         fd_ = -1;
     }
-    try {
-        write_file_atomically(file_, header_line_ + completed_lines_ + tail);
-    } catch (const std::runtime_error&) {
-        throw input_error::about("checkpoint", "cannot write '" + file_.string() + "'");
-    }
+    write_file_atomically(file_, header_line_ + completed_lines_ + tail);  // output_error
     open_for_append();
 }
 

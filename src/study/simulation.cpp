@@ -46,11 +46,26 @@ std::vector<std::pair<std::string, double>> parse_energy_list(const std::string&
                 throw input_error::about(option, "'" + item + "' is not a range (FROM:TO:STEP)");
             const std::string_view v(item);
             for (const std::string& e : decimal_grid(v.substr(0, c1), v.substr(c1 + 1, c2 - c1 - 1),
-                                                     v.substr(c2 + 1), option, 100000))
+                                                     v.substr(c2 + 1), option, max_energy_count))
                 out.emplace_back(e, parse_real<double>(e, option));
         }
         pos = comma + 1;
+        if (out.size() > max_energy_count)
+            throw input_error::about(option, "more than " + std::to_string(max_energy_count) +
+                                                 " energies (docs/limits.md)");
     }
+    // one energy once: "3,3.0" would run two identical ensembles (compared as the doubles run)
+    std::vector<std::pair<double, std::size_t>> sorted;
+    for (std::size_t i = 0; i < out.size(); ++i)
+        sorted.emplace_back(out[i].second, i);
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first) {
+            const std::size_t a = std::min(sorted[i].second, sorted[i - 1].second);
+            const std::size_t b = std::max(sorted[i].second, sorted[i - 1].second);
+            throw input_error::about(
+                option, "E = " + out[b].first + " is given twice (as '" + out[a].first + "')");
+        }
     return out;
 }
 
@@ -210,14 +225,26 @@ ensemble_options checked_options(const simulation_request& request, const proces
         o.trajectories *= request.replicates;
     }
     check_sizes(request, o);
+    // checked, not created: a refused request leaves no folder (the CSVs create it when written)
     const std::filesystem::path& dir = request.csv_dir;
     if (!dir.empty() && group.rank() == 0) {
-        std::error_code ec;
-        std::filesystem::create_directories(dir, ec);
-        if (!std::filesystem::is_directory(dir))
-            throw input_error::about("csv_dir",
-                                     "'" + dir.string() + "' is not a writable directory");
+        check_output_folder(dir, "csv_dir");
+        if (!request.checkpoint.empty()) {
+            namespace fs = std::filesystem;
+            const fs::path c = fs::weakly_canonical(fs::absolute(request.checkpoint));
+            const fs::path d = fs::weakly_canonical(fs::absolute(dir));
+            if (c == d)
+                throw input_error::about("checkpoint", "'" + request.checkpoint.string() +
+                                                           "' is the CSV directory csv_dir");
+            if (c.parent_path() == d && c.extension() == ".csv")
+                throw input_error::about(
+                    "checkpoint", "'" + request.checkpoint.string() +
+                                      "' is a CSV name in the CSV directory csv_dir, where the "
+                                      "ensemble's CSVs are written: choose another name");
+        }
     }
+    if (!request.checkpoint.empty() && group.rank() == 0)
+        check_output_file(request.checkpoint, "checkpoint");
     return o;
 }
 
@@ -259,11 +286,13 @@ resumption resume(const simulation_request& request, const json& header,
     const bool root = group.rank() == 0;
     bool exists = false;
     std::string text, status = "ok";
+    std::optional<input_error> failure;  // the root's own, with its field (checkpoint)
     if (root) {
         try {
             text = read_checkpoint_text(request.checkpoint, exists);
         } catch (const input_error& e) {
             status = e.what();
+            failure = e;
         }
     }
     if (group.size() > 1) {
@@ -271,6 +300,7 @@ resumption resume(const simulation_request& request, const json& header,
         exists = group.broadcast(exists ? "1" : "0") == "1";
         if (exists && status == "ok") text = group.broadcast(text);
     }
+    if (failure) throw *failure;
     if (status != "ok") throw input_error(status);
     if (exists) r.saved = parse_checkpoint(text, header, layout, request.checkpoint);
     if (root)

@@ -156,11 +156,7 @@ json quality_table(const std::vector<quality_indices>& table, double reference_t
 }
 
 void write_atomically(const std::filesystem::path& path, const std::string& content) {
-    try {
-        write_file_atomically(path, content);
-    } catch (const std::runtime_error&) {
-        throw input_error::about("csv_dir", "cannot write '" + path.string() + "'");
-    }
+    write_file_atomically(path, content);  // output_error (exit 1) naming the path
 }
 
 std::string histogram_csv(const histogram& h, std::uint64_t total) {

@@ -14,6 +14,10 @@
 
 namespace flipflux {
 
+void check_trajectory_request(const trajectory_request<double>& q) {
+    detail::check_trajectory_request(q);
+}
+
 trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& model,
                                               const trajectory_request<double>& q) {
     detail::check_trajectory_request(q);

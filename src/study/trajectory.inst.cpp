@@ -116,9 +116,8 @@ template <class Real>
 std::pair<int, long> stages_and_steps(const double_pendulum<Real>& model, const Real& energy,
                                       const Real& time) {
     const auto& k = model.coefficients();
-    const double A = static_cast<double>(k.A), B = static_cast<double>(k.B),
-                 C = static_cast<double>(k.C);
-    const double lambda_min = (A + B) / 2 - std::sqrt((A - B) * (A - B) / 4 + C * C);
+    const double A = static_cast<double>(k.A), B = static_cast<double>(k.B);
+    const double lambda_min = static_cast<double>(mass_eigenvalue_range(k)[0]);
     const double e = std::max(0.0, static_cast<double>(energy));
     const double Lambda =
         1 + std::sqrt(2 * e / lambda_min) +
@@ -259,7 +258,8 @@ std::vector<curve_at<Real>> start_record(const double_pendulum<Real>& model,
     detail::check_trajectory_request(q);
     out.energy = model.hamiltonian(q.state);
     check_trajectory_work(double_pendulum<double>(convert_parameters<double>(model.parameters())),
-                          static_cast<double>(out.energy), static_cast<double>(q.time), "time");
+                          static_cast<double>(out.energy), static_cast<double>(q.time), "time",
+                          static_cast<double>(std::numeric_limits<Real>::epsilon()));
     return curves(model, q, out.energy, out.skipped);
 }
 

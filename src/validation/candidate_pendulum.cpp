@@ -5,13 +5,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <utility>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/io/atomic_file.hpp"
 
 namespace flipflux {
 namespace {
@@ -54,8 +55,7 @@ bool same_number(const std::string& a, const std::string& b) {
 }  // namespace
 
 std::optional<declared_pendulum> read_declared_pendulum(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    if (!in) throw input_error(file.string() + ": cannot read the file");
+    std::istringstream in(read_input_file(file, ""));
     std::optional<declared_pendulum> out;
     std::set<std::string> given;
     std::string line;
@@ -118,8 +118,13 @@ std::vector<golden_set> golden_sets(const std::filesystem::path& golden) {
     const auto add = [&sets](const fs::path& dir, std::string name) {
         std::error_code ec;
         if (!fs::is_regular_file(dir / "golden.csv", ec)) return;
-        std::ifstream in(dir / "provenance.json");
-        const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+        std::string text;
+        try {
+            text = read_input_file(dir / "provenance.json", "golden");
+        } catch (const input_error&) {
+            return;  // no readable provenance: not a set that can be picked by its parameters
+        }
+        const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
         if (j.is_discarded() || !j.is_object() || !j.contains("parameters") ||
             !j["parameters"].is_object())
             return;  // no parameters: not a set that can be picked by them

@@ -58,6 +58,11 @@ void check_golden_row(const golden_reference& g, const std::filesystem::path& fi
         throw input_error(at + "arm '" + g.arm + "' is not 1, 2 or empty");
     if (!is_decimal_number(g.energy))
         throw input_error(at + "energy '" + g.energy + "' is not a finite decimal number");
+    try {  // golden energies are compared as doubles: one beyond double's range is refused here
+        (void)parse_real<double>(g.energy, "energy");
+    } catch (const input_error& e) {
+        throw input_error(at + "energy " + e.detail());
+    }
     if (!is_decimal_number(g.value))
         throw input_error(at + "value '" + g.value + "' is not a finite decimal number");
 }

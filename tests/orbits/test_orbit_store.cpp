@@ -2,6 +2,7 @@
 // in every precision, malformed records are refused naming what is wrong, the memo returns what
 // was remembered for the same pendulum, arm, energy and method only, and cache keys separate
 // everything that changes an orbit.
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <thread>
 #include <vector>
@@ -164,6 +165,48 @@ TEST(OrbitStore, CachedOrbitsAreCheckedPhysically) {
     physical_parameters<double> p = model.parameters();
     p.m2 = 2;
     EXPECT_NE(cached_orbit_problem(double_pendulum<double>(p), arm::two, 3.0, o), "");
+}
+
+// Issue 45: a resealed record whose derived quantities were edited (the action, multiplier,
+// stability index, dT/dE, the monodromy, a sample of the quarter orbit) was believed; the
+// replay of the solver's last shot and final orbit at the recorded (beta, T) finds each, while
+// the record as solved, and as read back from its JSON, passes (at double, quad and mp:40,
+// whose record keeps N + 2 of its guard digits).
+template <class Real>
+void expect_edits_found(const double_pendulum<Real>& model, const Real& energy) {
+    const saddle_orbit<Real> o = solve_saddle_orbit(model, arm::two, energy);
+    ASSERT_NE(o.status, orbit_status::not_converged);
+    EXPECT_EQ(orbit_replica_problem(model, o), "");
+    const saddle_orbit<Real> back = orbit_from_json<Real>(orbit_to_json(o), "f.json");
+    EXPECT_EQ(orbit_replica_problem(model, back), "") << precision_name<Real>();
+    EXPECT_EQ(cached_orbit_problem(model, arm::two, energy, back), "");
+    auto problem = [&](auto edit) {
+        saddle_orbit<Real> x = back;
+        edit(x);
+        return cached_orbit_problem(model, arm::two, energy, x);
+    };
+    // a millionfold the record's decimal rounding: far below the old checks' cbrt(eps)
+    using std::pow;
+    const Real tiny = Real(1e6) * pow(Real(10), Real(1 - output_digits<Real>()));
+    EXPECT_NE(problem([](auto& x) { x.action *= 2; }).find("action"), std::string::npos);
+    EXPECT_NE(problem([&](auto& x) { x.action *= 1 + tiny; }).find("action"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.floquet.multiplier *= 2; }).find("multiplier"),
+              std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.floquet.stability_index *= 2; }).find("multiplier"),
+              std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.period_derivative *= 2; }).find("dT/dE"), std::string::npos);
+    EXPECT_NE(problem([](auto& x) { x.monodromy[0][1] *= 2; }).find("monodromy"),
+              std::string::npos);
+    EXPECT_NE(
+        problem([&](auto& x) { x.quarter[x.quarter.size() / 2][0] += tiny; }).find("quarter orbit"),
+        std::string::npos);
+}
+
+TEST(OrbitStore, ResealedEditsOfDerivedQuantitiesAreFoundByTheReplay) {
+    expect_edits_found(double_pendulum<double>(), 3.0);
+    expect_edits_found(double_pendulum<quad>(), quad(4));
+    const precision_scope scope(precision{real_kind::mp, 40});
+    expect_edits_found(double_pendulum<mp>(), mp(3));
 }
 
 TEST(OrbitStore, MemoReturnsOnlyTheSameOrbit) {

@@ -97,6 +97,25 @@ double decimal_agreement(std::string_view a, std::string_view b, std::string_vie
 double decimal_relative_error(std::string_view a, std::string_view b,
                               std::string_view what = "value");
 
+/// The angle `text` (a decimal number of radians, of any magnitude) reduced exactly modulo 2 pi
+/// into [-pi, pi], as a decimal text with significant_digits + 5 digits: computed in MPFR with
+/// as many bits as the integer part of text / 2 pi has, plus the digits asked for (the decimal
+/// text is exact; 1e17 rad is not the double nearest it). Throws input_error about `what` for a
+/// text that is not a finite decimal number.
+std::string reduced_angle(std::string_view text, int significant_digits,
+                          std::string_view what = "angle");
+
+/// An angle in radians parsed into Real: as parse_real, except that beyond 1e6 rad it is first
+/// reduced exactly modulo 2 pi from its decimal text (reduced_angle): the dynamics is 2 pi-periodic
+/// in each angle, and a double at 1e6 rad keeps only ~1e-10 rad of its fraction of a turn (at 1e17
+/// none). Angles up to 1e6 are kept as given (outputs then unwrap from them).
+template <class Real>
+Real parse_angle(std::string_view text, std::string_view what) {
+    if (is_decimal_number(text) && decimal_agreement(text, "0") < -6)  // |text - 0| > 1e6
+        return parse_real<Real>(reduced_angle(text, output_digits<Real>(), what), what);
+    return parse_real<Real>(text, what);
+}
+
 /// A decimal number rounded to `significant_digits` (>= 1) digits, correctly rounded from every
 /// digit of the text, in the form to_decimal writes.
 std::string round_decimal(std::string_view text, int significant_digits,
@@ -110,7 +129,7 @@ std::string round_decimal(std::string_view text, int significant_digits,
 /// values. Throws input_error about `field` otherwise.
 std::vector<std::string> decimal_grid(std::string_view from, std::string_view to,
                                       std::string_view step, const std::string& field,
-                                      long max_points = 1000000);
+                                      long max_points = 100000);
 
 #define FLIPFLUX_DECIMAL_EXTERN(R)                                                       \
     extern template R parse_real<R>(std::string_view, std::string_view);                 \

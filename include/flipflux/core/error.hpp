@@ -37,4 +37,12 @@ class input_error : public std::runtime_error {
     std::size_t field_length_ = 0;  ///< 1 + the field's length; 0: no field
 };
 
+/// An output that could not be written (a full disk, a read-only folder, a FIFO without a reader):
+/// an I/O failure of the environment, not bad input. The message is one line naming the path.
+/// The CLI maps it to exit status 1.
+class output_error : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
 }  // namespace flipflux

@@ -15,6 +15,9 @@ inline constexpr std::uint64_t max_threads = 4096;
 
 /// The most histogram bins per histogram.
 inline constexpr std::uint64_t max_bins = 1000000;
+
+/// The most energies one request may list (a command line's --energy, a scene's grid).
+inline constexpr std::size_t max_energy_count = 100000;
 /// Independent replicates of one ensemble (study/simulation.hpp): each is summarised on its own
 /// and the quality indices are recomputed without each, so the cost grows as R^2 energies.
 inline constexpr std::uint64_t max_replicates = 1000;

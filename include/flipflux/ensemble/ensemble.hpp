@@ -170,14 +170,19 @@ void validate(const ensemble_options& options);
 /// An upper bound on the turns the arms make over `time` at `energy` (both arms together):
 /// time (w_E + w_0) / (2 pi) with w_E = sqrt(2 E / m) the largest angular speed the kinetic
 /// energy allows (K <= E since V >= 0) and w_0 = sqrt((alpha + beta) / m) the fastest
-/// small-oscillation frequency, m = (A + B) / 2 - sqrt(((A - B) / 2)^2 + C^2) the smallest
-/// eigenvalue of the mass matrix over all configurations.
+/// small-oscillation frequency, m = D0 / ((A + B) / 2 + sqrt(((A - B) / 2)^2 + C^2)) the smallest
+/// eigenvalue of the mass matrix over all configurations (its determinant over the largest: no
+/// cancellation when it is tiny).
 double turns_bound(const double_pendulum<double>& model, double energy, double time);
 
 /// Throws input_error about `field` when turns_bound exceeds max_turns_per_trajectory
-/// (core/limits.hpp): a trajectory that could not finish.
+/// (core/limits.hpp): a trajectory that could not finish; and input_error about the pendulum
+/// when its mass matrix's condition number (at the worst angle) exceeds 1e-4 / epsilon (the
+/// working precision's): a near-zero mass or inertia whose trajectories that precision cannot
+/// integrate (m1 = 2e-16 beside m2 = 1 in double).
 void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
-                           const std::string& field);
+                           const std::string& field,
+                           double epsilon = std::numeric_limits<double>::epsilon());
 
 /// The chaos threshold in the model's time units: threshold * sqrt(alpha / A).
 double chaos_threshold_rate(const double_pendulum<double>& model, double threshold);

@@ -58,6 +58,7 @@
 #include <vector>
 
 #include "flipflux/core/budget.hpp"
+#include "flipflux/core/error.hpp"
 #include "flipflux/core/mpfr_number.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
@@ -368,13 +369,21 @@ std::vector<Real> series_exp(const std::vector<Real>& u) {
 
 }  // namespace taylor
 
-/// Jorba-Zou order for a tolerance: ceil(-ln(tol) / 2) + 1 (at least 2).
+/// Jorba-Zou order for a tolerance: ceil(-ln(tol) / 2) + 1 (at least 2). A tolerance that would
+/// need more than max_taylor_order (mp:N beyond about 86,800 digits) is input_error about the
+/// precision, not a failure inside the integrator.
 template <class Real>
 int taylor_order_for(const Real& tolerance) {
     using std::log;
     const double l = -static_cast<double>(log(tolerance));
-    const int p = static_cast<int>(std::ceil(l / 2)) + 1;
-    return p < 2 ? 2 : p;
+    const double p = std::ceil(l / 2) + 1;
+    if (!(p <= max_taylor_order))
+        throw input_error::about("precision",
+                                 "its tolerance needs a Taylor series of order " +
+                                     std::to_string(static_cast<long long>(std::min(p, 1e18))) +
+                                     ", more than the " + std::to_string(max_taylor_order) +
+                                     " the Taylor routes allow (mp:N up to about 86800 digits)");
+    return p < 2 ? 2 : static_cast<int>(p);
 }
 
 /// A Taylor integrator of fixed order for a state of N reals. The functor f is called as

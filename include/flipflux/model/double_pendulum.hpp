@@ -148,6 +148,38 @@ lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p
     return k;
 }
 
+/// The extreme eigenvalues of the mass matrix over all configurations (at |cos(th1 - th2)| = 1):
+/// {smallest, largest}, the smallest as D0 / largest (no cancellation when it is tiny: a link of
+/// nearly zero mass).
+template <class Real>
+std::array<Real, 2> mass_eigenvalue_range(const lagrangian_coefficients<Real>& k) {
+    using std::sqrt;
+    const Real half_gap = (k.A - k.B) / 2;
+    const Real largest = (k.A + k.B) / 2 + sqrt(half_gap * half_gap + k.C * k.C);
+    return {k.D0 / largest, largest};
+}
+
+/// Throws input_error when the mass matrix's condition number (largest over smallest eigenvalue,
+/// at the worst configuration) exceeds 1e-4 / epsilon, epsilon the working precision's: a mass or
+/// inertia nearly 0 beside the others (m1 = 2e-16 beside m2 = 1 in double), whose trajectories
+/// and orbits that precision cannot integrate. The one home of this refusal (ensembles,
+/// trajectories, saddle orbits).
+template <class Real>
+void check_conditioning(const lagrangian_coefficients<Real>& k, double epsilon) {
+    const std::array<Real, 2> range = mass_eigenvalue_range(k);
+    const double condition = static_cast<double>(range[1] / range[0]);
+    if (!(condition * epsilon <= 1e-4))
+        throw input_error(
+            "pendulum: the parameters give a mass matrix of condition number " +
+            to_decimal(condition, 3) + " (its smallest eigenvalue " +
+            to_decimal(static_cast<double>(range[0]), 3) + " beside " +
+            to_decimal(static_cast<double>(range[1]), 3) +
+            ": a mass or moment of inertia nearly 0 beside the others), more than 1e-4 / "
+            "epsilon = " +
+            to_decimal(1e-4 / epsilon, 3) +
+            " of the working precision, which cannot integrate its motion (docs/limits.md)");
+}
+
 /// A 2x2 symmetric matrix [[xx, xy], [xy, yy]].
 template <class Real>
 struct sym2 {

@@ -191,6 +191,15 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
                                       const level_arg<Real>& energy,
                                       const orbit_options<Real>& options = {});
 
+/// Why a recorded orbit (a cache entry) is not what the solver would have recorded for its own
+/// (beta, T), or "" when it is: the solver's last shot and final orbit are replayed at the
+/// recorded (beta, T) with the recorded integrator and grid (about one Newton iteration's work),
+/// and the action, quarter orbit, monodromy, multiplier, stability index and dT/dE are compared
+/// to the rounding of the record's decimals. A checksum catches accidents; this catches a
+/// record edited and resealed.
+template <class Real>
+std::string orbit_replica_problem(const double_pendulum<Real>& model, const saddle_orbit<Real>& o);
+
 /// The saddle orbit at energy E refined from a guess (no continuation).
 template <class Real>
 saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
@@ -246,6 +255,8 @@ template <class Real>
     extern template saddle_family<R> continue_saddle_family<R>(                          \
         const double_pendulum<R>&, arm, const std::vector<energy_level<R>>&,             \
         const orbit_options<R>&);                                                        \
+    extern template std::string orbit_replica_problem<R>(const double_pendulum<R>&,      \
+                                                         const saddle_orbit<R>&);        \
     extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,             \
                                                   const saddle_orbit<R>&, const R&);     \
     extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm,           \

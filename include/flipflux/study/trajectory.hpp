@@ -66,6 +66,11 @@ struct trajectory_record {
     std::vector<std::string> skipped;  ///< "arm A criterion C: why" for criteria that cannot flip
 };
 
+/// The request's own checks (state, time, sample interval, rtol, criteria, arms), as
+/// integrate_trajectory makes them before integrating: for a plan that must refuse what the run
+/// would (scene `[[trajectory]]`). Throws input_error about the request's field.
+void check_trajectory_request(const trajectory_request<double>& q);
+
 /// Integrates the trajectory by the precision's default route (double: the ensemble's; else the
 /// reference route). Throws input_error (naming the field: state, time, criteria, arms,
 /// sample_interval, rtol) for bad input, and std::runtime_error when the integration fails.
