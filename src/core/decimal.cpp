@@ -70,16 +70,17 @@ std::string truncated_digits(std::string_view text, std::size_t keep) {
 
 double log10_relative_difference(std::string_view a_text, std::string_view b_text,
                                  std::string_view what) {
-    // NOTE: a text's digits beyond the other's by more than 40 change the difference by less
-    // than 1e-40 of it, far below the double this returns: they are cut lexically first, so that
-    // a candidate value of millions of digits against a golden one of 50 costs microseconds,
-    // not a minute (both must still be decimal numbers)
+    // NOTE: both texts are cut lexically to k = max(m + 40, 100000) significant digits, m the
+    // shorter's: the cut moves the relative difference r by less than 10^(1 - k), so r keeps
+    // double accuracy wherever r > 10^(20 - k), and below that the texts agree to more than
+    // k - 20 >= m + 20 digits, more than the shorter has. A candidate value of millions of
+    // digits against a golden one of 50 then costs milliseconds, not a minute.
     for (const std::string_view t : {a_text, b_text})
         if (!is_decimal_number(t))
             throw input_error::about(std::string(what),
                                      "'" + std::string(t) + "' is not a finite decimal number");
-    const std::size_t keep =
-        std::min(significant_digits_of(a_text), significant_digits_of(b_text)) + 40;
+    const std::size_t keep = std::max<std::size_t>(
+        std::min(significant_digits_of(a_text), significant_digits_of(b_text)) + 40, 100000);
     const std::string a = truncated_digits(a_text, keep), b = truncated_digits(b_text, keep);
     // every significant digit of both texts, and room for the difference
     const mpfr_prec_t bits = static_cast<mpfr_prec_t>(4 * (a.size() + b.size()) + 64);

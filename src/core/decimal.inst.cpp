@@ -43,9 +43,13 @@ Real parse_real(std::string_view text, std::string_view what) {
     }
     // a nonzero text that rounds to 0 (or, in a fixed type, below its normal range, where
     // digits are lost) is refused rather than run as a meaningless limit: 1e-400 is not 0
+    // NOTE: numeric_limits<mp>::min() is not asked (Boost computes it at, and may disturb, the
+    // default precision); MPFR's exponent range leaves only an exact 0 to refuse there
     using std::abs;
-    if (decimal_sign(text) != 0 && (value == 0 || (std::numeric_limits<Real>::is_bounded &&
-                                                   abs(value) < std::numeric_limits<Real>::min())))
+    bool below = value == 0;
+    if constexpr (!has_variable_precision_v<Real>)
+        below = below || abs(value) < std::numeric_limits<Real>::min();
+    if (decimal_sign(text) != 0 && below)
         throw input_error::about(std::string(what), "'" + s + "' underflows " +
                                                         precision_name<Real>() +
                                                         " (below its smallest normal number)");

@@ -156,7 +156,7 @@ TEST(LimitsCommand, UnwritableOutputIsRefusedBeforeComputing) {
     std::ofstream(file) << "x";
     const std::string accuracy = "accuracy --quantities omega --precisions double --out ";
     expect_refused(accuracy + file + "/x.md", {"--out: '" + file + "/x.md' cannot be written"});
-    expect_refused(accuracy + ::testing::TempDir(), {"is a directory, not a file"});
+    expect_refused(accuracy + ::testing::TempDir(), {"is a folder, not a file"});
     std::remove(file.c_str());
 }
 

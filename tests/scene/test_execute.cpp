@@ -181,9 +181,10 @@ TEST(Execute, SaddleFamilyIsSolvedOnceThenReadFromTheCache) {
             (void)run(s, cache);
             ADD_FAILURE() << "a folder predictions.csv was accepted";
         } catch (const scene_error& e) {
-            EXPECT_NE(
-                std::string(e.what()).find("holds 'predictions.csv', which is not a regular file"),
-                std::string::npos)
+            // the plan's check of every output path (scene_outputs), before the run's own
+            EXPECT_NE(std::string(e.what()).find("predictions.csv' is a folder, where the run "
+                                                 "writes a file"),
+                      std::string::npos)
                 << e.what();
         }
         fs::remove(out / "predictions.csv");
@@ -423,8 +424,8 @@ TEST(Execute, AccuracyAppendixMustExistBeforeAnythingIsMeasured) {
         (void)run(s);
         ADD_FAILURE() << "no error";
     } catch (const scene_error& e) {
-        EXPECT_NE(std::string(e.what()).find("t.toml:4: accuracy.appendices: cannot read "
-                                             "'/nonexistent/bench.md'"),
+        EXPECT_NE(std::string(e.what()).find("t.toml:4: accuracy.appendices: "
+                                             "'/nonexistent/bench.md' does not exist"),
                   std::string::npos)
             << e.what();
     }
