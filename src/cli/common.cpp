@@ -79,6 +79,18 @@ void estimate_cost(const precision& p, const time_bound_option& bound,
                               std::to_string(ladder[k]) + " alone did not finish in them");
         }
         seconds.push_back(thread_cpu_seconds() - start);
+        // the least the request can cost: no computation at N digits grows slower than N^1.5
+        // from this pilot (the clamp's floor) — refused at once when even that is too much,
+        // before a costlier pilot is run (eval period mp:5000: mp:78 took 3 s, and mp:312 would
+        // take 65 s more)
+        const double least = seconds[k] * std::pow(static_cast<double>(p.digits) / ladder[k], 1.5);
+        if (least > bound.max_seconds)
+            throw input_error("--precision: mp:" + std::to_string(p.digits) +
+                              " would take at least " + to_decimal(least, 2) +
+                              " CPU seconds (mp:" + std::to_string(ladder[k]) + " took " +
+                              to_decimal(seconds[k], 2) + " s; the cost grows at least as N^1.5)" +
+                              ", more than --max-seconds " + to_decimal(bound.max_seconds, 6) +
+                              ": raise --max-seconds or lower the precision");
         if (k == 0) continue;
         // the CPU time's growth with the digits between the last two pilots (MPFR's products
         // grow as N^1.6, a series' terms or an integrator's steps as N), clamped to [1.5, 4]

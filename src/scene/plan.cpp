@@ -323,6 +323,20 @@ void check_outputs(const scene& s) {
                  "writes '" + o.path.string() + "', which " + it->second->key + " (line " +
                      std::to_string(it->second->line) + ") writes too: rename one of them");
     }
+    // nor another key's file inside a folder the run fills (golden.dir = "out/ensemble-a")
+    for (const scene_output& f : outs) {
+        if (!f.folder) continue;
+        const std::filesystem::path folder = normal(f.path);
+        for (const scene_output& o : outs) {
+            if (&o == &f || o.key == f.key) continue;
+            const std::filesystem::path rel = normal(o.path).lexically_relative(folder);
+            if (!rel.empty() && *rel.begin() != ".." && rel != ".")
+                fail(s, o.line, o.key,
+                     "writes '" + o.path.string() + "' inside '" + f.path.string() +
+                         "', the folder " + f.key + " (line " + std::to_string(f.line) +
+                         ") fills: choose another path");
+        }
+    }
     const std::filesystem::path root = normal(s.output);
     for (const scene_output& o : outs) {
         const std::filesystem::path p = normal(o.path);
