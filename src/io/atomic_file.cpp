@@ -3,6 +3,7 @@
 #include "flipflux/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <limits.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -112,8 +113,19 @@ bool can_create_in(const fs::path& dir) {
     return true;
 }
 
-// The nearest existing ancestor folder of a new path must be a writable folder.
+// The nearest existing ancestor folder of a new path must be a writable folder, and its names
+// within the file system's limits (with room for the temporary name's suffix).
 void check_new_path(const fs::path& path, const std::string& field, const std::string& what) {
+    if (path.string().size() + 32 >= PATH_MAX)
+        throw input_error::about(field, quoted(path) + " is too long a path (PATH_MAX " +
+                                            std::to_string(PATH_MAX) + ")");
+    for (const fs::path& part : path)
+        if (part.string().size() + 24 > NAME_MAX)
+            throw input_error::about(
+                field, quoted(path) + " has a name longer than " + std::to_string(NAME_MAX - 24) +
+                           " characters (NAME_MAX " + std::to_string(NAME_MAX) +
+                           ", less the room of "
+                           "the temporary name)");
     std::error_code ec;
     fs::path dir = path.parent_path();
     while (!dir.empty() && !fs::exists(fs::symlink_status(dir, ec)))
