@@ -83,8 +83,13 @@ void estimate_cost(const precision& p, const time_bound_option& bound,
         // from this pilot (the clamp's floor) — refused at once when even that is too much,
         // before a costlier pilot is run (eval period mp:5000: mp:78 took 3 s, and mp:312 would
         // take 65 s more)
-        const double least = seconds[k] * std::pow(static_cast<double>(p.digits) / ladder[k], 1.5);
-        if (least > bound.max_seconds)
+        // (from a pilot of 0.5 s or more, in working digits: a fixed cost of a few milliseconds
+        // extrapolated from mp:97 to mp:100000 would refuse what could finish)
+        const double least =
+            seconds[k] * std::pow(static_cast<double>(mp_working_digits(p.digits)) /
+                                      mp_working_digits(ladder[k]),
+                                  1.5);
+        if (seconds[k] >= 0.5 && least > bound.max_seconds)
             throw input_error("--precision: mp:" + std::to_string(p.digits) +
                               " would take at least " + to_decimal(least, 2) +
                               " CPU seconds (mp:" + std::to_string(ladder[k]) + " took " +
@@ -165,18 +170,27 @@ arm parse_arm(const std::string& text, std::string_view option) {
 
 namespace {
 
-std::string integer_grammar(std::string& text) {
-    const std::size_t start = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
-    bool ok = text.size() > start;
+// Decimal digits, an optional sign (no '-' for an unsigned option); leading zeros are dropped
+// here, so that CLI11 (which reads "010" as octal) sees the decimal the user meant.
+std::string integer_grammar(std::string& text, bool is_unsigned) {
+    const bool sign = !text.empty() && (text[0] == '+' || text[0] == '-');
+    const std::size_t start = sign ? 1 : 0;
+    bool ok = text.size() > start && !(is_unsigned && text[0] == '-');
     for (std::size_t i = start; i < text.size(); ++i)
         ok = ok && text[i] >= '0' && text[i] <= '9';
-    if (ok) return {};
-    return "'" + text +
-           "' is not a decimal integer (digits only: no hexadecimal, exponent or "
-           "fraction)";
+    if (!ok)
+        return "'" + text + "' is not a decimal integer (digits only" +
+               (is_unsigned ? ", no sign" : "") + ": no hexadecimal, exponent or fraction)";
+    const std::size_t first = std::min(text.find_first_not_of('0', start), text.size() - 1);
+    text = (text[0] == '-' ? "-" : "") + text.substr(first);
+    return {};
 }
 
 std::string number_grammar(std::string& text) {
+    // ".5" and "-.5" (which CLI11 read before) are "0.5" and "-0.5"
+    const std::size_t at = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+    if (text.size() > at + 1 && text[at] == '.' && text[at + 1] >= '0' && text[at + 1] <= '9')
+        text.insert(at, "0");
     if (!is_decimal_number(text)) return "'" + text + "' is not a finite decimal number";
     errno = 0;
     const double v = std::strtod(text.c_str(), nullptr);
@@ -189,9 +203,13 @@ std::string number_grammar(std::string& text) {
 void add_grammar(CLI::App& app) {
     for (CLI::Option* o : app.get_options()) {
         const std::string type = o->get_type_name();
-        if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0)
-            o->transform(CLI::Validator(integer_grammar, ""), "integer grammar");
-        else if (type.rfind("FLOAT", 0) == 0)
+        if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0) {
+            const bool is_unsigned = type.rfind("UINT", 0) == 0;
+            o->transform(
+                CLI::Validator(
+                    [is_unsigned](std::string& t) { return integer_grammar(t, is_unsigned); }, ""),
+                "integer grammar");
+        } else if (type.rfind("FLOAT", 0) == 0)
             o->transform(CLI::Validator(number_grammar, ""), "number grammar");
     }
     for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))

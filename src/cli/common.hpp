@@ -54,6 +54,9 @@ void estimate_cost(const precision& p, const time_bound_option& bound,
 template <class F>
 decltype(auto) bounded_dispatch(const precision& p, const time_bound_option& bound, bool pilots,
                                 F&& f) {
+    if (!(bound.max_seconds > 0))
+        throw input_error("--max-seconds: '" + to_decimal(bound.max_seconds) +
+                          "' is invalid (must be > 0)");
     if (pilots) detail::estimate_cost(p, bound, [&f](const precision& q) { (void)dispatch(q, f); });
     try {
         const cpu_budget_scope budget(bound.max_seconds);

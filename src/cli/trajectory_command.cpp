@@ -84,9 +84,12 @@ void run(const trajectory_state& s) {
     // the outputs before the integration (minutes at mp:N): refused first, with one line
     if (!s.out.empty()) check_output_file(s.out, "--out");
     if (!s.events.empty()) check_output_file(s.events, "--events");
-    if (!s.out.empty() && !s.events.empty() &&
-        std::filesystem::weakly_canonical(std::filesystem::absolute(s.out)) ==
-            std::filesystem::weakly_canonical(std::filesystem::absolute(s.events)))
+    if (!s.out.empty() && !s.events.empty() && [](const std::string& a, const std::string& b) {
+            namespace fs = std::filesystem;
+            std::error_code ec;
+            return fs::weakly_canonical(fs::absolute(a, ec), ec) ==
+                   fs::weakly_canonical(fs::absolute(b, ec), ec);
+        }(s.out, s.events))
         throw input_error("--events: '" + s.events + "' is also the --out file; give two files");
     const trajectory_record<Real> r = s.route == "reference" ? reference_trajectory(model, q)
                                       : s.route == "taylor"  ? taylor_trajectory(model, q)

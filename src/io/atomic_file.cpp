@@ -31,14 +31,31 @@ struct destination {
     std::string noun;  ///< "a folder", "a block device", "a socket" for refused kinds
 };
 
+/// The descriptor a path names when it is one of this process's own (/dev/stdout, /dev/stderr,
+/// /dev/fd/N, /proc/self/fd/N), or -1: those are written through the descriptor itself, at its
+/// offset, never reopened (a reopened redirected stdout would start at offset 0) or replaced.
+int own_descriptor(const fs::path& path) {
+    const std::string p = path.lexically_normal().string();
+    if (p == "/dev/stdout") return 1;
+    if (p == "/dev/stderr") return 2;
+    for (const std::string prefix : {"/dev/fd/", "/proc/self/fd/"})
+        if (p.rfind(prefix, 0) == 0 && p.size() > prefix.size() && p.size() - prefix.size() < 8 &&
+            p.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+            return std::atoi(p.c_str() + prefix.size());
+    return -1;
+}
+
 destination classify(const fs::path& path) {
     std::error_code ec;
+    if (own_descriptor(path) >= 0) return {path, kind::in_place, {}};
     fs::file_status st = fs::symlink_status(path, ec);
     if (!fs::exists(st)) return {path, kind::missing, {}};
     fs::path target = path;
     if (fs::is_symlink(st)) {
         st = fs::status(path, ec);
         if (!fs::exists(st)) return {path, kind::dangling, "a symbolic link to a missing file"};
+        // a device or FIFO is written through the link itself (its target may have no name)
+        if (fs::is_character_file(st) || fs::is_fifo(st)) return {path, kind::in_place, {}};
         target = fs::canonical(path, ec);
         if (ec) return {path, kind::dangling, "a symbolic link that cannot be resolved"};
     }
@@ -50,8 +67,26 @@ destination classify(const fs::path& path) {
     return {target, kind::refused, "not a file"};
 }
 
+// Writes all of `content` to the descriptor; false with errno set on failure.
+bool write_all(int fd, const std::string& content) {
+    std::size_t done = 0;
+    while (done < content.size()) {
+        const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        done += static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
 // Writes to a device or FIFO in place; a FIFO with no reader is an error, not a wait.
 void write_in_place(const fs::path& shown, const fs::path& target, const std::string& content) {
+    if (const int own = own_descriptor(target); own >= 0) {
+        std::fflush(stdout);  // what was printed before comes first
+        if (!write_all(own, content))
+            throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(errno));
+        return;
+    }
     const int fd = ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
         const int err = errno;
@@ -61,16 +96,10 @@ void write_in_place(const fs::path& shown, const fs::path& target, const std::st
     }
     const int flags = ::fcntl(fd, F_GETFL);
     if (flags != -1) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-    std::size_t done = 0;
-    while (done < content.size()) {
-        const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            const int err = errno;
-            ::close(fd);
-            throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(err));
-        }
-        done += static_cast<std::size_t>(n);
+    if (!write_all(fd, content)) {
+        const int err = errno;
+        ::close(fd);
+        throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(err));
     }
     if (::close(fd) != 0 && errno != EINTR)
         throw output_error("cannot write " + quoted(shown) + ": " + std::strerror(errno));
@@ -120,7 +149,7 @@ void check_new_path(const fs::path& path, const std::string& field, const std::s
         throw input_error::about(field, quoted(path) + " is too long a path (PATH_MAX " +
                                             std::to_string(PATH_MAX) + ")");
     for (const fs::path& part : path)
-        if (part.string().size() + 24 > NAME_MAX)
+        if (part.string().size() + (part == path.filename() ? 24 : 0) > NAME_MAX)
             throw input_error::about(
                 field, quoted(path) + " has a name longer than " + std::to_string(NAME_MAX - 24) +
                            " characters (NAME_MAX " + std::to_string(NAME_MAX) +
@@ -222,14 +251,15 @@ std::string read_input_file(const fs::path& path, const std::string& field,
     // O_NONBLOCK: should the path have become a FIFO since, opening it does not wait for a writer
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) throw fail(quoted(path) + " cannot be read (" + std::strerror(errno) + ")");
+    struct closer {
+        int fd;
+        ~closer() { ::close(fd); }
+    } guard{fd};
     struct stat info {};
-    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-        ::close(fd);
+    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode))
         throw fail(quoted(path) + " is not a regular file");
-    }
     const std::string bound = std::to_string(max_bytes) + " bytes (docs/limits.md)";
     if (static_cast<std::uintmax_t>(info.st_size) > max_bytes) {
-        ::close(fd);
         throw fail(quoted(path) + " has " + std::to_string(info.st_size) +
                    " bytes, more than the bound of " + bound);
     }
@@ -240,17 +270,14 @@ std::string read_input_file(const fs::path& path, const std::string& field,
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) {
             const int err = errno;
-            ::close(fd);
             throw fail(quoted(path) + " cannot be read (" + std::strerror(err) + ")");
         }
         if (n == 0) break;
         content.append(buffer, static_cast<std::size_t>(n));
         if (content.size() > max_bytes) {
-            ::close(fd);
             throw fail(quoted(path) + " has more than the bound of " + bound);
         }
     }
-    ::close(fd);
     return content;
 }
 

@@ -703,7 +703,7 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
 }
 
 template <class Real>
-std::string orbit_replica_problem(const double_pendulum<Real>& model, const saddle_orbit<Real>& o) {
+std::string replica_problem(const double_pendulum<Real>& model, const saddle_orbit<Real>& o) {
     using std::abs;
     using std::max;
     using std::pow;
@@ -714,9 +714,11 @@ std::string orbit_replica_problem(const double_pendulum<Real>& model, const sadd
     if (quarter_steps < 1 || quarter_steps > 100000000L) return "its quarter grid is out of range";
     // (a solve picks about eps's Taylor order, or default_stages: a record asking for far more
     // work per step than that is no record of this program)
-    const int most_order = 2 * taylor_order_for(std::numeric_limits<Real>::epsilon()) + 10;
+    const int most_order =
+        std::min(2 * taylor_order_for(std::numeric_limits<Real>::epsilon()) + 10, max_taylor_order);
     if (taylor ? (o.order < 1 || o.order > most_order)
-               : (o.stages < 1 || o.stages > 4 * default_stages<Real>() + 8))
+               : (o.stages < 1 ||
+                  o.stages > std::min(4 * default_stages<Real>() + 8, max_gauss_legendre_stages)))
         return "its integrator order is out of range";
     if (!(o.period > 0) || !(o.excess > 0)) return "its period or energy is not > 0";
     const int order = taylor ? o.order : 2 * o.stages;
@@ -782,6 +784,17 @@ std::string orbit_replica_problem(const double_pendulum<Real>& model, const sadd
         return "its dT/dE = " + to_decimal(o.period_derivative) + " is not its orbit's (" +
                to_decimal(period_slope) + ")";
     return {};
+}
+
+template <class Real>
+std::string orbit_replica_problem(const double_pendulum<Real>& model, const saddle_orbit<Real>& o) {
+    try {
+        return replica_problem(model, o);
+    } catch (const budget_exceeded&) {
+        throw;
+    } catch (const std::exception& e) {  // a record that makes the replay fail is no record of ours
+        return std::string("its replay failed (") + e.what() + ")";
+    }
 }
 
 template <class Real>

@@ -512,52 +512,85 @@ constexpr std::size_t max_key_parts = 64;
 constexpr std::uintmax_t max_scene_bytes = std::uintmax_t{16} << 20;
 
 void check_key_depth(const std::string& text, const std::string& fname) {
+    // A lexical pass: strings, comments and multi-line strings skipped; the open arrays and
+    // inline tables of a value kept on a stack. Keys are read at a line's start (outside any
+    // open array or table: a header or a key) and after '{' or ',' directly inside an inline
+    // table; there each '.' is a part.
     std::size_t line = 1;
     std::size_t parts = 1;
-    bool in_key = true;      // before the '=' of a key-value line, or inside a [header]
-    char quote = 0;          // the quote of a quoted key part
-    bool multiline = false;  // inside a """ or ''' string (its lines are no keys)
-    bool comment = false;    // after a '#' outside a string
-    std::size_t braces = 0;  // open inline tables
+    bool in_key = true;      // reading a key (or a [header]) up to its '=' (or ']')
+    char quote = 0;          // inside a one-line string: its quote
+    bool multiline = false;  // inside a """ or ''' string
+    char multiline_quote = 0;
+    bool comment = false;  // after a '#' outside a string
+    std::string open;      // the value's open containers: '[' arrays, '{' inline tables
     for (std::size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
-        if (quote == 0 && !comment &&
-            (text.compare(i, 3, "\"\"\"") == 0 || text.compare(i, 3, "'''") == 0)) {
-            multiline = !multiline;
-            i += 2;
-            continue;
-        }
         if (c == '\n') {
             ++line;
-            parts = 1;
-            in_key = !multiline && braces == 0;
-            quote = 0;
             comment = false;
+            quote = 0;
+            if (!multiline && open.empty()) {
+                in_key = true;
+                parts = 1;
+            }
             continue;
         }
-        if (multiline || comment) continue;
+        if (comment) continue;
+        if (multiline) {
+            if (c == multiline_quote && text.compare(i, 3, std::string(3, c)) == 0) {
+                multiline = false;
+                i += 2;
+            } else if (c == '\\' && multiline_quote == '"') {
+                ++i;
+            }
+            continue;
+        }
         if (quote != 0) {
             if (c == '\\' && quote == '"')
                 ++i;  // an escaped character in a basic string
             else if (c == quote)
                 quote = 0;
-        } else if (c == '"' || c == '\'') {
+            continue;
+        }
+        if ((c == '"' || c == '\'') && !in_key && text.compare(i, 3, std::string(3, c)) == 0) {
+            multiline = true;
+            multiline_quote = c;
+            i += 2;
+            continue;
+        }
+        if (c == '"' || c == '\'') {
             quote = c;
-        } else if (c == '#') {
+            continue;
+        }
+        if (c == '#') {
             comment = true;
-        } else if (!in_key) {
-            if (c == '}' && braces > 0) --braces;
-            if (c == '{' || (c == ',' && braces > 0)) {  // an inline table's keys
-                braces += c == '{' ? 1 : 0;
+            continue;
+        }
+        if (in_key) {
+            if (c == '=' || c == ']') {
+                in_key = false;
+            } else if (c == '}' && !open.empty() && open.back() == '{') {  // an empty table {}
+                open.pop_back();
+                in_key = false;
+            } else if (c == '.' && ++parts > max_key_parts) {
+                throw scene_error(fname + ":" + std::to_string(line) +
+                                  ": a key or table header with more than " +
+                                  std::to_string(max_key_parts) + " dotted parts (docs/limits.md)");
+            }
+            continue;
+        }
+        if (c == '[' || c == '{') {
+            open += c;
+            if (c == '{') {
                 in_key = true;
                 parts = 1;
             }
-        } else if (c == '=' || c == ']') {
-            in_key = false;
-        } else if (c == '.' && ++parts > max_key_parts) {
-            throw scene_error(fname + ":" + std::to_string(line) +
-                              ": a key or table header with more than " +
-                              std::to_string(max_key_parts) + " dotted parts (docs/limits.md)");
+        } else if ((c == ']' || c == '}') && !open.empty()) {
+            open.pop_back();
+        } else if (c == ',' && !open.empty() && open.back() == '{') {
+            in_key = true;
+            parts = 1;
         }
     }
 }

@@ -181,7 +181,7 @@ void check_trajectory(const scene& s, std::size_t i, const double_pendulum<doubl
         check_trajectory_work(model, model.hamiltonian(x),
                               parse_real<double>(t.time, key + ".time"), "time");
     } catch (const input_error& err) {
-        fail(s, t.line, key + ".time", err.detail());
+        fail(s, t.line, err.field().empty() ? std::string("model") : key + ".time", err.detail());
     }
     // the request's own checks, as the run makes them (its sample interval, rtol, criteria)
     trajectory_request<double> q;
@@ -290,6 +290,7 @@ std::vector<scene_output> scene_outputs(const scene& s) {
         const std::string key = "ensemble[" + std::to_string(i) + "].name";
         add(s.output / ("ensemble-" + x.name + ".json"), key, x.line);
         add(s.output / ("ensemble-" + x.name), key, x.line, true);
+        add(s.output / ("ensemble-" + x.name + ".checkpoint"), key, x.line);
     }
     for (std::size_t i = 0; i < s.trajectories.size(); ++i) {
         const trajectory_spec& t = s.trajectories[i];

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/limits.hpp"
 #include "flipflux/io/atomic_file.hpp"
 
 namespace flipflux {
@@ -362,7 +363,10 @@ std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists
     std::error_code ec;
     exists = std::filesystem::exists(file, ec);
     if (!exists) return {};
-    return read_input_file(file, "checkpoint");
+    // bounded by the memory a request may hold, not by the 256 MiB of other inputs: a checkpoint
+    // this program wrote (every crossing time of every trajectory) may be larger
+    return read_input_file(file, "checkpoint",
+                           static_cast<std::uintmax_t>(std::max(memory_budget_bytes(), 0.0)));
 }
 
 checkpoint_layout checkpoint_layout::single(std::size_t energies, std::size_t criteria) {

@@ -231,8 +231,9 @@ ensemble_options checked_options(const simulation_request& request, const proces
         check_output_folder(dir, "csv_dir");
         if (!request.checkpoint.empty()) {
             namespace fs = std::filesystem;
-            const fs::path c = fs::weakly_canonical(fs::absolute(request.checkpoint));
-            const fs::path d = fs::weakly_canonical(fs::absolute(dir));
+            std::error_code ec;
+            const fs::path c = fs::weakly_canonical(fs::absolute(request.checkpoint, ec), ec);
+            const fs::path d = fs::weakly_canonical(fs::absolute(dir, ec), ec);
             if (c == d)
                 throw input_error::about("checkpoint", "'" + request.checkpoint.string() +
                                                            "' is the CSV directory csv_dir");
