@@ -11,7 +11,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "flipflux/core/budget.hpp"
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/instantiate.hpp"
@@ -91,7 +90,6 @@ Real dirichlet_series(const Real& e1, const Real& e2, const Real& e3, const Real
     Real total = 1;
     std::array<Real, 3> last{Real(1), Real(0), Real(0)};  // w_{n-1}, w_{n-2}, w_{n-3}
     for (int n = 1; n <= order; ++n) {
-        check_cpu_budget();  // a series of thousands of terms at mp:N (core/budget.hpp)
         Real wn = 0;
         for (int k = 1; k <= 3 && k <= n; ++k) {
             // (alpha + 1) k - n with alpha = -1/2: k/2 - n = (k - 2n) / 2
@@ -225,7 +223,6 @@ std::array<Real, 2> carlson_duplication(const Real& x0, const Real& y0, const Re
     for (int n = 0; scale * qf > r * af || (with_rd && scale * qd > r * ad); ++n) {
         if (n > 4 * bits)
             throw std::runtime_error("carlson_rf_rd: the duplication did not converge");
-        check_cpu_budget();
         const Real sx = sqrt(x), sy = sqrt(y), sz = sqrt(z);
         const Real lambda = sx * (sy + sz) + sy * sz;
         if (with_rd) sum += scale / (sz * (z + lambda));
