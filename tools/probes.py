@@ -52,6 +52,17 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # (the momentum shell of a 2-dof quadratic kinetic energy has measure 2 pi sqrt(det M)).
 
 
+def fill_orbit_cache(work, flipflux, scene):
+    """Runs `scene` with --cache-dir cache in work (its outputs removed): the saddle-orbit cache
+    entries the cache probes then mangle or replace. Returns the entries' paths."""
+    write(os.path.join(work, "s.toml"), scene)
+    subprocess.run([flipflux, "run", "s.toml", "--cache-dir", "cache"], cwd=work,
+                   capture_output=True, timeout=300)
+    shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)
+    return [os.path.join(d, n) for d, _, names in os.walk(os.path.join(work, "cache"))
+            for n in names]
+
+
 def omega_ref(E, dps=25):
     with mp.workdps(dps):
         E = mp.mpf(E)
@@ -974,14 +985,9 @@ def probes_issue45():
 
     def cache_entry_special(make):
         def setup(work, flipflux):
-            write(os.path.join(work, "s.toml"), orbit_scene)
-            subprocess.run([flipflux, "run", "s.toml", "--cache-dir", "cache"], cwd=work,
-                           capture_output=True, timeout=300)
-            shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)
-            for dirpath, _, names_ in os.walk(os.path.join(work, "cache")):
-                for n in names_:
-                    os.remove(os.path.join(dirpath, n))
-                    make(work, os.path.join(dirpath, n))
+            for entry in fill_orbit_cache(work, flipflux, orbit_scene):
+                os.remove(entry)
+                make(work, entry)
         return setup
 
     def rejected(out, work):
