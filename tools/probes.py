@@ -463,17 +463,11 @@ def probes():
 
     def cache_setup(mangle):
         def setup(work, flipflux):
-            write(os.path.join(work, "s.toml"), orbit_scene)
-            subprocess.run([flipflux, "run", "s.toml", "--cache-dir", "cache"], cwd=work,
-                           capture_output=True, timeout=300)
-            shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)
-            for dirpath, _, names in os.walk(os.path.join(work, "cache")):
-                for n in names:
-                    p = os.path.join(dirpath, n)
-                    with open(p, "rb") as f:
-                        data = f.read()
-                    with open(p, "wb") as f:
-                        f.write(mangle(data))
+            for p in fill_orbit_cache(work, flipflux, orbit_scene):
+                with open(p, "rb") as f:
+                    data = f.read()
+                with open(p, "wb") as f:
+                    f.write(mangle(data))
         return setup
 
     def recomputed(out, work):
