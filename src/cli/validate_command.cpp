@@ -1,8 +1,10 @@
 // flipflux validate CANDIDATE.csv [--golden DIR] [--pendulum NAME] [--rtol X] [--allow-missing]
 //     [--require-all] [--verbose]
 // flipflux validate --ensemble CANDIDATE.csv [--pilot P] [--seed S] [model options]
-// flipflux validate --trajectories CANDIDATE.csv --reference EVENTS.csv [--state NAME]
-//     [--time-tol DT] [--until T]
+// flipflux validate --trajectories CANDIDATE.csv [--reference EVENTS.csv] [--state NAME]
+//     [--states STATES.csv] [--reference-states FILE] [--time-tol DT] [--state-tol DX] [--until T]
+//     [--criteria LIST]
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/validation/candidate_pendulum.hpp"
 #include "flipflux/validation/simulator_check.hpp"
+#include "flipflux/validation/trajectory_check.hpp"
 #include "flipflux/validation/validate.hpp"
 #include "simulate_request.hpp"
 
@@ -25,6 +28,7 @@ struct validate_state {
     std::string pendulum;
     std::string ensemble, pilot = "1000", seed = "1";
     std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
+    std::string states, reference_states, state_tol = "0";
     model_options model;
     bool model_given = false;  ///< any of --m1 ... --g on the command line
 };
@@ -105,18 +109,30 @@ void validate_trajectories(const validate_state& s) {
             "--trajectories: needs --reference FILE (or --state NAME of the golden data's "
             "reference trajectories)");
     std::string who;
-    (void)declared_pendulum_of(s, {s.trajectories, reference}, who);  // they must agree
+    std::vector<std::string> declaring{s.trajectories, reference};
+    if (!s.states.empty()) declaring.push_back(s.states);
+    (void)declared_pendulum_of(s, declaring, who);  // they must agree
     event_comparison_options o;
     o.time_tolerance = parse_real<double>(s.time_tol, "--time-tol");
     o.until = parse_real<double>(s.until, "--until");
     if (!(o.time_tolerance > 0))
         throw input_error("--time-tol: '" + s.time_tol + "' must be positive");
     if (!(o.until >= 0)) throw input_error("--until: '" + s.until + "' must be >= 0");
+    o.state_tolerance = parse_real<double>(s.state_tol, "--state-tol");
+    if (!(o.state_tolerance >= 0))
+        throw input_error("--state-tol: '" + s.state_tol + "' must be >= 0");
     o.state = s.state;
+    o.candidate_states = s.states;
+    o.reference_states = s.reference_states;
+    if (!s.reference_states.empty() && s.states.empty())
+        throw input_error("--reference-states: needs the candidate's --states");
     for (std::size_t pos = 0; pos < s.criteria.size();) {
         const std::size_t comma = std::min(s.criteria.find(',', pos), s.criteria.size());
-        o.criteria.push_back(s.criteria.substr(pos, comma - pos));
-        check_criterion_name(o.criteria.back());  // a typo would compare nothing and pass
+        std::string name = s.criteria.substr(pos, comma - pos);
+        for (char& c : name)
+            c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        check_criterion_name(name);  // a typo would compare nothing and pass
+        o.criteria.push_back(name);
         pos = comma + 1;
     }
     const event_comparison c = compare_flip_events(s.trajectories, reference, o);
@@ -155,8 +171,21 @@ const register_command registration([](CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--seed", s->seed, "seed of the pilot ensembles")->capture_default_str();
     sub->add_option("--trajectories", s->trajectories,
-                    "a simulator's flip events (CSV: time, arm, criterion, direction) to compare "
-                    "with --reference");
+                    "a simulator's flip events of one trajectory (CSV: time, arm, direction and "
+                    "criterion, upright when absent) to compare with --reference: the criteria "
+                    "it reports, up to the common horizon (with a golden --state and a "
+                    "double-precision candidate, up to the double horizon, where chaos starts "
+                    "to part any double run from the reference)");
+    sub->add_option("--states", s->states,
+                    "--trajectories: the candidate's states (CSV: t, theta1, theta2, l1, l2) to "
+                    "compare at the reference's sample times (the golden states.csv with --state)");
+    sub->add_option("--reference-states", s->reference_states,
+                    "--trajectories: the reference states (flipflux trajectory --out) [default "
+                    "with --state: the golden states.csv]");
+    sub->add_option("--state-tol", s->state_tol,
+                    "absolute tolerance of each state component, angles modulo 2 pi (0: "
+                    "--time-tol)")
+        ->capture_default_str();
     sub->add_option("--reference", s->reference,
                     "reference events (flipflux trajectory --events, or the golden data's "
                     "trajectories/events.csv with --state; default with --state: the golden "
@@ -164,10 +193,12 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--state", s->state, "the reference trajectory's name (a `state` column)");
     sub->add_option("--time-tol", s->time_tol, "absolute tolerance of event times")
         ->capture_default_str();
-    sub->add_option("--until", s->until, "compare only events before this time (0: all)")
+    sub->add_option("--until", s->until,
+                    "compare only events and states before this time (0: the inferred horizon)")
         ->capture_default_str();
     sub->add_option("--criteria", s->criteria,
-                    "--trajectories: compare only these criteria (comma-separated; default all)");
+                    "--trajectories: compare these criteria (comma-separated, any case) [default: "
+                    "those the candidate reports]");
     add_model_options(*sub, s->model);
     sub->callback([s, sub] {
         for (const char* o :

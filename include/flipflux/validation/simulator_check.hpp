@@ -21,12 +21,7 @@
 // probability under the compound Poisson law (bursts of D flips). Below an arm's saddle energy
 // (R = 0) any flip fails.
 //
-// Trajectories. Candidate and reference are events CSVs (time, arm, criterion, direction); the
-// reference may have a `state` column (data/golden/trajectories/events.csv), then `state` selects
-// its rows. Events are compared per (arm, criterion) stream, in order: the k-th event of a stream
-// must have the same direction and a time within time_tolerance. Only events before `until` (if
-// > 0), and of the listed criteria (if any), are compared. The first difference (earliest in time
-// over all streams) is reported.
+// A single trajectory's events and states: validation/trajectory_check.hpp.
 #pragma once
 
 #include <cstdint>
@@ -74,33 +69,6 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
 
 /// The summary line first, then one line per candidate row.
 std::string format_ensemble_check(const ensemble_check_report& r);
-
-struct event_comparison_options {
-    double time_tolerance = 1e-6;  ///< absolute, in time units
-    double until = 0;              ///< compare events with time < until (0: all)
-    std::string state;             ///< the reference rows of this state (reference with `state`)
-    std::vector<std::string> criteria;  ///< compare only these criteria (empty: all)
-};
-
-struct event_stream_summary {
-    std::string arm, criterion;
-    std::size_t candidate = 0, reference = 0, agreeing = 0;  ///< agreeing: leading events
-    double max_time_difference = 0;                          ///< over the agreeing events
-};
-
-struct event_comparison {
-    std::vector<event_stream_summary> streams;
-    bool differs = false;
-    std::string first_difference;  ///< readable, empty when none
-    double first_difference_time = 0;
-};
-
-event_comparison compare_flip_events(const std::filesystem::path& candidate,
-                                     const std::filesystem::path& reference,
-                                     const event_comparison_options& options);
-
-std::string format_event_comparison(const event_comparison& c,
-                                    const event_comparison_options& options);
 
 template <>
 struct enum_table<ensemble_check_entry::status> {
