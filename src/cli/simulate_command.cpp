@@ -18,8 +18,12 @@
 #include <cstdlib>
 
 #include "common.hpp"
+#include "flipflux/ensemble/sampler.hpp"
+#include "flipflux/io/atomic_file.hpp"
+#include "flipflux/study/criteria.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
+#include "flipflux/validation/candidate_pendulum.hpp"
 #include "progress.hpp"
 #include "simulate_request.hpp"
 
@@ -133,13 +137,114 @@ class mpi_group final : public process_group {
     int rank_ = 0, size_ = 1;
 };
 
+/// --initial-states: the file's energies and states replace --energy and --trajectories (one
+/// replicate); its `# pendulum:` line, if any, must name the model options' pendulum.
+void use_initial_states(const simulate_state& s, const double_pendulum<double>& model,
+                        simulation_request& q) {
+    if (const std::optional<declared_pendulum> d = read_declared_pendulum(s.initial_states))
+        if (!same_parameters(d->parameters, s.model))
+            throw input_error("--initial-states: " + d->where + ": the pendulum " +
+                              parameters_text(d->parameters) + " is not the model options' (" +
+                              parameters_text(s.model) + "): give its parameters");
+    const std::vector<initial_state_set> sets = read_initial_states(s.initial_states, model);
+    if (q.replicates != 1)
+        throw input_error("--replicates: not with --initial-states (one set of trajectories)");
+    q.energies.clear();
+    q.initial_states.clear();
+    for (const initial_state_set& set : sets) {
+        if (set.states.size() != sets.front().states.size())
+            throw input_error("--initial-states: '" + s.initial_states + "' has " +
+                              std::to_string(set.states.size()) + " states at E = " + set.label +
+                              " but " + std::to_string(sets.front().states.size()) + " at E = " +
+                              sets.front().label + ": every energy needs the same number");
+        q.energies.emplace_back(set.label, set.energy);
+        q.initial_states.push_back(
+            std::make_shared<const std::vector<phase_point<double>>>(set.states));
+    }
+    q.options.trajectories = sets.front().states.size();
+}
+
+/// --arm both: a study per arm on one set of trajectories; an arm counts only at the energies
+/// above its criteria's thresholds (a note names the others), as a scene's ensembles do.
+std::vector<simulation_request> both_arms(const double_pendulum<double>& model,
+                                          const simulation_request& q) {
+    std::vector<simulation_request> out;
+    for (const arm a : {arm::one, arm::two}) {
+        simulation_request r = q;
+        r.flip_arm = a;
+        r.energies.clear();
+        r.initial_states.clear();
+        if (!q.csv_dir.empty()) r.csv_dir = q.csv_dir / ("arm" + to_string(a));
+        if (!out.empty()) r.progress = nullptr;
+        double threshold = 0;
+        for (const std::string& c : q.criteria)
+            threshold = std::max(threshold, criterion_threshold(model, a, c));
+        std::string skipped;
+        for (std::size_t k = 0; k < q.energies.size(); ++k) {
+            if (q.energies[k].second > threshold) {
+                r.energies.push_back(q.energies[k]);
+                if (!q.initial_states.empty()) r.initial_states.push_back(q.initial_states[k]);
+            } else {
+                skipped += (skipped.empty() ? "" : ",") + q.energies[k].first;
+            }
+        }
+        if (!skipped.empty())
+            std::fprintf(stderr,
+                         "flipflux: note: --arm both: arm %s is not counted at E = %s (at or "
+                         "below its threshold %s: no flips possible)\n",
+                         to_string(a).c_str(), skipped.c_str(), to_decimal(threshold).c_str());
+        if (!r.energies.empty()) out.push_back(std::move(r));
+    }
+    if (out.empty())
+        throw input_error(
+            "--energy: no energy lies above either arm's threshold (no flips "
+            "possible)");
+    if (out.front().flip_arm != arm::one) out.front().progress = q.progress;
+    return out;
+}
+
+/// --write-initial-states: every trajectory's initial state, given or sampled.
+std::string initial_states_text(const simulate_state& s, const double_pendulum<double>& model,
+                                const simulation_request& q) {
+    std::vector<initial_state_set> sets;
+    const std::uint64_t n = q.options.trajectories * q.replicates;
+    for (std::size_t k = 0; k < q.energies.size(); ++k) {
+        ensemble_options o = q.options;
+        o.energy = q.energies[k].second;
+        o.initial_states = q.initial_states.empty() ? nullptr : q.initial_states[k];
+        const microcanonical_sampler sampler(model, o.energy);
+        initial_state_set set{q.energies[k].first, o.energy, {}, {}};
+        for (std::uint64_t i = 0; i < n; ++i)
+            set.states.push_back(initial_state_of(sampler, o, o.first_index + i));
+        sets.push_back(std::move(set));
+    }
+    return "# pendulum: " + parameters_text(s.model) + "\n" +
+           initial_states_csv(sets, q.options.first_index);
+}
+
 void run(const simulate_state& s) {
     std::unique_ptr<mpi_group> mpi;
     if (launched_by_mpirun()) mpi = std::make_unique<mpi_group>();
     const bool root = !mpi || mpi->rank() == 0;
     try {
         const double_pendulum<double> model = make_model<double>(s.model);
-        simulation_request q = make_request(s);
+        const bool given = !s.initial_states.empty(), both = s.arm_text == "both";
+        if (given && !s.energy.empty())
+            throw input_error("--energy: not with --initial-states (its file gives the energies)");
+        if (given && !s.trajectories.empty())
+            throw input_error(
+                "--trajectories: not with --initial-states (one trajectory per state)");
+        if (!given && s.energy.empty())
+            throw input_error("--energy is required (or --initial-states FILE)");
+        if (!given && s.trajectories.empty())
+            throw input_error("--trajectories is required (or --initial-states FILE)");
+        simulate_state one = s;
+        if (both) one.arm_text = "1";
+        if (given) one.energy = "1", one.trajectories = "1";  // replaced by the file's
+        simulation_request q = make_request(one);
+        if (given) use_initial_states(s, model, q);
+        if (!s.write_initial_states.empty() && root)
+            check_output_file(s.write_initial_states, "--write-initial-states");
         q.options.stop = &stop_signal;
         q.group = mpi.get();
         progress_bar bar(s.progress);
@@ -151,8 +256,16 @@ void run(const simulate_state& s) {
             };
         const signal_guard guard;
         std::optional<study_result> result;
+        std::optional<std::vector<study_result>> results;
         try {
-            result = simulate(model, q);
+            if (both) {
+                // one set of trajectories, both arms' criteria (as a scene's ensembles do)
+                std::vector<simulation_request> qs = both_arms(model, q);
+                results = simulate(model, qs);
+                if (results) result = results->front();
+            } else {
+                result = simulate(model, q);
+            }
         } catch (const simulation_interrupted& e) {
             bar.finish();
             if (root) std::fprintf(stderr, "flipflux: %s\n", e.what());
@@ -160,8 +273,14 @@ void run(const simulate_state& s) {
             return;
         }
         bar.finish();
-        if (result)
-            for (const energy_result& e : result->energies)
+        std::vector<const study_result*> all;
+        if (results)
+            for (const study_result& r : *results)
+                all.push_back(&r);
+        else if (result)
+            all.push_back(&*result);
+        for (const study_result* r : all)
+            for (const energy_result& e : r->energies)
                 if (e.failed_trajectories > 0)  // excluded from the statistics (docs/limits.md)
                     std::fprintf(stderr,
                                  "flipflux: warning: E = %s: %llu of %llu trajectories failed "
@@ -169,9 +288,10 @@ void run(const simulate_state& s) {
                                  "statistics (\"failed_trajectories\" in the report)\n",
                                  e.label.c_str(),
                                  static_cast<unsigned long long>(e.failed_trajectories),
-                                 static_cast<unsigned long long>(result->options.trajectories));
-        if (result)  // the heavy-tail check (docs/theory.md, "Replicate errors")
-            for (const energy_result& e : result->energies)
+                                 static_cast<unsigned long long>(r->options.trajectories));
+        for (const study_result* r :
+             all)  // the heavy-tail check (docs/theory.md, "Replicate errors")
+            for (const energy_result& e : r->energies)
                 for (const criterion_result& c : e.criteria) {
                     const criterion_statistics& st = c.statistics;
                     if (st.replicate_rates.empty()) continue;
@@ -185,7 +305,15 @@ void run(const simulate_state& s) {
                                      "(\"replicates\" in the report)\n",
                                      e.label.c_str(), st.criterion.c_str(), ratio);
                 }
-        if (result) {
+        if (result && !s.write_initial_states.empty())
+            write_file_atomically(s.write_initial_states, initial_states_text(s, model, q));
+        if (result && both) {
+            json out{{"command", "simulate"}, {"arm", "both"}, {"studies", json::array()}};
+            for (const study_result& r : *results)
+                out["studies"].push_back(study_json(r));
+            out["model"] = parameters_json(model);
+            print(out.dump(2) + "\n");
+        } else if (result) {
             json out = study_json(*result);
             out["model"] = parameters_json(model);
             print(out.dump(2) + "\n");
@@ -210,13 +338,26 @@ const register_command registration([](CLI::App& app) {
         "simulate",
         "Monte Carlo ensemble at one or more energies: microcanonical initial conditions, "
         "trajectories (DOP853 or DOPRI5 at double), flips of each criterion, statistics as JSON "
-        "(and CSV with --csv-dir).");
+        "(and CSV with --csv-dir). Default rtol 1e-10, where `trajectory` uses 1e-12: a "
+        "statistic of many trajectories is insensitive to it (the rates' integration bias at "
+        "1e-10 is far below their statistical error), one trajectory compared event by event "
+        "is not; set --rtol to match either.");
     sub->add_option("--energy", s->energy,
                     "energy E, a list E1,E2,... or a range FROM:TO:STEP (inclusive; TO - FROM a "
-                    "multiple of STEP)")
-        ->required();
-    sub->add_option("--arm", s->arm_text, "the arm whose flips are counted: 1 or 2")
+                    "multiple of STEP) [required unless --initial-states]");
+    sub->add_option("--arm", s->arm_text,
+                    "the arm whose flips are counted: 1, 2 or both (one set of trajectories, "
+                    "both arms' criteria: a report per arm under \"studies\", CSVs in "
+                    "--csv-dir/arm1 and arm2)")
         ->capture_default_str();
+    sub->add_option("--initial-states", s->initial_states,
+                    "integrate these initial states instead of sampling (CSV: energy, theta1, "
+                    "theta2, l1, l2, as --write-initial-states writes, e.g. another simulator's "
+                    "own sample): the file gives the energies and the trajectories");
+    sub->add_option("--write-initial-states", s->write_initial_states,
+                    "write every trajectory's initial state (CSV: trajectory, energy, theta1, "
+                    "theta2, l1, l2, every digit) for another simulator to integrate: the paired "
+                    "check (validate --ensemble --paired, docs/validating.md)");
     sub->add_option("--criteria", s->criteria,
                     "comma-separated flip criteria: upright, approx, saddle")
         ->capture_default_str();
@@ -225,14 +366,16 @@ const register_command registration([](CLI::App& app) {
                     "blocks, distinct random streams): every statistic pooled and with its "
                     "spread over the replicates, verdicts from that spread (1 to 1000)")
         ->capture_default_str();
-    sub->add_option("--trajectories", s->trajectories, "number of trajectories per energy (> 0)")
-        ->required();
+    sub->add_option("--trajectories", s->trajectories,
+                    "number of trajectories per energy (> 0) [required unless --initial-states]");
     sub->add_option("--time", s->time, "integration time T per trajectory (> 0)")->required();
     sub->add_option("--seed", s->seed, "random seed (non-negative integer)")->capture_default_str();
     sub->add_option("--first-index", s->first_index,
                     "index of the first trajectory (split runs across processes)")
         ->capture_default_str();
-    sub->add_option("--rtol", s->rtol, "relative (and absolute) tolerance of the integrator")
+    sub->add_option("--rtol", s->rtol,
+                    "relative (and absolute) tolerance of the integrator (trajectory's default is "
+                    "1e-12: see above)")
         ->capture_default_str();
     sub->add_option("--method", s->method, "integrator: dop853 or dopri5")->capture_default_str();
     sub->add_option("--threads", s->threads, "OpenMP threads (0: all available)")

@@ -130,7 +130,10 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--sample-interval", s->sample_interval,
                     "state every DT in --out (0: only t = 0 and t = T)")
         ->capture_default_str();
-    sub->add_option("--rtol", s->rtol, "relative (and absolute) tolerance of the integrator")
+    sub->add_option("--rtol", s->rtol,
+                    "relative (and absolute) tolerance of the integrator at double (the same "
+                    "integrator and detectors as simulate, whose default is 1e-10: one trajectory "
+                    "compared event by event needs the tighter one, ensemble statistics do not)")
         ->capture_default_str();
     sub->add_option("--method", s->method, "integrator: dop853 or dopri5")->capture_default_str();
     add_model_options(*sub, s->model);

@@ -14,6 +14,7 @@
 #include <limits>
 #include <numbers>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
@@ -542,8 +543,8 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
             if (!lanes[l]) {
                 std::uint64_t index = 0;
                 if (next_index(index))
-                    lanes[l] = std::make_unique<lane_type>(model, o, sampler.sample(o.seed, index),
-                                                           index, detectors[l]);
+                    lanes[l] = std::make_unique<lane_type>(
+                        model, o, initial_state_of(sampler, o, index), index, detectors[l]);
             }
             view[l] = lanes[l].get();
             any = any || lanes[l] != nullptr;
@@ -631,11 +632,20 @@ trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                    : single_trajectory<dormand_prince_5, false>(model, o, x0, index, detectors);
 }
 
+phase_point<double> initial_state_of(const microcanonical_sampler& sampler,
+                                     const ensemble_options& o, std::uint64_t index) {
+    if (!o.initial_states) return sampler.sample(o.seed, index);
+    if (index < o.first_index || index - o.first_index >= o.initial_states->size())
+        throw std::logic_error("initial_state_of: trajectory " + std::to_string(index) +
+                               " has no given initial state");
+    return (*o.initial_states)[index - o.first_index];
+}
+
 trajectory_result run_trajectory(const double_pendulum<double>& model,
                                  const microcanonical_sampler& sampler, const ensemble_options& o,
                                  std::uint64_t index,
                                  const std::vector<flip_detector_base*>& detectors) {
-    return simulate_trajectory(model, sampler.sample(o.seed, index), o, index, detectors);
+    return simulate_trajectory(model, initial_state_of(sampler, o, index), o, index, detectors);
 }
 
 batch_outcome run_trajectories(const double_pendulum<double>& model, const ensemble_options& o,
@@ -714,6 +724,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
                              const std::vector<ensemble_criterion>& criteria) {
     validate(o);
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
     ensemble_result result;
     result.energy = o.energy;
     result.time = o.time;
@@ -741,6 +752,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     result.threads = b.threads;
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.cpu_seconds = process_cpu_seconds() - cpu_start;
     return result;
 }
 

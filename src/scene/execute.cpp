@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/io/atomic_file.hpp"
@@ -63,6 +64,7 @@ struct context {
     const run_options& options;
     run_counters counters;
     json summary = json::object();
+    double cpu_start = process_cpu_seconds();  ///< the run's start, for run.json's cpu_seconds
 
     void write(const std::filesystem::path& name, const std::string& content) {
         const auto path = s.output / name;
@@ -548,6 +550,7 @@ void run_report(context& ctx, double seconds_so_far) {
     const report_spec& r = *ctx.s.report;
     // run.json first: the report reads it
     ctx.summary["seconds"] = seconds_so_far;
+    ctx.summary["cpu_seconds"] = process_cpu_seconds() - ctx.cpu_start;
     ctx.write("run.json", ctx.summary.dump(2) + "\n");
     const std::filesystem::path& script = ctx.options.report_script;
     if (script.empty() || !std::filesystem::is_regular_file(script))
@@ -710,7 +713,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         // (the orbit tables belong to the families before: written before this step's clock)
         if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         log << "- " << step.description << "\n";
-        const double step_start = elapsed();
+        const double step_start = elapsed(), step_cpu_start = process_cpu_seconds();
         switch (step.what) {
             case plan_step::kind::orbit_family:
                 dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
@@ -738,7 +741,10 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                 break;
         }
         const double seconds = elapsed() - step_start;
-        ctx.summary["step_seconds"].push_back({{"step", step.description}, {"seconds", seconds}});
+        ctx.summary["step_seconds"].push_back(
+            {{"step", step.description},
+             {"seconds", seconds},
+             {"cpu_seconds", process_cpu_seconds() - step_cpu_start}});
         log << "  (" << seconds << " s)\n";
     }
     write_orbit_tables_once();
@@ -751,6 +757,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                                {"trajectories", ctx.counters.trajectories},
                                {"curve_criteria", ctx.counters.curve_criteria}};
     ctx.summary["seconds"] = elapsed();
+    ctx.summary["cpu_seconds"] = process_cpu_seconds() - ctx.cpu_start;
     ctx.write("run.json", ctx.summary.dump(2) + "\n");
     log << "done in " << ctx.summary["seconds"].get<double>() << " s\n";
     return ctx.counters;

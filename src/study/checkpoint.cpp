@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -298,6 +299,7 @@ std::string energy_record(std::size_t energy, const energy_result& e) {
         put_int(s, d.second);
         put_summary(s, d.difference);
     }
+    put(s, e.cpu_seconds);  // last: the records before it was recorded end at the pairs
     return hashed_line(s);
 }
 
@@ -355,6 +357,7 @@ energy_result parse_energy_record(std::string_view line, std::size_t criteria,
             throw std::runtime_error("bad criterion pair");
         d.difference = get_summary(t);
     }
+    e.cpu_seconds = t.done() ? std::numeric_limits<double>::quiet_NaN() : t.real();
     if (!t.done()) throw std::runtime_error("trailing fields");
     return e;
 }

@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
@@ -224,6 +225,19 @@ ensemble_options checked_options(const simulation_request& request, const proces
                                   std::to_string(o.trajectories) + " trajectories are too many");
         o.trajectories *= request.replicates;
     }
+    if (!request.initial_states.empty()) {
+        if (request.initial_states.size() != request.energies.size())
+            throw std::invalid_argument("simulate: initial_states needs one list per energy");
+        if (request.replicates != 1 || request.estimator != rate_estimator::long_trajectories)
+            throw input_error::about("initial_states",
+                                     "given initial states need one replicate and the long "
+                                     "estimator");
+        for (const auto& list : request.initial_states)
+            if (!list || list->size() != o.trajectories)
+                throw input_error::about("initial_states", "every energy needs trajectories = " +
+                                                               std::to_string(o.trajectories) +
+                                                               " initial states");
+    }
     check_sizes(request, o);
     // checked, not created: a refused request leaves no folder (the CSVs create it when written)
     const std::filesystem::path& dir = request.csv_dir;
@@ -359,6 +373,7 @@ energy_result summarise_energy(
     e.label = label;
     e.energy = r.energy;
     e.seconds = r.seconds;
+    e.cpu_seconds = r.cpu_seconds;
     e.threads = r.threads;
     e.processes = group.size();
     long steps = 0;
@@ -655,7 +670,8 @@ void check_shareable(const simulation_request& a, const simulation_request& b) {
         x.sample_interval == y.sample_interval && x.unwrapped_angles == y.unwrapped_angles &&
         a.estimator == b.estimator && a.short_time == b.short_time &&
         a.checkpoint == b.checkpoint && a.checkpoint_interval == b.checkpoint_interval &&
-        a.timing == b.timing && a.group == b.group && a.replicates == b.replicates;
+        a.timing == b.timing && a.group == b.group && a.replicates == b.replicates &&
+        a.initial_states.empty() == b.initial_states.empty();
     if (!same)
         throw std::invalid_argument(
             "simulate: studies sharing trajectories need the same ensemble options, estimator, "
@@ -743,6 +759,16 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
 
     for (std::size_t k = 0; k < energies.size(); ++k) {
         o.energy = energies[k].value;
+        o.initial_states = nullptr;  // given initial states: the same list in every member study
+        for (const shared_energies::member& m : energies[k].members) {
+            const simulation_request& q = requests[m.study];
+            if (q.initial_states.empty()) continue;
+            if (o.initial_states && o.initial_states != q.initial_states[m.position])
+                throw std::invalid_argument(
+                    "simulate: studies sharing an energy need the same "
+                    "initial states");
+            o.initial_states = q.initial_states[m.position];
+        }
         if (complete(k)) {
             // the checkpoint stores the statistics; the label, energy and predictions are this
             // run's (the header guarantees they are the same)
@@ -760,13 +786,14 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
             continue;
         }
         const auto start = std::chrono::steady_clock::now();
+        const double cpu_start = process_cpu_seconds();
         std::map<std::uint64_t, trajectory_result>& have = saved.trajectories[k];
         // NOTE: a record's hash covers the record, not the run: one spliced in from another run
         // (another seed, say) would pass. Its initial state must be this run's sample.
         if (!have.empty()) {
             const microcanonical_sampler sampler(model, o.energy);
             for (const auto& [index, t] : have)
-                if (!(sampler.sample(o.seed, index) == t.initial_state))
+                if (!(initial_state_of(sampler, o, index) == t.initial_state))
                     throw input_error::about(
                         "checkpoint", "'" + request.checkpoint.string() +
                                           "': the record of trajectory " + std::to_string(index) +
@@ -815,6 +842,7 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
         saved.trajectories.erase(k);
         all.seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        all.cpu_seconds = process_cpu_seconds() - cpu_start;
         std::vector<std::pair<std::size_t, const energy_result*>> records;
         for (const shared_energies::member& m : energies[k].members) {
             const simulation_request& q = requests[m.study];

@@ -1,6 +1,8 @@
 // A study's results as JSON and CSV (include/flipflux/study/study_files.hpp).
 #include "flipflux/study/study_files.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,6 +10,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/io/csv.hpp"
 
 namespace flipflux {
 namespace {
@@ -102,6 +105,7 @@ json energy_json(const energy_result& e, const std::vector<std::string>& names, 
     json j{{"energy", e.label}};
     if (timing) {
         j["seconds"] = e.seconds;
+        j["cpu_seconds"] = e.cpu_seconds;
         j["threads"] = e.threads;
         j["processes"] = e.processes;
     }
@@ -311,6 +315,69 @@ void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& 
         write_atomically(dir / ("residence_histogram_E" + label + "_" + name + ".csv"),
                          histogram_csv(st.residence.distribution, st.residence.summary.count));
     }
+}
+
+std::string initial_states_csv(const std::vector<initial_state_set>& sets,
+                               std::uint64_t first_index) {
+    std::string out = "trajectory,energy,theta1,theta2,l1,l2\n";
+    for (const initial_state_set& set : sets)
+        for (std::size_t i = 0; i < set.states.size(); ++i) {
+            out += std::to_string(first_index + i) + "," + set.label;
+            for (const double x : set.states[i])
+                out += "," + to_decimal(x);
+            out += "\n";
+        }
+    return out;
+}
+
+std::vector<initial_state_set> read_initial_states(const std::filesystem::path& file,
+                                                   const double_pendulum<double>& model) {
+    const csv_table t = read_csv(file);
+    const auto col = [&](const char* name) {
+        const auto it = std::find(t.header.begin(), t.header.end(), name);
+        return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
+    };
+    const int ec = col("energy");
+    const std::array<int, 4> xc{col("theta1"), col("theta2"), col("l1"), col("l2")};
+    if (ec < 0 || std::find(xc.begin(), xc.end(), -1) != xc.end())
+        throw input_error(file.string() +
+                          ":1: the header must name the columns energy, theta1, theta2, l1, l2");
+    std::vector<initial_state_set> sets;
+    for (const csv_row& r : t.rows) {
+        const std::string at = file.string() + ":" + std::to_string(r.line) + ": ";
+        if (r.fields.size() != t.header.size()) throw input_error(at + "wrong number of fields");
+        const auto number = [&](int c, const char* name) {
+            const std::string& text = r.fields[static_cast<std::size_t>(c)];
+            double x = 0;
+            if (is_decimal_number(text)) {
+                try {
+                    x = parse_real<double>(text, name);
+                } catch (const input_error&) {
+                    x = std::nan("");
+                }
+            }
+            if (!is_decimal_number(text) || !std::isfinite(x))
+                throw input_error(at + name + " '" + text + "' is not a finite number");
+            return x;
+        };
+        const double e = number(ec, "energy");
+        phase_point<double> x{};
+        for (std::size_t i = 0; i < 4; ++i)
+            x[i] = number(xc[i], i == 0 ? "theta1" : i == 1 ? "theta2" : i == 2 ? "l1" : "l2");
+        if (!(e > 0)) throw input_error(at + "energy '" + r.fields[ec] + "' must be > 0");
+        const double h = model.hamiltonian(x);
+        if (!(std::abs(h - e) <= 1e-8 * std::max(1.0, std::abs(e))))
+            throw input_error(at + "the state's energy H = " + to_decimal(h) +
+                              " is not E = " + r.fields[ec] +
+                              " (to a relative 1e-8): another pendulum or another energy?");
+        auto set = std::find_if(sets.begin(), sets.end(),
+                                [&](const initial_state_set& s) { return s.energy == e; });
+        if (set == sets.end()) set = sets.insert(sets.end(), {r.fields[ec], e, {}, {}});
+        set->states.push_back(x);
+        set->lines.push_back(r.line);
+    }
+    if (sets.empty()) throw input_error(file.string() + ": no initial states");
+    return sets;
 }
 
 }  // namespace flipflux

@@ -26,6 +26,10 @@ void check_cpu_deadline();  // throws budget_exceeded past the deadline (src/cor
 /// The calling thread's CPU time in seconds (CLOCK_THREAD_CPUTIME_ID).
 double thread_cpu_seconds();
 
+/// The process's CPU time in seconds, every thread (CLOCK_PROCESS_CPUTIME_ID): beside wall
+/// seconds in every timing field (a shared machine's wall time misleads).
+double process_cpu_seconds();
+
 /// Throws budget_exceeded when the calling thread's budget (cpu_budget_scope) is spent.
 inline void check_cpu_budget() {
     if (detail::cpu_deadline > 0) detail::check_cpu_deadline();

@@ -126,7 +126,18 @@ struct ensemble_options {
     /// started, and the ones in flight are abandoned at their next step (trajectory_result::
     /// abandoned). Read with relaxed loads once per step.
     const std::atomic<int>* stop = nullptr;
+    /// Given initial states (simulate --initial-states, a paired comparison with another
+    /// simulator): trajectory `index` starts from (*initial_states)[index - first_index] instead
+    /// of the sample of (seed, energy, index). Null: sampled.
+    std::shared_ptr<const std::vector<phase_point<double>>> initial_states;
 };
+
+class microcanonical_sampler;
+
+/// Trajectory `index`'s initial state: the given one (options.initial_states) or the sample of
+/// (seed, energy, index).
+phase_point<double> initial_state_of(const microcanonical_sampler& sampler,
+                                     const ensemble_options& options, std::uint64_t index);
 
 /// A flip criterion: its name and a detector prototype (cloned per thread).
 struct ensemble_criterion {
@@ -161,6 +172,7 @@ struct ensemble_result {
     std::vector<std::string> criteria;
     std::vector<trajectory_result> trajectories;  ///< by index
     double seconds = 0;                           ///< wall-clock time
+    double cpu_seconds = 0;                       ///< CPU time of the process, every thread
 };
 
 /// Validates the options (throws input_error naming the option: --trajectories, --time, --rtol,

@@ -81,6 +81,9 @@ struct simulation_request {
     /// (quality_indices::pqi_reference), e.g. the paper's T = 10000 for a shorter run.
     double reference_time = 0;
     process_group* group = nullptr;  ///< null: a single process
+    /// Per energy of `energies` (empty: every energy sampled): the given initial states of its
+    /// options.trajectories trajectories (ensemble_options::initial_states; replicates 1).
+    std::vector<std::shared_ptr<const std::vector<phase_point<double>>>> initial_states;
     /// Called (serialised, on rank 0) after each finished trajectory.
     std::function<void(const simulation_progress&)> progress;
 };

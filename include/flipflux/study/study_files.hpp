@@ -43,4 +43,25 @@ nlohmann::ordered_json study_json(const study_result& result);
 void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& ensemble,
                        const energy_result& summary, bool residence_times);
 
+/// The initial states of an ensemble (simulate --write-initial-states and --initial-states; the
+/// paired check with another simulator, docs/validating.md): CSV trajectory,energy,theta1,theta2,
+/// l1,l2, one row per trajectory (trajectory its index, energy the label), every digit of double.
+struct initial_state_set {
+    std::string label;  ///< the energy's text (the first row's, for rows of the same value)
+    double energy = 0;
+    std::vector<phase_point<double>> states;
+    std::vector<int> lines;  ///< each state's line in the file (0 when not read from one)
+};
+
+/// The rows of `sets`, header first (no comment lines).
+std::string initial_states_csv(const std::vector<initial_state_set>& sets,
+                               std::uint64_t first_index = 0);
+
+/// Reads an initial-states file (columns energy, theta1, theta2, l1, l2; others ignored; `#`
+/// comment lines skipped), grouped by energy value in order of first appearance. Every state
+/// must have H = E to a relative 1e-8 (another pendulum or energy otherwise). Throws input_error
+/// "FILE:LINE: ..." for anything malformed.
+std::vector<initial_state_set> read_initial_states(const std::filesystem::path& file,
+                                                   const double_pendulum<double>& model);
+
 }  // namespace flipflux

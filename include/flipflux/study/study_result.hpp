@@ -53,8 +53,11 @@ struct energy_result {
     std::string label;  ///< the energy's decimal text, as requested
     double energy = 0;
     double seconds = 0;  ///< wall time of the energy (this run's, or the checkpoint's)
-    int threads = 0;     ///< threads of rank 0
-    int processes = 1;   ///< MPI processes
+    /// CPU time of the energy, every thread of this process (rank 0's under MPI); NaN when it
+    /// comes from a checkpoint written before it was recorded
+    double cpu_seconds = 0;
+    int threads = 0;    ///< threads of rank 0
+    int processes = 1;  ///< MPI processes
     double steps_per_trajectory = 0;
     std::uint64_t failed_trajectories = 0;     ///< status not ok (ensemble/ensemble.hpp)
     std::int64_t energy_check_rejections = 0;  ///< steps rejected by the energy check, in total
