@@ -1,33 +1,45 @@
 #!/usr/bin/env bash
 # flipflux setup: installs what a fresh Debian 12 machine lacks, builds, and runs.
 #
-#   bash setup.sh main    install, build the command-line tool (release), run the default scene
+#   bash setup.sh main    install what the command-line tool needs (MAIN_PACKAGES only), build it
+#                         (release, without tests, benchmarks or the Python module), run the
+#                         default scene
 #   bash setup.sh test    install, format check, one instrumented build (ASan+UBSan and coverage at
 #                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %),
 #                         the libFuzzer targets built (clang-14) and run 8 s each (tools/fuzz.sh)
 #   bash setup.sh verify  install, release build, the verification suite with the checks too slow
 #                         for CI (high precisions) and the unit tests (GCC -O2; CI's build is
 #                         clang's); writes docs/verification.md
-#   bash setup.sh deps    install only (idempotent: apt-get runs only when a package is missing)
+#   bash setup.sh deps    install everything (idempotent: apt-get runs only when a package is
+#                         missing); test and verify install everything too
 set -euo pipefail
 cd "$(dirname "$0")"
 
 COVERAGE_GATE=90
 JOBS=${JOBS:-$(nproc)}
-PACKAGES=(
-  g++ cmake ninja-build pkg-config git clang-format
-  libboost-dev libmpfr-dev libgmp-dev libeigen3-dev libceres-dev
-  libgtest-dev libbenchmark-dev lcov libflint-arb-dev
+# the command-line tool and the default scene
+MAIN_PACKAGES=(
+  g++ cmake ninja-build pkg-config git
+  libboost-dev libmpfr-dev libgmp-dev libeigen3-dev libceres-dev libflint-arb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev
-  libopenmpi-dev openmpi-bin python3-matplotlib python3-mpmath python3-gmpy2 python3-scipy
+  libopenmpi-dev openmpi-bin
+)
+# tests, coverage, fuzzing, benchmarks, the Python module, the report, the viewer in a browser
+EXTRA_PACKAGES=(
+  clang-format libgtest-dev libbenchmark-dev lcov
+  python3-matplotlib python3-mpmath python3-gmpy2 python3-scipy
   pybind11-dev python3-dev python3-numpy python3-pytest
   clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
   chromium fonts-liberation
 )
+# verify's release build has the tests, benchmarks and Python module (main turns them off in
+# build/release's cache; these turn them back on)
+FULL=(-DFLIPFLUX_BUILD_TESTS=ON -DFLIPFLUX_BUILD_BENCHMARKS=ON -DFLIPFLUX_PYTHON=ON)
 
-install_deps() {
-  local missing=()
-  for p in "${PACKAGES[@]}"; do
+install_deps() {  # install_deps [main]: main's packages only, or everything
+  local missing=() wanted=("${MAIN_PACKAGES[@]}")
+  [ "${1:-}" = main ] || wanted+=("${EXTRA_PACKAGES[@]}")
+  for p in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then
@@ -40,13 +52,16 @@ install_deps() {
   fi
 }
 
-build() {  # build PRESET [TARGET]: everything, or only TARGET and what it needs
-  cmake --preset "$1" >/dev/null
-  cmake --build --preset "$1" -j "$JOBS" ${2:+--target "$2"}
+build() {  # build PRESET [TARGET [CMAKE OPTIONS...]]: everything, or only TARGET and what it needs
+  local preset=$1 target=${2:-}
+  shift $(($# < 2 ? $# : 2))
+  cmake --preset "$preset" "$@" >/dev/null
+  cmake --build --preset "$preset" -j "$JOBS" ${target:+--target "$target"}
 }
 
 run_main() {
-  build release flipflux_cli
+  build release flipflux_cli -DFLIPFLUX_BUILD_TESTS=OFF -DFLIPFLUX_BUILD_BENCHMARKS=OFF \
+    -DFLIPFLUX_PYTHON=OFF
   # the default scene: predictions for every criterion and both arms, saddle-orbit families and an
   # exact-check ensemble; outputs in out/default/ (docs/scenes.md)
   ./build/release/flipflux run data/scenes/default.toml
@@ -136,7 +151,7 @@ fuzz_check() {  # every reader of outside data under libFuzzer (fuzz/): a crash 
 
 run_verify() {
   echo "== release build and the verification suite (docs/verification.md)"
-  build release
+  build release "" "${FULL[@]}"
   local dir=build/release/verification-results
   rm -rf "$dir" && mkdir -p "$dir"
   local status=0
@@ -155,7 +170,7 @@ case "${1:-}" in
   deps)
     install_deps ;;
   main)
-    install_deps
+    install_deps main
     run_main ;;
   test)
     install_deps

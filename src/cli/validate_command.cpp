@@ -14,6 +14,7 @@
 #include "flipflux/core/names.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/validation/candidate_pendulum.hpp"
+#include "flipflux/validation/paired_check.hpp"
 #include "flipflux/validation/simulator_check.hpp"
 #include "flipflux/validation/trajectory_check.hpp"
 #include "flipflux/validation/validate.hpp"
@@ -24,7 +25,7 @@ namespace {
 
 struct validate_state {
     std::string candidate, golden, rtol = "1e-12";
-    bool allow_missing = false, verbose = false, require_all = false;
+    bool allow_missing = false, verbose = false, require_all = false, paired = false;
     std::string pendulum;
     std::string ensemble, pilot = "1000", seed = "1";
     std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
@@ -89,6 +90,12 @@ void validate_ensemble(const validate_state& s) {
             throw input_error(who + ": pendulum: " + e.what());  // the file's value, not an option
         }
     }();
+    if (s.paired) {
+        const paired_check_report r = check_paired_ensemble(model, s.ensemble, {});
+        print(format_paired_check(r));
+        if (!r.passed()) exit_status() = 1;
+        return;
+    }
     ensemble_check_options o;
     o.pilot_trajectories = parse_unsigned(s.pilot, "--pilot", true);
     o.seed = parse_unsigned(s.seed, "--seed", false);
@@ -165,6 +172,11 @@ const register_command registration([](CLI::App& app) {
     sub->add_option("--ensemble", s->ensemble,
                     "a simulator's ensemble results (CSV: criterion, arm, energy, trajectories, "
                     "time, flips[, flips_sq]) to test against the predicted rates");
+    sub->add_flag("--paired", s->paired,
+                  "--ensemble: the candidate lists its trajectories one by one (CSV: energy, "
+                  "theta1, theta2, l1, l2, time, arm, flips[, criterion, trajectory]); flipflux "
+                  "integrates the same initial states and compares the counts pair by pair (the "
+                  "recommended ensemble check, docs/validating.md)");
     sub->add_option("--pilot", s->pilot,
                     "--ensemble rows without flips_sq: trajectories of flipflux's pilot ensemble "
                     "that bounds the count variance")
@@ -208,6 +220,8 @@ const register_command registration([](CLI::App& app) {
         if (modes != 1)
             throw input_error(
                 "validate: give exactly one of CANDIDATE, --ensemble FILE, --trajectories FILE");
+        if (s->paired && s->ensemble.empty())
+            throw input_error("--paired: needs --ensemble FILE (the candidate's trajectories)");
         if (!s->ensemble.empty()) return validate_ensemble(*s);
         if (!s->trajectories.empty()) return validate_trajectories(*s);
         const double rtol = parse_real<double>(s->rtol, "--rtol");
