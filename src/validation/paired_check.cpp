@@ -105,7 +105,10 @@ void count_flips(const double_pendulum<double>& model, std::vector<paired_row>& 
     for (std::size_t i = 0; i < rows.size(); ++i)
         trajectories[{rows[i].state, rows[i].time, rows[i].energy}].push_back(i);
     std::uint64_t index = 0;
-    for (const auto& [k, members] : trajectories) {
+    for (const auto& entry : trajectories) {
+        // named, not structured bindings: clang 14 cannot capture those in the lambda below
+        const key& k = entry.first;
+        const std::vector<std::size_t>& members = entry.second;
         std::vector<std::unique_ptr<flip_detector_base>> owned;
         std::vector<flip_detector_base*> detectors;
         std::vector<std::size_t> counted;  // rows with a detector, in detector order
