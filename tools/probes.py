@@ -15,8 +15,9 @@ Each probe runs one flipflux command in a fresh scratch folder with an expected 
 A probe may also set up its environment (a special file, a FIFO with a reader, stdout on
 /dev/full or closed, resource limits: address space, file size) and check the scratch folder
 afterwards whatever the outcome (`after`: a device still a device, a symlink still a symlink).
-The classes of issue 45 (output-checked ... environment-failures) run under a 4 GiB address-space
-limit, so that a reader of /dev/zero fails fast instead of exhausting the shared machine.
+The classes of issue 45 (output-checked ... environment-failures) and of issue 44 (model-equations,
+initial-states, validate-states, validate-paired) run under a 4 GiB address-space limit, so that a
+reader of /dev/zero fails fast instead of exhausting the shared machine.
 
 Every probe also fails on a signal (crash), on its timeout (a hang: 60 s where a refusal is
 expected), on "internal error", and on any file written outside its scratch folder's work/
@@ -622,6 +623,7 @@ def probes():
     P.append(Probe("command line", ["eval", "omega", "--energy", "3", "--energy", "4"], refuse("--energy")))
     P.append(Probe("command line", ["eval", "rate-upright", "--energy", "3", "--arm", "3"], refuse("--arm")))
     P += probes_issue45()
+    P += probes_issue44()
     return P
 
 
@@ -638,7 +640,8 @@ FLIPPING_STATE = ["2.5", "0.5", "1"]  # theta2, l1, l2 of a state whose arm 2 fl
 
 
 def P45(cls, args, expect, **kw):
-    """A probe of issue 45's classes: under the address-space limit, 60 s unless told."""
+    """A probe of issue 45's classes (and the later ones): under the address-space limit, 60 s
+    unless told."""
     rl = kw.pop("rlimits", {})
     return Probe(cls, args, expect, rlimits={resource.RLIMIT_AS: MEM_LIMIT, **rl}, **kw)
 
@@ -1420,6 +1423,359 @@ def probes_issue45():
                        (["simulate", "--energy", "3", "--trajectories", "2", "--tme", "1"], "--tme"),
                        (["trajectory", "--stat", "1,2,0,0", "--time", "1"], "--stat")]:
         P.append(P45(cls, args, refuse(typo)))
+    return P
+
+
+# ---------------------------------------------------------------- issue 44: the simulator-validation features
+
+GOLDEN_TRAJECTORIES = os.path.join(ROOT, "data/golden/trajectories")
+ST_HEAD = "t,theta1,theta2,l1,l2\n"  # a candidate's states (validate --states)
+# the valid base of the initial-states and paired probes (the command of docs/validating.md, small)
+INIT_CMD = ["simulate", "--energy", "5", "--trajectories", "4", "--time", "2", "--arm", "both",
+            "--criteria", "upright", "--no-chaos"]
+E1_STATES = ("trajectory,energy,theta1,theta2,l1,l2\n"  # H = 1 - cos(pi/2): below both arms' thresholds
+             "0,1,0,1.5707963267948966,0,0\n1,1,0,-1.5707963267948966,0,0\n")
+E3_STATE = "9,3,0,0,2.449489742783178,0"  # H = l1^2 / 2 = 3
+
+
+def golden_trajectory(state, which):
+    """The golden reference of `state` as a candidate writes it: which = "events" (CSV time, arm,
+    criterion, direction) or "states" (CSV t, theta1, theta2, l1, l2)."""
+    with open(os.path.join(GOLDEN_TRAJECTORIES, which + ".csv")) as f:
+        lines = [l.rstrip("\n") for l in f if not l.startswith("#")]
+    head = lines[0].split(",")
+    cols = (EV_HEAD if which == "events" else ST_HEAD).strip().split(",")
+    rows = [l.split(",") for l in lines[1:] if l.startswith(state + ",")]
+    return ",".join(cols) + "\n" + "".join(",".join(r[head.index(c)] for c in cols) + "\n" for r in rows)
+
+
+def edit_csv(drop=(), row=0, extra=None, **fields):
+    """A mangle of a CSV text (its `#` lines kept): the columns `drop` removed, `fields` (column ->
+    text) set in data row `row` (0: the first), `extra` appended to that row as one more field."""
+    def mangle(text):
+        out, head, k = [], None, 0
+        for line in text.splitlines():
+            if line.startswith("#"):
+                out.append(line)
+                continue
+            cells = line.split(",")
+            if head is None:
+                head = cells
+            else:
+                if k == row:
+                    for name, v in fields.items():
+                        cells[head.index(name)] = v
+                k += 1
+            kept = [c for i, c in enumerate(cells) if i >= len(head) or head[i] not in drop]
+            if head is not cells and k - 1 == row and extra is not None:
+                kept.append(extra)
+            out.append(",".join(kept))
+        return "\n".join(out) + "\n"
+    return mangle
+
+
+def paired_candidate(text):
+    """The paired candidate (docs/validating.md) of an initial-states file: each state with time 2,
+    arm 2, criterion upright and no flips (what flipflux counts on INIT_CMD's states)."""
+    out = []
+    for line in text.splitlines():
+        out.append(line if line.startswith("#") else
+                   line + (",time,arm,criterion,flips" if line.startswith("trajectory,") else ",2,2,upright,0"))
+    return "\n".join(out) + "\n"
+
+
+def initial_states_setup(name="init.csv", mangle=None, paired=False):
+    """Writes `name` in the work folder: the initial states flipflux writes for INIT_CMD (a
+    `# pendulum:` line, the header, 4 states at E = 5: data rows from line 3), as a paired
+    candidate when asked, passed through mangle(text)."""
+    def setup(work, flipflux):
+        r = subprocess.run([flipflux] + INIT_CMD + ["--write-initial-states", "base.csv"], cwd=work,
+                           capture_output=True, timeout=120)
+        if r.returncode != 0:
+            raise RuntimeError(f"initial states: {r.stderr.decode()[:200]}")
+        with open(os.path.join(work, "base.csv")) as f:
+            text = f.read()
+        os.remove(os.path.join(work, "base.csv"))
+        if paired:
+            text = paired_candidate(text)
+        write(os.path.join(work, name), mangle(text) if mangle else text)
+    return setup
+
+
+def pasted_constants_finite(out, work):
+    """A check: every coefficient of the pasted C or Python block is a finite double, nonzero
+    unless its text is zero (a constant beyond double's range pastes as inf or 0)."""
+    consts = re.findall(r"^(?:static const double )?(A|B|C|alpha|beta|D0) = ([^;#\s]+)", out, re.M)
+    if not consts:
+        return "no coefficients in the output"
+    for name, text in consts:
+        x = float(text)
+        if x != x or x in (float("inf"), float("-inf")) or (x == 0 and mp.mpf(text) != 0):
+            return f"{name} = {text} is {x!r} as a double (the pasted code computes with inf or 0)"
+    return None
+
+
+def python_block_ok(out, work):
+    """A check: the Python block parses and defines hamiltonian() and rhs()."""
+    import ast
+    try:
+        tree = ast.parse(out)
+    except SyntaxError as e:
+        return f"the Python block does not parse: {e}"
+    defs = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
+    return None if {"hamiltonian", "rhs"} <= defs else f"the Python block defines {sorted(defs)}"
+
+
+def probes_issue44():
+    P = []
+    fsz = resource.RLIMIT_FSIZE
+
+    # ---- model-equations: model --equations [--language text|c|python]
+    cls = "model-equations"
+    EQ = ["model", "--equations"]
+    P.append(P45(cls, EQ, ok(stdout_has("Hamilton's equations"))))
+    P.append(P45(cls, EQ + ["--language", "text"], ok(stdout_has("Hamilton's equations"))))
+    P.append(P45(cls, EQ + ["--language", "c"], ok(stdout_has("static void rhs"))))
+    P.append(P45(cls, EQ + ["--language", "python"], ok(python_block_ok)))
+    P.append(P45(cls, EQ + ["--precision", "quad"], ok(stdout_has("Hamilton's equations"))))
+    for lang in [None, "python"]:
+        args = EQ + ["--precision", "mp:30"] + (["--language", lang] if lang else [])
+        P.append(P45(cls, args, ok(python_block_ok if lang else stdout_has("Hamilton's equations")),
+                     note=" ".join(args) + " (every digit of mp:30)"))
+    for bad in ["fortran", "py", "c,python", "", " c", "text "]:
+        P.append(P45(cls, EQ + ["--language", bad], refuse("--language"), note=f"--language {bad!r}"))
+    for case in ["C", "PYTHON"]:
+        P.append(P45(cls, EQ + ["--language", case], either(refuse("--language"), ok())))
+    P.append(P45(cls, EQ + ["--language", "c", "--language", "python"], refuse("--language")))
+    P.append(P45(cls, EQ + ["--language", "c\nflipflux: ok"], refuse("--language", clean=True)))
+    P.append(P45(cls, ["model", "--language", "c"], refuse("--language"), note="--language without --equations"))
+    P.append(P45(cls, ["model", "--language", "bogus"], refuse("--language"),
+                 note="--language bogus without --equations"))
+    for opt, v in [("--m1", "0"), ("--m1", "-1"), ("--I1", "-1"), ("--m1", "1e400"), ("--m2", "1e-400"),
+                   ("--g", "nan"), ("--L1", "inf"), ("--a2", "0"), ("--I2", "abc"), ("--L2", "")]:
+        P.append(P45(cls, EQ + [opt, v], refuse(opt), note=f"model --equations {opt} {v!r}"))
+    P.append(P45(cls, EQ + ["--language", "python", "--m1", "1e400"], refuse("--m1")))
+    P.append(P45(cls, EQ + ["--language", "c", "--I1", "-1"], refuse("--I1")))
+    P.append(P45(cls, EQ + ["--precision", "mp:0"], refuse("--precision")))
+    # coefficients beyond double's range, in a precision that holds them: the pasted blocks are
+    # double code (refused, or constants a double holds)
+    for scale in ["1e200", "1e-200"]:
+        params = [x for k in ["--m1", "--m2", "--L1", "--L2", "--g"] for x in (k, scale)]
+        for lang in ["python", "c"]:
+            P.append(P45(cls, EQ + ["--precision", "quad", "--language", lang] + params,
+                         either(refuse("--"), ok(pasted_constants_finite)),
+                         note=f"--equations --language {lang} in quad, m, L, g all {scale} (A ~ {scale}^3)"))
+    P.append(P45(cls, EQ, io_error(STDOUT), stdout="full", note="model --equations > /dev/full"))
+    P.append(P45(cls, EQ + ["--language", "python"], io_error(STDOUT), stdout="closed",
+                 note="model --equations --language python >&-"))
+
+    # ---- initial-states: simulate --initial-states / --write-initial-states, --arm both
+    cls = "initial-states"
+    SIS = ["simulate", "--initial-states", "init.csv", "--time", "2", "--criteria", "upright", "--no-chaos"]
+    base = initial_states_setup()
+    P.append(P45(cls, INIT_CMD + ["--write-initial-states", "init.csv"],
+                 ok(all_of(file_has("init.csv", "# pendulum:"), file_has("init.csv", "trajectory,energy,theta1")))))
+    P.append(P45(cls, SIS + ["--arm", "both"], ok(stdout_has('"studies"')), setup=base,
+                 note="--initial-states (written by flipflux) --arm both"))
+    P.append(P45(cls, SIS, ok(stdout_has('"trajectories": 4')), setup=initial_states_setup(
+        mangle=lambda t: t.replace("\n", "\r\n")), note="--initial-states with CRLF line ends"))
+
+    def input_specials(w, f):
+        os.mkdir(os.path.join(w, "d"))
+        os.mkfifo(os.path.join(w, "fifo"))
+        make_special(w, "zero", "zero")
+        os.symlink("/dev/urandom", os.path.join(w, "url"))
+    for name in ["missing.csv", "d", "fifo", "zero", "url"]:
+        args = ["simulate", "--initial-states", name, "--time", "2"]
+        P.append(P45(cls, args, refuse(name, absent=(f"--{name}:",)), setup=input_specials, timeout=30))
+    P.append(P45(cls, ["simulate", "--initial-states", "", "--time", "2"], refuse("--initial-states"),
+                 note="--initial-states ''"))
+    P.append(P45(cls, SIS, refuse("init.csv"), files={"init.csv": ""}, note="empty file"))
+    P.append(P45(cls, SIS, refuse("init.csv:2"), setup=initial_states_setup(mangle=edit_csv(drop=("energy",))),
+                 note="header without energy (line 2, after the # pendulum: line)"))
+    P.append(P45(cls, SIS, refuse("init.csv:1"), files={"init.csv": "trajectory,theta1,theta2,l1,l2\n0,1,2,0,0\n"},
+                 note="header without energy (no # pendulum: line)"))
+    P.append(P45(cls, SIS, refuse("init.csv:2"), setup=initial_states_setup(mangle=edit_csv(drop=("l2",))),
+                 note="header without l2"))
+    P.append(P45(cls, SIS, refuse("init.csv:3"), setup=initial_states_setup(mangle=edit_csv(extra="7")),
+                 note="a row with one field too many"))
+    P.append(P45(cls, SIS, refuse("init.csv"), setup=initial_states_setup(
+        mangle=lambda t: "".join(l for l in t.splitlines(True) if not l[0].isdigit())), note="header only"))
+    for col, bad in [("theta1", "abc"), ("theta1", "inf"), ("theta2", "nan"), ("l1", "1e400"), ("l2", ""),
+                     ("theta1", "0x10"), ("energy", "1e400"), ("energy", "abc"), ("energy", "0"),
+                     ("energy", "-5"), ("energy", "6"), ("l1", "2.7")]:
+        P.append(P45(cls, SIS, refuse("init.csv:3"), setup=initial_states_setup(mangle=edit_csv(**{col: bad})),
+                     note=f"first state's {col} {bad!r}" + (" (H differs from its energy column)"
+                                                            if (col, bad) in (("energy", "6"), ("l1", "2.7")) else "")))
+    P.append(P45(cls, SIS, refuse("init.csv"), setup=initial_states_setup(mangle=lambda t: t + E3_STATE + "\n"),
+                 note="4 states at E = 5, 1 at E = 3"))
+    for name, old, new, text, absent in [
+            ("another pendulum (m1=2)", "m1=1 ", "m1=2 ", "init.csv:1", ()),
+            ("m1=abc", "m1=1 ", "m1=abc ", "init.csv:1", ()),
+            ("zz=1", "m1=1 ", "zz=1 ", "init.csv:1", ()),
+            ("no parameters", " m1=1 m2=1 L1=1 L2=1 a1=1 a2=1 I1=0 I2=0 g=1", "", "init.csv:1", ()),
+            # an invalid declared parameter named as invalid, not asked for ("give its parameters")
+            ("m1=0", "m1=1 ", "m1=0 ", "init.csv:1", ("give its parameters",)),
+            ("m1=1e400", "m1=1 ", "m1=1e400 ", "init.csv:1", ("give its parameters",))]:
+        P.append(P45(cls, SIS, refuse(text, absent=absent),
+                     setup=initial_states_setup(mangle=lambda t, old=old, new=new: t.replace(old, new, 1)),
+                     note=f"# pendulum: line {name}"))
+    P.append(P45(cls, SIS + ["--m1", "2"], refuse("init.csv:1"), setup=base,
+                 note="--m1 2 against the file's # pendulum: m1=1"))
+    for extra, text in [(["--energy", "5"], "--energy"), (["--trajectories", "4"], "--trajectories"),
+                        (["--replicates", "2"], "--replicates"), (["--estimator", "short", "--short-time", "1"],
+                                                                  "estimator")]:
+        P.append(P45(cls, SIS + extra, refuse(text), setup=base, note=f"--initial-states with {' '.join(extra)}"))
+    P.append(P45(cls, ["simulate", "--initial-states", "init.csv", "--time", "1"], refuse(("init.csv", "--time")),
+                 files={"init.csv": "trajectory,energy,theta1,theta2,l1,l2\n0,1e300,0,0,1.4142135623730951e150,0\n"},
+                 note="a state at E = 1e300 (the turns bound)"))
+    # --arm both and --arm: energies below the thresholds, from --energy or from the file
+    P.append(P45(cls, ["simulate", "--energy", "1", "--trajectories", "2", "--time", "1", "--arm", "both"],
+                 refuse("--energy"), note="--arm both --energy 1 (below both arms' thresholds)"))
+    P.append(P45(cls, ["simulate", "--initial-states", "e1.csv", "--time", "1", "--arm", "both"],
+                 refuse(("e1.csv", "--initial-states")), files={"e1.csv": E1_STATES},
+                 note="--arm both, --initial-states at E = 1 (the file's energies named, not --energy)"))
+    P.append(P45(cls, ["simulate", "--initial-states", "e1.csv", "--time", "1"],
+                 refuse(("e1.csv", "--initial-states")), files={"e1.csv": E1_STATES},
+                 note="--arm 2, --initial-states at E = 1 (the file's energies named, not --energy)"))
+    for v in ["3", "0", "", "1,2", "both,1"]:
+        P.append(P45(cls, SIM + ["--arm", v], refuse("--arm"), note=f"simulate --arm {v!r}"))
+    P.append(P45(cls, SIM + ["--arm", "BOTH"], either(refuse("--arm"), ok(stdout_has('"studies"')))))
+    # --write-initial-states
+    W = SIM + ["--write-initial-states"]
+    P.append(P45(cls, W + ["nodir/x/w.csv"], either(refuse("nodir"), ok(file_has("nodir/x/w.csv", "theta1"))),
+                 note="--write-initial-states in folders to be created"))
+    P.append(P45(cls, W + ["d"], refuse("d"), setup=lambda w, f: os.mkdir(os.path.join(w, "d")),
+                 note="--write-initial-states onto a folder"))
+    P.append(P45(cls, W + ["full"], either(refuse("full"), io_error("full")),
+                 setup=lambda w, f: make_special(w, "full", "full"),
+                 after=lambda w: still_device(w, "full", "full"), note="--write-initial-states full (device 1,7)"))
+    P.append(P45(cls, W + ["/dev/full"], either(refuse("/dev/full"), io_error("/dev/full")),
+                 note="--write-initial-states /dev/full"))
+    P.append(P45(cls, ["simulate", "--energy", "3", "--trajectories", "200", "--time", "1", "--no-chaos",
+                       "--write-initial-states", "w.csv"], io_error("w.csv"), rlimits={fsz: 1000},
+                 note="--write-initial-states w.csv (file size limit 1000 bytes: a full disk)"))
+    P.append(P45(cls, W + ["/proc/x.csv"], refuse("/proc/x.csv")))
+    P.append(P45(cls, W + [""], refuse("--write-initial-states"), note="--write-initial-states ''"))
+    P.append(P45(cls, W + ["c.ckpt", "--checkpoint", "c.ckpt"], refuse("c.ckpt"),
+                 note="--write-initial-states onto the --checkpoint file"))
+    P.append(P45(cls, W + ["d/trajectories_E3.csv", "--csv-dir", "d"], refuse("trajectories_E3.csv"),
+                 note="--write-initial-states onto a --csv-dir output"))
+    P.append(P45(cls, SIS + ["--write-initial-states", "init.csv"],
+                 either(refuse("init.csv"), ok(file_has("init.csv", "trajectory,energy,theta1"))), setup=base,
+                 note="--write-initial-states onto its own --initial-states file"))
+    for args, text in [(["simulate", "--energy", "3", "--trajectories", "2", "--time", "-1",
+                         "--write-initial-states", "c/w.csv"], "--time"),
+                       (W + ["c/w.csv", "--criteria", "bogus"], "bogus"),
+                       (SIS + ["--rtol", "0", "--write-initial-states", "c/w.csv"], "--rtol")]:
+        P.append(P45(cls, args, refuse(text), setup=base, forbid=["c"]))
+    P.append(P45(cls, SIS + ["--write-initial-states", "c/w.csv"], refuse("init.csv:3"), forbid=["c"],
+                 setup=initial_states_setup(mangle=edit_csv(theta1="abc")),
+                 note="a bad --initial-states file with --write-initial-states c/w.csv"))
+
+    # ---- validate-states: validate --trajectories EV --state sNN with the candidate's states
+    cls = "validate-states"
+    ev, st = golden_trajectory("s04", "events"), golden_trajectory("s04", "states")
+    VT = ["validate", "--trajectories", "ev.csv", "--state", "s04"]
+    VS = VT + ["--states", "st.csv"]
+    good = {"ev.csv": ev, "st.csv": st}
+    P.append(P45(cls, VS, ok(stdout_has("agrees")), files=good, note="golden s04 as the candidate: agrees"))
+    P.append(P45(cls, VS + ["--reference-states", "rs.csv"], ok(stdout_has("agrees")), files={**good, "rs.csv": st}))
+    P.append(P45(cls, VS, status(1), files={"ev.csv": ev, "st.csv": edit_csv(row=1, theta1="0.5")(st)},
+                 note="a state 1 rad off at t = 20: differs"))
+    for name, text, where in [
+            ("missing column l2", edit_csv(drop=("l2",))(st), "st.csv:1"),
+            ("missing column t", edit_csv(drop=("t",))(st), "st.csv:1"),
+            ("header without l2 after a # pendulum: line", "# pendulum: m1=1 m2=1 L1=1 L2=1 g=1\n" +
+             edit_csv(drop=("l2",))(st), "st.csv:2"),
+            ("a field missing", ST_HEAD + "10,1,2,3\n", "st.csv:2"),
+            ("a field too many", edit_csv(extra="5")(st), "st.csv:2"),
+            ("theta1 abc", edit_csv(theta1="abc")(st), "st.csv:2"),
+            ("theta1 nan", edit_csv(theta1="nan")(st), "st.csv:2"),
+            ("l2 inf", edit_csv(l2="inf")(st), "st.csv:2"),
+            ("l1 1e400", edit_csv(l1="1e400")(st), "st.csv:2"),
+            ("t abc", edit_csv(t="abc")(st), "st.csv:2"),
+            ("t 1e400", edit_csv(t="1e400")(st), "st.csv:2"),
+            ("t -1 (the only state: before the start)", ST_HEAD + "-1,1,2,3,4\n", "st.csv:2"),
+            ("empty file", "", "st.csv")]:
+        P.append(P45(cls, VS, refuse(where), files={"ev.csv": ev, "st.csv": text}, note=f"--states {name}"))
+    P.append(P45(cls, VS, either(refuse("st.csv"), status(1)), files={"ev.csv": ev, "st.csv": ST_HEAD},
+                 note="--states header only: no state compared is no agreement"))
+    P.append(P45(cls, VS + ["--reference-states", "rs.csv"], refuse("rs.csv:2"),
+                 files={**good, "rs.csv": edit_csv(theta1="abc")(st)}, note="--reference-states theta1 abc"))
+
+    def state_specials(w, f):
+        write(os.path.join(w, "ev.csv"), ev)
+        input_specials(w, f)
+    for name in ["missing.csv", "d", "fifo", "zero"]:
+        P.append(P45(cls, VT + ["--states", name], refuse(name, absent=(f"--{name}:",)), setup=state_specials,
+                     timeout=30, note=f"--states {name}"))
+    P.append(P45(cls, VT + ["--states", "st.csv", "--reference-states", "fifo"], refuse("fifo"),
+                 setup=lambda w, f: (state_specials(w, f), write(os.path.join(w, "st.csv"), st)), timeout=30))
+    P.append(P45(cls, VT + ["--reference-states", "st.csv"], refuse("--reference-states"), files=good,
+                 note="--reference-states without --states"))
+    for v in ["-1", "abc", "nan", "inf", "1e400", "1e-400", "0x1", ""]:
+        P.append(P45(cls, VS + ["--state-tol", v], refuse("--state-tol"), files=good, note=f"--state-tol {v!r}"))
+    P.append(P45(cls, VT + ["--state-tol", "1e-3"], refuse("--state-tol"), files=good,
+                 note="--state-tol without --states (as --reference-states needs --states)"))
+    P.append(P45(cls, ["validate", "c.csv", "--states", "st.csv", "--allow-missing"], refuse("--states"),
+                 files={"c.csv": CAND_HEAD + OMEGA6, "st.csv": st}, note="--states without --trajectories"))
+    for name, row, where in [("direction 0.5", "0.89471471020462507,2,upright,0.5", "ev.csv:2"),
+                             ("arm 2.5", "0.89471471020462507,2.5,upright,1", "ev.csv:2"),
+                             ("criterion 'bogus'", "0.89471471020462507,2,bogus,1", "ev.csv:2")]:
+        P.append(P45(cls, VS, refuse(where), files={"ev.csv": EV_HEAD + row + "\n", "st.csv": st},
+                     note=f"candidate event {name}"))
+    P.append(P45(cls, VS, refuse("ev.csv:1"), files={"ev.csv": edit_csv(drop=("direction",))(ev), "st.csv": st},
+                 note="candidate events without a direction column"))
+    P.append(P45(cls, VT[:-1] + ["s99"], refuse("s99"), files=good, note="--state s99 (no such golden state)"))
+
+    # ---- validate-paired: validate --ensemble F --paired
+    cls = "validate-paired"
+    VP = ["validate", "--ensemble", "p.csv", "--paired"]
+
+    def paired(mangle=None):
+        return initial_states_setup(name="p.csv", mangle=mangle, paired=True)
+    P.append(P45(cls, VP, ok(stdout_has("PASSED")), setup=paired(), note="the paired candidate of INIT_CMD's states"))
+    P.append(P45(cls, VP, status(1, stdout_has("FAILED")),
+                 setup=paired(lambda t: t.replace(",upright,0\n", ",upright,5\n")),
+                 note="5 flips per trajectory where flipflux counts none"))
+    for col in ["flips", "time", "arm", "energy", "l2"]:
+        P.append(P45(cls, VP, refuse("p.csv:2"), setup=paired(edit_csv(drop=(col,))),
+                     note=f"without the {col} column (the header is line 2, after the # pendulum: line)"))
+    P.append(P45(cls, VP, refuse("p.csv:1"), setup=paired(
+        lambda t: edit_csv(drop=("flips",))("\n".join(t.splitlines()[1:]) + "\n")),
+                 note="without the flips column, no # pendulum: line"))
+    for col, bad in [("flips", "-1"), ("flips", "1.5"), ("flips", "abc"), ("flips", "1e30"), ("flips", "nan"),
+                     ("arm", "3"), ("arm", "0"), ("arm", "2.5"), ("criterion", "bogus"),
+                     ("time", "0"), ("time", "-1"), ("time", "inf"), ("time", "abc"),
+                     ("energy", "6"), ("theta1", "1e400")]:
+        P.append(P45(cls, VP, refuse("p.csv:3"), setup=paired(edit_csv(**{col: bad})), timeout=30,
+                     note=f"first row's {col} {bad!r}"))
+    for T in ["1e300", "1e9"]:
+        P.append(P45(cls, VP, refuse("p.csv:3", absent=("--time",)), setup=paired(edit_csv(time=T)), timeout=30,
+                     note=f"time {T}: refused at once, naming the file's line (no --time was given)"))
+    P.append(P45(cls, VP, refuse("p.csv:3"), setup=paired(
+        edit_csv(energy="0", theta1="0", theta2="0", l1="0", l2="0")),
+                 note="a state at E = 0 (simulate --initial-states refuses energy 0)"))
+    P.append(P45(cls, VP, refuse("p.csv:3"), setup=paired(edit_csv(extra="7")), note="a row with a field too many"))
+    P.append(P45(cls, VP, refuse("p.csv"), files={"p.csv": ""}, note="empty file"))
+    P.append(P45(cls, VP, refuse("p.csv"), setup=paired(
+        lambda t: "".join(l for l in t.splitlines(True) if not l[0].isdigit())), note="header only"))
+    P.append(P45(cls, VP, refuse("p.csv"), files={"p.csv": ENS_HEAD + "upright,2,5,100,10,5\n"},
+                 note="an unpaired ensemble file with --paired"))
+    P.append(P45(cls, VP, refuse("p.csv:1"), setup=paired(lambda t: t.replace("m1=1 ", "m1=abc ", 1)),
+                 note="# pendulum: m1=abc"))
+    P.append(P45(cls, VP + ["--m1", "2"], refuse("p.csv:1"), setup=paired(),
+                 note="--m1 2 against the file's # pendulum: m1=1"))
+    for name in ["missing.csv", "d", "fifo", "zero"]:
+        P.append(P45(cls, ["validate", "--ensemble", name, "--paired"], refuse(name, absent=(f"--{name}:",)),
+                     setup=input_specials, timeout=30))
+    P.append(P45(cls, ["validate", "--paired"], refuse(("--paired", "--ensemble")), note="--paired alone"))
+    P.append(P45(cls, ["validate", "c.csv", "--paired", "--allow-missing"], refuse("--paired"),
+                 files={"c.csv": CAND_HEAD + OMEGA6}, note="--paired with a golden-values candidate"))
+    P.append(P45(cls, VT + ["--paired"], refuse("--paired"), files={"ev.csv": ev},
+                 note="--paired with --trajectories"))
+    P.append(P45(cls, VP, io_error(STDOUT), setup=paired(), stdout="full", note="validate --paired > /dev/full"))
     return P
 
 

@@ -1,6 +1,9 @@
 // flipflux model: the model's coefficients, critical points and normal modes as JSON;
 // --equations: the Hamiltonian and Hamilton's equations with the pendulum's coefficients, as text
 // and as blocks of C and Python (NumPy) to paste into a simulator (docs/validating.md).
+#include <cmath>
+#include <limits>
+
 #include "common.hpp"
 #include "flipflux/model/critical_points.hpp"
 #include "flipflux/validation/candidate_pendulum.hpp"
@@ -46,7 +49,19 @@ struct coefficient_texts {
 
 template <class Real>
 coefficient_texts coefficient_texts_of(const model_options& options) {
-    const lagrangian_coefficients<Real>& k = make_model<Real>(options).coefficients();
+    const double_pendulum<Real> model = make_model<Real>(options);
+    const lagrangian_coefficients<Real>& k = model.coefficients();
+    // the pasted blocks compute in double: each coefficient must be a normal double
+    for (const auto& [name, v] :
+         {std::pair{"A", &k.A}, std::pair{"B", &k.B}, std::pair{"C", &k.C},
+          std::pair{"alpha", &k.alpha}, std::pair{"beta", &k.beta}, std::pair{"D0", &k.D0}}) {
+        const double d = static_cast<double>(*v);
+        if (!std::isfinite(d) || std::abs(d) < std::numeric_limits<double>::min())
+            throw input_error("--equations: the coefficient " + std::string(name) + " = " +
+                              to_decimal(*v, 6) +
+                              " is outside double's range, which the printed C and Python "
+                              "compute in: rescale the pendulum's units");
+    }
     return {literal(to_decimal(k.A)),     literal(to_decimal(k.B)),    literal(to_decimal(k.C)),
             literal(to_decimal(k.alpha)), literal(to_decimal(k.beta)), literal(to_decimal(k.D0))};
 }
@@ -225,7 +240,8 @@ const register_command registration([](CLI::App& app) {
             throw input_error("--language: needs --equations");
         if (state->equations) {
             const std::string& lang = state->language;
-            if (!lang.empty() && lang != "text" && lang != "c" && lang != "python")
+            if ((sub->get_option("--language")->count() > 0 || !lang.empty()) && lang != "text" &&
+                lang != "c" && lang != "python")
                 throw input_error("--language: '" + lang + "' is not text, c or python");
             const coefficient_texts k =
                 dispatch(p, [&]<class Real>() { return coefficient_texts_of<Real>(state->model); });

@@ -16,6 +16,8 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <limits>
 
 #include "common.hpp"
 #include "flipflux/ensemble/sampler.hpp"
@@ -140,13 +142,44 @@ class mpi_group final : public process_group {
 /// --initial-states: the file's energies and states replace --energy and --trajectories (one
 /// replicate); its `# pendulum:` line, if any, must name the model options' pendulum.
 void use_initial_states(const simulate_state& s, const double_pendulum<double>& model,
-                        simulation_request& q) {
-    if (const std::optional<declared_pendulum> d = read_declared_pendulum(s.initial_states))
+                        simulation_request& q, bool both) {
+    if (const std::optional<declared_pendulum> d = read_declared_pendulum(s.initial_states)) {
+        try {  // a declared value no pendulum has is refused as such, not asked for
+            (void)make_model<double>(d->parameters);
+        } catch (const input_error& e) {
+            throw input_error("--initial-states: " + d->where + ": pendulum: " + e.what());
+        }
         if (!same_parameters(d->parameters, s.model))
             throw input_error("--initial-states: " + d->where + ": the pendulum " +
                               parameters_text(d->parameters) + " is not the model options' (" +
                               parameters_text(s.model) + "): give its parameters");
+    }
     const std::vector<initial_state_set> sets = read_initial_states(s.initial_states, model);
+    std::size_t repeated = 0;
+    for (const initial_state_set& set : sets) {
+        repeated += set.repeated;
+        // where no flip is possible: the file's line, not an option the user did not give
+        double threshold = std::numeric_limits<double>::infinity();
+        for (const arm a : {arm::one, arm::two}) {
+            if (!both && a != q.flip_arm) continue;
+            double t = 0;
+            for (const std::string& c : q.criteria)
+                t = std::max(t, criterion_threshold(model, a, c));
+            threshold = std::min(threshold, t);
+        }
+        if (!(set.energy > threshold))
+            throw input_error("--initial-states: " + s.initial_states + ":" +
+                              std::to_string(set.lines.front()) + ": E = " + set.label +
+                              " is at or below the threshold " + to_decimal(threshold) +
+                              (both ? " of both arms" : " of arm " + to_string(q.flip_arm)) +
+                              " (no flips possible)");
+    }
+    if (repeated > 0)
+        std::fprintf(stderr,
+                     "flipflux: note: --initial-states: %zu rows repeat a state of their energy "
+                     "(a paired file lists each trajectory per arm): each state is integrated "
+                     "once\n",
+                     repeated);
     if (q.replicates != 1)
         throw input_error("--replicates: not with --initial-states (one set of trajectories)");
     q.energies.clear();
@@ -164,11 +197,32 @@ void use_initial_states(const simulate_state& s, const double_pendulum<double>& 
     q.options.trajectories = sets.front().states.size();
 }
 
+/// --write-initial-states: a writable file that is not another output of the run.
+void check_initial_states_output(const simulate_state& s) {
+    namespace fs = std::filesystem;
+    const std::string& f = s.write_initial_states;
+    if (f.empty()) throw input_error("--write-initial-states: '' is not a file name");
+    check_output_file(f, "--write-initial-states");
+    std::error_code ec;
+    const fs::path w = fs::weakly_canonical(fs::absolute(f, ec), ec);
+    if (!s.checkpoint.empty() && w == fs::weakly_canonical(fs::absolute(s.checkpoint, ec), ec))
+        throw input_error("--write-initial-states: '" + f + "' is also the --checkpoint file");
+    if (!s.csv_dir.empty() && w.extension() == ".csv") {
+        const fs::path d = fs::weakly_canonical(fs::absolute(s.csv_dir, ec), ec);
+        for (fs::path p = w.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
+            if (p == d)
+                throw input_error("--write-initial-states: '" + f +
+                                  "' is a CSV name inside --csv-dir, where the ensemble's CSVs "
+                                  "are written: choose another name or folder");
+    }
+}
+
 /// --arm both: a study per arm on one set of trajectories; an arm counts only at the energies
 /// above its criteria's thresholds (a note names the others), as a scene's ensembles do.
 std::vector<simulation_request> both_arms(const double_pendulum<double>& model,
                                           const simulation_request& q) {
     std::vector<simulation_request> out;
+    std::vector<std::string> notes;
     for (const arm a : {arm::one, arm::two}) {
         simulation_request r = q;
         r.flip_arm = a;
@@ -188,17 +242,18 @@ std::vector<simulation_request> both_arms(const double_pendulum<double>& model,
                 skipped += (skipped.empty() ? "" : ",") + q.energies[k].first;
             }
         }
-        if (!skipped.empty())
-            std::fprintf(stderr,
-                         "flipflux: note: --arm both: arm %s is not counted at E = %s (at or "
-                         "below its threshold %s: no flips possible)\n",
-                         to_string(a).c_str(), skipped.c_str(), to_decimal(threshold).c_str());
+        if (!skipped.empty())  // noted only when some arm counts (else one error line)
+            notes.push_back("flipflux: note: --arm both: arm " + to_string(a) +
+                            " is not counted at E = " + skipped + " (at or below its threshold " +
+                            to_decimal(threshold) + ": no flips possible)\n");
         if (!r.energies.empty()) out.push_back(std::move(r));
     }
     if (out.empty())
         throw input_error(
             "--energy: no energy lies above either arm's threshold (no flips "
             "possible)");
+    for (const std::string& n : notes)
+        std::fputs(n.c_str(), stderr);
     if (out.front().flip_arm != arm::one) out.front().progress = q.progress;
     return out;
 }
@@ -229,6 +284,8 @@ void run(const simulate_state& s) {
     try {
         const double_pendulum<double> model = make_model<double>(s.model);
         const bool given = !s.initial_states.empty(), both = s.arm_text == "both";
+        if (s.arm_text != "1" && s.arm_text != "2" && !both)
+            throw input_error("--arm: '" + s.arm_text + "' is not 1, 2 or both");
         if (given && !s.energy.empty())
             throw input_error("--energy: not with --initial-states (its file gives the energies)");
         if (given && !s.trajectories.empty())
@@ -242,9 +299,8 @@ void run(const simulate_state& s) {
         if (both) one.arm_text = "1";
         if (given) one.energy = "1", one.trajectories = "1";  // replaced by the file's
         simulation_request q = make_request(one);
-        if (given) use_initial_states(s, model, q);
-        if (!s.write_initial_states.empty() && root)
-            check_output_file(s.write_initial_states, "--write-initial-states");
+        if (given) use_initial_states(s, model, q, both);
+        if (!s.write_initial_states.empty() && root) check_initial_states_output(s);
         q.options.stop = &stop_signal;
         q.group = mpi.get();
         progress_bar bar(s.progress);
@@ -337,7 +393,8 @@ const register_command registration([](CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "simulate",
         "Monte Carlo ensemble at one or more energies: microcanonical initial conditions, "
-        "trajectories (DOP853 or DOPRI5 at double), flips of each criterion, statistics as JSON "
+        "trajectories (DOP853 or DOPRI5 at double), flips of each criterion, statistics as "
+        "JSON "
         "(and CSV with --csv-dir). Default rtol 1e-10, where `trajectory` uses 1e-12: a "
         "statistic of many trajectories is insensitive to it (the rates' integration bias at "
         "1e-10 is far below their statistical error), one trajectory compared event by event "
@@ -412,7 +469,13 @@ const register_command registration([](CLI::App& app) {
     sub->add_flag("--no-timing", s->no_timing,
                   "leave out seconds/threads/processes (output identical across runs)");
     add_model_options(*sub, s->model);
-    sub->callback([s] { run(*s); });
+    sub->callback([s, sub] {
+        for (const char* o : {"--write-initial-states", "--initial-states"})
+            if (sub->get_option(o)->count() > 0 &&
+                (o[2] == 'w' ? s->write_initial_states : s->initial_states).empty())
+                throw input_error(std::string(o) + ": '' is not a file name");
+        run(*s);
+    });
 });
 
 }  // namespace

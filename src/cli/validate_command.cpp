@@ -220,6 +220,11 @@ const register_command registration([](CLI::App& app) {
         if (modes != 1)
             throw input_error(
                 "validate: give exactly one of CANDIDATE, --ensemble FILE, --trajectories FILE");
+        for (const char* o : {"--states", "--reference-states", "--state-tol"})
+            if (sub->get_option(o)->count() > 0 && s->trajectories.empty())
+                throw input_error(std::string(o) + ": only with --trajectories");
+        if (sub->get_option("--state-tol")->count() > 0 && s->states.empty())
+            throw input_error("--state-tol: needs the candidate's --states");
         if (s->paired && s->ensemble.empty())
             throw input_error("--paired: needs --ensemble FILE (the candidate's trajectories)");
         if (!s->ensemble.empty()) return validate_ensemble(*s);

@@ -75,6 +75,7 @@ csv_table read_csv(const std::filesystem::path& file) {
                                           ": the header names the column '" + trim(fields[i]) +
                                           "' twice");
             t.header = fields;
+            t.header_line = number;
         } else {
             t.rows.push_back({number, fields});
         }

@@ -340,8 +340,8 @@ std::vector<initial_state_set> read_initial_states(const std::filesystem::path& 
     const int ec = col("energy");
     const std::array<int, 4> xc{col("theta1"), col("theta2"), col("l1"), col("l2")};
     if (ec < 0 || std::find(xc.begin(), xc.end(), -1) != xc.end())
-        throw input_error(file.string() +
-                          ":1: the header must name the columns energy, theta1, theta2, l1, l2");
+        throw input_error(file.string() + ":" + std::to_string(t.header_line) +
+                          ": the header must name the columns energy, theta1, theta2, l1, l2");
     std::vector<initial_state_set> sets;
     for (const csv_row& r : t.rows) {
         const std::string at = file.string() + ":" + std::to_string(r.line) + ": ";
@@ -372,7 +372,11 @@ std::vector<initial_state_set> read_initial_states(const std::filesystem::path& 
                               " (to a relative 1e-8): another pendulum or another energy?");
         auto set = std::find_if(sets.begin(), sets.end(),
                                 [&](const initial_state_set& s) { return s.energy == e; });
-        if (set == sets.end()) set = sets.insert(sets.end(), {r.fields[ec], e, {}, {}});
+        if (set == sets.end()) set = sets.insert(sets.end(), {r.fields[ec], e, {}, {}, 0});
+        if (std::find(set->states.begin(), set->states.end(), x) != set->states.end()) {
+            ++set->repeated;
+            continue;
+        }
         set->states.push_back(x);
         set->lines.push_back(r.line);
     }

@@ -40,8 +40,8 @@ std::vector<paired_row> read_rows(const std::filesystem::path& file,
               cc = col("criterion"), nc = col("trajectory");
     const std::array<int, 4> xc{col("theta1"), col("theta2"), col("l1"), col("l2")};
     if (ec < 0 || tc < 0 || ac < 0 || fc < 0 || std::find(xc.begin(), xc.end(), -1) != xc.end())
-        throw input_error(file.string() +
-                          ":1: the header must name the columns energy, theta1, theta2, l1, l2, "
+        throw input_error(file.string() + ":" + std::to_string(t.header_line) +
+                          ": the header must name the columns energy, theta1, theta2, l1, l2, "
                           "time, arm, flips (and optionally criterion, trajectory)");
     std::vector<paired_row> rows;
     for (const csv_row& r : t.rows) {
@@ -65,6 +65,7 @@ std::vector<paired_row> read_rows(const std::filesystem::path& file,
         p.name = nc >= 0 ? r.fields[nc] : "";
         p.energy_text = r.fields[ec];
         p.energy = number(ec, "energy");
+        if (!(p.energy > 0)) throw input_error(at + "energy '" + r.fields[ec] + "' must be > 0");
         p.time = number(tc, "time");
         if (!(p.time > 0)) throw input_error(at + "time '" + r.fields[tc] + "' must be > 0");
         for (std::size_t i = 0; i < 4; ++i)
@@ -90,7 +91,11 @@ std::vector<paired_row> read_rows(const std::filesystem::path& file,
             throw input_error(at + "the state's energy H = " + to_decimal(h) +
                               " is not E = " + p.energy_text +
                               " (to a relative 1e-8): another pendulum or another energy?");
-        check_trajectory_work(model, p.energy, p.time, "time");
+        try {  // a trajectory that could not finish: the file's line, not an option
+            check_trajectory_work(model, p.energy, p.time, "time");
+        } catch (const input_error& e) {
+            throw input_error(at + "time " + r.fields[tc] + ": " + e.detail());
+        }
         rows.push_back(p);
     }
     if (rows.empty()) throw input_error(file.string() + ": no trajectories");
@@ -252,33 +257,50 @@ std::string format_paired_check(const paired_check_report& r) {
     std::string out;
     char buf[768];
     std::snprintf(buf, sizeof buf,
-                  "summary: %zu groups (%zu paired trajectories): %zu pass, %zu warn, %zu FAIL "
-                  "(z = mean paired difference / its standard error: pass |z| < %g, warn |z| < "
-                  "%g; differences where flipflux's two integrations agree: warn 1, FAIL beyond "
-                  "1 + 5 %%) -> %s\n",
-                  r.groups.size(), n, pass, warn, fail, r.options.warn_z, r.options.fail_z,
-                  r.passed() ? "PASSED" : "FAILED");
+                  "summary: %zu groups (criterion, arm, energy), %zu paired counts: %zu pass, %zu "
+                  "warn, %zu FAIL -> %s\n",
+                  r.groups.size(), n, pass, warn, fail, r.passed() ? "PASSED" : "FAILED");
+    out += buf;
+    std::snprintf(buf, sizeof buf,
+                  "tests: the mean (z = mean paired difference / its standard error, the noise "
+                  "floor: warn |z| >= %g, FAIL >= %g) and the pairs (a trajectory is stable when "
+                  "flipflux's two integrations, DOP853 rtol 1e-12 and DOPRI5 rtol 1e-9, count "
+                  "alike; a correct simulator agrees on those: 1 differing stable trajectory "
+                  "warns, more than 1 + 5 %% of them FAIL)\n",
+                  r.options.warn_z, r.options.fail_z);
     out += buf;
     out += "first difference: " +
            (r.first_difference.empty() ? std::string("none (every count identical)")
                                        : r.first_difference) +
            "\n";
     std::snprintf(buf, sizeof buf,
-                  "%-8s %-3s %-8s %-6s %-10s %-17s %-12s %-12s %-11s %-11s %-8s %s\n", "crit.",
-                  "arm", "energy", "trajs", "identical", "unexpected/stable", "cand. mean",
+                  "%-8s %-3s %-8s %-6s %-10s %-17s %-12s %-13s %-11s %-11s %-8s %s\n", "crit.",
+                  "arm", "energy", "trajs", "identical", "differ/stable", "cand. mean",
                   "flipflux mean", "mean diff.", "std.error", "z", "status");
     out += buf;
     for (const paired_group& g : r.groups) {
+        const double allowed = 1 + 0.05 * static_cast<double>(g.stable);
+        std::string why;
+        if (std::abs(g.z) >= r.options.warn_z) why = "mean";
+        if (g.unexpected > 0)
+            why += std::string(why.empty() ? "" : ", ") +
+                   (static_cast<double>(g.unexpected) > allowed ? "pairs" : "1 pair");
+        char z[32];
+        if (std::isinf(g.z))
+            std::snprintf(z, sizeof z, "%s", g.z > 0 ? "+inf" : "-inf");  // every pair alike
+        else
+            std::snprintf(z, sizeof z, "%+.2f", g.z);
         std::snprintf(buf, sizeof buf,
-                      "%-8s %-3s %-8s %-6zu %-10zu %-17s %-12.6f %-12.6f %+-11.4f %-11.3e %+-8.2f "
-                      "%s\n",
+                      "%-8s %-3s %-8s %-6zu %-10zu %-17s %-12.6f %-13.6f %+-11.4f %-11.3e %-8s "
+                      "%s%s\n",
                       g.criterion.c_str(), g.arm.c_str(), g.energy.c_str(), g.trajectories,
                       g.identical,
                       (std::to_string(g.unexpected) + "/" + std::to_string(g.stable)).c_str(),
-                      g.candidate_mean, g.flipflux_mean, g.mean_difference, g.standard_error, g.z,
+                      g.candidate_mean, g.flipflux_mean, g.mean_difference, g.standard_error, z,
                       g.what == paired_group::status::pass   ? "pass"
                       : g.what == paired_group::status::warn ? "warn"
-                                                             : "FAIL");
+                                                             : "FAIL",
+                      why.empty() ? "" : (" (" + why + ")").c_str());
         out += buf;
     }
     return out;

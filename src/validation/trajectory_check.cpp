@@ -78,7 +78,8 @@ event_file read_events(const std::filesystem::path& file, const event_comparison
     const int tc = column(t, "time"), ac = column(t, "arm"), cc = column(t, "criterion"),
               dc = column(t, "direction"), sc = column(t, "state");
     if (tc < 0 || ac < 0 || dc < 0 || (reference && cc < 0))
-        throw input_error(file.string() + ":1: the header must name the columns time, arm, " +
+        throw input_error(file.string() + ":" + std::to_string(t.header_line) +
+                          ": the header must name the columns time, arm, " +
                           (reference ? "criterion, direction" : "direction[, criterion]"));
     if (reference && sc < 0 && !o.state.empty())
         throw input_error::about("state", "'" + o.state +
@@ -141,8 +142,8 @@ std::vector<state_row> read_states(const std::filesystem::path& file, const std:
     for (std::size_t i = 0; i < 4; ++i)
         xc[i] = column(t, state_names[i]);
     if (tc < 0 || std::find(xc.begin(), xc.end(), -1) != xc.end())
-        throw input_error(file.string() +
-                          ":1: the header must name the columns t, theta1, theta2, l1, l2");
+        throw input_error(file.string() + ":" + std::to_string(t.header_line) +
+                          ": the header must name the columns t, theta1, theta2, l1, l2");
     if (sc >= 0 && state.empty())
         throw input_error::about("state", "the states file '" + file.string() +
                                               "' lists several trajectories: choose one");
@@ -152,12 +153,16 @@ std::vector<state_row> read_states(const std::filesystem::path& file, const std:
         if (r.fields.size() != t.header.size()) throw input_error(at + "wrong number of fields");
         if (sc >= 0 && r.fields[sc] != state) continue;
         state_row s{number_at(r.fields[tc], "t", at), {}, r.line};
+        if (!(s.t >= 0)) throw input_error(at + "t '" + r.fields[tc] + "' must be >= 0");
         for (std::size_t i = 0; i < 4; ++i) {
             s.x[i] = number_at(r.fields[xc[i]], state_names[i], at);
             double_digits = double_digits && significant_digits(r.fields[xc[i]]) <= 17;
         }
         out.push_back(s);
     }
+    if (out.empty())
+        throw input_error(file.string() + ": no states" +
+                          (state.empty() ? std::string() : " of '" + state + "'"));
     return out;
 }
 
@@ -195,8 +200,8 @@ double double_horizon_of(const std::filesystem::path& table, const std::string& 
     const int sc = column(t, "state"), tc = column(t, "time_tolerance"), ac = column(t, "accuracy"),
               hc = column(t, "horizon");
     if (sc < 0 || tc < 0 || ac < 0 || hc < 0)
-        throw input_error(table.string() +
-                          ":1: the header must name state, time_tolerance, accuracy, horizon");
+        throw input_error(table.string() + ":" + std::to_string(t.header_line) +
+                          ": the header must name state, time_tolerance, accuracy, horizon");
     double best_tol = -1, best = std::nan(""), smallest_tol = infinity, smallest = std::nan("");
     for (const csv_row& r : t.rows) {
         const std::string at = table.string() + ":" + std::to_string(r.line) + ": ";
@@ -260,6 +265,7 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
     out.candidate_double = cand_double;
 
     double ref_end = infinity, cand_end = infinity;
+    const bool cand_end_known = !cand_states.empty();
     std::string ref_end_from, cand_end_from;
     if (golden.time) {
         ref_end = *golden.time;
@@ -290,6 +296,9 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
         out.horizon = o.until;
         inclusive = false;
         out.horizon_note = "before t = " + time_text(o.until) + " (--until)";
+        if (o.until > ref_end)
+            out.horizon_note += ", beyond the reference's end t = " + time_text(ref_end) + " (" +
+                                ref_end_from + "): nothing after it is compared";
     } else {
         out.horizon = std::min(ref_end, cand_end);
         std::string ends;
@@ -348,8 +357,12 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
             const flip_row* rr = i < r.size() && before(r[i].time) ? &r[i] : nullptr;
             const flip_row* cr = i < c.size() ? &c[i] : nullptr;
             // a candidate event beyond the horizon, or just before it with its reference
-            // partner just after, is not a difference
-            if (!rr && (!cr || !before(cr->time + o.time_tolerance))) break;
+            // partner just after, is not a difference (nor counted: it was not compared)
+            if (!rr && (!cr || !before(cr->time + o.time_tolerance))) {
+                for (std::size_t j = i; j < c.size(); ++j)
+                    s.candidate -= before(c[j].time);
+                break;
+            }
             if (rr && cr && cr->direction == rr->direction &&
                 std::abs(cr->time - rr->time) <= o.time_tolerance) {
                 s.max_time_difference =
@@ -358,9 +371,23 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
                 continue;
             }
             const double when = std::min(cr ? cr->time : infinity, rr ? rr->time : infinity);
+            // events are paired in order: say when the difference is a missed or an extra event
+            const auto agree = [&](const flip_row* x, const flip_row* y) {
+                return x && y && x->direction == y->direction &&
+                       std::abs(x->time - y->time) <= o.time_tolerance;
+            };
+            std::string why;
+            if (cr && i + 1 < r.size() && agree(cr, &r[i + 1]))
+                why = " (the candidate misses the reference's event at t = " +
+                      time_text(rr ? rr->time : r[i].time) + ")";
+            else if (rr && i + 1 < c.size() && agree(&c[i + 1], rr))
+                why = " (the candidate has an extra event at t = " + time_text(cr->time) + ")";
+            else if (!cr && !cand_end_known)
+                why = " (if the candidate stopped before t = " + time_text(rr->time) +
+                      ", say where: its --states, or --until)";
             note_difference(when, "arm " + k.first + " " + k.second + " event " +
                                       std::to_string(i + 1) + ": candidate " + describe(cr) +
-                                      "; reference " + describe(rr));
+                                      "; reference " + describe(rr) + why);
             break;
         }
         out.streams.push_back(s);
@@ -375,6 +402,8 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
             });
         if (match == ref_states.end() || !before(cs.t)) {
             ++out.states_not_compared;
+            out.states_not_compared_at +=
+                (out.states_not_compared_at.empty() ? "" : ", ") + time_text(cs.t);
             continue;
         }
         state_row_check row{cs.t, 0, state_names[0], cs.line, true};
@@ -407,6 +436,12 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
                 : ")";
         if (out.differs && out.first_difference_time < out.double_horizon)
             out.verdict = "the first difference is before " + h + limit + ": a bug, not chaos";
+        else if (out.differs && out.double_horizon >= ref_end)
+            out.verdict = "the first difference is at t = " + time_text(out.first_difference_time) +
+                          ", where no measured double run parts from the reference (" + h + limit +
+                          " is its end): the candidate is less accurate there than rtol 1e-12; "
+                          "a tighter tolerance, or a looser --time-tol / --state-tol, tells a "
+                          "loose integrator from a bug";
         else if (out.differs)
             out.verdict = "the first difference is after " + h + limit +
                           ": what chaos does to a correct double-precision run, not evidence of "
@@ -442,6 +477,10 @@ std::string format_event_comparison(const event_comparison& c, const event_compa
                                 : " (--criteria)") +
            "; " + c.horizon_note + "\n";
     if (c.differs) out += "first difference: " + c.first_difference + "\n";
+    if (!c.differs && agree == 0 && c.states.empty())
+        out +=
+            "note: nothing was compared (no event and no state before the horizon): this "
+            "AGREE says nothing; --until or a looser --time-tol compares more\n";
     if (!c.verdict.empty()) out += "verdict: " + c.verdict + "\n";
     std::snprintf(buf, sizeof buf, "%-4s %-9s %-10s %-10s %-9s %s\n", "arm", "criterion",
                   "candidate", "reference", "agreeing", "max |dt| (agreeing)");
@@ -471,8 +510,8 @@ std::string format_event_comparison(const event_comparison& c, const event_compa
             out += buf;
         }
         if (!c.states.empty() && c.states_not_compared > 0)
-            out += "states not compared (after the horizon or at no reference sample time): " +
-                   std::to_string(c.states_not_compared) + "\n";
+            out += "states not compared (after the horizon or at no reference sample time): t = " +
+                   c.states_not_compared_at + "\n";
     }
     return out;
 }

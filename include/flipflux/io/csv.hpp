@@ -14,6 +14,7 @@ struct csv_row {
 
 struct csv_table {
     std::vector<std::string> header;
+    int header_line = 1;        ///< the header's line (after any '#' comment lines)
     std::vector<csv_row> rows;  ///< blank lines and lines starting with '#' are skipped
 };
 

@@ -50,7 +50,8 @@ struct initial_state_set {
     std::string label;  ///< the energy's text (the first row's, for rows of the same value)
     double energy = 0;
     std::vector<phase_point<double>> states;
-    std::vector<int> lines;  ///< each state's line in the file (0 when not read from one)
+    std::vector<int> lines;    ///< each state's line in the file (0 when not read from one)
+    std::size_t repeated = 0;  ///< rows repeating a state of this energy (read once)
 };
 
 /// The rows of `sets`, header first (no comment lines).
@@ -58,9 +59,10 @@ std::string initial_states_csv(const std::vector<initial_state_set>& sets,
                                std::uint64_t first_index = 0);
 
 /// Reads an initial-states file (columns energy, theta1, theta2, l1, l2; others ignored; `#`
-/// comment lines skipped), grouped by energy value in order of first appearance. Every state
-/// must have H = E to a relative 1e-8 (another pendulum or energy otherwise). Throws input_error
-/// "FILE:LINE: ..." for anything malformed.
+/// comment lines skipped), grouped by energy value in order of first appearance; a row repeating
+/// a state of its energy (a paired file lists each trajectory once per arm) is counted in
+/// `repeated`, not read again. Every state must have H = E to a relative 1e-8 (another pendulum
+/// or energy otherwise). Throws input_error "FILE:LINE: ..." for anything malformed.
 std::vector<initial_state_set> read_initial_states(const std::filesystem::path& file,
                                                    const double_pendulum<double>& model);
 

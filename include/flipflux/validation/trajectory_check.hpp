@@ -67,6 +67,7 @@ struct event_comparison {
     double double_horizon_limit = 0;    ///< the same at the double limit; NaN: none
     std::vector<state_row_check> states;
     std::size_t states_not_compared = 0;  ///< candidate rows after the horizon or without reference
+    std::string states_not_compared_at;   ///< their times, comma-separated
     bool differs = false;
     std::string first_difference;  ///< readable, empty when none
     double first_difference_time = 0;
