@@ -15,7 +15,7 @@ through the crossing. Flips are counted in (0, T].
 Usage (every output is CSV after a `# pendulum:` comment line):
   pendulum.py trajectory --state TH1,TH2,L1,L2 --time T --events EVENTS.csv
                          [--states STATES.csv --at 10,20,40] [--rtol R] [--atol A] [--bug]
-      -> time,arm,criterion,direction         (and t,theta1,theta2,l1,l2 at the --at times)
+      -> time,arm,criterion,direction         (and t,theta1,theta2,l1,l2 at the --at times and T)
   pendulum.py sample --energy E --trajectories M --seed S --out STATES.csv
       -> trajectory,energy,theta1,theta2,l1,l2
   pendulum.py ensemble (--initial-states STATES.csv | --energy E --trajectories M --seed S)
@@ -148,7 +148,8 @@ def write_csv(path, header, rows):
 
 def cmd_trajectory(args):
     T = float(args.time)
-    at = sorted(t for t in floats(args.at) if t <= T) if args.states else None
+    # the --at times up to T, and T itself: the states say where the integration ended
+    at = sorted({t for t in floats(args.at) if t <= T} | {T}) if args.states else None
     flips, sol = integrate(floats(args.state, 4), T, rtol=args.rtol, atol=args.atol, bug=args.bug,
                            t_eval=at)
     write_csv(args.events, "time,arm,criterion,direction",
@@ -209,7 +210,7 @@ def main():
     p.add_argument("--state", required=True, help="TH1,TH2,L1,L2")
     p.add_argument("--time", required=True, help="T: integrate over [0, T]")
     p.add_argument("--events", required=True, help="events CSV to write")
-    p.add_argument("--states", help="states CSV to write, at the --at times")
+    p.add_argument("--states", help="states CSV to write, at the --at times and T")
     p.add_argument("--at", default="10,20,40", help="times of --states (those <= T)")
     integration_options(p)
     p.set_defaults(run=cmd_trajectory)

@@ -284,8 +284,6 @@ void run(const simulate_state& s) {
     try {
         const double_pendulum<double> model = make_model<double>(s.model);
         const bool given = !s.initial_states.empty(), both = s.arm_text == "both";
-        if (s.arm_text != "1" && s.arm_text != "2" && !both)
-            throw input_error("--arm: '" + s.arm_text + "' is not 1, 2 or both");
         if (given && !s.energy.empty())
             throw input_error("--energy: not with --initial-states (its file gives the energies)");
         if (given && !s.trajectories.empty())

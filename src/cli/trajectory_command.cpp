@@ -140,9 +140,10 @@ const register_command registration([](CLI::App& app) {
     add_precision_option(*sub, s->precision);
     add_time_bound_option(*sub, s->bound);
     sub->add_option("--route", s->route,
-                    "default (double: the ensemble's; quad, mp:N: reference), ensemble, "
-                    "reference (Gauss-Legendre, events polished to full precision), or taylor "
-                    "(Taylor series, an independent route, much faster at many digits)")
+                    "default (double: the ensemble's; quad, mp:N: taylor), ensemble, reference "
+                    "(Gauss-Legendre, events polished to full precision: the independent check "
+                    "of taylor), or taylor (Taylor series, events on each step's polynomial; "
+                    "much faster at many digits)")
         ->capture_default_str();
     sub->callback([s] {
         const precision p = parse_precision(s->precision.text);

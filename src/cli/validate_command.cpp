@@ -27,7 +27,7 @@ struct validate_state {
     std::string candidate, golden, rtol = "1e-12";
     bool allow_missing = false, verbose = false, require_all = false, paired = false;
     std::string pendulum;
-    std::string ensemble, pilot = "1000", seed = "1";
+    std::string ensemble, pilot = "1000", seed = "1", variance = "auto";
     std::string trajectories, reference, state, time_tol = "1e-6", until = "0", criteria;
     std::string states, reference_states, state_tol = "0";
     model_options model;
@@ -99,6 +99,9 @@ void validate_ensemble(const validate_state& s) {
     ensemble_check_options o;
     o.pilot_trajectories = parse_unsigned(s.pilot, "--pilot", true);
     o.seed = parse_unsigned(s.seed, "--seed", false);
+    if (s.variance != "auto" && s.variance != "pilot")
+        throw input_error("--variance: '" + s.variance + "' is not auto or pilot");
+    o.pilot_variance_always = s.variance == "pilot";
     const ensemble_check_report r = check_simulated_ensemble(model, s.ensemble, o);
     print(format_ensemble_check(r));
     if (!r.passed()) exit_status() = 1;
@@ -182,6 +185,12 @@ const register_command registration([](CLI::App& app) {
                     "that bounds the count variance")
         ->capture_default_str();
     sub->add_option("--seed", s->seed, "seed of the pilot ensembles")->capture_default_str();
+    sub->add_option("--variance", s->variance,
+                    "--ensemble: whose spread of the counts the z-scores use: auto (the "
+                    "candidate's flips_sq where given, else the pilot's bound) or pilot (always "
+                    "flipflux's pilot: the spread of a correct simulator, which a wrong one's "
+                    "wider scatter cannot inflate; costs the pilot ensembles)")
+        ->capture_default_str();
     sub->add_option("--trajectories", s->trajectories,
                     "a simulator's flip events of one trajectory (CSV: time, arm, direction and "
                     "criterion, upright when absent) to compare with --reference: the criteria "

@@ -381,8 +381,9 @@ trajectory_record<Real> integrate_trajectory(const double_pendulum<Real>& model,
                                              const trajectory_request<Real>& q) {
     if constexpr (std::is_same_v<Real, double>)
         return ensemble_trajectory(model, q);
-    else
-        return reference_trajectory(model, q);
+    else  // the same digits as Gauss-Legendre (the golden trajectories: mp:100 Taylor against
+          // mp:50 Gauss-Legendre to 50 digits), 10-20x faster at quad and mp:100
+        return taylor_trajectory(model, q);
 }
 
 template trajectory_record<inst_real> integrate_trajectory<inst_real>(

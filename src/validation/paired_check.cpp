@@ -262,11 +262,10 @@ std::string format_paired_check(const paired_check_report& r) {
                   r.groups.size(), n, pass, warn, fail, r.passed() ? "PASSED" : "FAILED");
     out += buf;
     std::snprintf(buf, sizeof buf,
-                  "tests: the mean (z = mean paired difference / its standard error, the noise "
-                  "floor: warn |z| >= %g, FAIL >= %g) and the pairs (a trajectory is stable when "
-                  "flipflux's two integrations, DOP853 rtol 1e-12 and DOPRI5 rtol 1e-9, count "
-                  "alike; a correct simulator agrees on those: 1 differing stable trajectory "
-                  "warns, more than 1 + 5 %% of them FAIL)\n",
+                  "tests: mean: z = mean paired difference / its std.error (warn |z| >= %g, FAIL "
+                  ">= %g); pairs: counts that differ where flipflux's two integrations (DOP853 "
+                  "rtol 1e-12, DOPRI5 rtol 1e-9) agree (warn 1, FAIL more than 1 + 5 %% of "
+                  "those)\n",
                   r.options.warn_z, r.options.fail_z);
     out += buf;
     out += "first difference: " +
@@ -280,11 +279,13 @@ std::string format_paired_check(const paired_check_report& r) {
     out += buf;
     for (const paired_group& g : r.groups) {
         const double allowed = 1 + 0.05 * static_cast<double>(g.stable);
+        // each test's own grade, where it is not a pass
         std::string why;
-        if (std::abs(g.z) >= r.options.warn_z) why = "mean";
+        if (std::abs(g.z) >= r.options.warn_z)
+            why = std::abs(g.z) >= r.options.fail_z ? "mean FAIL" : "mean warn";
         if (g.unexpected > 0)
             why += std::string(why.empty() ? "" : ", ") +
-                   (static_cast<double>(g.unexpected) > allowed ? "pairs" : "1 pair");
+                   (static_cast<double>(g.unexpected) > allowed ? "pairs FAIL" : "pairs warn");
         char z[32];
         if (std::isinf(g.z))
             std::snprintf(z, sizeof z, "%s", g.z > 0 ? "+inf" : "-inf");  // every pair alike

@@ -163,7 +163,8 @@ void grade(ensemble_check_entry& x, const ensemble_check_options& o, double vari
                   : p > 0  ? boost::math::quantile(normal, p)
                            : -std::numeric_limits<double>::infinity();
         }
-        x.note = "few flips expected (" + to_decimal(lambda, 3) + "): z from the Poisson tail";
+        x.note = "few bursts expected (" + to_decimal(bursts, 3) + " of " + to_decimal(D, 3) +
+                 " flips): z from the compound Poisson tail";
     } else {
         x.z = (x.simulated - x.predicted) / x.standard_error;
     }
@@ -201,8 +202,8 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
                              column(t, "flips_sq")};
     if (c.criterion < 0 || c.arm < 0 || c.energy < 0 || c.trajectories < 0 || c.time < 0 ||
         c.flips < 0)
-        throw input_error(candidate.string() +
-                          ":1: the header must name the columns criterion, arm, energy, "
+        throw input_error(candidate.string() + ":" + std::to_string(t.header_line) +
+                          ": the header must name the columns criterion, arm, energy, "
                           "trajectories, time, flips");
     ensemble_check_report report;
     report.options = options;
@@ -238,7 +239,7 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
         // bound is used then, as without flips_sq
         if (x.predicted == 0) {  // at or below the arm's saddle energy: no flip possible
             x.variance = "none";
-        } else if (has_flips_sq && own > 0) {
+        } else if (has_flips_sq && own > 0 && !options.pilot_variance_always) {
             variance = own;
             x.variance = "candidate";
         } else {

@@ -625,7 +625,7 @@ TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
     const auto result = [&](const std::string& name) {
         json j = json::parse(read_text(dir / name / "ensemble-k.json"));
         for (json& e : j.at("energies")) {
-            for (const char* wall : {"seconds", "threads", "processes"})
+            for (const char* wall : {"seconds", "cpu_seconds", "threads", "processes"})
                 e.erase(wall);
         }
         return j;

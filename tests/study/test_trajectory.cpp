@@ -295,6 +295,11 @@ TEST(Trajectory, TaylorRouteAgreesWithTheGaussLegendreRoute) {
         EXPECT_LE(static_cast<double>(abs(a.states.back()[k] - b.states.back()[k])), tol) << k;
     EXPECT_NE(a.route.find("taylor"), std::string::npos) << a.route;
     EXPECT_LE(static_cast<double>(a.max_energy_drift), tol);
+    // the default route at quad (issue 42): the Taylor one, Gauss-Legendre its independent check
+    const trajectory_record<quad> d = integrate_trajectory(m, q);
+    EXPECT_EQ(d.route, a.route);
+    ASSERT_EQ(d.events.size(), a.events.size());
+    EXPECT_EQ(d.events.back().time, a.events.back().time);
 }
 
 // The ensemble route (double) against the reference route (quad): the same events, each time

@@ -112,6 +112,31 @@ TEST_F(SimulatorCheck, ABiasedCountFailsAndAFourSigmaCountWarns) {
     EXPECT_TRUE(warn.passed());
 }
 
+// A wrong simulator whose counts scatter far more than a correct one's (issue 44's worked
+// simulator with its sign bug: variance ~20x) makes that scatter its own error bar with flips_sq:
+// 40 % too many flips, each trajectory's count spread wide, passes on its own variance; the
+// pilot's (a correct simulator's spread, --variance pilot) fails it.
+TEST_F(SimulatorCheck, AnOverDispersedCountFailsOnThePilotsVariance) {
+    const counts c = simulated_counts(1000, 2);
+    const double_pendulum<double> m;
+    const std::uint64_t flips = c.flips * 14 / 10;
+    const double mean = static_cast<double>(flips) / 1000;
+    // sample variance 20x the correct one: flips_sq = M (var + mean^2) (M - 1 ~ M)
+    const double var = 20 * (static_cast<double>(c.flips_sq) / 1000 -
+                             static_cast<double>(c.flips) * c.flips / 1e6);
+    const auto flips_sq = static_cast<std::uint64_t>(std::llround(1000 * (var + mean * mean)));
+    const auto file = write("wide.csv", header + row(flips, flips_sq));
+    const auto own = check_simulated_ensemble(m, file, {});
+    EXPECT_TRUE(own.passed()) << format_ensemble_check(own);
+    ensemble_check_options o;
+    o.pilot_trajectories = 400;
+    o.pilot_variance_always = true;
+    const auto pilot = check_simulated_ensemble(m, file, o);
+    EXPECT_FALSE(pilot.passed()) << format_ensemble_check(pilot);
+    EXPECT_EQ(pilot.entries[0].variance, "pilot 400");
+    EXPECT_GT(pilot.entries[0].z, 5);
+}
+
 TEST_F(SimulatorCheck, MalformedRowsAreReportedByLine) {
     const auto r = check_simulated_ensemble(double_pendulum<double>(),
                                             write("bad.csv", header + "bogus,2,5,10,2,3,\n"

@@ -42,6 +42,10 @@ struct ensemble_check_options {
     std::uint64_t pilot_trajectories = 1000;  ///< P, for rows without flips_sq
     std::uint64_t seed = 1;                   ///< of the pilot ensembles
     double rtol = 1e-9;                       ///< of the pilot's integrator
+    /// The pilot's variance bound even where the candidate gives flips_sq: the spread of the null
+    /// hypothesis (a correct simulator), which a wrong simulator's own wider scatter cannot
+    /// inflate (validate --variance pilot).
+    bool pilot_variance_always = false;
 };
 
 struct ensemble_check_entry {

@@ -33,7 +33,7 @@ namespace flipflux {
 
 struct event_comparison_options {
     double time_tolerance = 1e-6;  ///< absolute, in time units
-    double until = 0;              ///< compare before this time (0: the inferred horizon)
+    double until = 0;              ///< compare up to this time (0: the inferred horizon)
     std::string state;             ///< the reference rows of this state (reference with `state`)
     std::vector<std::string> criteria;       ///< compare these criteria (empty: the candidate's)
     std::filesystem::path candidate_states;  ///< the candidate's states CSV (empty: none)
@@ -68,6 +68,7 @@ struct event_comparison {
     std::vector<state_row_check> states;
     std::size_t states_not_compared = 0;  ///< candidate rows after the horizon or without reference
     std::string states_not_compared_at;   ///< their times, comma-separated
+    bool reference_states_known = false;  ///< a reference states file was given or found
     bool differs = false;
     std::string first_difference;  ///< readable, empty when none
     double first_difference_time = 0;
