@@ -72,8 +72,9 @@ struct trajectory_record {
 void check_trajectory_request(const trajectory_request<double>& q);
 
 /// Integrates the trajectory by the precision's default route (double: the ensemble's; quad and
-/// mp:N: the Taylor route, with the Gauss-Legendre reference route as its independent check). Throws input_error (naming the field: state, time, criteria, arms,
-/// sample_interval, rtol) for bad input, and std::runtime_error when the integration fails.
+/// mp:N: the Taylor route, with the Gauss-Legendre reference route as its independent check).
+/// Throws input_error (naming the field: state, time, criteria, arms, sample_interval, rtol) for
+/// bad input, and std::runtime_error when the integration fails.
 template <class Real>
 trajectory_record<Real> integrate_trajectory(const double_pendulum<Real>& model,
                                              const trajectory_request<Real>& request);
