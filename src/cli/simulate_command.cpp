@@ -142,7 +142,7 @@ class mpi_group final : public process_group {
 /// --initial-states: the file's energies and states replace --energy and --trajectories (one
 /// replicate); its `# pendulum:` line, if any, must name the model options' pendulum.
 void use_initial_states(const simulate_state& s, const double_pendulum<double>& model,
-                        simulation_request& q, bool both) {
+                        simulation_request& q, bool both, bool root) {
     if (const std::optional<declared_pendulum> d = read_declared_pendulum(s.initial_states)) {
         try {  // a declared value no pendulum has is refused as such, not asked for
             (void)make_model<double>(d->parameters);
@@ -174,7 +174,7 @@ void use_initial_states(const simulate_state& s, const double_pendulum<double>& 
                               (both ? " of both arms" : " of arm " + to_string(q.flip_arm)) +
                               " (no flips possible)");
     }
-    if (repeated > 0)
+    if (repeated > 0 && root)
         std::fprintf(stderr,
                      "flipflux: note: --initial-states: %zu rows repeat a state of their energy "
                      "(a paired file lists each trajectory per arm): each state is integrated "
@@ -205,8 +205,11 @@ void check_initial_states_output(const simulate_state& s) {
     check_output_file(f, "--write-initial-states");
     std::error_code ec;
     const fs::path w = fs::weakly_canonical(fs::absolute(f, ec), ec);
-    if (!s.checkpoint.empty() && w == fs::weakly_canonical(fs::absolute(s.checkpoint, ec), ec))
-        throw input_error("--write-initial-states: '" + f + "' is also the --checkpoint file");
+    for (const auto& [option, other] : {std::pair{"--checkpoint", &s.checkpoint},
+                                        std::pair{"--initial-states", &s.initial_states}})
+        if (!other->empty() && w == fs::weakly_canonical(fs::absolute(*other, ec), ec))
+            throw input_error("--write-initial-states: '" + f + "' is also the " + option +
+                              " file");
     if (!s.csv_dir.empty() && w.extension() == ".csv") {
         const fs::path d = fs::weakly_canonical(fs::absolute(s.csv_dir, ec), ec);
         for (fs::path p = w.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
@@ -220,9 +223,10 @@ void check_initial_states_output(const simulate_state& s) {
 /// --arm both: a study per arm on one set of trajectories; an arm counts only at the energies
 /// above its criteria's thresholds (a note names the others), as a scene's ensembles do.
 std::vector<simulation_request> both_arms(const double_pendulum<double>& model,
-                                          const simulation_request& q) {
+                                          const simulation_request& q, bool root) {
     std::vector<simulation_request> out;
     std::vector<std::string> notes;
+    std::vector<int> counted(q.energies.size(), 0);  // arms counting at each energy
     for (const arm a : {arm::one, arm::two}) {
         simulation_request r = q;
         r.flip_arm = a;
@@ -236,6 +240,7 @@ std::vector<simulation_request> both_arms(const double_pendulum<double>& model,
         std::string skipped;
         for (std::size_t k = 0; k < q.energies.size(); ++k) {
             if (q.energies[k].second > threshold) {
+                ++counted[k];
                 r.energies.push_back(q.energies[k]);
                 if (!q.initial_states.empty()) r.initial_states.push_back(q.initial_states[k]);
             } else {
@@ -248,12 +253,14 @@ std::vector<simulation_request> both_arms(const double_pendulum<double>& model,
                             to_decimal(threshold) + ": no flips possible)\n");
         if (!r.energies.empty()) out.push_back(std::move(r));
     }
-    if (out.empty())
-        throw input_error(
-            "--energy: no energy lies above either arm's threshold (no flips "
-            "possible)");
-    for (const std::string& n : notes)
-        std::fputs(n.c_str(), stderr);
+    // an energy neither arm counts is refused, as a single arm's run refuses its own
+    for (std::size_t k = 0; k < q.energies.size(); ++k)
+        if (counted[k] == 0)
+            throw input_error("--energy: '" + q.energies[k].first +
+                              "' lies at or below both arms' thresholds (no flips possible)");
+    if (root)
+        for (const std::string& n : notes)
+            std::fputs(n.c_str(), stderr);
     if (out.front().flip_arm != arm::one) out.front().progress = q.progress;
     return out;
 }
@@ -297,7 +304,7 @@ void run(const simulate_state& s) {
         if (both) one.arm_text = "1";
         if (given) one.energy = "1", one.trajectories = "1";  // replaced by the file's
         simulation_request q = make_request(one);
-        if (given) use_initial_states(s, model, q, both);
+        if (given) use_initial_states(s, model, q, both, root);
         if (!s.write_initial_states.empty() && root) check_initial_states_output(s);
         q.options.stop = &stop_signal;
         q.group = mpi.get();
@@ -314,7 +321,7 @@ void run(const simulate_state& s) {
         try {
             if (both) {
                 // one set of trajectories, both arms' criteria (as a scene's ensembles do)
-                std::vector<simulation_request> qs = both_arms(model, q);
+                std::vector<simulation_request> qs = both_arms(model, q, root);
                 results = simulate(model, qs);
                 if (results) result = results->front();
             } else {

@@ -99,8 +99,6 @@ void validate_ensemble(const validate_state& s) {
     ensemble_check_options o;
     o.pilot_trajectories = parse_unsigned(s.pilot, "--pilot", true);
     o.seed = parse_unsigned(s.seed, "--seed", false);
-    if (s.variance != "auto" && s.variance != "pilot")
-        throw input_error("--variance: '" + s.variance + "' is not auto or pilot");
     o.pilot_variance_always = s.variance == "pilot";
     const ensemble_check_report r = check_simulated_ensemble(model, s.ensemble, o);
     print(format_ensemble_check(r));
@@ -138,11 +136,9 @@ void validate_trajectories(const validate_state& s) {
         throw input_error("--reference-states: needs the candidate's --states");
     for (std::size_t pos = 0; pos < s.criteria.size();) {
         const std::size_t comma = std::min(s.criteria.find(',', pos), s.criteria.size());
-        std::string name = s.criteria.substr(pos, comma - pos);
-        for (char& c : name)
-            c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        check_criterion_name(name);  // a typo would compare nothing and pass
-        o.criteria.push_back(name);
+        const std::string name = s.criteria.substr(pos, comma - pos);
+        check_criterion_name(criterion_named(name).value_or(name), "--criteria");  // a typo
+        o.criteria.push_back(*criterion_named(name));  // would compare nothing and pass
         pos = comma + 1;
     }
     const event_comparison c = compare_flip_events(s.trajectories, reference, o);
@@ -234,6 +230,16 @@ const register_command registration([](CLI::App& app) {
                 throw input_error(std::string(o) + ": only with --trajectories");
         if (sub->get_option("--state-tol")->count() > 0 && s->states.empty())
             throw input_error("--state-tol: needs the candidate's --states");
+        if (s->variance != "auto" && s->variance != "pilot")
+            throw input_error("--variance: '" + s->variance + "' is not auto or pilot");
+        for (const char* o : {"--pilot", "--seed", "--variance"}) {
+            if (sub->get_option(o)->count() > 0 && s->ensemble.empty())
+                throw input_error(std::string(o) + ": only with --ensemble");
+            if (sub->get_option(o)->count() > 0 && s->paired)
+                throw input_error(std::string(o) +
+                                  ": not with --paired (flipflux integrates the candidate's own "
+                                  "states; no pilot ensemble)");
+        }
         if (s->paired && s->ensemble.empty())
             throw input_error("--paired: needs --ensemble FILE (the candidate's trajectories)");
         if (!s->ensemble.empty()) return validate_ensemble(*s);

@@ -1,9 +1,12 @@
 // CSV lines split into trimmed fields (io/csv.hpp), for the golden data and candidate files.
 #include "flipflux/io/csv.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
+#include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/io/atomic_file.hpp"
 
@@ -84,6 +87,23 @@ csv_table read_csv(const std::filesystem::path& file) {
         throw input_error(file.string() + ": read error after line " + std::to_string(number));
     if (t.header.empty()) throw input_error(file.string() + ": empty file (no header line)");
     return t;
+}
+
+int column_index(const csv_table& t, const std::string& name) {
+    const auto it = std::find(t.header.begin(), t.header.end(), name);
+    return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
+}
+
+double finite_field(const std::string& text, const std::string& name, const std::string& at) {
+    double x = std::nan("");
+    if (is_decimal_number(text)) {
+        try {
+            x = parse_real<double>(text, name);
+        } catch (const input_error&) {  // beyond double: the file's line, not an option
+        }
+    }
+    if (!std::isfinite(x)) throw input_error(at + name + " '" + text + "' is not a finite number");
+    return x;
 }
 
 }  // namespace flipflux

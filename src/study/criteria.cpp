@@ -1,6 +1,8 @@
 // Flip criteria by name (include/flipflux/study/criteria.hpp).
 #include "flipflux/study/criteria.hpp"
 
+#include <cctype>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -17,6 +19,15 @@ namespace flipflux {
 const std::vector<std::string>& criterion_names() {
     static const std::vector<std::string> names{"upright", "approx", "saddle"};
     return names;
+}
+
+std::optional<std::string> criterion_named(const std::string& text) {
+    std::string lower = text;
+    for (char& c : lower)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const std::string& n : criterion_names())
+        if (n == lower) return n;
+    return std::nullopt;
 }
 
 void check_criterion_name(const std::string& name, const std::string& option) {

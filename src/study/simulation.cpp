@@ -18,6 +18,7 @@
 #include "flipflux/core/version.hpp"
 #include "flipflux/ensemble/statistics.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/io/checksum.hpp"
 #include "flipflux/study/checkpoint.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/study/study_files.hpp"
@@ -116,7 +117,7 @@ json checkpoint_header(const double_pendulum<double>& model,
         bins.push_back(s.bins);
     }
     const bool one = studies.size() == 1;
-    return json{{"format", checkpoint_format_version},
+    json header{{"format", checkpoint_format_version},
                 {"version", version_string()},
                 {"model", json::array({to_decimal(p.m1), to_decimal(p.m2), to_decimal(p.L1),
                                        to_decimal(p.L2), to_decimal(p.a1), to_decimal(p.a2),
@@ -136,6 +137,16 @@ json checkpoint_header(const double_pendulum<double>& model,
                 {"chaos_threshold", one ? thresholds[0] : thresholds},
                 {"bins", one ? bins[0] : bins},
                 {"replicates", q.replicates}};
+    // given initial states (simulate --initial-states): which ones, so that a checkpoint of other
+    // states is not resumed (sampled runs keep the header they always had)
+    std::string states;
+    for (const simulation_request& s : studies)
+        for (const auto& list : s.initial_states)
+            for (const phase_point<double>& x : *list)
+                for (const double v : x)
+                    states += to_decimal(v) + ",";
+    if (!states.empty()) header["initial_states"] = checksum_hex(states);
+    return header;
 }
 
 }  // namespace
@@ -795,12 +806,13 @@ std::optional<std::vector<study_result>> simulate(const double_pendulum<double>&
             for (const auto& [index, t] : have)
                 if (!(initial_state_of(sampler, o, index) == t.initial_state))
                     throw input_error::about(
-                        "checkpoint", "'" + request.checkpoint.string() +
-                                          "': the record of trajectory " + std::to_string(index) +
-                                          " at E = " + energies[k].label +
-                                          " is not this run's (its initial state is not the "
-                                          "sample of seed " +
-                                          std::to_string(o.seed) + "): the file mixes runs");
+                        "checkpoint",
+                        "'" + request.checkpoint.string() + "': the record of trajectory " +
+                            std::to_string(index) + " at E = " + energies[k].label +
+                            " is not this run's (its initial state is not " +
+                            (o.initial_states ? std::string("the given one")
+                                              : "the sample of seed " + std::to_string(o.seed)) +
+                            "): the file mixes runs");
         }
         // the trajectories still to do, dealt out round-robin over the ranks
         std::vector<std::uint64_t> mine;

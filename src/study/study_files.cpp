@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -330,51 +331,61 @@ std::string initial_states_csv(const std::vector<initial_state_set>& sets,
     return out;
 }
 
+initial_state_columns::initial_state_columns(const csv_table& t)
+    : energy(column_index(t, "energy")),
+      state{column_index(t, "theta1"), column_index(t, "theta2"), column_index(t, "l1"),
+            column_index(t, "l2")} {}
+
+bool initial_state_columns::complete() const {
+    return energy >= 0 && std::find(state.begin(), state.end(), -1) == state.end();
+}
+
+std::pair<double, phase_point<double>> read_initial_state(const csv_row& r,
+                                                          const initial_state_columns& c,
+                                                          const double_pendulum<double>& model,
+                                                          const std::string& at) {
+    const auto field = [&](int k) -> const std::string& {
+        return r.fields[static_cast<std::size_t>(k)];
+    };
+    const double e = finite_field(field(c.energy), "energy", at);
+    if (!(e > 0)) throw input_error(at + "energy '" + field(c.energy) + "' must be > 0");
+    static const std::array<const char*, 4> names{"theta1", "theta2", "l1", "l2"};
+    phase_point<double> x{};
+    for (std::size_t i = 0; i < 4; ++i)
+        x[i] = finite_field(field(c.state[i]), names[i], at);
+    const double h = model.hamiltonian(x);
+    if (!(std::abs(h - e) <= 1e-8 * std::max(1.0, std::abs(e))))
+        throw input_error(at + "the state's energy H = " + to_decimal(h) +
+                          " is not E = " + field(c.energy) +
+                          " (to a relative 1e-8): another pendulum or another energy?");
+    return {e, x};
+}
+
 std::vector<initial_state_set> read_initial_states(const std::filesystem::path& file,
                                                    const double_pendulum<double>& model) {
     const csv_table t = read_csv(file);
-    const auto col = [&](const char* name) {
-        const auto it = std::find(t.header.begin(), t.header.end(), name);
-        return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
-    };
-    const int ec = col("energy");
-    const std::array<int, 4> xc{col("theta1"), col("theta2"), col("l1"), col("l2")};
-    if (ec < 0 || std::find(xc.begin(), xc.end(), -1) != xc.end())
+    const initial_state_columns c(t);
+    if (!c.complete())
         throw input_error(file.string() + ":" + std::to_string(t.header_line) +
                           ": the header must name the columns energy, theta1, theta2, l1, l2");
     std::vector<initial_state_set> sets;
+    std::vector<std::set<phase_point<double>>> seen;  // per set: its states, for repeats
     for (const csv_row& r : t.rows) {
         const std::string at = file.string() + ":" + std::to_string(r.line) + ": ";
         if (r.fields.size() != t.header.size()) throw input_error(at + "wrong number of fields");
-        const auto number = [&](int c, const char* name) {
-            const std::string& text = r.fields[static_cast<std::size_t>(c)];
-            double x = 0;
-            if (is_decimal_number(text)) {
-                try {
-                    x = parse_real<double>(text, name);
-                } catch (const input_error&) {
-                    x = std::nan("");
-                }
-            }
-            if (!is_decimal_number(text) || !std::isfinite(x))
-                throw input_error(at + name + " '" + text + "' is not a finite number");
-            return x;
-        };
-        const double e = number(ec, "energy");
-        phase_point<double> x{};
-        for (std::size_t i = 0; i < 4; ++i)
-            x[i] = number(xc[i], i == 0 ? "theta1" : i == 1 ? "theta2" : i == 2 ? "l1" : "l2");
-        if (!(e > 0)) throw input_error(at + "energy '" + r.fields[ec] + "' must be > 0");
-        const double h = model.hamiltonian(x);
-        if (!(std::abs(h - e) <= 1e-8 * std::max(1.0, std::abs(e))))
-            throw input_error(at + "the state's energy H = " + to_decimal(h) +
-                              " is not E = " + r.fields[ec] +
-                              " (to a relative 1e-8): another pendulum or another energy?");
+        // named, not structured bindings: clang 14 cannot capture those in the lambda below
+        const std::pair<double, phase_point<double>> row = read_initial_state(r, c, model, at);
+        const double e = row.first;
+        const phase_point<double>& x = row.second;
+        const std::string& label = r.fields[static_cast<std::size_t>(c.energy)];
         auto set = std::find_if(sets.begin(), sets.end(),
                                 [&](const initial_state_set& s) { return s.energy == e; });
-        if (set == sets.end()) set = sets.insert(sets.end(), {r.fields[ec], e, {}, {}, 0});
-        if (std::find(set->states.begin(), set->states.end(), x) != set->states.end()) {
-            ++set->repeated;
+        if (set == sets.end()) {
+            set = sets.insert(sets.end(), {label, e, {}, {}, 0});
+            seen.emplace_back();
+        }
+        if (!seen[static_cast<std::size_t>(set - sets.begin())].insert(x).second) {
+            ++set->repeated;  // a state already read at this energy
             continue;
         }
         set->states.push_back(x);

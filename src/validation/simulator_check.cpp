@@ -24,11 +24,6 @@
 namespace flipflux {
 namespace {
 
-int column(const csv_table& t, const std::string& name) {
-    const auto it = std::find(t.header.begin(), t.header.end(), name);
-    return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
-}
-
 bool parse_count(const std::string& text, std::uint64_t& out) {
     const char* end = text.data() + text.size();
     const auto r = std::from_chars(text.data(), end, out);
@@ -197,9 +192,10 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
                  1024.0 * static_cast<double>(options.pilot_trajectories),
                  "the pilot ensemble's trajectories");
     const csv_table t = read_csv(candidate);
-    const ensemble_columns c{column(t, "criterion"),    column(t, "arm"),  column(t, "energy"),
-                             column(t, "trajectories"), column(t, "time"), column(t, "flips"),
-                             column(t, "flips_sq")};
+    const ensemble_columns c{column_index(t, "criterion"), column_index(t, "arm"),
+                             column_index(t, "energy"),    column_index(t, "trajectories"),
+                             column_index(t, "time"),      column_index(t, "flips"),
+                             column_index(t, "flips_sq")};
     if (c.criterion < 0 || c.arm < 0 || c.energy < 0 || c.trajectories < 0 || c.time < 0 ||
         c.flips < 0)
         throw input_error(candidate.string() + ":" + std::to_string(t.header_line) +

@@ -15,22 +15,12 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/io/csv.hpp"
+#include "flipflux/study/criteria.hpp"
 
 namespace flipflux {
 namespace {
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
-
-int column(const csv_table& t, const std::string& name) {
-    const auto it = std::find(t.header.begin(), t.header.end(), name);
-    return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
-}
-
-std::string lower(std::string s) {
-    for (char& c : s)
-        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 /// Significant digits of a decimal text, trailing zeros not counted ("0.50" has 1).
 int significant_digits(const std::string& text) {
@@ -42,19 +32,6 @@ int significant_digits(const std::string& text) {
     if (first == std::string::npos) return 0;
     const std::size_t last = digits.find_last_not_of('0');
     return static_cast<int>(last - first + 1);
-}
-
-/// A finite double from the text of a file's field; input_error "FILE:LINE: NAME 'TEXT' ..."
-double number_at(const std::string& text, const std::string& name, const std::string& at) {
-    if (!is_decimal_number(text)) throw input_error(at + name + " '" + text + "' is not a number");
-    double x = 0;
-    try {
-        x = parse_real<double>(text, name);
-    } catch (const input_error&) {  // overflows double: the file's line, not an option
-        throw input_error(at + name + " '" + text + "' is not a finite double");
-    }
-    if (!std::isfinite(x)) throw input_error(at + name + " '" + text + "' is not a finite double");
-    return x;
 }
 
 struct flip_row {
@@ -70,13 +47,15 @@ struct event_file {
     std::vector<std::string> criteria;  ///< in the file's rows, in order of appearance
     bool double_digits = true;          ///< every time has at most 17 significant digits
     bool has_state_column = false;
+    bool has_criterion_column = false;
 };
 
 event_file read_events(const std::filesystem::path& file, const event_comparison_options& o,
                        bool reference) {
     const csv_table t = read_csv(file);
-    const int tc = column(t, "time"), ac = column(t, "arm"), cc = column(t, "criterion"),
-              dc = column(t, "direction"), sc = column(t, "state");
+    const int tc = column_index(t, "time"), ac = column_index(t, "arm"),
+              cc = column_index(t, "criterion"), dc = column_index(t, "direction"),
+              sc = column_index(t, "state");
     if (tc < 0 || ac < 0 || dc < 0 || (reference && cc < 0))
         throw input_error(file.string() + ":" + std::to_string(t.header_line) +
                           ": the header must name the columns time, arm, " +
@@ -90,28 +69,31 @@ event_file read_events(const std::filesystem::path& file, const event_comparison
                                               "' lists several trajectories: choose one");
     event_file out;
     out.has_state_column = sc >= 0;
+    out.has_criterion_column = cc >= 0;
     bool found = false;
     for (const csv_row& r : t.rows) {
         const std::string at = file.string() + ":" + std::to_string(r.line) + ": ";
         if (r.fields.size() != t.header.size()) throw input_error(at + "wrong number of fields");
         if (sc >= 0 && !o.state.empty() && r.fields[sc] != o.state) continue;
         found = true;
-        const double time = number_at(r.fields[tc], "time", at);
+        const double time = finite_field(r.fields[tc], "time", at);
         out.double_digits = out.double_digits && significant_digits(r.fields[tc]) <= 17;
         // numbers as NumPy writes them (1.0, -1.0, 2.0); anything else is an input error, not a
         // stream of its own that "differs"
         const std::string& d = r.fields[dc];
-        if (!is_decimal_number(d) || std::abs(number_at(d, "direction", at)) != 1)
+        if (!is_decimal_number(d) || std::abs(finite_field(d, "direction", at)) != 1)
             throw input_error(at + "direction '" + d + "' is not 1 or -1");
-        const int direction = number_at(d, "direction", at) > 0 ? 1 : -1;
+        const int direction = finite_field(d, "direction", at) > 0 ? 1 : -1;
         const std::string& a = r.fields[ac];
-        const double arm_number = is_decimal_number(a) ? number_at(a, "arm", at) : 0;
+        const double arm_number = is_decimal_number(a) ? finite_field(a, "arm", at) : 0;
         if (arm_number != 1 && arm_number != 2)
             throw input_error(at + "arm '" + a + "' is not 1 or 2");
-        const std::string criterion = cc < 0 ? "upright" : lower(r.fields[cc]);
-        if (criterion != "upright" && criterion != "approx" && criterion != "saddle")
+        const std::optional<std::string> named =
+            cc < 0 ? std::optional<std::string>("upright") : criterion_named(r.fields[cc]);
+        if (!named)
             throw input_error(at + "criterion '" + r.fields[cc] +
                               "' is not upright, approx or saddle");
+        const std::string& criterion = *named;
         if (std::find(out.criteria.begin(), out.criteria.end(), criterion) == out.criteria.end())
             out.criteria.push_back(criterion);
         out.streams[{arm_number == 1 ? "1" : "2", criterion}].push_back({time, direction, r.line});
@@ -137,10 +119,10 @@ const std::array<const char*, 4> state_names{"theta1", "theta2", "l1", "l2"};
 std::vector<state_row> read_states(const std::filesystem::path& file, const std::string& state,
                                    bool& double_digits) {
     const csv_table t = read_csv(file);
-    const int tc = column(t, "t"), sc = column(t, "state");
+    const int tc = column_index(t, "t"), sc = column_index(t, "state");
     std::array<int, 4> xc{};
     for (std::size_t i = 0; i < 4; ++i)
-        xc[i] = column(t, state_names[i]);
+        xc[i] = column_index(t, state_names[i]);
     if (tc < 0 || std::find(xc.begin(), xc.end(), -1) != xc.end())
         throw input_error(file.string() + ":" + std::to_string(t.header_line) +
                           ": the header must name the columns t, theta1, theta2, l1, l2");
@@ -152,10 +134,10 @@ std::vector<state_row> read_states(const std::filesystem::path& file, const std:
         const std::string at = file.string() + ":" + std::to_string(r.line) + ": ";
         if (r.fields.size() != t.header.size()) throw input_error(at + "wrong number of fields");
         if (sc >= 0 && r.fields[sc] != state) continue;
-        state_row s{number_at(r.fields[tc], "t", at), {}, r.line};
+        state_row s{finite_field(r.fields[tc], "t", at), {}, r.line};
         if (!(s.t >= 0)) throw input_error(at + "t '" + r.fields[tc] + "' must be >= 0");
         for (std::size_t i = 0; i < 4; ++i) {
-            s.x[i] = number_at(r.fields[xc[i]], state_names[i], at);
+            s.x[i] = finite_field(r.fields[xc[i]], state_names[i], at);
             double_digits = double_digits && significant_digits(r.fields[xc[i]]) <= 17;
         }
         out.push_back(s);
@@ -193,26 +175,26 @@ golden_beside golden_files_beside(const std::filesystem::path& reference) {
 }
 
 /// The double horizon of `state` at the time tolerance (the tabulated tolerance at or below it,
-/// else the smallest) for one accuracy class; NaN when the table lacks the state.
+/// for one accuracy class; NaN when the table lacks the state or the tolerance is below every
+/// tabulated one (nothing measured there).
 double double_horizon_of(const std::filesystem::path& table, const std::string& state,
                          double tolerance, const std::string& accuracy) {
     const csv_table t = read_csv(table);
-    const int sc = column(t, "state"), tc = column(t, "time_tolerance"), ac = column(t, "accuracy"),
-              hc = column(t, "horizon");
+    const int sc = column_index(t, "state"), tc = column_index(t, "time_tolerance"),
+              ac = column_index(t, "accuracy"), hc = column_index(t, "horizon");
     if (sc < 0 || tc < 0 || ac < 0 || hc < 0)
         throw input_error(table.string() + ":" + std::to_string(t.header_line) +
                           ": the header must name state, time_tolerance, accuracy, horizon");
-    double best_tol = -1, best = std::nan(""), smallest_tol = infinity, smallest = std::nan("");
+    double best_tol = -1, best = std::nan("");
     for (const csv_row& r : t.rows) {
         const std::string at = table.string() + ":" + std::to_string(r.line) + ": ";
         if (r.fields.size() != t.header.size()) throw input_error(at + "wrong number of fields");
         if (r.fields[sc] != state || r.fields[ac] != accuracy) continue;
-        const double tol = number_at(r.fields[tc], "time_tolerance", at);
-        const double h = number_at(r.fields[hc], "horizon", at);
+        const double tol = finite_field(r.fields[tc], "time_tolerance", at);
+        const double h = finite_field(r.fields[hc], "horizon", at);
         if (tol <= tolerance * (1 + 1e-12) && tol > best_tol) best_tol = tol, best = h;
-        if (tol < smallest_tol) smallest_tol = tol, smallest = h;
     }
-    return best_tol > 0 ? best : smallest;
+    return best_tol > 0 ? best : std::nan("");
 }
 
 std::string time_text(double t) {
@@ -246,10 +228,14 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
     out.criteria = o.criteria;
     if (out.criteria.empty()) {
         out.criteria_inferred = true;
-        out.criteria = cand.criteria.empty() ? ref.criteria : cand.criteria;
+        // no criterion column: upright; a column but no rows: the reference's (said below)
+        out.criteria = !cand.criteria.empty()       ? cand.criteria
+                       : !cand.has_criterion_column ? std::vector<std::string>{"upright"}
+                                                    : ref.criteria;
+        out.criteria_from_reference = cand.criteria.empty() && cand.has_criterion_column;
     }
     for (std::string& c : out.criteria)
-        c = lower(c);
+        c = criterion_named(c).value_or(c);
 
     // the states and the ends of the trajectories
     const golden_beside golden =
@@ -283,11 +269,13 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
             cand_end = std::max(cand_end, s.t);
         cand_end_from = "its last state";
     }
+    const double state_tol = o.state_tolerance > 0 ? o.state_tolerance : o.time_tolerance;
     if (!golden.horizons.empty() && !o.state.empty()) {
-        out.double_horizon =
-            double_horizon_of(golden.horizons, o.state, o.time_tolerance, "rtol-1e-12");
-        out.double_horizon_limit =
-            double_horizon_of(golden.horizons, o.state, o.time_tolerance, "limit");
+        // the horizons were measured with events and states at one tolerance: the tighter one
+        const double tol =
+            cand_states.empty() ? o.time_tolerance : std::min(o.time_tolerance, state_tol);
+        out.double_horizon = double_horizon_of(golden.horizons, o.state, tol, "rtol-1e-12");
+        out.double_horizon_limit = double_horizon_of(golden.horizons, o.state, tol, "limit");
     }
 
     // the horizon: events and states before it are compared (at an end of the trajectories,
@@ -314,6 +302,11 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
             out.horizon_note =
                 "every event (the trajectories' ends are unknown: --until T, or "
                 "the states files, say where they end)";
+        if (cand_double && !golden.horizons.empty() && !o.state.empty() &&
+            !std::isfinite(out.double_horizon))
+            out.horizon_note += "; no double horizon of " + o.state +
+                                " is tabulated at or below this tolerance (nothing tells a bug "
+                                "from chaos there)";
         if (cand_double && std::isfinite(out.double_horizon) && out.double_horizon < out.horizon) {
             out.horizon = out.double_horizon;
             inclusive = false;
@@ -349,8 +342,9 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
         const std::vector<flip_row>& c = ci == cand.streams.end() ? none : ci->second;
         const std::vector<flip_row>& r = ri == ref.streams.end() ? none : ri->second;
         event_stream_summary s{k.first, k.second, 0, 0, 0, 0};
-        for (const flip_row& e : c)
-            s.candidate += before(e.time);
+        // a candidate event counts when it or its reference partner lies before the horizon
+        for (std::size_t j = 0; j < c.size(); ++j)
+            s.candidate += before(c[j].time) || (j < r.size() && before(r[j].time));
         for (const flip_row& e : r)
             s.reference += before(e.time);
         for (std::size_t i = 0;; ++i) {
@@ -360,7 +354,7 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
             // partner just after, is not a difference (nor counted: it was not compared)
             if (!rr && (!cr || !before(cr->time + o.time_tolerance))) {
                 for (std::size_t j = i; j < c.size(); ++j)
-                    s.candidate -= before(c[j].time);
+                    s.candidate -= before(c[j].time) || (j < r.size() && before(r[j].time));
                 break;
             }
             if (rr && cr && cr->direction == rr->direction &&
@@ -398,7 +392,6 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
     }
 
     // states at the reference's sample times
-    const double state_tol = o.state_tolerance > 0 ? o.state_tolerance : o.time_tolerance;
     for (const state_row& cs : cand_states) {
         const auto match =
             std::find_if(ref_states.begin(), ref_states.end(), [&](const state_row& rs) {
@@ -484,8 +477,10 @@ std::string format_event_comparison(const event_comparison& c, const event_compa
     for (const std::string& k : c.criteria)
         criteria += (criteria.empty() ? "" : ",") + k;
     out += "compared: criteria " + (criteria.empty() ? std::string("(none)") : criteria) +
-           (c.criteria_inferred ? " (those the candidate reports; --criteria insists on others)"
-                                : " (--criteria)") +
+           (!c.criteria_inferred        ? " (--criteria)"
+            : c.criteria_from_reference ? " (the reference's: the candidate reports no event)"
+                                        : " (those the candidate reports; --criteria insists on "
+                                          "others)") +
            "; " + c.horizon_note + "\n";
     if (c.differs) out += "first difference: " + c.first_difference + "\n";
     if (!c.differs && agree == 0 && c.states.empty())

@@ -27,11 +27,6 @@ std::string normal_arm(const std::string& quantity, const std::string& arm) {
     return arm;
 }
 
-int column(const csv_table& t, const std::string& name) {
-    const auto it = std::find(t.header.begin(), t.header.end(), name);
-    return it == t.header.end() ? -1 : static_cast<int>(it - t.header.begin());
-}
-
 /// Energies match to a relative 1e-12 (see the header comment).
 bool same_energy(const std::string& a, const std::string& b) {
     return decimal_relative_error(a, b, "energy") <= 1e-12;
@@ -126,8 +121,9 @@ std::vector<golden_reference> read_golden(const std::filesystem::path& dir) {
     std::map<std::tuple<std::string, std::string, double>, std::string> where;  // -> file:line
     for (const auto& f : files) {
         const csv_table t = read_csv(f);
-        const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
-                  v = column(t, "value"), d = column(t, "digits"), m = column(t, "method");
+        const int q = column_index(t, "quantity"), a = column_index(t, "arm"),
+                  e = column_index(t, "energy"), v = column_index(t, "value"),
+                  d = column_index(t, "digits"), m = column_index(t, "method");
         if (q < 0 || a < 0 || e < 0 || v < 0 || d < 0) continue;  // not a golden table
         for (const auto& r : t.rows) {
             if (r.fields.size() != t.header.size()) {
@@ -181,8 +177,8 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
                               "' is not a finite decimal number");
 
     const csv_table t = read_csv(candidate);
-    const int q = column(t, "quantity"), a = column(t, "arm"), e = column(t, "energy"),
-              v = column(t, "value");
+    const int q = column_index(t, "quantity"), a = column_index(t, "arm"),
+              e = column_index(t, "energy"), v = column_index(t, "value");
     if (q < 0 || a < 0 || e < 0 || v < 0) {
         throw input_error(candidate.string() +
                           ":1: the header must name the columns quantity, arm, energy, value");

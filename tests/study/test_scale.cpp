@@ -22,6 +22,7 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/io/checksum.hpp"
 #include "flipflux/study/checkpoint.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
@@ -88,6 +89,7 @@ TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     energy_result e;
     e.seconds = 0.1 + 0.7;
+    e.cpu_seconds = 1.0 / 3;
     e.threads = 2;
     e.processes = 3;
     e.steps_per_trajectory = 1234.0 / 7;
@@ -120,6 +122,7 @@ TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
         parse_energy_record(std::string_view(line).substr(0, line.size() - 1), 2, k);
     EXPECT_EQ(k, 4u);
     EXPECT_TRUE(same_bits(b.seconds, e.seconds));
+    EXPECT_TRUE(same_bits(b.cpu_seconds, e.cpu_seconds));
     EXPECT_EQ(b.threads, 2);
     EXPECT_EQ(b.processes, 3);
     EXPECT_TRUE(same_bits(b.steps_per_trajectory, e.steps_per_trajectory));
@@ -162,8 +165,15 @@ TEST(Checkpoint, EnergyRecordsReadBackBitForBit) {
     EXPECT_EQ(b.paired[0].first, 0u);
     EXPECT_EQ(b.paired[0].second, 1u);
     EXPECT_TRUE(same_summary(b.paired[0].difference, e.paired[0].difference));
-    // another criterion count, a damaged hash, a truncated record
+    // a record written before cpu_seconds was recorded (the same without its last field, hashed
+    // as it was then) is read with cpu_seconds NaN
     const std::string body = line.substr(0, line.size() - 1);
+    const std::string content = body.substr(0, body.rfind(" #"));
+    const std::string older = content.substr(0, content.rfind(' '));
+    const energy_result old = parse_energy_record(older + " #" + checksum_hex(older), 2, k);
+    EXPECT_TRUE(std::isnan(old.cpu_seconds));
+    EXPECT_TRUE(same_bits(old.seconds, e.seconds));
+    // another criterion count, a damaged hash, a truncated record
     EXPECT_THROW(parse_energy_record(body, 3, k), std::runtime_error);
     std::string flipped = body;
     flipped[8] = flipped[8] == '1' ? '2' : '1';

@@ -200,6 +200,45 @@ TEST_F(TrajectoryCheck, FinalStatesAreCompared) {
     EXPECT_THROW(compare_flip_events(events, ref, o), input_error);
 }
 
+// Issue 44's review: below every tabulated tolerance no double horizon is known (none is used);
+// with states compared at a tighter tolerance the horizon is that tolerance's; a candidate with
+// no criterion column and no event is compared on upright; a pair that agrees across the horizon
+// is counted on both sides.
+TEST_F(TrajectoryCheck, ReviewFindingsStayFixed) {
+    const fs::path ref = golden();
+    event_comparison_options o;
+    o.state = "a";
+    o.time_tolerance = 1e-12;  // the table has 1e-9 and 1e-6 only
+    const auto events = write("c.csv", "time,arm,direction\n1.0,2,1\n4.0,2,-1\n7.0,2,1\n9.0,1,1\n");
+    const auto below = compare_flip_events(events, ref, o);
+    EXPECT_TRUE(std::isnan(below.double_horizon));
+    EXPECT_EQ(below.horizon, 10);
+    EXPECT_NE(below.horizon_note.find("no double horizon"), std::string::npos)
+        << below.horizon_note;
+    o.time_tolerance = 1e-6;  // horizon 10; states at 1e-9: horizon 6
+    o.state_tolerance = 1e-9;
+    o.candidate_states = write("s.csv",
+                               "t,theta1,theta2,l1,l2\n5,0.1,3.2,-0.5,0.25\n"
+                               "10,-0.2,9.5,0.5,-0.25\n");
+    EXPECT_EQ(compare_flip_events(events, ref, o).double_horizon, 6);
+    o.candidate_states.clear();
+    o.state_tolerance = 0;
+    const auto empty = compare_flip_events(write("e.csv", "time,arm,direction\n"), ref, o);
+    EXPECT_EQ(empty.criteria, std::vector<std::string>{"upright"});
+    // the reference's event 4 at t = 7 lies before a horizon of 7.0000005 (--until); the
+    // candidate's partner at 7.0000008 after it: compared, agreeing, and counted
+    o.until = 7.0000005;
+    const auto edge = compare_flip_events(
+        write("edge.csv", "time,arm,direction\n1.0,2,1\n4.0,2,-1\n7.0000008,2,1\n"), ref, o);
+    EXPECT_FALSE(edge.differs) << format_event_comparison(edge, o);
+    for (const auto& st : edge.streams)
+        if (st.criterion == "upright" && st.arm == "2") {
+            EXPECT_EQ(st.candidate, 3u);
+            EXPECT_EQ(st.reference, 3u);
+            EXPECT_EQ(st.agreeing, 3u);
+        }
+}
+
 // On the real golden data: flipflux's own double run of the chaotic state s05 (DOP853, rtol
 // 1e-13, a run not among those that measured the horizons) over T = 40 is a correct
 // double-precision simulator. At time tolerance 1e-9 it agrees up to the double horizon (the

@@ -21,6 +21,13 @@ struct csv_table {
 /// Splits one line; throws std::invalid_argument on an unterminated quote.
 std::vector<std::string> split_csv_line(const std::string& line);
 
+/// The index of the header's column `name`, or -1 when the header lacks it.
+int column_index(const csv_table& t, const std::string& name);
+
+/// A finite double from a field's decimal text (parsed exactly, core/decimal.hpp); throws
+/// input_error "<at><name> '<text>' is not a finite number" otherwise, `at` being "FILE:LINE: ".
+double finite_field(const std::string& text, const std::string& name, const std::string& at);
+
 /// Reads a CSV file whose first non-comment line is the header. Throws input_error naming the
 /// file and line for unreadable files and malformed quoting.
 csv_table read_csv(const std::filesystem::path& file);

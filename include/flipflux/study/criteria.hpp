@@ -16,6 +16,10 @@ namespace flipflux {
 /// The known criterion names, in the order of the paper.
 const std::vector<std::string>& criterion_names();
 
+/// The known criterion a file or option names in any case ("Upright" is "upright"); nullopt
+/// for anything else. Files from other simulators are read through it.
+std::optional<std::string> criterion_named(const std::string& text);
+
 /// Throws input_error naming `option` unless `name` is a known criterion.
 void check_criterion_name(const std::string& name, const std::string& option = "criteria");
 

@@ -30,6 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/io/csv.hpp"
 #include "flipflux/study/study_result.hpp"
 
 namespace flipflux {
@@ -53,6 +54,21 @@ struct initial_state_set {
     std::vector<int> lines;    ///< each state's line in the file (0 when not read from one)
     std::size_t repeated = 0;  ///< rows repeating a state of this energy (read once)
 };
+
+/// The columns of an initial state in a CSV (energy, theta1, theta2, l1, l2; -1 when missing).
+struct initial_state_columns {
+    int energy = -1;
+    std::array<int, 4> state{-1, -1, -1, -1};
+    explicit initial_state_columns(const csv_table& t);
+    bool complete() const;
+};
+
+/// One row's energy (> 0) and state, H = E to a relative 1e-8; throws input_error "<at>..."
+/// (`at` is "FILE:LINE: ") naming the field. Shared by every reader of initial states.
+std::pair<double, phase_point<double>> read_initial_state(const csv_row& row,
+                                                          const initial_state_columns& c,
+                                                          const double_pendulum<double>& model,
+                                                          const std::string& at);
 
 /// The rows of `sets`, header first (no comment lines).
 std::string initial_states_csv(const std::vector<initial_state_set>& sets,

@@ -14,8 +14,9 @@
 // its standard error s_d / sqrt(n) (s_d the sample standard deviation: the spread the pairs were
 // measured to have), z = d / se. Counts agree trajectory by trajectory until chaos parts the two
 // integrations; after that they differ with mean 0. So two tests:
-// - the mean: z = d / se; |z| >= warn_z (3) warns, |z| >= fail_z (5) fails; with se = 0 (every
-//   pair differs by the same amount) any d != 0 fails;
+// - the mean: t = d / se, graded by its two-sided tail under Student's law with n - 1 degrees of
+//   freedom as a normal z would be: the z of that tail >= warn_z (3) warns, >= fail_z (5) fails;
+//   with se = 0 (one pair, or every pair alike) there is no mean test and the pairs decide;
 // - the pairs themselves: a trajectory is stable when flipflux's counts from two independent
 //   integrations agree (DOP853 at rtol 1e-12 and DOPRI5 at rtol 1e-9: another method at a looser
 //   tolerance, as a correct simulator may be); a correct candidate agrees with flipflux on the
@@ -47,7 +48,9 @@ struct paired_group {
     std::size_t stable = 0;                        ///< flipflux's two integrations agree
     std::size_t unexpected = 0;                    ///< stable, yet the candidate's count differs
     double candidate_mean = 0, flipflux_mean = 0;  ///< flips per trajectory
-    double mean_difference = 0, standard_error = 0, z = 0;
+    double mean_difference = 0, standard_error = 0;
+    double z = 0;       ///< t = mean_difference / standard_error (0 without a spread)
+    double mean_z = 0;  ///< the normal z of t's two-sided tail (Student, n - 1): what is graded
     std::string first_difference;  ///< the group's first row whose counts differ ("" if none)
     int first_line = 0;
 };

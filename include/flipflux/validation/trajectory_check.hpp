@@ -58,13 +58,14 @@ struct state_row_check {
 
 struct event_comparison {
     std::vector<event_stream_summary> streams;
-    std::vector<std::string> criteria;  ///< compared
-    bool criteria_inferred = false;     ///< from the candidate (not --criteria)
-    double horizon = 0;                 ///< compared before it (infinity: everything)
-    std::string horizon_note;           ///< how the horizon was chosen
-    bool candidate_double = false;      ///< every number of the candidate has <= 17 digits
-    double double_horizon = 0;          ///< the golden double horizon (rtol-1e-12); NaN: none
-    double double_horizon_limit = 0;    ///< the same at the double limit; NaN: none
+    std::vector<std::string> criteria;     ///< compared
+    bool criteria_inferred = false;        ///< from the candidate (not --criteria)
+    bool criteria_from_reference = false;  ///< the candidate has a criterion column but no event
+    double horizon = 0;                    ///< compared before it (infinity: everything)
+    std::string horizon_note;              ///< how the horizon was chosen
+    bool candidate_double = false;         ///< every number of the candidate has <= 17 digits
+    double double_horizon = 0;             ///< the golden double horizon (rtol-1e-12); NaN: none
+    double double_horizon_limit = 0;       ///< the same at the double limit; NaN: none
     std::vector<state_row_check> states;
     std::size_t states_not_compared = 0;  ///< candidate rows after the horizon or without reference
     std::string states_not_compared_at;   ///< their times, comma-separated
