@@ -135,7 +135,7 @@ const register_command registration([](CLI::App& app) {
                     "integrator and detectors as simulate, whose default is 1e-10: one trajectory "
                     "compared event by event needs the tighter one, ensemble statistics do not)")
         ->capture_default_str();
-    sub->add_option("--method", s->method, "integrator: dop853 or dopri5")->capture_default_str();
+    sub->add_option("--method", s->method, "integrator: dop853, dopri5 or taylor (adaptive-order Taylor series; rtol down to eps)")->capture_default_str();
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
     add_time_bound_option(*sub, s->bound);

@@ -19,15 +19,21 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/ensemble/taylor_ensemble.hpp"
 
 namespace flipflux {
 
-std::string rtol_problem(double rtol, const std::string& text) {
+std::string rtol_problem(double rtol, const std::string& text, integration_method method) {
     const std::string shown = text.empty() ? to_decimal(rtol) : text;
     if (!(rtol > 0) || !(rtol <= 0.1)) return "'" + shown + "' is invalid (must be in (0, 0.1])";
-    if (rtol < min_rtol)
+    if (method == integration_method::taylor) {
+        if (rtol < min_taylor_rtol)
+            return "'" + shown + "' is below what double precision can meet (at least eps = " +
+                   to_decimal(min_taylor_rtol) + " with taylor)";
+    } else if (rtol < min_rtol) {
         return "'" + shown + "' is below what double precision can meet (at least 100 eps = " +
-               to_decimal(min_rtol) + ")";
+               to_decimal(min_rtol) + " with " + to_string(method) + "; taylor reaches eps)";
+    }
     return {};
 }
 
@@ -39,7 +45,8 @@ void validate(const ensemble_options& o) {
         throw input_error::about("time",
                                  "'" + to_decimal(o.time) +
                                      "' is invalid (the integration time must be finite and > 0)");
-    if (const std::string p = rtol_problem(o.rtol); !p.empty()) throw input_error::about("rtol", p);
+    if (const std::string p = rtol_problem(o.rtol, "", o.method); !p.empty())
+        throw input_error::about("rtol", p);
     if (o.atol < 0 || !std::isfinite(o.atol))
         throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))
@@ -559,6 +566,11 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
                std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
                Next&& next_index, Deliver&& deliver) {
+    if (o.method == integration_method::taylor) {
+        detail::run_taylor_lanes(model, o, sampler, detectors, isa, lanes_per_thread(isa),
+                                 next_index, deliver);
+        return;
+    }
     if (o.method == integration_method::dop853) {
         if (o.chaos)
             run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, isa, next_index,
@@ -624,6 +636,8 @@ trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,
                                       std::uint64_t index,
                                       const std::vector<flip_detector_base*>& detectors) {
+    if (o.method == integration_method::taylor)
+        return detail::taylor_trajectory(model, x0, o, index, detectors);
     if (o.method == integration_method::dop853)
         return o.chaos
                    ? single_trajectory<dormand_prince_853, true>(model, o, x0, index, detectors)

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -362,9 +363,13 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     if (x.atol.front() == '-' || !(parse_real<double>(x.atol, "atol") >= 0))
         r.fail(r.get("atol"), "atol", "'" + x.atol + "' must be >= 0 (0: equal to rtol)");
     x.integrator = r.string("integrator").value_or(x.integrator);
-    if (x.integrator != "dop853" && x.integrator != "dopri5") {
+    std::optional<integration_method> method;
+    try {
+        method = parse_name<integration_method>(x.integrator, "integrator");
+    } catch (const input_error&) {
         r.fail(r.get("integrator"), "integrator",
-               "'" + x.integrator + "' is not an integrator (dop853, dopri5)");
+               "'" + x.integrator + "' is not an integrator (" + name_list<integration_method>() +
+                   ")");
     }
     x.estimator = r.string("estimator").value_or(x.estimator);
     if (x.estimator != "long" && x.estimator != "short") {
@@ -391,7 +396,10 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
         r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
     }
-    if (const std::string p = rtol_problem(parse_real<double>(x.rtol, "rtol"), x.rtol); !p.empty())
+    if (const std::string p =
+            rtol_problem(parse_real<double>(x.rtol, "rtol"), x.rtol,
+                         method.value_or(integration_method::dop853));
+        !p.empty())
         r.fail(r.get("rtol"), "rtol", p);
     r.finish();
     return x;

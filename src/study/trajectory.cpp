@@ -21,7 +21,8 @@ void check_trajectory_request(const trajectory_request<double>& q) {
 trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& model,
                                               const trajectory_request<double>& q) {
     detail::check_trajectory_request(q);
-    if (const std::string p = rtol_problem(q.rtol); !p.empty()) throw input_error::about("rtol", p);
+    if (const std::string p = rtol_problem(q.rtol, "", q.method); !p.empty())
+        throw input_error::about("rtol", p);
     trajectory_record<double> out;
     out.energy = model.hamiltonian(q.state);
     check_trajectory_work(model, out.energy, q.time, "time");

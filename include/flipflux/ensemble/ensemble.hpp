@@ -39,12 +39,16 @@
 
 namespace flipflux {
 
-enum class integration_method { dop853, dopri5 };
+/// The ensemble's integrators: Dormand-Prince 8(5,3) and 5(4) (explicit_rk.hpp), and Taylor
+/// series of adaptive order (taylor_ensemble.hpp; the one that reaches double's limit).
+enum class integration_method { dop853, dopri5, taylor };
 template <>
 struct enum_table<integration_method> {
     static constexpr std::string_view noun = "an integration method";
-    static constexpr std::array<std::pair<integration_method, std::string_view>, 2> entries{
-        {{integration_method::dop853, "dop853"}, {integration_method::dopri5, "dopri5"}}};
+    static constexpr std::array<std::pair<integration_method, std::string_view>, 3> entries{
+        {{integration_method::dop853, "dop853"},
+         {integration_method::dopri5, "dopri5"},
+         {integration_method::taylor, "taylor"}}};
 };
 
 /// The vector instructions of the ensemble's lockstep lanes (within a thread, several
@@ -94,11 +98,14 @@ inline constexpr double default_chaos_threshold = 0.05;
 /// without end (Hairer's codes refuse rtol <= 10 eps; the margin keeps runs finite in time).
 inline constexpr double min_rtol = 100 * std::numeric_limits<double>::epsilon();
 
-/// Why `rtol` cannot drive the ensemble's integrator, or "" when it can: the one rule of
+/// Why `rtol` cannot drive the ensemble's integrator `method`, or "" when it can: the one rule of
 /// simulate, trajectory (at double) and scenes (so a dry run refuses what the run would).
 /// "'RTOL' is invalid (must be in (0, 0.1])" or "'RTOL' is below what double precision can meet
-/// (at least 100 eps = ...)", RTOL the user's text when given.
-std::string rtol_problem(double rtol, const std::string& text = "");
+/// (at least 100 eps = ... with dop853 and dopri5, eps = ... with taylor)", RTOL the user's text
+/// when given. The Taylor integrator's error control has no rounding floor of its own: it accepts
+/// rtol down to epsilon.
+std::string rtol_problem(double rtol, const std::string& text = "",
+                         integration_method method = integration_method::dop853);
 
 struct ensemble_options {
     double energy = 0;

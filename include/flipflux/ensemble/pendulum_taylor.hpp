@@ -1,0 +1,153 @@
+// The Taylor series (jet) of the double pendulum's flow in double precision, several trajectories
+// at once in the lanes of a vector V (v2d, v4d, v8d): the recurrences of the ensemble's Taylor
+// integrator (ensemble/taylor_ensemble.hpp; docs/theory.md#the-ensembles-taylor-integrator).
+//
+// With u_k the coefficient of t^k of a series u(t), given the state's coefficients up to k, the
+// right-hand side's coefficient k follows from the automatic-differentiation rules of
+// integrators/taylor.hpp (Jorba & Zou 2005, Sec. 2) applied to Hamilton's equations written as
+// (pendulum_flow.hpp; d = th1 - th2):
+//     s_i, c_i = sin th_i, cos th_i          (s_k = (1/k) sum_{j=1..k} j th_j c_{k-j}, c likewise)
+//     sd, cd = sin d, cos d
+//     det = D0 + C^2 sd^2,  n1 = B l1 - C cd l2,  n2 = A l2 - C cd l1
+//     w_i = n_i / det       (w_k = (n_k - sum_{j=1..k} det_j w_{k-j}) (1 / det_0))
+//     u = sd w1,  P = C u w2
+//     (th1, th2, l1, l2)' = (w1, w2, -P - alpha s1, P - beta s2),   x_{k+1} = f_k / (k + 1):
+// thirteen convolutions per order (sd^2 by symmetry, half of one). The tangent (variational) series follow the same way from
+// the pointwise identities d(sin th) = cos th dth, d(cos d) = -sin d dd, d(det) = 2 C^2 sd dsd,
+// d(w) det = dn - w d(det), du = dsd w1 + sd dw1, dP = C (du w2 + u dw2).
+//
+// Every operation is lane-wise, in a fixed order, without fused multiply-adds: each lane's
+// coefficients are the same bits for any V and any partner lanes (tested).
+#pragma once
+
+#include <array>
+
+#include "flipflux/ensemble/fast_trig.hpp"
+#include "flipflux/model/double_pendulum.hpp"
+
+// The helpers return vectors by value: always inlined into their (target-specific) caller, so no
+// vector crosses a function boundary and GCC's note about the vector ABI does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace flipflux {
+
+/// The highest order of the ensemble's Taylor integrator (its order at rtol = epsilon is 20).
+inline constexpr int ensemble_taylor_max_order = 24;
+
+/// The jet of W = lanes_of<V> trajectories: the state's series x[c][k] (c: th1, th2, l1, l2) and,
+/// with Tangent, the tangent vector's v[c][k], up to the order of the last compute().
+template <class V, bool Tangent>
+struct pendulum_jet {
+    static constexpr int K = ensemble_taylor_max_order + 1;
+    V x[4][K];
+    V v[Tangent ? 4 : 1][K];
+
+    /// The coefficients 1..p of x (and v) from their coefficients 0, for the pendulum `k`.
+    /// Angles of order 0 must lie within fast_sincos_lanes' range (|th| <= 2^19; the ensemble's
+    /// are reduced to [-pi, pi]).
+    [[gnu::always_inline]] void compute(const lagrangian_coefficients<double>& k, int p) {
+        const double CC = k.C * k.C;
+        fast_sincos_lanes(x[0][0], s1[0], c1[0]);
+        fast_sincos_lanes(x[1][0], s2[0], c2[0]);
+        d[0] = x[0][0] - x[1][0];
+        fast_sincos_lanes(d[0], sd[0], cd[0]);
+        V inv_det0 = 0.0 * d[0];
+        for (int n = 0; n < p; ++n) {
+            if (n > 0) {
+                const double inv = 1.0 / n;
+                const double dn = n;
+                d[n] = x[0][n] - x[1][n];
+                j1[n] = dn * x[0][n];
+                j2[n] = dn * x[1][n];
+                jd[n] = dn * d[n];
+                sincos_order(j1, s1, c1, n, inv);
+                sincos_order(j2, s2, c2, n, inv);
+                sincos_order(jd, sd, cd, n, inv);
+            }
+            det[n] = CC * square(sd, n);
+            if (n == 0) {
+                det[0] = k.D0 + det[0];
+                inv_det0 = 1.0 / det[0];
+            }
+            const V n1 = k.B * x[2][n] - k.C * conv(cd, x[3], n);
+            const V n2 = k.A * x[3][n] - k.C * conv(cd, x[2], n);
+            w1[n] = (n1 - conv_from1(det, w1, n)) * inv_det0;
+            w2[n] = (n2 - conv_from1(det, w2, n)) * inv_det0;
+            u[n] = conv(sd, w1, n);
+            P[n] = k.C * conv(u, w2, n);
+            const double next = 1.0 / (n + 1);
+            x[0][n + 1] = w1[n] * next;
+            x[1][n + 1] = w2[n] * next;
+            x[2][n + 1] = (-P[n] - k.alpha * s1[n]) * next;
+            x[3][n + 1] = (P[n] - k.beta * s2[n]) * next;
+            if constexpr (Tangent) tangent_order(k, n, next, inv_det0);
+        }
+    }
+
+  private:
+    // Coefficient n >= 1 of sin u and cos u from ju_j = j u_j (j = 1..n) and theirs below n.
+    [[gnu::always_inline]] static void sincos_order(const V* ju, V* s, V* c, int n, double inv) {
+        V ss = ju[1] * c[n - 1];
+        V cc = ju[1] * s[n - 1];
+        for (int j = 2; j <= n; ++j) {
+            ss += ju[j] * c[n - j];
+            cc += ju[j] * s[n - j];
+        }
+        s[n] = ss * inv;
+        c[n] = -(cc * inv);
+    }
+    // coefficient n of a^2: 2 sum_{j < n/2} a_j a_{n-j} (+ a_{n/2}^2)
+    [[gnu::always_inline]] static V square(const V* a, int n) {
+        V r = 0.0 * a[0];
+        for (int j = 0; 2 * j < n; ++j)
+            r += a[j] * a[n - j];
+        r = r + r;
+        if (n % 2 == 0) r += a[n / 2] * a[n / 2];
+        return r;
+    }
+    // sum_{j=0..n} a_j b_{n-j}
+    [[gnu::always_inline]] static V conv(const V* a, const V* b, int n) {
+        V r = a[0] * b[n];
+        for (int j = 1; j <= n; ++j)
+            r += a[j] * b[n - j];
+        return r;
+    }
+    // sum_{j=1..n} a_j b_{n-j} (0 for n = 0)
+    [[gnu::always_inline]] static V conv_from1(const V* a, const V* b, int n) {
+        V r = 0.0 * a[0];
+        for (int j = 1; j <= n; ++j)
+            r += a[j] * b[n - j];
+        return r;
+    }
+
+    [[gnu::always_inline]] void tangent_order(const lagrangian_coefficients<double>& k, int n,
+                                              double next, V inv_det0) {
+        const double CC2 = 2 * k.C * k.C;
+        dd[n] = v[0][n] - v[1][n];
+        const V ds1 = conv(c1, v[0], n);
+        const V ds2 = conv(c2, v[1], n);
+        dsd[n] = conv(cd, dd, n);
+        dcd[n] = -conv(sd, dd, n);
+        ddet[n] = CC2 * conv(sd, dsd, n);
+        const V dn1 = k.B * v[2][n] - k.C * (conv(dcd, x[3], n) + conv(cd, v[3], n));
+        const V dn2 = k.A * v[3][n] - k.C * (conv(dcd, x[2], n) + conv(cd, v[2], n));
+        dw1[n] = (dn1 - conv(w1, ddet, n) - conv_from1(det, dw1, n)) * inv_det0;
+        dw2[n] = (dn2 - conv(w2, ddet, n) - conv_from1(det, dw2, n)) * inv_det0;
+        du[n] = conv(dsd, w1, n) + conv(sd, dw1, n);
+        const V dP = k.C * (conv(du, w2, n) + conv(u, dw2, n));
+        v[0][n + 1] = dw1[n] * next;
+        v[1][n + 1] = dw2[n] * next;
+        v[2][n + 1] = (-dP - k.alpha * ds1) * next;
+        v[3][n + 1] = (dP - k.beta * ds2) * next;
+    }
+
+    static constexpr int KT = Tangent ? K : 1;
+    V s1[K], c1[K], s2[K], c2[K], d[K], sd[K], cd[K], det[K], w1[K], w2[K], u[K], P[K];
+    V j1[K], j2[K], jd[K];  // j u_j of th1, th2, d
+    V dd[KT], dsd[KT], dcd[KT], ddet[KT], dw1[KT], dw2[KT], du[KT];
+};
+
+}  // namespace flipflux
+
+#pragma GCC diagnostic pop

@@ -1,0 +1,530 @@
+// The ensemble's Taylor integrator: lanes, steps and the per-thread runner
+// (include/flipflux/ensemble/taylor_ensemble.hpp explains the method).
+#include "flipflux/ensemble/taylor_ensemble.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <numbers>
+
+#include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/ensemble/pendulum_taylor.hpp"
+#include "flipflux/ensemble/random.hpp"
+#include "flipflux/ensemble/sampler.hpp"
+
+// pendulum_taylor.hpp's vector helpers are inlined into the target-specific jets_* (see there).
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace flipflux {
+
+int ensemble_taylor_order(double rtol) {
+    const double r = std::clamp(rtol, min_taylor_rtol, 0.1);
+    return std::min(ensemble_taylor_max_order,
+                    static_cast<int>(std::ceil(-std::log(r) / 2)) + 1);
+}
+
+namespace detail {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+constexpr double two_pi = 2 * std::numbers::pi;
+constexpr int K = ensemble_taylor_max_order + 1;
+constexpr double eps = std::numeric_limits<double>::epsilon();
+
+// The shift by multiples of 2 pi that brings an angle back into [-pi, pi] (as the RK lanes).
+double reduction(double th) {
+    double shift = 0;
+    while (th + shift > pi)
+        shift -= two_pi;
+    while (th + shift < -pi)
+        shift += two_pi;
+    return shift;
+}
+
+// 2^y and log2(r) in vectors, to ~1e-6 relative: the step size's powers (tol / ||x_j||)^(1/j),
+// a heuristic that needs no more (Jorba & Zou's safety factor is 1 - 0.7 / (p - 1)), in plain
+// arithmetic: the same bits in every lane, instruction set and process (libm's pow is neither
+// vectorised nor the same function on every processor). log2: r = m 2^e, m in [1, 2), log2 m =
+// (2 / ln 2) atanh((m - 1) / (m + 1)) by its series to t^9 (|t| <= 1/3: error < 3e-6); exp2:
+// y = n + f, |f| <= 1/2, 2^f = e^(f ln 2) by its series to degree 9 (error < 2e-11), n added to
+// the exponent. r is clamped to [2^-1000, 2^1000] and y to [-1000, 1000].
+template <class V>
+[[gnu::always_inline]] inline V approx_log2(V r) {
+    using L = typename lane_mask<V>::type;
+    r = r < 0x1p-1000 ? 0x1p-1000 + 0.0 * r : r;
+    r = r > 0x1p1000 ? 0x1p1000 + 0.0 * r : r;
+    const L bits = reinterpret_cast<L>(r);
+    const L e = ((bits >> 52) & 0x7ff) - 1023;
+    const V m = reinterpret_cast<V>((bits & 0x000fffffffffffffLL) | 0x3ff0000000000000LL);
+    const V t = (m - 1.0) / (m + 1.0);
+    const V t2 = t * t;
+    const V series = t * (1.0 + t2 * (1.0 / 3 + t2 * (1.0 / 5 + t2 * (1.0 / 7 + t2 * (1.0 / 9)))));
+    return __builtin_convertvector(e, V) + (2 / std::numbers::ln2) * series;
+}
+template <class V>
+[[gnu::always_inline]] inline V approx_exp2(V y) {
+    using L = typename lane_mask<V>::type;
+    y = y < -1000.0 ? -1000.0 + 0.0 * y : y;
+    y = y > 1000.0 ? 1000.0 + 0.0 * y : y;
+    constexpr double shifter = 0x1.8p52;
+    const V shifted = y + shifter;
+    const V n = shifted - shifter;
+    const V f = (y - n) * std::numbers::ln2;
+    V q = 1.0 + f * (1.0 / 9);
+    for (int k = 8; k >= 1; --k)
+        q = 1.0 + (f * (1.0 / k)) * q;
+    const L ni = (reinterpret_cast<L>(shifted) & 0xfffffffffffffLL) - (1LL << 51);
+    return reinterpret_cast<V>(reinterpret_cast<L>(q) + (ni << 52));
+}
+
+/// sum_k c[k] h^k (Horner, k = 0..p) in every lane; lane by lane the scalar horner's bits.
+template <class V>
+[[gnu::always_inline]] inline V horner_lanes(const V* c, int p, V h) {
+    V r = c[p];
+    for (int k = p - 1; k >= 0; --k)
+        r = r * h + c[k];
+    return r;
+}
+
+/// A group's step ends: per lane the step size h (`last`: 1 when it is the remaining time), the
+/// state x1 at t + h, the right-hand side f1 and H there, and with Tangent the tangent vector.
+template <class V, bool Tangent>
+struct group_end {
+    V h, last, x1[4], f1[4], e1, v1[Tangent ? 4 : 1];
+};
+
+template <class V, bool Tangent>
+[[gnu::always_inline]] inline void end_of_step(const pendulum_jet<V, Tangent>& jet, int p, V tol,
+                                               V remaining, double safety,
+                                               const pendulum_flow& flow,
+                                               group_end<V, Tangent>& out) {
+    const V inf = std::numeric_limits<double>::infinity() + 0.0 * tol;
+    V h = inf;
+    for (int j = p - 1; j <= p; ++j) {
+        V nj = 0.0 * tol;
+        for (int c = 0; c < 4; ++c) {
+            const V a = jet.x[c][j] < 0 ? -jet.x[c][j] : jet.x[c][j];
+            nj = a > nj ? a : nj;
+        }
+        const V candidate = nj > 0 ? approx_exp2(approx_log2(tol / nj) * (1.0 / j)) : inf;
+        h = candidate < h ? candidate : h;
+    }
+    h = h * safety;
+    const auto last = !(h < remaining);
+    out.h = last ? remaining : h;
+    out.last = last ? 1.0 + 0.0 * tol : 0.0 * tol;
+    for (int c = 0; c < 4; ++c)
+        out.x1[c] = horner_lanes(jet.x[c], p, out.h);
+    if constexpr (Tangent)
+        for (int c = 0; c < 4; ++c)
+            out.v1[c] = horner_lanes(jet.v[c], p, out.h);
+    flow.lanes(out.x1, out.f1);
+    flow.hamiltonian_lanes(out.x1, out.e1);
+}
+
+// The dense output of lane l of a jet<V, Tangent>: the state's (or the tangent's) polynomial at
+// tau (scalar horner, the bits of horner_lanes).
+template <class V, bool Tangent>
+std::array<double, 4> jet_lane_value(const void* jet, int l, int p, double tau, bool tangent) {
+    const auto& j = *static_cast<const pendulum_jet<V, Tangent>*>(jet);
+    std::array<double, 4> out{};
+    for (int c = 0; c < 4; ++c) {
+        double r = tangent ? j.v[Tangent ? c : 0][p][l] : j.x[c][p][l];
+        for (int k = p - 1; k >= 0; --k)
+            r = r * tau + (tangent ? j.v[Tangent ? c : 0][k][l] : j.x[c][k][l]);
+        out[c] = r;
+    }
+    return out;
+}
+
+// One trajectory advanced by Taylor steps: its jet and step end are computed in a vector group
+// (run_group), the rest (energy check, detectors, samples, reduction) here, scalar.
+template <bool Tangent>
+class taylor_lane final : public step_interpolant {
+  public:
+    taylor_lane(const double_pendulum<double>& model, const ensemble_options& o,
+                const phase_point<double>& x0, std::uint64_t index,
+                const std::vector<flip_detector_base*>& detectors, int order)
+        : o_(o), flow_(model), model_(model), detectors_(detectors), p_(order) {
+        r_.index = index;
+        r_.initial_state = x0;
+        r_.crossing_times.resize(detectors.size());
+        if (o.keep_crossings) r_.crossings.resize(detectors.size());
+        for (const flip_detector_base* d : detectors)
+            angle_tested_[d->flip_arm() == arm::two ? 1 : 0] = true;
+        for (int i = 0; i < 4; ++i)
+            x_[i] = x0[i];
+        if constexpr (Tangent) {
+            // the random unit tangent vector of the RK lanes (the trajectory's own stream)
+            philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
+            double norm2 = 0;
+            for (int i = 0; i < 4; ++i) {
+                v_[i] = 2 * rng.uniform() - 1;
+                norm2 += v_[i] * v_[i];
+            }
+            const double norm = std::sqrt(norm2);
+            for (int i = 0; i < 4; ++i)
+                v_[i] /= norm;
+        }
+        rtol_ = o.rtol;
+        atol_ = o.atol > 0 ? o.atol : o.rtol;
+        safety_ = std::exp(-0.7 / (p_ - 1));
+        const std::array<double, 4> f = flow_(0.0, x_);
+        for (flip_detector_base* d : detectors_)
+            d->start(x_, f);
+        if (o.sample_interval > 0) {
+            r_.samples.push_back({0.0, x0[0], x0[1], x0[2], x0[3]});
+            next_sample_ = 1;
+        }
+        energy_ = h_start_ = flow_.hamiltonian_absolute(x_);
+        jump_ = energy_jump_factor * (atol_ + rtol_ * std::abs(energy_)) +
+                64 * eps * (1 + std::abs(energy_));
+        r_.status = rk_status::ok;
+        if (!(t_ < o_.time)) finish();
+    }
+    taylor_lane(const taylor_lane&) = delete;
+    taylor_lane& operator=(const taylor_lane&) = delete;
+
+    /// Whether the trajectory takes another step (false: finished, failed or abandoned).
+    bool begin() {
+        if (done_) return false;
+        if (o_.stop != nullptr && o_.stop->load(std::memory_order_relaxed) != 0) {
+            r_.abandoned = true;
+            finish();
+            return false;
+        }
+        if (!std::isfinite(x_[0]) || !std::isfinite(x_[1]) || !(std::abs(x_[0]) <= 524288.0) ||
+            !(std::abs(x_[1]) <= 524288.0)) {
+            r_.status = rk_status::non_finite;
+            finish();
+            return false;
+        }
+        return true;
+    }
+    /// The order-0 coefficients of lane l of a jet: this trajectory's state.
+    template <class V>
+    void load(pendulum_jet<V, Tangent>& jet, int l) const {
+        for (int c = 0; c < 4; ++c) {
+            jet.x[c][0][l] = x_[c];
+            if constexpr (Tangent) jet.v[c][0][l] = v_[c];
+        }
+    }
+    /// Lane l of a group's computed jet and step ends: the step.
+    template <class V>
+    void take(const pendulum_jet<V, Tangent>& jet, const group_end<V, Tangent>& g, int l) {
+        jet_ = &jet;
+        lane_ = l;
+        value_ = jet_lane_value<V, Tangent>;
+        std::array<double, 4> x1{}, f1{}, v1{};
+        for (int c = 0; c < 4; ++c) {
+            x1[c] = g.x1[c][l];
+            f1[c] = g.f1[c][l];
+            if constexpr (Tangent) v1[c] = g.v1[c][l];
+        }
+        f0_ = {jet.x[0][1][l], jet.x[1][1][l], jet.x[2][1][l], jet.x[3][1][l]};
+        step(g.h[l], g.last[l] != 0, x1, f1, g.e1[l], v1);
+    }
+    /// The tolerance of the step-size rule (see taylor_ensemble.hpp) and the time left.
+    double tolerance() const {
+        double n0 = 0;
+        for (int c = 0; c < 4; ++c)
+            n0 = std::max(n0, std::abs(x_[c]));
+        return std::max(atol_, rtol_ * n0);
+    }
+    double remaining() const { return o_.time - t_; }
+    double safety() const { return safety_; }
+    bool finished() const { return done_; }
+    trajectory_result& result() { return r_; }
+
+    /// The dense output: the step's Taylor polynomial at t in [t0, t1].
+    std::array<double, 4> state(double t) const override {
+        return value_(jet_, lane_, p_, t - t_, false);
+    }
+
+  private:
+    void step(double h, bool last, std::array<double, 4> x1, std::array<double, 4> f1, double e,
+              std::array<double, 4> v1) {
+        if (std::isnan(h)) return fail(rk_status::non_finite);
+        for (bool first = true;; first = false) {
+            if (!first) {  // the energy check refused the step: half of it, scalar
+                ++check_rejections_;
+                h *= 0.5;
+                last = false;
+                if (!(h > 16 * eps * std::max(1.0, std::abs(t_))))
+                    return fail(rk_status::step_size_underflow);
+                x1 = value_(jet_, lane_, p_, h, false);
+                if constexpr (Tangent) v1 = value_(jet_, lane_, p_, h, true);
+                f1 = flow_(0.0, x1);
+                e = flow_.hamiltonian_absolute(x1);
+            }
+            bool finite = std::isfinite(e);
+            for (double y : x1)
+                finite = finite && std::isfinite(y);
+            if (!finite) return fail(rk_status::non_finite);
+            if (std::abs(e - h_start_) <= jump_) break;
+        }
+        h_end_ = e;
+        const double t0 = t_, t1 = last ? o_.time : t_ + h;
+        std::array<std::array<double, 2>, 2> ranges{};
+        for (int i = 0; i < 2; ++i)
+            if (angle_tested_[i]) ranges[i] = flip_angle_range(i, t1 - t0, x_, f0_, x1, f1);
+        const step_view view{t0, t1, x1, f1, *this, &ranges};
+        record_samples(t1, x1);
+        for (std::size_t c = 0; c < detectors_.size(); ++c) {
+            found_.clear();
+            if (detectors_[c]->step(view, found_) > 0) {
+                for (const crossing& x : found_)
+                    r_.crossing_times[c].push_back(x.time);
+                if (o_.keep_crossings)
+                    r_.crossings[c].insert(r_.crossings[c].end(), found_.begin(), found_.end());
+            }
+        }
+        ++steps_;
+        r_.max_energy_drift = std::max(r_.max_energy_drift, std::abs(h_end_ - energy_));
+        h_start_ = h_end_;
+        if constexpr (Tangent) v_ = v1;
+        t_ = t1;
+        x_ = x1;
+        const double d1 = reduction(x_[0]), d2 = reduction(x_[1]);
+        if (d1 != 0 || d2 != 0) {
+            if (o_.unwrapped_angles) {
+                unwrap_[0] += d1;
+                unwrap_[1] += d2;
+            }
+            x_[0] += d1;
+            x_[1] += d2;
+            for (flip_detector_base* d : detectors_)
+                d->shift(d1, d2);
+        }
+        if constexpr (Tangent) {
+            double norm2 = 0;
+            for (double y : v_)
+                norm2 += y * y;
+            // renormalise by a power of two (exact) when |v| leaves [2^-400, 2^400]
+            if (norm2 > 0x1.0p800 || (norm2 < 0x1.0p-800 && norm2 > 0)) {
+                const int e = std::ilogb(norm2) / 2;
+                for (double& y : v_)
+                    y = std::ldexp(y, -e);
+                log_growth_ += e * std::numbers::ln2;
+            }
+        }
+        if (!(t_ < o_.time)) finish();
+    }
+
+    void record_samples(double t_end, const std::array<double, 4>& x1) {
+        while (o_.sample_interval > 0) {
+            const double ts = static_cast<double>(next_sample_) * o_.sample_interval;
+            if (ts > t_end || ts > o_.time) break;
+            const std::array<double, 4> x = ts == t_end ? x1 : state(ts);
+            r_.samples.push_back({ts, x[0] - unwrap_[0], x[1] - unwrap_[1], x[2], x[3]});
+            ++next_sample_;
+        }
+    }
+
+    void fail(rk_status s) {
+        r_.status = s;
+        finish();
+    }
+
+    void finish() {
+        done_ = true;
+        r_.end_time = t_;
+        r_.final_state = {x_[0] - unwrap_[0], x_[1] - unwrap_[1], x_[2], x_[3]};
+        r_.steps = steps_;
+        r_.rejected_steps = check_rejections_;
+        r_.evaluations = steps_ + (r_.status == rk_status::ok ? 0 : 1);
+        r_.energy_check_rejections = check_rejections_;
+        if constexpr (Tangent) {
+            double norm2 = 0;
+            for (double y : v_)
+                norm2 += y * y;
+            r_.lyapunov = t_ > 0 ? (log_growth_ + 0.5 * std::log(norm2)) / t_
+                                 : std::numeric_limits<double>::quiet_NaN();
+        } else {
+            r_.lyapunov = std::numeric_limits<double>::quiet_NaN();
+        }
+        r_.chaotic = is_chaotic(model_, o_.chaos, o_.chaos_threshold, r_.lyapunov);
+    }
+
+    const ensemble_options& o_;
+    pendulum_flow flow_;
+    const double_pendulum<double>& model_;
+    std::vector<flip_detector_base*> detectors_;
+    int p_;
+    double rtol_ = 0, atol_ = 0, safety_ = 1;
+    double t_ = 0;
+    std::array<double, 4> x_{}, v_{}, f0_{};
+    // the current step's jet (in its group's buffer) and its dense output
+    const void* jet_ = nullptr;
+    int lane_ = 0;
+    std::array<double, 4> (*value_)(const void*, int, int, double, bool) = nullptr;
+    trajectory_result r_;
+    std::vector<crossing> found_;
+    std::uint64_t next_sample_ = 0;
+    std::array<double, 2> unwrap_{};
+    std::array<bool, 2> angle_tested_{};
+    double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0;
+    long steps_ = 0, check_rejections_ = 0;
+    bool done_ = false;
+};
+
+// The jets of a group of lanes, in the widest vectors of the instruction set (`flatten`
+// inlines the recurrences, so that all of them are compiled for it; no FMA is enabled).
+// The inputs of a group's step: the lanes' tolerances and remaining times.
+template <class V>
+struct group_start {
+    V tol, remaining;
+    double safety;
+};
+template <bool Tangent>
+void jets_sse2(pendulum_jet<v2d, Tangent>& jet, const pendulum_flow& flow, int p,
+               const group_start<v2d>& in, group_end<v2d, Tangent>& out) {
+    jet.compute(flow.coefficients(), p);
+    end_of_step(jet, p, in.tol, in.remaining, in.safety, flow, out);
+}
+template <bool Tangent>
+__attribute__((target("avx2"), flatten)) void jets_avx2(pendulum_jet<v4d, Tangent>& jet,
+                                                        const pendulum_flow& flow, int p,
+                                                        const group_start<v4d>& in,
+                                                        group_end<v4d, Tangent>& out) {
+    jet.compute(flow.coefficients(), p);
+    end_of_step(jet, p, in.tol, in.remaining, in.safety, flow, out);
+}
+template <bool Tangent>
+__attribute__((target("avx512f"), flatten)) void jets_avx512(pendulum_jet<v8d, Tangent>& jet,
+                                                             const pendulum_flow& flow, int p,
+                                                             const group_start<v8d>& in,
+                                                             group_end<v8d, Tangent>& out) {
+    jet.compute(flow.coefficients(), p);
+    end_of_step(jet, p, in.tol, in.remaining, in.safety, flow, out);
+}
+
+// One thread's jet buffers, one per vector width (the jets of up to 4 groups of 2 lanes: each
+// lane's dense output reads its group's until its step is done).
+template <bool Tangent>
+struct jet_buffers {
+    std::unique_ptr<pendulum_jet<v2d, Tangent>> j2 = std::make_unique<pendulum_jet<v2d, Tangent>>();
+    std::unique_ptr<pendulum_jet<v4d, Tangent>> j4 = std::make_unique<pendulum_jet<v4d, Tangent>>();
+    std::unique_ptr<pendulum_jet<v8d, Tangent>> j8;
+};
+
+// The lanes active[0, g) (g <= W) in one vector group: load (a short group padded with its
+// first lane), compute the jets and step ends, take.
+template <bool Tangent, class V, class Compute>
+void run_group(taylor_lane<Tangent>* const* active, std::size_t g, pendulum_jet<V, Tangent>& jet,
+               const pendulum_flow& flow, int p, Compute compute) {
+    constexpr std::size_t W = lanes_of<V>;
+    std::array<double, W> tol{}, remaining{};
+    for (std::size_t l = 0; l < W; ++l) {
+        const taylor_lane<Tangent>* lane = active[l < g ? l : 0];
+        lane->load(jet, static_cast<int>(l));
+        tol[l] = lane->tolerance();
+        remaining[l] = lane->remaining();
+    }
+    group_start<V> in;
+    std::memcpy(&in.tol, tol.data(), sizeof(V));
+    std::memcpy(&in.remaining, remaining.data(), sizeof(V));
+    in.safety = active[0]->safety();
+    group_end<V, Tangent> out;
+    compute(jet, flow, p, in, out);
+    for (std::size_t l = 0; l < g; ++l)
+        active[l]->take(jet, out, static_cast<int>(l));
+}
+
+// One step of every unfinished lane.
+template <bool Tangent>
+void run_round(std::span<taylor_lane<Tangent>* const> lanes, vector_isa isa,
+               jet_buffers<Tangent>& buf, const pendulum_flow& k, int p) {
+    std::array<taylor_lane<Tangent>*, 8> active{};
+    std::size_t m = 0;
+    for (taylor_lane<Tangent>* l : lanes)
+        if (l != nullptr && l->begin()) active[m++] = l;
+    if (m > 4 && isa == vector_isa::avx512) {
+        if (!buf.j8) buf.j8 = std::make_unique<pendulum_jet<v8d, Tangent>>();
+        run_group(active.data(), m, *buf.j8, k, p, jets_avx512<Tangent>);
+        return;
+    }
+    const bool wide = m > 2 && isa != vector_isa::sse2;
+    const std::size_t W = wide ? 4 : 2;
+    for (std::size_t i = 0; i < m; i += W) {
+        const std::size_t g = std::min(W, m - i);
+        if (wide)
+            run_group(active.data() + i, g, *buf.j4, k, p, jets_avx2<Tangent>);
+        else
+            run_group(active.data() + i, g, *buf.j2, k, p, jets_sse2<Tangent>);
+    }
+}
+
+template <bool Tangent>
+void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
+               const microcanonical_sampler& sampler, lane_detectors& detectors, vector_isa isa,
+               std::size_t count, const std::function<bool(std::uint64_t&)>& next_index,
+               const std::function<void(trajectory_result&)>& deliver) {
+    using lane_type = taylor_lane<Tangent>;
+    const int p = ensemble_taylor_order(o.rtol);
+    const pendulum_flow k(model);
+    jet_buffers<Tangent> buf;
+    std::array<std::unique_ptr<lane_type>, 8> lanes;
+    std::array<lane_type*, 8> view{};
+    count = std::min<std::size_t>(count, 8);
+    for (;;) {
+        bool any = false;
+        for (std::size_t l = 0; l < count; ++l) {
+            if (lanes[l] && lanes[l]->finished()) {
+                deliver(lanes[l]->result());
+                lanes[l].reset();
+            }
+            if (!lanes[l]) {
+                std::uint64_t index = 0;
+                if (next_index(index))
+                    lanes[l] = std::make_unique<lane_type>(
+                        model, o, initial_state_of(sampler, o, index), index, detectors[l], p);
+            }
+            view[l] = lanes[l].get();
+            any = any || lanes[l] != nullptr;
+        }
+        if (!any) return;
+        run_round<Tangent>(std::span<lane_type* const>(view.data(), count), isa, buf, k, p);
+    }
+}
+
+template <bool Tangent>
+trajectory_result one_trajectory(const double_pendulum<double>& model,
+                                 const phase_point<double>& x0, const ensemble_options& o,
+                                 std::uint64_t index,
+                                 const std::vector<flip_detector_base*>& detectors) {
+    const int p = ensemble_taylor_order(o.rtol);
+    const pendulum_flow k(model);
+    jet_buffers<Tangent> buf;
+    taylor_lane<Tangent> l(model, o, x0, index, detectors, p);
+    taylor_lane<Tangent>* const one[1] = {&l};
+    while (!l.finished())
+        run_round<Tangent>(one, vector_isa::sse2, buf, k, p);
+    return std::move(l.result());
+}
+
+}  // namespace
+
+void run_taylor_lanes(const double_pendulum<double>& model, const ensemble_options& o,
+                      const microcanonical_sampler& sampler, lane_detectors& detectors,
+                      vector_isa isa, std::size_t count,
+                      const std::function<bool(std::uint64_t&)>& next_index,
+                      const std::function<void(trajectory_result&)>& deliver) {
+    if (o.chaos)
+        run_lanes<true>(model, o, sampler, detectors, isa, count, next_index, deliver);
+    else
+        run_lanes<false>(model, o, sampler, detectors, isa, count, next_index, deliver);
+}
+
+trajectory_result taylor_trajectory(const double_pendulum<double>& model,
+                                    const phase_point<double>& x0, const ensemble_options& o,
+                                    std::uint64_t index,
+                                    const std::vector<flip_detector_base*>& detectors) {
+    return o.chaos ? one_trajectory<true>(model, x0, o, index, detectors)
+                   : one_trajectory<false>(model, x0, o, index, detectors);
+}
+
+}  // namespace detail
+}  // namespace flipflux
