@@ -173,7 +173,7 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
 
 
 def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle", seed=0,
-             rtol=1e-10, method="dop853", threads=0, chaos=True, chaos_threshold=0.05,
+             rtol=1e-10, method="auto", threads=0, chaos=True, chaos_threshold=0.05,
              pendulum=None, replicates=1):
     """A Monte Carlo study -- `flipflux simulate` (at double). energy: one value, a list, or a
     "FROM:TO:STEP" string. Returns (report, trajectories): the study's JSON report as a dict (what

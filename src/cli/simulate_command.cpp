@@ -439,7 +439,12 @@ const register_command registration([](CLI::App& app) {
                     "relative (and absolute) tolerance of the integrator (trajectory's default is "
                     "1e-12: see above)")
         ->capture_default_str();
-    sub->add_option("--method", s->method, "integrator: dop853, dopri5 or taylor (adaptive-order Taylor series; rtol down to eps)")->capture_default_str();
+    sub->add_option(
+           "--method", s->method,
+           "integrator: dop853, dopri5, taylor (adaptive-order Taylor series in SIMD lanes; rtol "
+           "down to eps) or auto (taylor below rtol 1e-10, else dop853; the output names "
+           "the choice)")
+        ->capture_default_str();
     sub->add_option("--threads", s->threads, "OpenMP threads (0: all available)")
         ->capture_default_str();
     sub->add_option("--chaos-threshold", s->chaos_threshold,

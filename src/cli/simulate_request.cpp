@@ -40,7 +40,7 @@ simulation_request make_request(const simulate_state& s) {
     o.first_index = parse_unsigned(s.first_index, "--first-index", false);
     o.rtol = parse_positive(s.rtol, "--rtol");
     o.threads = checked_threads(parse_unsigned(s.threads, "--threads", false), "--threads");
-    o.method = parse_name<integration_method>(s.method, "--method");
+    o.method = resolved_method(parse_name<integration_method>(s.method, "--method"), o.rtol);
     o.chaos = !s.no_chaos;
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
     o.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");

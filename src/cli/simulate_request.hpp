@@ -15,7 +15,7 @@ namespace flipflux::cli {
 struct simulate_state {
     std::string energy,
         arm_text = "2", criteria = "upright,approx,saddle", trajectories, time, seed = "0",
-        rtol = "1e-10", threads = "0", csv_dir, method = "dop853", chaos_threshold = "0.05",
+        rtol = "1e-10", threads = "0", csv_dir, method = "auto", chaos_threshold = "0.05",
         first_index = "0", bins = "0", sample_interval = "0", checkpoint, checkpoint_interval = "2",
         estimator = "long", short_time = "20", reference_time = "0", replicates = "1",
         initial_states, write_initial_states;

@@ -74,7 +74,7 @@ void run(const trajectory_state& s) {
     q.arms = parse_arms(s.arms);
     q.sample_interval = parse_real<Real>(s.sample_interval, "--sample-interval");
     q.rtol = parse_real<double>(s.rtol, "--rtol");
-    q.method = parse_name<integration_method>(s.method, "--method");
+    q.method = resolved_method(parse_name<integration_method>(s.method, "--method"), q.rtol);
     if (s.route != "default" && s.route != "ensemble" && s.route != "reference" &&
         s.route != "taylor")
         throw input_error("--route: '" + s.route +
@@ -135,7 +135,11 @@ const register_command registration([](CLI::App& app) {
                     "integrator and detectors as simulate, whose default is 1e-10: one trajectory "
                     "compared event by event needs the tighter one, ensemble statistics do not)")
         ->capture_default_str();
-    sub->add_option("--method", s->method, "integrator: dop853, dopri5 or taylor (adaptive-order Taylor series; rtol down to eps)")->capture_default_str();
+    sub->add_option(
+           "--method", s->method,
+           "the ensemble route's integrator: dop853, dopri5, taylor (rtol down to eps) or auto "
+           "(taylor below rtol 1e-10)")
+        ->capture_default_str();
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);
     add_time_bound_option(*sub, s->bound);

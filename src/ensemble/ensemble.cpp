@@ -23,7 +23,13 @@
 
 namespace flipflux {
 
+integration_method resolved_method(integration_method method, double rtol) {
+    if (method != integration_method::automatic) return method;
+    return rtol < automatic_taylor_below ? integration_method::taylor : integration_method::dop853;
+}
+
 std::string rtol_problem(double rtol, const std::string& text, integration_method method) {
+    method = resolved_method(method, rtol);
     const std::string shown = text.empty() ? to_decimal(rtol) : text;
     if (!(rtol > 0) || !(rtol <= 0.1)) return "'" + shown + "' is invalid (must be in (0, 0.1])";
     if (method == integration_method::taylor) {
@@ -566,6 +572,12 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
                std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
                Next&& next_index, Deliver&& deliver) {
+    if (resolved_method(o.method, o.rtol) != o.method) {
+        ensemble_options resolved = o;
+        resolved.method = resolved_method(o.method, o.rtol);
+        run_lanes(model, resolved, sampler, detectors, isa, next_index, deliver);
+        return;
+    }
     if (o.method == integration_method::taylor) {
         detail::run_taylor_lanes(model, o, sampler, detectors, isa, lanes_per_thread(isa),
                                  next_index, deliver);
@@ -636,6 +648,11 @@ trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,
                                       std::uint64_t index,
                                       const std::vector<flip_detector_base*>& detectors) {
+    if (resolved_method(o.method, o.rtol) != o.method) {
+        ensemble_options resolved = o;
+        resolved.method = resolved_method(o.method, o.rtol);
+        return simulate_trajectory(model, x0, resolved, index, detectors);
+    }
     if (o.method == integration_method::taylor)
         return detail::taylor_trajectory(model, x0, o, index, detectors);
     if (o.method == integration_method::dop853)
@@ -747,7 +764,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     result.chaos_threshold = o.chaos_threshold;
     result.seed = o.seed;
     result.first_index = o.first_index;
-    result.method = o.method;
+    result.method = resolved_method(o.method, o.rtol);
     result.chaos = o.chaos;
     for (const ensemble_criterion& c : criteria)
         result.criteria.push_back(c.name);

@@ -21,8 +21,7 @@ namespace flipflux {
 
 int ensemble_taylor_order(double rtol) {
     const double r = std::clamp(rtol, min_taylor_rtol, 0.1);
-    return std::min(ensemble_taylor_max_order,
-                    static_cast<int>(std::ceil(-std::log(r) / 2)) + 1);
+    return std::min(ensemble_taylor_max_order, static_cast<int>(std::ceil(-std::log(r) / 2)) + 1);
 }
 
 namespace detail {

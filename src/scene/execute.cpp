@@ -360,7 +360,8 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
     o.seed = x.seed;
     o.rtol = parse_real<double>(x.rtol, where + ": rtol");
     o.atol = parse_real<double>(x.atol, where + ": atol");
-    o.method = parse_name<integration_method>(x.integrator, where + ": integrator");
+    o.method = resolved_method(parse_name<integration_method>(x.integrator, where + ": integrator"),
+                               o.rtol);
     o.chaos = x.chaos;
     o.chaos_threshold = parse_real<double>(x.chaos_threshold, where + ": chaos_threshold");
     o.threads = ctx.options.threads;

@@ -396,9 +396,8 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
     if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
         r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
     }
-    if (const std::string p =
-            rtol_problem(parse_real<double>(x.rtol, "rtol"), x.rtol,
-                         method.value_or(integration_method::dop853));
+    if (const std::string p = rtol_problem(parse_real<double>(x.rtol, "rtol"), x.rtol,
+                                           method.value_or(integration_method::dop853));
         !p.empty())
         r.fail(r.get("rtol"), "rtol", p);
     r.finish();

@@ -58,7 +58,7 @@ TEST(Ensemble, LockstepLanesGiveTheBitsOfALoneTrajectory) {
         set_ensemble_vector_isa(isa);
         ASSERT_EQ(ensemble_vector_isa(), isa);
         for (const integration_method method :
-             {integration_method::dop853, integration_method::dopri5})
+             {integration_method::dop853, integration_method::dopri5, integration_method::taylor})
             for (bool chaos : {false, true}) {
                 ensemble_options o = small_run(1);
                 // 8 (or 4) lanes, refilled, then the last ones: every vector width, padded groups
@@ -120,29 +120,38 @@ TEST(Ensemble, VectorInstructionSetFromTheEnvironment) {
 TEST(Ensemble, ResultsDoNotDependOnThreadCountOrIndexSplit) {
     const double_pendulum<double> m;
     const auto criteria = arm2_criteria(m);
-    const ensemble_result one = run_ensemble(m, small_run(1), criteria);
-    EXPECT_EQ(one.threads, 1);
-    for (int threads : {2, 3}) {
-        const ensemble_result many = run_ensemble(m, small_run(threads), criteria);
-        EXPECT_EQ(many.threads, threads);
-        ASSERT_EQ(many.trajectories.size(), one.trajectories.size());
-        for (std::size_t i = 0; i < one.trajectories.size(); ++i)
-            expect_identical(one.trajectories[i], many.trajectories[i]);
+    for (const integration_method method :
+         {integration_method::dop853, integration_method::taylor}) {
+        SCOPED_TRACE(to_string(method));
+        auto small_run = [method](int threads) {
+            ensemble_options o = flipflux::test::small_run(threads);
+            o.method = method;
+            return o;
+        };
+        const ensemble_result one = run_ensemble(m, small_run(1), criteria);
+        EXPECT_EQ(one.threads, 1);
+        for (int threads : {2, 3}) {
+            const ensemble_result many = run_ensemble(m, small_run(threads), criteria);
+            EXPECT_EQ(many.threads, threads);
+            ASSERT_EQ(many.trajectories.size(), one.trajectories.size());
+            for (std::size_t i = 0; i < one.trajectories.size(); ++i)
+                expect_identical(one.trajectories[i], many.trajectories[i]);
+        }
+        // [0, 24) = [0, 10) + [10, 24)
+        ensemble_options a = small_run(2), b = small_run(2);
+        a.trajectories = 10;
+        b.first_index = 10;
+        b.trajectories = 14;
+        const ensemble_result ra = run_ensemble(m, a, criteria), rb = run_ensemble(m, b, criteria);
+        for (std::size_t i = 0; i < 10; ++i)
+            expect_identical(one.trajectories[i], ra.trajectories[i]);
+        for (std::size_t i = 0; i < 14; ++i)
+            expect_identical(one.trajectories[10 + i], rb.trajectories[i]);
+        std::uint64_t flips = 0;
+        for (const auto& t : one.trajectories)
+            flips += t.flips(0);
+        EXPECT_GT(flips, 50u);
     }
-    // [0, 24) = [0, 10) + [10, 24)
-    ensemble_options a = small_run(2), b = small_run(2);
-    a.trajectories = 10;
-    b.first_index = 10;
-    b.trajectories = 14;
-    const ensemble_result ra = run_ensemble(m, a, criteria), rb = run_ensemble(m, b, criteria);
-    for (std::size_t i = 0; i < 10; ++i)
-        expect_identical(one.trajectories[i], ra.trajectories[i]);
-    for (std::size_t i = 0; i < 14; ++i)
-        expect_identical(one.trajectories[10 + i], rb.trajectories[i]);
-    std::uint64_t flips = 0;
-    for (const auto& t : one.trajectories)
-        flips += t.flips(0);
-    EXPECT_GT(flips, 50u);
 }
 
 TEST(Ensemble, ChaosIndicatorAndCrossingRecordsLeaveTrajectoriesUntouched) {

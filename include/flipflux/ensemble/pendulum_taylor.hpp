@@ -12,9 +12,9 @@
 //     w_i = n_i / det       (w_k = (n_k - sum_{j=1..k} det_j w_{k-j}) (1 / det_0))
 //     u = sd w1,  P = C u w2
 //     (th1, th2, l1, l2)' = (w1, w2, -P - alpha s1, P - beta s2),   x_{k+1} = f_k / (k + 1):
-// thirteen convolutions per order (sd^2 by symmetry, half of one). The tangent (variational) series follow the same way from
-// the pointwise identities d(sin th) = cos th dth, d(cos d) = -sin d dd, d(det) = 2 C^2 sd dsd,
-// d(w) det = dn - w d(det), du = dsd w1 + sd dw1, dP = C (du w2 + u dw2).
+// thirteen convolutions per order (sd^2 by symmetry, half of one). The tangent (variational) series
+// follow the same way from the pointwise identities d(sin th) = cos th dth, d(cos d) = -sin d dd,
+// d(det) = 2 C^2 sd dsd, d(w) det = dn - w d(det), du = dsd w1 + sd dw1, dP = C (du w2 + u dw2).
 //
 // Every operation is lane-wise, in a fixed order, without fused multiply-adds: each lane's
 // coefficients are the same bits for any V and any partner lanes (tested).

@@ -1,0 +1,271 @@
+// The ensemble's Taylor integrator (ensemble/taylor_ensemble.hpp, pendulum_taylor.hpp), each claim
+// against an independent route: the jet satisfies Hamilton's equations (pendulum_flow, itself
+// tested against the model) and its tangent series is the derivative of the state's (central
+// differences of two jets); trajectories at rtol = eps reach the 50-digit golden states to the
+// double limit, which DOP853 cannot; flip counts agree with DOP853's on the same initial states
+// (paired); the Lyapunov exponent agrees with DOP853's tangent integration; the tolerance limits.
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "ensemble_support.hpp"
+#include "flipflux/core/decimal.hpp"
+#include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/ensemble/pendulum_taylor.hpp"
+#include "flipflux/ensemble/taylor_ensemble.hpp"
+#include "flipflux/io/csv.hpp"
+
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace flipflux::test {
+namespace {
+
+constexpr double eps = std::numeric_limits<double>::epsilon();
+
+// The jet of one state (lane 0 of a v2d jet; lane 1 a copy), coefficients 0..p.
+struct one_jet {
+    std::array<std::array<double, ensemble_taylor_max_order + 1>, 4> x{}, v{};
+};
+one_jet jet_of(const double_pendulum<double>& m, const std::array<double, 4>& x0,
+               const std::array<double, 4>& v0, int p) {
+    auto jet = std::make_unique<pendulum_jet<v2d, true>>();
+    for (int c = 0; c < 4; ++c) {
+        jet->x[c][0] = v2d{x0[c], x0[c]};
+        jet->v[c][0] = v2d{v0[c], v0[c]};
+    }
+    jet->compute(m.coefficients(), p);
+    one_jet out;
+    for (int c = 0; c < 4; ++c)
+        for (int k = 0; k <= p; ++k) {
+            out.x[c][k] = jet->x[c][k][0];
+            out.v[c][k] = jet->v[c][k][0];
+        }
+    return out;
+}
+
+// The polynomial x(t) of the jet solves x' = f(x) up to its truncation: over the integrator's
+// step h at rtol = eps (at h / 2 and h) P'(t) - f(P(t)) is below 1e-12 relative to |f|, for a
+// rigid-link pendulum with unequal everything at E from the well to far above the saddles.
+TEST(TaylorEnsemble, JetSolvesHamiltonsEquations) {
+    const double_pendulum<double> m(lopsided_parameters());
+    const pendulum_flow flow(m);
+    const int p = 20;
+    for (const std::array<double, 4> x0 :
+         {std::array<double, 4>{0.3, -0.2, 0.1, 0.05}, std::array<double, 4>{2.9, -3.1, 1.7, -2.2},
+          std::array<double, 4>{-1.0, 2.5, -6.0, 4.0}}) {
+        const one_jet j = jet_of(m, x0, {1, 0, 0, 0}, p);
+        EXPECT_EQ(j.x[0][0], x0[0]);
+        // coefficient 1 is the right-hand side itself (to rounding: a different evaluation)
+        const std::array<double, 4> f0 = flow(0.0, x0);
+        for (int c = 0; c < 4; ++c)
+            EXPECT_NEAR(j.x[c][1], f0[c], 1e-14 * (1 + std::abs(f0[c]))) << c;
+        // the integrator's step at rtol = eps (taylor_ensemble.hpp)
+        double n0 = 0, h = 1e300;
+        for (int c = 0; c < 4; ++c)
+            n0 = std::max(n0, std::abs(x0[c]));
+        for (int jj = p - 1; jj <= p; ++jj) {
+            double nj = 0;
+            for (int c = 0; c < 4; ++c)
+                nj = std::max(nj, std::abs(j.x[c][jj]));
+            h = std::min(h, std::pow(eps * n0 / nj, 1.0 / jj));
+        }
+        h *= std::exp(-0.7 / (p - 1));
+        EXPECT_GT(h, 1e-3);
+        for (const double t : {h / 2, h}) {
+            std::array<double, 4> y{}, dy{};
+            for (int c = 0; c < 4; ++c) {
+                double v = 0, d = 0;
+                for (int k = p; k >= 0; --k)
+                    v = v * t + j.x[c][k];
+                for (int k = p; k >= 1; --k)
+                    d = d * t + k * j.x[c][k];
+                y[c] = v;
+                dy[c] = d;
+            }
+            const std::array<double, 4> f = flow(0.0, y);
+            double scale = 0;
+            for (double z : f)
+                scale = std::max(scale, std::abs(z));
+            for (int c = 0; c < 4; ++c)
+                EXPECT_NEAR(dy[c], f[c], 1e-12 * scale) << "t = " << t << ", component " << c;
+        }
+    }
+}
+
+// The tangent series is the directional derivative of the state's series along v: central
+// differences of the jets of x0 +- delta v (delta = 1e-6: truncation ~1e-12, rounding ~1e-10 of
+// a coefficient), every coefficient to order 12.
+TEST(TaylorEnsemble, TangentSeriesIsTheDerivativeOfTheStateSeries) {
+    const double_pendulum<double> m(lopsided_parameters());
+    const int p = 12;
+    const std::array<double, 4> x0{1.1, -0.7, 0.9, -0.4}, v{0.3, -0.5, 0.7, 0.2};
+    const double delta = 1e-6;
+    std::array<double, 4> xp{}, xm{};
+    for (int c = 0; c < 4; ++c) {
+        xp[c] = x0[c] + delta * v[c];
+        xm[c] = x0[c] - delta * v[c];
+    }
+    const one_jet j = jet_of(m, x0, v, p), jp = jet_of(m, xp, v, p), jm = jet_of(m, xm, v, p);
+    for (int c = 0; c < 4; ++c)
+        for (int k = 0; k <= p; ++k) {
+            const double fd = (jp.x[c][k] - jm.x[c][k]) / (2 * delta);
+            EXPECT_NEAR(j.v[c][k], fd, 1e-8 * (1 + std::abs(fd))) << "c " << c << ", k " << k;
+        }
+}
+
+// Every golden state (data/golden/trajectories: 50 digits, two independent routes) integrated to
+// t = 10 by the Taylor integrator at rtol = eps: the state error (max over components, angles as
+// integrated) is at the double limit, median below 1e-13 and every state below 1e-12 (measured:
+// median 2.3e-14, max 1.2e-13 over the 13 states). DOP853 at its smallest rtol (100 eps) is an
+// order of magnitude or more above on the worst state.
+TEST(TaylorEnsemble, ReachesTheDoubleLimitOnTheGoldenStates) {
+    const std::string dir = std::string(FLIPFLUX_SOURCE_DIR) + "/data/golden/trajectories/";
+    const csv_table initial = read_csv(dir + "initial_states.csv");
+    const csv_table states = read_csv(dir + "states.csv");
+    const double_pendulum<double> m;  // the golden states' pendulum (egalitarian, g = 1)
+    std::vector<double> taylor_errors, dop_errors;
+    for (const csv_row& r : initial.rows) {
+        const std::string name = r.fields[column_index(initial, "name")];
+        phase_point<double> x0{};
+        const char* keys[4] = {"theta1", "theta2", "l1", "l2"};
+        for (int c = 0; c < 4; ++c)
+            x0[c] = parse_real<double>(r.fields[column_index(initial, keys[c])], keys[c]);
+        std::array<double, 4> reference{};
+        bool found = false;
+        for (const csv_row& s : states.rows)
+            if (s.fields[column_index(states, "state")] == name &&
+                parse_real<double>(s.fields[column_index(states, "t")], "t") == 10) {
+                for (int c = 0; c < 4; ++c)
+                    reference[c] =
+                        parse_real<double>(s.fields[column_index(states, keys[c])], keys[c]);
+                found = true;
+            }
+        ASSERT_TRUE(found) << name;
+        for (const integration_method method :
+             {integration_method::taylor, integration_method::dop853}) {
+            ensemble_options o;
+            o.energy = 1;  // only the sampler uses it
+            o.trajectories = 1;
+            o.time = 10;
+            o.rtol = method == integration_method::taylor ? eps : min_rtol;
+            o.method = method;
+            o.chaos = false;
+            o.unwrapped_angles = true;
+            const trajectory_result t = simulate_trajectory(m, x0, o, 0, {});
+            ASSERT_EQ(t.status, rk_status::ok);
+            ASSERT_EQ(t.end_time, 10.0);
+            double err = 0;
+            for (int c = 0; c < 4; ++c)
+                err = std::max(err, std::abs(t.final_state[c] - reference[c]));
+            (method == integration_method::taylor ? taylor_errors : dop_errors).push_back(err);
+            if (method == integration_method::taylor) {
+                EXPECT_LT(err, 1e-12) << name;
+            }
+        }
+    }
+    ASSERT_EQ(taylor_errors.size(), 13u);
+    std::sort(taylor_errors.begin(), taylor_errors.end());
+    std::sort(dop_errors.begin(), dop_errors.end());
+    EXPECT_LT(taylor_errors[6], 1e-13);
+    EXPECT_GT(dop_errors.back(), 10 * taylor_errors.back());
+}
+
+// The same 64 initial states (E = 4.3, T = 300, arm-2 upright and approximate-curve flips)
+// integrated by DOP853 at rtol 1e-10 and by Taylor at 1e-12: the paired per-trajectory count
+// differences have a mean consistent with 0 (|mean| <= 3 standard errors measured from the
+// pairs); the trajectories part by chaos, so the counts differ trajectory by trajectory, but not
+// systematically. Taylor's energy drift is below DOP853's.
+TEST(TaylorEnsemble, FlipCountsAgreeWithDop853OnTheSameStates) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    const std::vector<ensemble_criterion> criteria{
+        {"upright", make_flip_detector(upright_curve<double>{arm::two}, flow)},
+        {"approx", make_flip_detector(approximate_saddle_curve(m, arm::two), flow)}};
+    ensemble_options o;
+    o.energy = 4.3;
+    o.trajectories = 64;
+    o.time = 300;
+    o.seed = 77;
+    o.chaos = false;
+    o.rtol = 1e-10;
+    const ensemble_result dop = run_ensemble(m, o, criteria);
+    o.method = integration_method::taylor;
+    o.rtol = 1e-12;
+    const ensemble_result tay = run_ensemble(m, o, criteria);
+    for (std::size_t c = 0; c < criteria.size(); ++c) {
+        double sum = 0, sum2 = 0, total = 0;
+        for (std::size_t i = 0; i < 64; ++i) {
+            ASSERT_EQ(tay.trajectories[i].initial_state, dop.trajectories[i].initial_state);
+            const double d = static_cast<double>(tay.trajectories[i].flips(c)) -
+                             static_cast<double>(dop.trajectories[i].flips(c));
+            sum += d;
+            sum2 += d * d;
+            total += static_cast<double>(dop.trajectories[i].flips(c));
+        }
+        const double mean = sum / 64, var = (sum2 - 64 * mean * mean) / 63;
+        const double se = std::sqrt(var / 64);
+        EXPECT_GT(total, 1500) << criteria[c].name;
+        EXPECT_LE(std::abs(mean), 3 * se + 1e-12)
+            << criteria[c].name << ": mean paired difference " << mean << " +- " << se;
+    }
+    double drift_dop = 0, drift_tay = 0;
+    for (std::size_t i = 0; i < 64; ++i) {
+        drift_dop = std::max(drift_dop, dop.trajectories[i].max_energy_drift);
+        drift_tay = std::max(drift_tay, tay.trajectories[i].max_energy_drift);
+    }
+    EXPECT_LT(drift_tay, drift_dop);
+}
+
+// The finite-time Lyapunov exponent from the Taylor integrator's tangent series against DOP853's
+// variational equations, the same initial tangent vector (the trajectory's stream), over T = 15,
+// before the two integrations part (final states within 1e-4): equal to 1e-6 relative on 12
+// trajectories at E = 5.
+TEST(TaylorEnsemble, LyapunovExponentAgreesWithDop853) {
+    const double_pendulum<double> m(lopsided_parameters());
+    ensemble_options o;
+    o.energy = 5;
+    o.trajectories = 12;
+    o.time = 15;
+    o.seed = 5;
+    o.chaos = true;
+    o.rtol = 1e-13;
+    const ensemble_result dop = run_ensemble(m, o, {});
+    o.method = integration_method::taylor;
+    o.rtol = 1e-15;
+    const ensemble_result tay = run_ensemble(m, o, {});
+    for (std::size_t i = 0; i < 12; ++i) {
+        const double a = dop.trajectories[i].lyapunov, b = tay.trajectories[i].lyapunov;
+        EXPECT_NEAR(b, a, 1e-6 * std::abs(a) + 1e-9) << i;
+        for (int c = 0; c < 4; ++c)
+            EXPECT_NEAR(tay.trajectories[i].final_state[c], dop.trajectories[i].final_state[c],
+                        1e-4)
+                << i;
+    }
+}
+
+// rtol: the Taylor integrator accepts down to eps; DOP853 and DOPRI5 refuse below 100 eps and
+// say that taylor reaches eps.
+TEST(TaylorEnsemble, ToleranceLimits) {
+    EXPECT_EQ(rtol_problem(eps, "", integration_method::taylor), "");
+    EXPECT_EQ(rtol_problem(1e-17, "1e-17", integration_method::taylor),
+              "'1e-17' is below what double precision can meet (at least eps = " + to_decimal(eps) +
+                  " with taylor)");
+    EXPECT_EQ(rtol_problem(1e-15, "1e-15", integration_method::dop853),
+              "'1e-15' is below what double precision can meet (at least 100 eps = " +
+                  to_decimal(min_rtol) + " with dop853; taylor reaches eps)");
+    EXPECT_EQ(ensemble_taylor_order(1e-10), 13);
+    EXPECT_EQ(ensemble_taylor_order(eps), 20);
+    ensemble_options o;
+    o.energy = 1;
+    o.trajectories = 1;
+    o.time = 1;
+    o.rtol = 1e-16;
+    o.method = integration_method::taylor;
+    EXPECT_THROW(validate(o), input_error);
+    o.rtol = 3e-16;
+    EXPECT_NO_THROW(validate(o));
+}
+
+}  // namespace
+}  // namespace flipflux::test
