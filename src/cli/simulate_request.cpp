@@ -41,6 +41,8 @@ simulation_request make_request(const simulate_state& s) {
     o.rtol = parse_positive(s.rtol, "--rtol");
     o.threads = checked_threads(parse_unsigned(s.threads, "--threads", false), "--threads");
     o.method = resolved_method(parse_name<integration_method>(s.method, "--method"), o.rtol);
+    if (const std::string p = rtol_problem(o.rtol, s.rtol, o.method); !p.empty())
+        throw input_error("--rtol: " + p);
     o.chaos = !s.no_chaos;
     o.chaos_threshold = parse_positive(s.chaos_threshold, "--chaos-threshold");
     o.sample_interval = parse_real<double>(s.sample_interval, "--sample-interval");
