@@ -118,13 +118,14 @@ py::dict evaluate(const std::string& name, const std::string& energy_text,
             const quantity_value<Real> v = q.evaluate(model, a, level, method);
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const std::array<std::string, 2> printed = printed_value(v);
             return out_t{q.name,
                          q.per_arm ? to_string(a) : "",
                          to_decimal(energy),
                          precision_name<Real>(),
                          v.method,
-                         to_decimal(v.value),
-                         to_decimal(v.error_estimate, 3),
+                         printed[0],
+                         printed[1],
                          seconds};
         });
     });

@@ -92,8 +92,9 @@ json eval_json(const eval_state& s) {
     out["energy"] = to_decimal(energy);
     out["precision"] = precision_name<Real>();
     out["method"] = v.method;
-    out["value"] = to_decimal(v.value);
-    out["error_estimate"] = to_decimal(v.error_estimate, 3);
+    const auto [value, error] = printed_value(v);
+    out["value"] = value;
+    out["error_estimate"] = error;
     out["seconds"] = seconds;
     if (!s.model.is_default()) {
         out["model"] = parameters_json(model);

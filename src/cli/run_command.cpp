@@ -1,13 +1,17 @@
 // flipflux run [--dry-run] SCENE: compute what a scene file asks for, and nothing else.
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <sstream>
 
 #include "common.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/scene/scene.hpp"
+#include "mpi_group.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -34,6 +38,8 @@ struct run_state {
     double checkpoint_interval = 2;
 };
 
+void run_scene(const run_state& s, process_group* group);
+
 const register_command registration([](CLI::App& app) {
     auto s = std::make_shared<run_state>();
     CLI::App* sub = app.add_subcommand(
@@ -56,6 +62,35 @@ const register_command registration([](CLI::App& app) {
                               "' is invalid (must be a finite number >= 0)");
         }
         (void)checked_threads(static_cast<std::uint64_t>(s->threads), "--threads");
+        // mpirun -np N flipflux run SCENE: the ensembles' trajectories spread over the ranks,
+        // everything else computed and written by rank 0 (run_options::group)
+        std::unique_ptr<mpi_group> mpi;
+        if (!s->dry_run && launched_by_mpirun()) mpi = std::make_unique<mpi_group>();
+        if (mpi && mpi->size() > 1) {
+            try {
+                run_scene(*s, mpi.get());
+            } catch (const std::exception& e) {
+                // another rank may wait in a collective: report (rank 0, or any rank's internal
+                // error) and end the whole job
+                const auto* bad_input = dynamic_cast<const input_error*>(&e);
+                const bool io = dynamic_cast<const output_error*>(&e) != nullptr;
+                if (mpi->rank() == 0 || bad_input == nullptr)
+                    std::fprintf(
+                        stderr, "flipflux: %s%s\n",
+                        bad_input || io ? "error: " : "internal error: ",
+                        bad_input ? error_text(*bad_input).c_str() : one_line(e.what()).c_str());
+                std::fflush(stderr);
+                mpi->abort(bad_input ? 2 : 1);
+            }
+            return;
+        }
+        run_scene(*s, nullptr);
+    });
+});
+
+void run_scene(const run_state& st, process_group* group) {
+    const run_state* s = &st;
+    {
         const scene sc = load_scene(s->file);
         const plan p = make_plan(sc);
         if (s->dry_run) check_existing_output(sc);  // what run would refuse, refused here too
@@ -68,14 +103,18 @@ const register_command registration([](CLI::App& app) {
                     "installed beside this executable (share/flipflux/report/) and "
                     "FLIPFLUX_REPORT_SCRIPT is not set");
         }
-        print_plan(sc, p, std::cout);
+        const bool root = group == nullptr || group->rank() == 0;
+        if (root) print_plan(sc, p, std::cout);
         if (s->dry_run) return;
         options.threads = s->threads;
+        options.group = group;
         options.checkpoint_interval = s->checkpoint_interval;
         if (!s->no_cache)
             options.cache_dir =
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
-        const run_counters c = execute_plan(sc, p, std::cout, options);
+        std::ostringstream quiet;  // the other ranks' log
+        const run_counters c = execute_plan(sc, p, root ? std::cout : quiet, options);
+        if (!root) return;
         std::cout << "saddle orbits solved " << c.orbit_solves << ", from cache "
                   << c.orbit_cache_hits
                   << (c.orbit_cache_rejected ? " (" + std::to_string(c.orbit_cache_rejected) +
@@ -83,8 +122,8 @@ const register_command registration([](CLI::App& app) {
                                              : std::string())
                   << "; trajectories " << c.trajectories << "; curve criteria " << c.curve_criteria
                   << "\n";
-    });
-});
+    }
+}
 
 }  // namespace
 }  // namespace flipflux::cli

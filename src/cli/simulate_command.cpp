@@ -7,7 +7,6 @@
 //   - SIGINT/SIGTERM: a flag the integrators poll once per step; in-flight trajectories are
 //     abandoned, finished ones are in the checkpoint, the exit status is 128 + the signal.
 //   - a progress bar on stderr (a terminal, or --progress).
-#include <mpi.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -26,6 +25,7 @@
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
 #include "flipflux/validation/candidate_pendulum.hpp"
+#include "mpi_group.hpp"
 #include "progress.hpp"
 #include "simulate_request.hpp"
 
@@ -59,84 +59,6 @@ class signal_guard {
   private:
     struct sigaction old_int_ {};
     struct sigaction old_term_ {};
-};
-
-bool launched_by_mpirun() {
-    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
-        if (std::getenv(v) != nullptr) return true;
-    return false;
-}
-
-/// MPI_COMM_WORLD as a process_group; MPI is initialised and finalised with it.
-class mpi_group final : public process_group {
-  public:
-    mpi_group() {
-        int provided = 0;
-        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-        MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-        MPI_Comm_size(MPI_COMM_WORLD, &size_);
-    }
-    ~mpi_group() override { MPI_Finalize(); }
-    mpi_group(const mpi_group&) = delete;
-    mpi_group& operator=(const mpi_group&) = delete;
-    int rank() const override { return rank_; }
-    int size() const override { return size_; }
-    std::string broadcast(const std::string& text) override {
-        unsigned long long n = text.size();
-        MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
-        std::string out = rank_ == 0 ? text : std::string(n, '\0');
-        for (unsigned long long done = 0; done < n;) {  // in pieces below INT_MAX
-            const int piece = static_cast<int>(std::min<unsigned long long>(n - done, 1u << 30));
-            MPI_Bcast(out.data() + done, piece, MPI_CHAR, 0, MPI_COMM_WORLD);
-            done += static_cast<unsigned long long>(piece);
-        }
-        return out;
-    }
-    std::vector<std::string> gather(const std::string& text) override {
-        std::vector<std::string> out;
-        if (rank_ == 0) {
-            out.resize(static_cast<std::size_t>(size_));
-            out[0] = text;
-            for (int r = 1; r < size_; ++r)
-                out[static_cast<std::size_t>(r)] = receive(r);
-        } else {
-            send(text);
-        }
-        return out;
-    }
-    bool any(bool flag) override {
-        int mine = flag ? 1 : 0, all = 0;
-        MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-        return all != 0;
-    }
-    [[noreturn]] void abort(int status) {
-        MPI_Abort(MPI_COMM_WORLD, status);
-        std::_Exit(status);
-    }
-
-  private:
-    void send(const std::string& text) {
-        unsigned long long n = text.size();
-        MPI_Send(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, 0, MPI_COMM_WORLD);
-        for (unsigned long long done = 0; done < n;) {
-            const int piece = static_cast<int>(std::min<unsigned long long>(n - done, 1u << 30));
-            MPI_Send(text.data() + done, piece, MPI_CHAR, 0, 1, MPI_COMM_WORLD);
-            done += static_cast<unsigned long long>(piece);
-        }
-    }
-    std::string receive(int from) {
-        unsigned long long n = 0;
-        MPI_Recv(&n, 1, MPI_UNSIGNED_LONG_LONG, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        std::string text(n, '\0');
-        for (unsigned long long done = 0; done < n;) {
-            const int piece = static_cast<int>(std::min<unsigned long long>(n - done, 1u << 30));
-            MPI_Recv(text.data() + done, piece, MPI_CHAR, from, 1, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE);
-            done += static_cast<unsigned long long>(piece);
-        }
-        return text;
-    }
-    int rank_ = 0, size_ = 1;
 };
 
 /// --initial-states: the file's energies and states replace --energy and --trajectories (one
@@ -398,7 +320,7 @@ const register_command registration([](CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "simulate",
         "Monte Carlo ensemble at one or more energies: microcanonical initial conditions, "
-        "trajectories (DOP853 or DOPRI5 at double), flips of each criterion, statistics as "
+        "trajectories (DOP853, DOPRI5 or Taylor at double), flips of each criterion, statistics as "
         "JSON "
         "(and CSV with --csv-dir). Default rtol 1e-10, where `trajectory` uses 1e-12: a "
         "statistic of many trajectories is insensitive to it (the rates' integration bias at "

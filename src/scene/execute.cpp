@@ -325,9 +325,9 @@ void run_predictions(context& ctx, const plan_step& step) {
                                    : std::string());
                 ++ctx.counters.quantity_evaluations;
                 values[entry][text] = v.value;
+                const std::array<std::string, 2> printed = printed_value(v);
                 csv << name << "," << (q.per_arm ? to_string(a) : "") << "," << text << ","
-                    << to_decimal(v.value) << "," << to_decimal(v.error_estimate, 3) << ","
-                    << csv_field(v.method) << "\n";
+                    << printed[0] << "," << printed[1] << "," << csv_field(v.method) << "\n";
             } catch (const input_error& e) {
                 skipped.push_back({{"quantity", entry}, {"energy", text}, {"reason", e.what()}});
             } catch (const std::runtime_error& e) {  // e.g. no multiplier of an elliptic orbit
@@ -376,19 +376,28 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
 
 /// The step's ensembles on one set of trajectories (study/simulation.hpp): each trajectory
 /// integrated once, each ensemble's result written as if it had run alone.
-void run_ensemble(context& ctx, const plan_step& step) {
-    const double_pendulum<double> model = make_model<double>(ctx.s.model);
+/// The step's requests: one per ensemble, sharing the step's checkpoint (an interrupted run
+/// resumes where it stopped: finished trajectories are not integrated again; the checkpoint is
+/// removed once the ensembles are complete) and the run's processes.
+std::vector<simulation_request> ensemble_step_requests(context& ctx, const plan_step& step,
+                                                       std::string& names) {
     std::vector<simulation_request> requests;
-    std::string names;
     for (std::size_t i : step.ensemble_indices) {
         requests.push_back(ensemble_request(ctx, i));
         names += (names.empty() ? "" : "+") + ctx.s.ensembles[i].name;
     }
-    // an interrupted run resumes where it stopped (finished trajectories are not integrated
-    // again); the checkpoint is removed once the ensembles are complete
-    const std::filesystem::path checkpoint = ctx.s.output / ("ensemble-" + names + ".checkpoint");
-    for (simulation_request& q : requests)
-        q.checkpoint = checkpoint;
+    for (simulation_request& q : requests) {
+        q.checkpoint = ctx.s.output / ("ensemble-" + names + ".checkpoint");
+        q.group = ctx.options.group;
+    }
+    return requests;
+}
+
+void run_ensemble(context& ctx, const plan_step& step) {
+    const double_pendulum<double> model = make_model<double>(ctx.s.model);
+    std::string names;
+    const std::vector<simulation_request> requests = ensemble_step_requests(ctx, step, names);
+    const std::filesystem::path checkpoint = requests.front().checkpoint;
     const std::vector<study_result> results = *simulate(model, requests);
     // what was integrated (once per energy of the step) and detected
     ctx.counters.trajectories += results.front().options.trajectories * step.energies.size();
@@ -672,8 +681,30 @@ void check_existing_output(const scene& s) {
     check_output_owner(s);
 }
 
+namespace {
+
+/// A rank other than 0 of `mpirun -np N flipflux run`: the ensemble steps only, their
+/// trajectories shared with rank 0, which computes and writes everything else (run_options::group).
+run_counters join_ensembles(const scene& s, const plan& p, std::ostream& log,
+                            const run_options& options) {
+    context ctx{s, log, options, {}};
+    const double_pendulum<double> model = make_model<double>(s.model);
+    for (const plan_step& step : p.steps) {
+        if (step.what != plan_step::kind::ensemble) continue;
+        std::string names;
+        // the same requests as rank 0's (the collectives inside follow the same path); rank 0
+        // reads and writes the checkpoint and the CSVs
+        (void)simulate(model, ensemble_step_requests(ctx, step, names));  // results: rank 0's
+    }
+    return ctx.counters;
+}
+
+}  // namespace
+
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
                           const run_options& options) {
+    if (options.group != nullptr && options.group->rank() != 0)
+        return join_ensembles(s, p, log, options);
     context ctx{s, log, options, {}};
     const auto start = std::chrono::steady_clock::now();
     const std::size_t misses_before = saddle_orbit_memo_misses();

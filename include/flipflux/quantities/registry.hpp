@@ -6,11 +6,13 @@
 // quantities() (explicit calls, not static registrars, which a static library would drop).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "flipflux/core/decimal.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/model/energy_level.hpp"
@@ -24,6 +26,18 @@ struct quantity_value {
     Real error_estimate;
     std::string method;
 };
+
+/// The value as the decimal the outputs print (every digit of the precision; mp:N: N + 2 digits
+/// of a value computed with N + 10) and that decimal's error: the evaluation's estimate plus the
+/// decimal's rounding (by the triangle inequality a bound when the estimate is one). The one
+/// rule of `eval` and Python's evaluate().
+template <class Real>
+std::array<std::string, 2> printed_value(const quantity_value<Real>& v) {
+    using std::abs;
+    std::string value = to_decimal(v.value);
+    const Real rounding = abs(parse_real<Real>(value, "value") - v.value);
+    return {std::move(value), to_decimal(Real(abs(v.error_estimate) + rounding), 3)};
+}
 
 /// Evaluates a quantity at energy E for arm a (ignored by quantities that are not per arm) with a
 /// named method ("" = the default). E is an energy_level: parse_energy_level(text) carries the

@@ -83,6 +83,8 @@ struct run_counters {
     std::vector<std::string> files;        ///< files written
 };
 
+class process_group;  // study/simulation.hpp
+
 struct run_options {
     /// saddle-orbit cache directory; empty: no disk cache (the in-process memo still applies)
     std::filesystem::path cache_dir;
@@ -93,6 +95,11 @@ struct run_options {
     /// The report generator (tools/report/make_report.py) a [report] table runs; the command
     /// line finds it beside its executable (empty: a scene with a report is refused).
     std::filesystem::path report_script;
+    /// Processes sharing the run (`mpirun -np N flipflux run SCENE`; null: one). The ensembles'
+    /// trajectories are spread over them (study/simulation.hpp: the results are those of one
+    /// process, bit for bit); everything else -- orbits, predictions, trajectories, files, the
+    /// report -- is computed once, by rank 0. The other ranks join only the ensemble steps.
+    process_group* group = nullptr;
 };
 
 /// The default cache directory: $FLIPFLUX_CACHE_DIR, else $XDG_CACHE_HOME/flipflux, else
