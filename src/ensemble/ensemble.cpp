@@ -20,6 +20,7 @@
 #include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/ensemble/taylor_ensemble.hpp"
+#include "lane_common.hpp"
 
 namespace flipflux {
 
@@ -115,17 +116,7 @@ constexpr double two_pi = 2 * std::numbers::pi;
 // The most trajectories a thread advances in lockstep (lanes_per_thread: 8 with AVX-512, else 4).
 constexpr std::size_t max_lanes = 8;
 
-// Reduces an angle that left [-pi, pi] during one step; returns the shift applied.
-// NOTE: a step moves an angle by far less than 2 pi, so |th| < 4 pi and th -/+ 2 pi is exact
-// (Sterbenz); the loop handles anything else.
-double reduction(double th) {
-    double shift = 0;
-    while (th + shift > pi)
-        shift -= two_pi;
-    while (th + shift < -pi)
-        shift += two_pi;
-    return shift;
-}
+using detail::angle_reduction;
 
 template <class Integrator>
 class dense_adapter final : public step_interpolant {
@@ -186,16 +177,9 @@ class lane {
         for (int i = 0; i < 4; ++i)
             y[i] = x0[i];
         if constexpr (Tangent) {
-            // a random unit tangent vector from the trajectory's own stream
-            philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
-            double norm2 = 0;
-            for (int i = 4; i < 8; ++i) {
-                y[i] = 2 * rng.uniform() - 1;
-                norm2 += y[i] * y[i];
-            }
-            const double norm = std::sqrt(norm2);
+            const std::array<double, 4> v = detail::initial_tangent(o, index);
             for (int i = 4; i < 8; ++i)
-                y[i] /= norm;
+                y[i] = v[static_cast<std::size_t>(i - 4)];
         }
         rk_.initialize(0, y);
         {
@@ -299,19 +283,11 @@ class lane {
             if (angle_tested_[i]) ranges[i] = flip_angle_range(i, h, x0, f0, x1, f1);
         const step_view view{rk_.t_previous(), rk_.t(), x1, f1, dense_, &ranges};
         record_samples(rk_.t());
-        for (std::size_t c = 0; c < detectors_.size(); ++c) {
-            found_.clear();
-            if (detectors_[c]->step(view, found_) > 0) {
-                for (const crossing& x : found_)
-                    r_.crossing_times[c].push_back(x.time);
-                if (o_.keep_crossings)
-                    r_.crossings[c].insert(r_.crossings[c].end(), found_.begin(), found_.end());
-            }
-        }
+        detail::detect(detectors_, view, o_.keep_crossings, found_, r_);
         // h_end_ = H(x1), evaluated by the energy check
         r_.max_energy_drift = std::max(r_.max_energy_drift, std::abs(h_end_ - energy_));
         h_start_ = h_end_;
-        const double d1 = reduction(x1[0]), d2 = reduction(x1[1]);
+        const double d1 = angle_reduction(x1[0]), d2 = angle_reduction(x1[1]);
         if (d1 != 0 || d2 != 0) {
             if (o_.unwrapped_angles) {
                 unwrap_[0] += d1;
@@ -329,11 +305,8 @@ class lane {
             for (int i = 4; i < 8; ++i)
                 norm2 += rk_.x()[i] * rk_.x()[i];
             // renormalise by a power of two (exact) when |v| leaves [2^-400, 2^400]
-            if (norm2 > 0x1.0p800 || (norm2 < 0x1.0p-800 && norm2 > 0)) {
-                const int e = std::ilogb(norm2) / 2;
+            if (const int e = detail::tangent_rescaling(norm2, log_growth_); e != 0)
                 rk_.rescale_tail(4, std::ldexp(1.0, -e));
-                log_growth_ += e * std::numbers::ln2;
-            }
         }
     }
 

@@ -13,6 +13,7 @@
 #include "flipflux/ensemble/pendulum_taylor.hpp"
 #include "flipflux/ensemble/random.hpp"
 #include "flipflux/ensemble/sampler.hpp"
+#include "lane_common.hpp"
 
 // pendulum_taylor.hpp's vector helpers are inlined into the target-specific jets_* (see there).
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -32,15 +33,7 @@ constexpr double two_pi = 2 * std::numbers::pi;
 constexpr int K = ensemble_taylor_max_order + 1;
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
-// The shift by multiples of 2 pi that brings an angle back into [-pi, pi] (as the RK lanes).
-double reduction(double th) {
-    double shift = 0;
-    while (th + shift > pi)
-        shift -= two_pi;
-    while (th + shift < -pi)
-        shift += two_pi;
-    return shift;
-}
+using detail::angle_reduction;
 
 // 2^y and log2(r) in vectors, to ~1e-6 relative: the step size's powers (tol / ||x_j||)^(1/j),
 // a heuristic that needs no more (Jorba & Zou's safety factor is 1 - 0.7 / (p - 1)), in plain
@@ -52,8 +45,8 @@ double reduction(double th) {
 template <class V>
 [[gnu::always_inline]] inline V approx_log2(V r) {
     using L = typename lane_mask<V>::type;
-    r = r < 0x1p-1000 ? 0x1p-1000 + 0.0 * r : r;
-    r = r > 0x1p1000 ? 0x1p1000 + 0.0 * r : r;
+    r = r < 0x1p-1000 ? V{} + 0x1p-1000 : r;
+    r = r > 0x1p1000 ? V{} + 0x1p1000 : r;
     const L bits = reinterpret_cast<L>(r);
     const L e = ((bits >> 52) & 0x7ff) - 1023;
     const V m = reinterpret_cast<V>((bits & 0x000fffffffffffffLL) | 0x3ff0000000000000LL);
@@ -65,8 +58,8 @@ template <class V>
 template <class V>
 [[gnu::always_inline]] inline V approx_exp2(V y) {
     using L = typename lane_mask<V>::type;
-    y = y < -1000.0 ? -1000.0 + 0.0 * y : y;
-    y = y > 1000.0 ? 1000.0 + 0.0 * y : y;
+    y = y < -1000.0 ? V{} - 1000.0 : y;
+    y = y > 1000.0 ? V{} + 1000.0 : y;
     constexpr double shifter = 0x1.8p52;
     const V shifted = y + shifter;
     const V n = shifted - shifter;
@@ -99,10 +92,10 @@ template <class V, bool Tangent>
                                                V remaining, double safety,
                                                const pendulum_flow& flow,
                                                group_end<V, Tangent>& out) {
-    const V inf = std::numeric_limits<double>::infinity() + 0.0 * tol;
+    const V inf = V{} + std::numeric_limits<double>::infinity();
     V h = inf;
     for (int j = p - 1; j <= p; ++j) {
-        V nj = 0.0 * tol;
+        V nj = V{};
         for (int c = 0; c < 4; ++c) {
             const V a = jet.x[c][j] < 0 ? -jet.x[c][j] : jet.x[c][j];
             nj = a > nj ? a : nj;
@@ -113,7 +106,7 @@ template <class V, bool Tangent>
     h = h * safety;
     const auto last = !(h < remaining);
     out.h = last ? remaining : h;
-    out.last = last ? 1.0 + 0.0 * tol : 0.0 * tol;
+    out.last = last ? V{} + 1.0 : V{};
     for (int c = 0; c < 4; ++c)
         out.x1[c] = horner_lanes(jet.x[c], p, out.h);
     if constexpr (Tangent)
@@ -155,17 +148,20 @@ class taylor_lane final : public step_interpolant {
             angle_tested_[d->flip_arm() == arm::two ? 1 : 0] = true;
         for (int i = 0; i < 4; ++i)
             x_[i] = x0[i];
+        // the initial angles reduced to [-pi, pi] (by the nearest multiple of 2 pi, then
+        // exactly), so that H and the energy check start from the state that is integrated: an
+        // angle of 1000 rad reduced by repeated 2 pi steps after the first step moved H by
+        // ~1e-12, beyond the check's allowance at rtol = eps (every retry refused)
+        for (int i = 0; i < 2; ++i) {
+            if (!(std::abs(x_[i]) > pi) || !std::isfinite(x_[i])) continue;
+            const double coarse = -two_pi * std::nearbyint(x_[i] / two_pi);
+            x_[i] += coarse;
+            const double fine = angle_reduction(x_[i]);
+            x_[i] += fine;
+            if (o.unwrapped_angles) unwrap_[i] += coarse + fine;
+        }
         if constexpr (Tangent) {
-            // the random unit tangent vector of the RK lanes (the trajectory's own stream)
-            philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
-            double norm2 = 0;
-            for (int i = 0; i < 4; ++i) {
-                v_[i] = 2 * rng.uniform() - 1;
-                norm2 += v_[i] * v_[i];
-            }
-            const double norm = std::sqrt(norm2);
-            for (int i = 0; i < 4; ++i)
-                v_[i] /= norm;
+            v_ = initial_tangent(o, index);  // the RK lanes' (the trajectory's own stream)
         }
         rtol_ = o.rtol;
         atol_ = o.atol > 0 ? o.atol : o.rtol;
@@ -271,22 +267,14 @@ class taylor_lane final : public step_interpolant {
             if (angle_tested_[i]) ranges[i] = flip_angle_range(i, t1 - t0, x_, f0_, x1, f1);
         const step_view view{t0, t1, x1, f1, *this, &ranges};
         record_samples(t1, x1);
-        for (std::size_t c = 0; c < detectors_.size(); ++c) {
-            found_.clear();
-            if (detectors_[c]->step(view, found_) > 0) {
-                for (const crossing& x : found_)
-                    r_.crossing_times[c].push_back(x.time);
-                if (o_.keep_crossings)
-                    r_.crossings[c].insert(r_.crossings[c].end(), found_.begin(), found_.end());
-            }
-        }
+        detect(detectors_, view, o_.keep_crossings, found_, r_);
         ++steps_;
         r_.max_energy_drift = std::max(r_.max_energy_drift, std::abs(h_end_ - energy_));
         h_start_ = h_end_;
         if constexpr (Tangent) v_ = v1;
         t_ = t1;
         x_ = x1;
-        const double d1 = reduction(x_[0]), d2 = reduction(x_[1]);
+        const double d1 = angle_reduction(x_[0]), d2 = angle_reduction(x_[1]);
         if (d1 != 0 || d2 != 0) {
             if (o_.unwrapped_angles) {
                 unwrap_[0] += d1;
@@ -302,12 +290,9 @@ class taylor_lane final : public step_interpolant {
             for (double y : v_)
                 norm2 += y * y;
             // renormalise by a power of two (exact) when |v| leaves [2^-400, 2^400]
-            if (norm2 > 0x1.0p800 || (norm2 < 0x1.0p-800 && norm2 > 0)) {
-                const int e = std::ilogb(norm2) / 2;
+            if (const int e = tangent_rescaling(norm2, log_growth_); e != 0)
                 for (double& y : v_)
                     y = std::ldexp(y, -e);
-                log_growth_ += e * std::numbers::ln2;
-            }
         }
         if (!(t_ < o_.time)) finish();
     }

@@ -65,8 +65,12 @@ struct context {
     run_counters counters;
     json summary = json::object();
     double cpu_start = process_cpu_seconds();  ///< the run's start, for run.json's cpu_seconds
+    /// false on the ranks other than 0 of an MPI run: they compute what the ensembles need and
+    /// write nothing (join_ensembles)
+    bool writes = true;
 
     void write(const std::filesystem::path& name, const std::string& content) {
+        if (!writes) return;
         const auto path = s.output / name;
         write_file_atomically(path, content);
         counters.files.push_back(path.string());
@@ -165,7 +169,7 @@ void run_orbit_family(context& ctx, const plan_step& step) {
         ctx.counters.orbit_solves += family.orbits.size();
         for (const saddle_orbit<Real>& o : family.orbits) {
             remember_saddle_orbit(model, o);
-            if (!dir.empty() && o.status != orbit_status::not_converged) {
+            if (ctx.writes && !dir.empty() && o.status != orbit_status::not_converged) {
                 std::size_t i = 0;
                 while (i < missing.size() && (missing[i].value != o.energy ||
                                               missing[i].above(model.saddle_level(a)) != o.excess))
@@ -683,19 +687,43 @@ void check_existing_output(const scene& s) {
 
 namespace {
 
-/// A rank other than 0 of `mpirun -np N flipflux run`: the ensemble steps only, their
-/// trajectories shared with rank 0, which computes and writes everything else (run_options::group).
+/// The ranks of an MPI run meet here before rank 0's first ensemble step and after the other
+/// ranks' wait: rank 0 has then solved (and cached) every saddle orbit of the scene's families and
+/// predictions.
+void meet_before_the_ensembles(const run_options& options) {
+    (void)options.group->broadcast("ensembles");
+}
+
+/// A rank other than 0 of `mpirun -np N flipflux run`: its share of the ensembles' trajectories.
+/// The saddle criterion's curves must have rank 0's bits, so this rank first repeats the orbit
+/// families and predictions once rank 0 has done them (reading rank 0's cache entries, or, with
+/// no cache, solving them the same way), writing nothing; then it joins each ensemble step with
+/// the same requests as rank 0 (the collectives inside simulate() follow the same path; rank 0
+/// reads and writes the checkpoint and the CSVs).
 run_counters join_ensembles(const scene& s, const plan& p, std::ostream& log,
                             const run_options& options) {
     context ctx{s, log, options, {}};
+    ctx.writes = false;
+    ctx.summary["orbit_families"] = json::array();
     const double_pendulum<double> model = make_model<double>(s.model);
+    bool met = false;
     for (const plan_step& step : p.steps) {
-        if (step.what != plan_step::kind::ensemble) continue;
-        std::string names;
-        // the same requests as rank 0's (the collectives inside follow the same path); rank 0
-        // reads and writes the checkpoint and the CSVs
-        (void)simulate(model, ensemble_step_requests(ctx, step, names));  // results: rank 0's
+        if (step.what == plan_step::kind::orbit_family ||
+            step.what == plan_step::kind::predictions) {
+            if (!met) meet_before_the_ensembles(options);
+            met = true;
+            if (step.what == plan_step::kind::orbit_family)
+                dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
+            else
+                dispatch(s.prec, [&]<class Real>() { run_predictions<Real>(ctx, step); });
+        } else if (step.what == plan_step::kind::ensemble) {
+            if (!met) meet_before_the_ensembles(options);
+            met = true;
+            std::string names;
+            (void)simulate(model, ensemble_step_requests(ctx, step, names));  // rank 0's results
+        }
     }
+    if (!met) meet_before_the_ensembles(options);
     return ctx.counters;
 }
 
@@ -741,7 +769,12 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     };
     // each step's wall seconds (where a run's time goes: docs/scale.md)
     ctx.summary["step_seconds"] = json::array();
+    bool met = options.group == nullptr;  // an MPI run's ranks meet before the first ensemble
     for (const plan_step& step : p.steps) {
+        if (!met && step.what == plan_step::kind::ensemble) {
+            meet_before_the_ensembles(options);
+            met = true;
+        }
         // (the orbit tables belong to the families before: written before this step's clock)
         if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         log << "- " << step.description << "\n";
@@ -780,6 +813,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         log << "  (" << seconds << " s)\n";
     }
     write_orbit_tables_once();
+    if (!met) meet_before_the_ensembles(options);
     // orbits solved one by one outside a family (e.g. beyond where a continuation stopped)
     ctx.counters.orbit_solves += saddle_orbit_memo_misses() - misses_before;
     ctx.summary["counters"] = {{"orbit_solves", ctx.counters.orbit_solves},

@@ -400,6 +400,8 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
                                            method.value_or(integration_method::dop853));
         !p.empty())
         r.fail(r.get("rtol"), "rtol", p);
+    else if (method)  // `auto` resolved here: plans, sharing and run.json name the integrator
+        x.integrator = to_string(resolved_method(*method, parse_real<double>(x.rtol, "rtol")));
     r.finish();
     return x;
 }

@@ -187,6 +187,7 @@ void check_sizes(const simulation_request& request, const ensemble_options& o) {
 /// the CSV directory created: the ensemble options every energy runs with (energy set per energy).
 ensemble_options checked_options(const simulation_request& request, const process_group& group) {
     ensemble_options o = request.options;
+    o.method = resolved_method(o.method, o.rtol);  // outputs name the concrete integrator
     if (request.energies.empty()) throw input_error::about("energy", "no energy given");
     if (request.criteria.empty()) throw input_error::about("criteria", "no criterion given");
     if (o.sample_interval != 0 && request.csv_dir.empty())

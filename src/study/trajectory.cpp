@@ -26,7 +26,8 @@ trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& mod
     trajectory_record<double> out;
     out.energy = model.hamiltonian(q.state);
     check_trajectory_work(model, out.energy, q.time, "time");
-    out.route = "ensemble (" + to_string(q.method) + ", rtol " + to_decimal(q.rtol) + ")";
+    out.route = "ensemble (" + to_string(resolved_method(q.method, q.rtol)) + ", rtol " +
+                to_decimal(q.rtol) + ")";
     // the criteria, arm 1 first; those that cannot flip at this energy are skipped
     struct detected {
         arm flip_arm;

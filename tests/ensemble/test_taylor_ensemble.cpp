@@ -6,6 +6,7 @@
 // (paired); the Lyapunov exponent agrees with DOP853's tangent integration; the tolerance limits.
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include "ensemble_support.hpp"
@@ -265,6 +266,41 @@ TEST(TaylorEnsemble, ToleranceLimits) {
     EXPECT_THROW(validate(o), input_error);
     o.rtol = 3e-16;
     EXPECT_NO_THROW(validate(o));
+    // auto: taylor below 1e-10, dop853 at and above; its rtol limits are the chosen method's
+    EXPECT_EQ(resolved_method(integration_method::automatic, 1e-10), integration_method::dop853);
+    EXPECT_EQ(resolved_method(integration_method::automatic, 9.99e-11), integration_method::taylor);
+    EXPECT_EQ(resolved_method(integration_method::dopri5, 1e-14), integration_method::dopri5);
+    EXPECT_EQ(rtol_problem(eps, "", integration_method::automatic), "");
+    o.method = integration_method::automatic;
+    o.rtol = eps;
+    EXPECT_NO_THROW(validate(o));
+}
+
+// An initial angle of 1000 rad at rtol = eps (a review's finding: reduced by repeated 2 pi steps
+// after the first step, it moved H by ~1e-12, beyond the energy check's allowance, and every
+// retry was refused until the step size underflowed): reduced first, the trajectory finishes;
+// its unwrapped final angle continues the given one, and it is the trajectory of the reduced
+// start (the same state up to the ~1e-13 rounding of 1000 rad) to 1e-6 over T = 10.
+TEST(TaylorEnsemble, LargeInitialAnglesAreReducedFirst) {
+    const double_pendulum<double> m;
+    ensemble_options o;
+    o.energy = 1;
+    o.trajectories = 1;
+    o.time = 10;
+    o.rtol = eps;
+    o.method = integration_method::taylor;
+    o.chaos = false;
+    o.unwrapped_angles = true;
+    const double turns = std::nearbyint(1000 / (2 * std::numbers::pi));
+    const trajectory_result big = simulate_trajectory(m, {1000, 2.5, 0, 1}, o, 0, {});
+    const trajectory_result small =
+        simulate_trajectory(m, {1000 - 2 * std::numbers::pi * turns, 2.5, 0, 1}, o, 0, {});
+    ASSERT_EQ(big.status, rk_status::ok);
+    EXPECT_EQ(big.end_time, 10.0);
+    EXPECT_EQ(big.energy_check_rejections, 0);
+    EXPECT_NEAR(big.final_state[0] - 2 * std::numbers::pi * turns, small.final_state[0], 1e-6);
+    for (int c = 1; c < 4; ++c)
+        EXPECT_NEAR(big.final_state[c], small.final_state[c], 1e-6) << c;
 }
 
 }  // namespace

@@ -723,6 +723,102 @@ TEST_F(CliScale, MpirunGivesTheSameReport) {
     EXPECT_EQ(report(out), *reference_);
 }
 
+// `mpirun -np 2 flipflux run SCENE` against one process with two threads: every file the scene
+// writes is byte-identical except the timing fields (seconds, cpu_seconds, threads, processes
+// and run.json's step clocks); the ensembles include the saddle criterion (its orbit curve built
+// on both ranks) and a Taylor ensemble chosen by `auto`.
+TEST(CliScaleRun, MpirunRunsASceneAsOneProcessDoes) {
+    if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+    const fs::path dir =
+        fs::temp_directory_path() / ("flipflux-mpi-run-" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string body = R"(
+precision = "double"
+[predictions]
+quantities = ["omega", "rate-upright", "rate-saddle"]
+arms = [2]
+energies = [3.5, 5.3]
+[orbits]
+arms = [2]
+energies = { from = 2.1, to = 5.7, step = 0.4 }
+curve_samples = 33
+[[ensemble]]
+name = "arm2"
+arm = 2
+criteria = ["upright", "approx", "saddle"]
+energies = [3.5, 5.3]
+trajectories = 12
+replicates = 3
+time = 100
+seed = 1
+chaos = true
+[[ensemble]]
+name = "tay"
+arm = 1
+criteria = ["upright"]
+energies = [5.3]
+trajectories = 9
+time = 100
+seed = 4
+rtol = "1e-13"
+integrator = "auto"
+)";
+    for (const char* name : {"one", "two"}) {
+        std::ofstream(dir / (std::string(name) + ".toml"))
+            << "[scene]\nname = \"mpi-run\"\noutput = \"" << (dir / name).string() << "\"\n"
+            << body;
+    }
+    const std::string env =
+        "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+        "OMPI_MCA_plm=isolated "
+        "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_rmaps_base_oversubscribe=1 ";
+    const std::string exe = FLIPFLUX_EXE;
+    ASSERT_EQ(std::system((exe + " run " + (dir / "one.toml").string() +
+                           " --threads 2 --no-cache >/dev/null 2>&1")
+                              .c_str()),
+              0);
+    ASSERT_EQ(std::system((env + "mpirun --oversubscribe -np 2 " + exe + " run " +
+                           (dir / "two.toml").string() + " --threads 1 --no-cache >/dev/null 2>&1")
+                              .c_str()),
+              0);
+    auto read_file = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    // timing fields and the two runs' own paths out; the rest compared as text
+    auto strip = [](const fs::path& p) {
+        std::ifstream in(p);
+        std::string line, out;
+        while (std::getline(in, line))
+            if (line.find("seconds\"") == std::string::npos &&
+                line.find("\"threads\"") == std::string::npos &&
+                line.find("\"processes\"") == std::string::npos &&
+                line.find("\"scene_file\"") == std::string::npos &&
+                line.find("\"csv_dir\"") == std::string::npos &&
+                line.find("/one") == std::string::npos)
+                out += line + "\n";
+        return out;
+    };
+    int files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir / "one")) {
+        if (!e.is_regular_file()) continue;
+        const fs::path rel = fs::relative(e.path(), dir / "one");
+        SCOPED_TRACE(rel.string());
+        ASSERT_TRUE(fs::exists(dir / "two" / rel));
+        if (rel.extension() == ".json")
+            EXPECT_EQ(strip(e.path()), strip(dir / "two" / rel));
+        else
+            EXPECT_EQ(read_file(e.path()), read_file(dir / "two" / rel));
+        ++files;
+    }
+    EXPECT_GT(files, 15);
+    const std::string tay = read_file(dir / "two" / "ensemble-tay.json");
+    EXPECT_NE(tay.find("\"method\": \"taylor\""), std::string::npos);
+    EXPECT_NE(tay.find("\"processes\": 2"), std::string::npos);
+    fs::remove_all(dir);
+}
+
 // The short estimator spends the budget on trajectories of --short-time: count and an exact
 // check of the mean rate against the prediction (the invariant ensemble's crossing count is exact
 // for any T).

@@ -36,7 +36,8 @@ std::array<std::string, 2> printed_value(const quantity_value<Real>& v) {
     using std::abs;
     std::string value = to_decimal(v.value);
     const Real rounding = abs(parse_real<Real>(value, "value") - v.value);
-    return {std::move(value), to_decimal(Real(abs(v.error_estimate) + rounding), 3)};
+    // three digits, rounded up (x 1.005 before rounding to nearest): never below the estimate
+    return {std::move(value), to_decimal(Real((abs(v.error_estimate) + rounding) * 1.005), 3)};
 }
 
 /// Evaluates a quantity at energy E for arm a (ignored by quantities that are not per arm) with a

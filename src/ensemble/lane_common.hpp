@@ -1,0 +1,70 @@
+// What the ensemble's two lane kinds (the RK lanes of ensemble.cpp, the Taylor lanes of
+// taylor_ensemble.cpp) do alike after their steps: one home for the angle reduction, the chaos
+// indicator's random tangent vector and its renormalisation, and the detectors' bookkeeping.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/ensemble/random.hpp"
+
+namespace flipflux::detail {
+
+/// The shift by multiples of 2 pi that brings an angle which left [-pi, pi] during one step back.
+/// NOTE: a step moves an angle by far less than 2 pi, so |th| < 4 pi and th -/+ 2 pi is exact
+/// (Sterbenz); the loop handles anything else.
+inline double angle_reduction(double th) {
+    constexpr double pi = std::numbers::pi, two_pi = 2 * std::numbers::pi;
+    double shift = 0;
+    while (th + shift > pi)
+        shift -= two_pi;
+    while (th + shift < -pi)
+        shift += two_pi;
+    return shift;
+}
+
+/// The chaos indicator's initial tangent vector: a random unit vector from trajectory `index`'s
+/// own stream (the same for every integrator).
+inline std::array<double, 4> initial_tangent(const ensemble_options& o, std::uint64_t index) {
+    philox_stream rng(o.seed, o.energy, index, random_purpose::tangent_vector);
+    std::array<double, 4> v{};
+    double norm2 = 0;
+    for (double& x : v) {
+        x = 2 * rng.uniform() - 1;
+        norm2 += x * x;
+    }
+    const double norm = std::sqrt(norm2);
+    for (double& x : v)
+        x /= norm;
+    return v;
+}
+
+/// The power of two by which to rescale a tangent vector of squared norm `norm2` (exactly) when
+/// |v| leaves [2^-400, 2^400], or 0 when it need not be; `log_growth` gains e ln 2.
+inline int tangent_rescaling(double norm2, double& log_growth) {
+    if (!(norm2 > 0x1.0p800 || (norm2 < 0x1.0p-800 && norm2 > 0))) return 0;
+    const int e = std::ilogb(norm2) / 2;
+    log_growth += e * std::numbers::ln2;
+    return e;
+}
+
+/// Runs each detector on the step and records its crossings in r (and, with keep_crossings, the
+/// crossings themselves); `found` is scratch.
+inline void detect(const std::vector<flip_detector_base*>& detectors, const step_view& view,
+                   bool keep_crossings, std::vector<crossing>& found, trajectory_result& r) {
+    for (std::size_t c = 0; c < detectors.size(); ++c) {
+        found.clear();
+        if (detectors[c]->step(view, found) > 0) {
+            for (const crossing& x : found)
+                r.crossing_times[c].push_back(x.time);
+            if (keep_crossings)
+                r.crossings[c].insert(r.crossings[c].end(), found.begin(), found.end());
+        }
+    }
+}
+
+}  // namespace flipflux::detail
