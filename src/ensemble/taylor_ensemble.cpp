@@ -385,8 +385,8 @@ __attribute__((target("avx512f"), flatten)) void jets_avx512(pendulum_jet<v8d, T
     end_of_step(jet, p, in.tol, in.remaining, in.safety, flow, out);
 }
 
-// One thread's jet buffers, one per vector width (the jets of up to 4 groups of 2 lanes: each
-// lane's dense output reads its group's until its step is done).
+// One thread's jet buffers, one per vector width (groups of one width reuse theirs: each
+// lane's steps, and its detectors' reads of the dense output, end before the next group's jets).
 template <bool Tangent>
 struct jet_buffers {
     std::unique_ptr<pendulum_jet<v2d, Tangent>> j2 = std::make_unique<pendulum_jet<v2d, Tangent>>();
