@@ -110,9 +110,6 @@ bool chaos_classification_reliable(const double_pendulum<double>& model, double 
 
 namespace {
 
-constexpr double pi = std::numbers::pi;
-constexpr double two_pi = 2 * std::numbers::pi;
-
 // The most trajectories a thread advances in lockstep (lanes_per_thread: 8 with AVX-512, else 4).
 constexpr std::size_t max_lanes = 8;
 

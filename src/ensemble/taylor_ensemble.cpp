@@ -30,7 +30,6 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2 * std::numbers::pi;
-constexpr int K = ensemble_taylor_max_order + 1;
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
 using detail::angle_reduction;
