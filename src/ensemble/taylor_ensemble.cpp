@@ -87,8 +87,8 @@ struct group_end {
 };
 
 template <class V, bool Tangent>
-[[gnu::always_inline]] inline void end_of_step(const pendulum_jet<V, Tangent>& jet, int p, V tol,
-                                               V remaining, double safety,
+[[gnu::always_inline]] inline void end_of_step(const pendulum_jet<V, Tangent>& jet, int p,
+                                               const V& tol, const V& remaining, double safety,
                                                const pendulum_flow& flow,
                                                group_end<V, Tangent>& out) {
     const V inf = V{} + std::numeric_limits<double>::infinity();
