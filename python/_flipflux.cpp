@@ -5,7 +5,8 @@
 // calling thread polls for Ctrl-C (PyErr_CheckSignals) and raises KeyboardInterrupt: simulate
 // stops its trajectories at the next step (ensemble_options::stop), the other calls (seconds, an
 // mp orbit minutes) are abandoned to finish in the background. Bad input raises ValueError with
-// the command-line tool's one-line message (cli::error_text: "--energy: '...' ...").
+// the library's one-line message naming the Python keyword ("energy: '...' ..."). The module
+// links the library only: no command-line code.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -18,11 +19,12 @@
 #include <memory>
 #include <thread>
 
-#include "../src/cli/common.hpp"
-#include "../src/cli/simulate_request.hpp"
 #include "flipflux/core/version.hpp"
+#include "flipflux/model/model_json.hpp"
+#include "flipflux/model/model_text.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/registry.hpp"
+#include "flipflux/study/settings.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
 #include "flipflux/validation/validate.hpp"
@@ -35,26 +37,9 @@ namespace {
 model_text model_of(const std::map<std::string, std::string>& p) {
     model_text t;
     for (const auto& [key, value] : p) {
-        if (key == "m1")
-            t.m1 = value;
-        else if (key == "m2")
-            t.m2 = value;
-        else if (key == "L1")
-            t.L1 = value;
-        else if (key == "L2")
-            t.L2 = value;
-        else if (key == "a1")
-            t.a1 = value;
-        else if (key == "a2")
-            t.a2 = value;
-        else if (key == "I1")
-            t.I1 = value;
-        else if (key == "I2")
-            t.I2 = value;
-        else if (key == "g")
-            t.g = value;
-        else
-            throw input_error(key + ": not a pendulum parameter");
+        const int i = parameter_index(key);
+        if (i < 0) throw input_error(key + ": not a pendulum parameter");
+        t.*text_members[static_cast<std::size_t>(i)] = value;
     }
     return t;
 }
@@ -107,12 +92,12 @@ py::dict evaluate(const std::string& name, const std::string& energy_text,
         double seconds = 0;
     };
     const out_t o = interruptible([=] {
-        const precision p = parse_precision(precision_text, "--precision");
+        const precision p = parse_precision(precision_text, "precision");
         return dispatch(p, [&]<class Real>() {
             const quantity& q = find_quantity(name);
-            const arm a = cli::parse_arm(arm_text);
+            const arm a = parse_arm(arm_text, "arm");
             const double_pendulum<Real> model = make_model<Real>(model_of(parameters));
-            const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
+            const energy_level<Real> level = parse_energy_level<Real>(energy_text, "energy");
             const Real& energy = level.value;
             const auto start = std::chrono::steady_clock::now();
             const quantity_value<Real> v = q.evaluate(model, a, level, method);
@@ -152,22 +137,22 @@ py::dict saddle_orbit_text(const std::string& energy_text, const std::string& ar
                            const std::string& method_text,
                            const std::map<std::string, std::string>& parameters) {
     if (samples < 2 || samples > 10000000)
-        throw input_error("--samples: '" + std::to_string(samples) +
+        throw input_error("samples: '" + std::to_string(samples) +
                           "' is not an integer in [2, 10000000]");
     const orbit_text o = interruptible([=] {
-        const precision p = parse_precision(precision_text, "--precision");
+        const precision p = parse_precision(precision_text, "precision");
         return dispatch(p, [&]<class Real>() {
-            const arm a = cli::parse_arm(arm_text);
+            const arm a = parse_arm(arm_text, "arm");
             const double_pendulum<Real> model = make_model<Real>(model_of(parameters));
-            const energy_level<Real> level = parse_energy_level<Real>(energy_text, "--energy");
+            const energy_level<Real> level = parse_energy_level<Real>(energy_text, "energy");
             const Real& energy = level.value;
             orbit_options<Real> options;
             // "periodic", or qualified by the integrator: "symmetric/gauss-legendre"
             const std::size_t slash = method_text.find('/');
-            options.method = parse_name<orbit_method>(method_text.substr(0, slash), "--method");
+            options.method = parse_name<orbit_method>(method_text.substr(0, slash), "method");
             if (slash != std::string::npos)
                 options.integrator =
-                    parse_name<orbit_integrator>(method_text.substr(slash + 1), "--integrator");
+                    parse_name<orbit_integrator>(method_text.substr(slash + 1), "method");
             check_orbit_energy(model, a, level);
             const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
             if (orbit.status == orbit_status::not_converged)
@@ -213,23 +198,13 @@ py::dict saddle_orbit_text(const std::string& energy_text, const std::string& ar
 std::string simulate_json(const std::map<std::string, std::string>& a,
                           const std::map<std::string, std::string>& parameters,
                           const std::string& csv_dir) {
-    cli::simulate_state s;  // the command's options, checked by the command's own code
-    s.energy = a.at("energy");
-    s.arm_text = a.at("arm");
-    s.criteria = a.at("criteria");
-    s.trajectories = a.at("trajectories");
-    s.time = a.at("time");
-    s.seed = a.at("seed");
-    s.rtol = a.at("rtol");
-    s.method = a.at("method");
-    s.threads = a.at("threads");
-    s.no_chaos = a.at("chaos") != "1";
-    s.chaos_threshold = a.at("chaos_threshold");
-    s.replicates = a.at("replicates");
-    s.csv_dir = csv_dir;
-    s.model = model_of(parameters);
-    const double_pendulum<double> model = make_model<double>(s.model);
-    simulation_request q = cli::make_request(s);
+    // the library's one builder of run settings (study/settings.hpp), errors naming keywords
+    settings_text given;
+    for (const auto& [key, value] : a)
+        if (!value.empty()) given[key] = value;  // empty: not given, the table's default
+    const double_pendulum<double> model = make_model<double>(model_of(parameters));
+    simulation_request q = make_simulation_request(given, settings_surface::python);
+    q.csv_dir = csv_dir;
     auto stop = std::make_shared<std::atomic<int>>(0);
     q.options.stop = stop.get();
     const study_result r = interruptible(
@@ -239,14 +214,14 @@ std::string simulate_json(const std::map<std::string, std::string>& a,
         },
         stop.get());
     nlohmann::ordered_json j = study_json(r);
-    j["model"] = cli::parameters_json(model);
+    j["model"] = model_parameters_json(model);
     return j.dump();
 }
 
 py::dict validate_file(const std::string& candidate, const std::string& golden, double rtol,
                        bool allow_missing) {
     if (!(rtol > 0 && rtol < 1))
-        throw input_error("--rtol: '" + std::to_string(rtol) + "' must be in (0, 1)");
+        throw input_error("rtol: '" + std::to_string(rtol) + "' must be in (0, 1)");
     const validation_report r = validate_candidate(candidate, golden, rtol, allow_missing);
     py::list rows;
     for (const validation_entry& e : r.entries) {
@@ -279,7 +254,7 @@ PYBIND11_MODULE(_flipflux, m) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const input_error& e) {
-            PyErr_SetString(PyExc_ValueError, cli::error_text(e).c_str());
+            PyErr_SetString(PyExc_ValueError, e.what());  // "keyword: ..."
         }
     });
     m.def("version", [] { return std::string(version_string()) + " (git " + git_commit() + ")"; });
@@ -287,6 +262,20 @@ PYBIND11_MODULE(_flipflux, m) {
         std::vector<std::tuple<std::string, std::string, std::vector<std::string>, bool>> out;
         for (const quantity& q : quantities())
             out.emplace_back(q.name, q.description, q.methods, q.per_arm);
+        return out;
+    });
+    m.def("parameter_fields", [] {  // (name, default text): the C++ table Pendulum mirrors
+        std::vector<std::pair<std::string, std::string>> out;
+        for (const parameter_field& f : parameter_fields)
+            out.emplace_back(std::string(f.name), std::string(f.default_text));
+        return out;
+    });
+    m.def("run_settings", [] {  // (keyword, default): the settings table's Python side
+        std::vector<std::pair<std::string, std::string>> out;
+        for (const run_setting& r : run_settings())
+            if (!r.keyword.empty())
+                out.emplace_back(std::string(r.keyword),
+                                 setting_default(r, settings_surface::python));
         return out;
     });
     m.def("evaluate", &evaluate);

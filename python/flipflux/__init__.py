@@ -88,7 +88,7 @@ class Pendulum:
 
     def __init__(self, m1=1, m2=1, L1=1, L2=1, a1=None, a2=None, I1=0, I2=0, g=1):
         given = dict(m1=m1, m2=m2, L1=L1, L2=L2, a1=a1, a2=a2, I1=I1, I2=I2, g=g)
-        self.parameters = {k: _text(v, "--" + k) for k, v in given.items() if v is not None}
+        self.parameters = {k: _text(v, k) for k, v in given.items() if v is not None}
 
     def __repr__(self):
         return "Pendulum(" + ", ".join(f"{k}={v!r}" for k, v in self.parameters.items()) + ")"
@@ -144,7 +144,7 @@ def evaluate(quantity, energy, arm=2, precision="double", method=None, pendulum=
     """One quantity ("omega", "flux-upright", "rate-saddle", "period", ... see quantities()) at
     energy E for the given arm, in precision "double", "quad" or "mp:N" -- `flipflux eval`.
     Returns a Value (value and error estimate: float at double, mpmath.mpf otherwise)."""
-    r = _flipflux.evaluate(quantity, _text(energy, "--energy"), _text(arm, "--arm"), precision,
+    r = _flipflux.evaluate(quantity, _text(energy, "energy"), _text(arm, "arm"), precision,
                            method or "", _parameters(pendulum))
     return Value(_number(r["value"], r["precision"]), _number(r["error_estimate"], r["precision"]),
                  r["value"], r["error_estimate"], r["method"], r["precision"], r["seconds"])
@@ -159,7 +159,7 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
     `method` may name the integrator after a slash: "periodic/gauss-legendre", "symmetric/taylor"
     (default: Gauss-Legendre at double, Taylor series above; the same for evaluate()'s orbit
     quantities)."""
-    r = _flipflux.saddle_orbit(_text(energy, "--energy"), _text(arm, "--arm"), precision, int(samples),
+    r = _flipflux.saddle_orbit(_text(energy, "energy"), _text(arm, "arm"), precision, int(samples),
                                method, _parameters(pendulum))
     p = r["precision"]
     out = {"precision": p, "energy": r["energy"], "status": r["status"]}
@@ -172,26 +172,30 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
     return out
 
 
-def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle", seed=0,
-             rtol=1e-10, method="auto", threads=0, chaos=True, chaos_threshold=0.05,
-             pendulum=None, replicates=1):
+def simulate(energy, trajectories, time, arm=None, criteria=None, seed=None, rtol=None,
+             method=None, threads=None, chaos=None, chaos_threshold=None, pendulum=None,
+             replicates=None):
     """A Monte Carlo study -- `flipflux simulate` (at double). energy: one value, a list, or a
     "FROM:TO:STEP" string. Returns (report, trajectories): the study's JSON report as a dict (what
     the command-line tool prints; with replicates R > 1, `trajectories` each, every statistic
     also with its spread over the replicates) and, per energy label, the per-trajectory results as NumPy
     structured arrays (the columns of the --csv-dir trajectory files). Ctrl-C stops it."""
     if isinstance(energy, (list, tuple)):
-        energy = ",".join(_text(e, "--energy") for e in energy)
+        energy = ",".join(_text(e, "energy") for e in energy)
     else:
-        energy = _text(energy, "--energy")
+        energy = _text(energy, "energy")
     if isinstance(criteria, (list, tuple)):
         criteria = ",".join(criteria)
-    args = {"energy": energy, "trajectories": _text(trajectories, "--trajectories"),
-            "time": _text(time, "--time"), "arm": _text(arm, "--arm"), "criteria": criteria,
-            "seed": _text(seed, "--seed"), "rtol": _text(rtol, "--rtol"), "method": method,
-            "threads": _text(threads, "--threads"), "chaos": "1" if chaos else "0",
-            "chaos_threshold": _text(chaos_threshold, "--chaos-threshold"),
-            "replicates": _text(replicates, "--replicates")}
+    given = {"trajectories": trajectories, "time": time, "arm": arm, "seed": seed, "rtol": rtol,
+             "threads": threads, "chaos_threshold": chaos_threshold, "replicates": replicates}
+    args = {k: _text(v, k) for k, v in given.items() if v is not None}
+    args["energy"] = energy
+    if criteria is not None:
+        args["criteria"] = criteria
+    if method is not None:
+        args["method"] = method
+    if chaos is not None:
+        args["chaos"] = "true" if chaos else "false"
     with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
         report = _json.loads(_flipflux.simulate_json(args, _parameters(pendulum), tmp))
         per_trajectory = {}
@@ -200,6 +204,11 @@ def simulate(energy, trajectories, time, arm=2, criteria="upright,approx,saddle"
             per_trajectory[name] = _read_table(path)
     return report, per_trajectory
 
+
+
+simulate.__doc__ += (
+    "\n\n    Settings left None take the library's defaults (its one settings table): " +
+    ", ".join(f"{k}={v}" for k, v in _flipflux.run_settings() if v) + ".")
 
 def _read_table(path):
     """A --csv-dir table as a NumPy structured array. A column empty in every row (lyapunov

@@ -120,10 +120,10 @@ std::atomic<std::size_t> proofs_done{0};
 certified_detail::orbit_proof saddle_orbit_proof(const model_text& model, arm a,
                                                  const std::string& energy, bool monodromy,
                                                  slong prec) {
-    const std::string key = model.m1 + "," + model.m2 + "," + model.L1 + "," + model.L2 + "," +
-                            model.a1 + "," + model.a2 + "," + model.I1 + "," + model.I2 + "," +
-                            model.g + "|" + to_string(a) + "|" + energy + "|" +
-                            std::to_string(prec);
+    std::string key;
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        key += resolved_text(model, i) + ",";
+    key += "|" + to_string(a) + "|" + energy + "|" + std::to_string(prec);
     // the claim is given back however this ends: the proof kept below, or an exception
     std::optional<key_claims::claim> claim;
     if (!proof_memo_bypassed) {

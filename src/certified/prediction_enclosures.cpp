@@ -591,16 +591,11 @@ pendulum_balls pendulum_from_text(const model_text& t, slong prec) {
             throw input_error::about(name, "'" + text + "' is outside its domain (" +
                                                (zero_ok ? "needs >= 0" : "needs > 0") + ")");
     };
-    arb_ball m1, m2, L1, L2, a1, a2, I1, I2, g;
-    parse(m1, t.m1, "m1", false);
-    parse(m2, t.m2, "m2", false);
-    parse(L1, t.L1, "L1", false);
-    parse(L2, t.L2, "L2", false);
-    parse(a1, t.a1.empty() ? t.L1 : t.a1, "a1", false);
-    parse(a2, t.a2.empty() ? t.L2 : t.a2, "a2", false);
-    parse(I1, t.I1, "I1", true);
-    parse(I2, t.I2, "I2", true);
-    parse(g, t.g, "g", false);
+    std::array<arb_ball, parameter_count> balls;
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        parse(balls[i], resolved_text(t, i), std::string(parameter_fields[i].name).c_str(),
+              parameter_fields[i].domain == parameter_domain::nonnegative);
+    auto& [m1, m2, L1, L2, a1, a2, I1, I2, g] = balls;
     pendulum_balls p;
     arb_ball J1, J2, u;
     arb_sqr(J1.x, a1.x, prec);  // J1 = I1 + m1 a1^2, J2 = I2 + m2 a2^2

@@ -2,6 +2,8 @@
 // subcommand registry, printing, and the mapping of the library's input fields to option names.
 #include "common.hpp"
 
+#include "flipflux/study/settings.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -14,21 +16,19 @@ namespace flipflux::cli {
 
 void add_model_options(CLI::App& app, model_options& o) {
     auto* g = "Model (decimal numbers, parsed in the working precision)";
-    app.add_option("--m1", o.m1, "mass of link 1 (> 0)")->group(g)->capture_default_str();
-    app.add_option("--m2", o.m2, "mass of link 2 (> 0)")->group(g)->capture_default_str();
-    app.add_option("--L1", o.L1, "pivot-to-joint length of link 1 (> 0)")
-        ->group(g)
-        ->capture_default_str();
-    app.add_option("--L2", o.L2, "length of link 2 (> 0)")->group(g)->capture_default_str();
-    app.add_option("--a1", o.a1, "pivot to link 1's centre of mass (> 0) [default: L1]")->group(g);
-    app.add_option("--a2", o.a2, "joint to link 2's centre of mass (> 0) [default: L2]")->group(g);
-    app.add_option("--I1", o.I1, "link 1's moment of inertia about its centre of mass (>= 0)")
-        ->group(g)
-        ->capture_default_str();
-    app.add_option("--I2", o.I2, "link 2's moment of inertia about its centre of mass (>= 0)")
-        ->group(g)
-        ->capture_default_str();
-    app.add_option("--g", o.g, "gravitational acceleration (> 0)")->group(g)->capture_default_str();
+    for (std::size_t i = 0; i < parameter_count; ++i) {
+        const parameter_field& f = parameter_fields[i];
+        const std::string help =
+            std::string(f.help) +
+            (f.defaults_to >= 0
+                 ? " [default: " +
+                       std::string(parameter_fields[static_cast<std::size_t>(f.defaults_to)].name) +
+                       "]"
+                 : "");
+        auto* option =
+            app.add_option("--" + std::string(f.name), o.*text_members[i], help)->group(g);
+        if (f.defaults_to < 0) option->capture_default_str();
+    }
 }
 
 void add_precision_option(CLI::App& app, precision_option& o) {
@@ -163,9 +163,7 @@ void print(const std::string& text) {
 namespace flipflux::cli {
 
 arm parse_arm(const std::string& text, std::string_view option) {
-    if (text == "1") return arm::one;
-    if (text == "2") return arm::two;
-    throw input_error(std::string(option) + ": '" + text + "' is not an arm (expected 1 or 2)");
+    return flipflux::parse_arm(text, std::string(option));
 }
 
 namespace {

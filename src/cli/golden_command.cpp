@@ -42,13 +42,9 @@ std::string read_text(const std::string& path, const std::string& option) {
 /// The model options as the command line gives them back (for the provenance's command).
 std::string model_flags(const model_options& m) {
     std::string out;
-    const model_options d;
-    const auto flag = [&out](const char* name, const std::string& v, const std::string& def) {
-        if (v != def) out += std::string(" --") + name + " " + v;
-    };
-    flag("m1", m.m1, d.m1), flag("m2", m.m2, d.m2), flag("L1", m.L1, d.L1);
-    flag("L2", m.L2, d.L2), flag("a1", m.a1, d.a1), flag("a2", m.a2, d.a2);
-    flag("I1", m.I1, d.I1), flag("I2", m.I2, d.I2), flag("g", m.g, d.g);
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        if (m.*text_members[i] != parameter_fields[i].default_text)
+            out += " --" + std::string(parameter_fields[i].name) + " " + m.*text_members[i];
     return out;
 }
 

@@ -343,7 +343,7 @@ const register_command registration([](CLI::App& app) {
                     "theta2, l1, l2, every digit) for another simulator to integrate: the paired "
                     "check (validate --ensemble --paired, docs/validating.md)");
     sub->add_option("--criteria", s->criteria,
-                    "comma-separated flip criteria: upright, approx, saddle")
+                    "comma-separated flip criteria: " + criterion_name_list())
         ->capture_default_str();
     sub->add_option("--replicates", s->replicates,
                     "independent replicates of --trajectories each (trajectories in index "

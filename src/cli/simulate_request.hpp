@@ -7,30 +7,35 @@
 #include <string>
 
 #include "common.hpp"
+#include "flipflux/study/criteria.hpp"
+#include "flipflux/study/settings.hpp"
 #include "flipflux/study/simulation.hpp"
 
 namespace flipflux::cli {
 
-/// The options of `flipflux simulate` as given (decimal text).
+/// A setting's default on the command line (study/settings.hpp's table).
+inline std::string cli_default(std::string_view field) {
+    return setting_default(run_setting_named(field), settings_surface::command_line);
+}
+
+/// The options of `flipflux simulate` as given (decimal text); defaults from the settings table.
 struct simulate_state {
     std::string energy,
-        arm_text = "2", criteria = "upright,approx,saddle", trajectories, time, seed = "0",
-        rtol = "1e-10", threads = "0", csv_dir, method = "auto", chaos_threshold = "0.05",
-        first_index = "0", bins = "0", sample_interval = "0", checkpoint, checkpoint_interval = "2",
-        estimator = "long", short_time = "20", reference_time = "0", replicates = "1",
+        arm_text = cli_default("arm"), criteria = cli_default("criteria"), trajectories, time,
+        seed = cli_default("seed"), rtol = cli_default("rtol"), threads = cli_default("threads"),
+        csv_dir, method = cli_default("method"), chaos_threshold = cli_default("chaos_threshold"),
+        first_index = cli_default("first_index"), bins = cli_default("bins"),
+        sample_interval = cli_default("sample_interval"), checkpoint,
+        checkpoint_interval = cli_default("checkpoint_interval"),
+        estimator = cli_default("estimator"), short_time = cli_default("short_time"),
+        reference_time = cli_default("reference_time"), replicates = cli_default("replicates"),
         initial_states, write_initial_states;
     bool no_chaos = false, progress = false, no_timing = false;
     model_options model;
 };
 
-/// A non-negative (positive) integer; throws input_error naming `option` otherwise.
-std::uint64_t parse_unsigned(const std::string& text, const std::string& option, bool positive);
-
-/// A number > 0; throws input_error naming `option` otherwise.
-double parse_positive(const std::string& text, const std::string& option);
-
-/// The request the options describe (options.stop and group unset); throws input_error naming
-/// the offending option.
+/// The request the options describe (options.stop and group unset): study/settings.hpp's
+/// builder; throws input_error naming the offending option.
 simulation_request make_request(const simulate_state& s);
 
 }  // namespace flipflux::cli

@@ -12,6 +12,7 @@
 
 #include "common.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/study/criteria.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/trajectory.hpp"
 #include "flipflux/study/trajectory_files.hpp"
@@ -20,7 +21,7 @@ namespace flipflux::cli {
 namespace {
 
 struct trajectory_state {
-    std::string state, time, criteria = "upright,approx,saddle", arms = "both", events, out,
+    std::string state, time, criteria = criterion_name_list(","), arms = "both", events, out,
                              sample_interval = "0", rtol = "1e-12", method = "dop853",
                              route = "default";
     model_options model;
@@ -117,7 +118,7 @@ const register_command registration([](CLI::App& app) {
         ->required();
     sub->add_option("--time", s->time, "integration time T (> 0)")->required();
     sub->add_option("--criteria", s->criteria,
-                    "comma-separated flip criteria: upright, approx, saddle")
+                    "comma-separated flip criteria: " + criterion_name_list())
         ->capture_default_str();
     sub->add_option("--arm", s->arms, "the arm whose flips are detected: 1, 2 or both")
         ->capture_default_str();

@@ -218,9 +218,9 @@ const register_command registration([](CLI::App& app) {
                     "those the candidate reports]");
     add_model_options(*sub, s->model);
     sub->callback([s, sub] {
-        for (const char* o :
-             {"--m1", "--m2", "--L1", "--L2", "--a1", "--a2", "--I1", "--I2", "--g"})
-            s->model_given = s->model_given || sub->get_option(o)->count() > 0;
+        for (const parameter_field& f : parameter_fields)
+            s->model_given =
+                s->model_given || sub->get_option("--" + std::string(f.name))->count() > 0;
         const int modes = !s->candidate.empty() + !s->ensemble.empty() + !s->trajectories.empty();
         if (modes != 1)
             throw input_error(

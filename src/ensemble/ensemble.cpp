@@ -253,7 +253,7 @@ class lane {
     static rk_options rk_opts(const ensemble_options& o) {
         rk_options ro;
         ro.rtol = o.rtol;
-        ro.atol = o.atol > 0 ? o.atol : o.rtol;
+        ro.atol = effective_atol(o);
         ro.controlled_components = 4;
         return ro;
     }
@@ -730,7 +730,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     result.energy = o.energy;
     result.time = o.time;
     result.rtol = o.rtol;
-    result.atol = o.atol > 0 ? o.atol : o.rtol;
+    result.atol = effective_atol(o);
     result.chaos_threshold = o.chaos_threshold;
     result.seed = o.seed;
     result.first_index = o.first_index;

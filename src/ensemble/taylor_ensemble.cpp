@@ -163,7 +163,7 @@ class taylor_lane final : public step_interpolant {
             v_ = initial_tangent(o, index);  // the RK lanes' (the trajectory's own stream)
         }
         rtol_ = o.rtol;
-        atol_ = o.atol > 0 ? o.atol : o.rtol;
+        atol_ = effective_atol(o);
         safety_ = std::exp(-0.7 / (p_ - 1));
         const std::array<double, 4> f = flow_(0.0, x_);
         for (flip_detector_base* d : detectors_)

@@ -242,8 +242,8 @@ saddle_orbit<Real> orbit_from_json(const std::string& text, const std::string& w
         saddle_orbit<Real> o;
         auto r = [&](const char* key) { return real_of<Real>(j.at(key), where + ": " + key); };
         const std::string a = j.at("arm").get<std::string>();
-        if (a != "1" && a != "2") throw input_error(where + ": arm '" + a + "' is not 1 or 2");
-        o.flip_arm = a == "1" ? arm::one : arm::two;
+        if (!arm_named(a)) throw input_error(where + ": arm '" + a + "' is not 1 or 2");
+        o.flip_arm = *arm_named(a);
         o.energy = r("energy");
         o.excess = r("excess");
         o.beta = r("beta");

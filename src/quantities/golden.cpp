@@ -128,7 +128,7 @@ golden_outcome certify(const golden_task& t, const evaluation& high,
 /// value. `aim`: the digits asked of the proof (at least the row's).
 void prove_row(golden_row& row, const model_text& model, int aim) {
     if (!has_certified_enclosure(row.quantity)) return;
-    const arm a = row.arm == "1" ? arm::one : arm::two;
+    const arm a = parse_name<arm>(row.arm, "arm");
     const certified_enclosure e =
         certified_value(row.quantity, model, a, row.energy, std::max({row.digits, aim, 1}));
     const std::string slack = dispatch(mp_precision(row.digits + 10), [&]<class Real>() {
@@ -478,15 +478,9 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
         "promote_double<false> (BOOST_MATH_PROMOTE_DOUBLE_POLICY=false), default error policies "
         "(domain and evaluation errors throw)";
     j["pendulum"] = pendulum;
-    j["parameters"] = {{"m1", model.m1},
-                       {"m2", model.m2},
-                       {"L1", model.L1},
-                       {"L2", model.L2},
-                       {"a1", model.a1.empty() ? model.L1 : model.a1},
-                       {"a2", model.a2.empty() ? model.L2 : model.a2},
-                       {"I1", model.I1},
-                       {"I2", model.I2},
-                       {"g", model.g}};
+    j["parameters"] = decltype(j)::object();
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        j["parameters"][std::string(parameter_fields[i].name)] = resolved_text(model, i);
     // in mp:50, rounded to 40 digits: products and sums of the decimal parameters, so exact
     // decimals (2.2, not double's 2.2000000000000002)
     j["critical_energies"] = dispatch(mp_precision(50), [&]<class Real>() {
@@ -553,16 +547,6 @@ void check_golden_merge(const std::string& provenance_text, const precision& val
     if (values.substr(0, values.find(' ')) != hi)
         throw input_error("golden --merge: the set's values are in '" +
                           values.substr(0, values.find(' ')) + "', this run's in '" + hi + "'");
-    const std::pair<const char*, std::string> parameters[] = {
-        {"m1", model.m1},
-        {"m2", model.m2},
-        {"L1", model.L1},
-        {"L2", model.L2},
-        {"a1", model.a1.empty() ? model.L1 : model.a1},
-        {"a2", model.a2.empty() ? model.L2 : model.a2},
-        {"I1", model.I1},
-        {"I2", model.I2},
-        {"g", model.g}};
     if (!earlier.contains("parameters")) {  // a set written before parameters were recorded
         const bool paper = earlier.contains("model") && earlier["model"].is_string() &&
                            earlier["model"].get<std::string>().rfind("egalitarian", 0) == 0;
@@ -571,8 +555,10 @@ void check_golden_merge(const std::string& provenance_text, const precision& val
                               ? "golden --merge: the set is the paper's pendulum, this run's is not"
                               : "golden provenance: no \"parameters\"");
     }
-    for (const auto& [name, value] : parameters) {
-        const std::string theirs = text_at("parameters", name);
+    for (std::size_t i = 0; i < parameter_count; ++i) {
+        const std::string name(parameter_fields[i].name);
+        const std::string& value = resolved_text(model, i);
+        const std::string theirs = text_at("parameters", name.c_str());
         if (theirs != value)
             throw input_error(std::string("golden --merge: the set's ") + name + " is '" + theirs +
                               "', this run's '" + value + "'");

@@ -260,11 +260,8 @@ class table_reader {
 };
 
 void read_model(table_reader& r, model_spec& m) {
-    auto set = [&](const char* key, std::string& field) {
-        if (auto v = r.number(key)) field = *v;
-    };
-    set("m1", m.m1), set("m2", m.m2), set("L1", m.L1), set("L2", m.L2), set("a1", m.a1);
-    set("a2", m.a2), set("I1", m.I1), set("I2", m.I2), set("g", m.g);
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        if (auto v = r.number(std::string(parameter_fields[i].name))) m.*text_members[i] = *v;
     r.finish();
 }
 

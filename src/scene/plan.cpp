@@ -21,6 +21,7 @@
 #include "flipflux/quantities/registry.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/study/saddle_viewer.hpp"
+#include "flipflux/study/settings.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/trajectory.hpp"
 
@@ -49,10 +50,6 @@ struct energy_entry {
     double value;
     std::string text;
 };
-
-arm arm_of_number(int a) {
-    return a == 1 ? arm::one : arm::two;
-}
 
 std::vector<energy_entry> expand(const energy_grid& g, const std::string& where) {
     std::vector<energy_entry> out;
@@ -129,7 +126,7 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
     const ensemble_spec& x = s.ensembles[i];
     const std::string key = "ensemble[" + std::to_string(i) + "]";
     check_distinct(x.energies, precision{real_kind::double_}, s, x.line, key + ".energies");
-    const arm a = x.arm == 1 ? arm::one : arm::two;
+    const arm a = arm_of(x.arm);
     for (const std::string& text : energy_texts(x.energies, key + ".energies")) {
         const double e = parse_real<double>(text, key + ".energies");
         if (!(e > 0)) fail(s, x.line, key + ".energies", "E = " + text + " must be > 0");
@@ -191,7 +188,7 @@ void check_trajectory(const scene& s, std::size_t i, const double_pendulum<doubl
     q.rtol = parse_real<double>(t.rtol, key + ".rtol");
     q.criteria = t.criteria;
     for (int a : t.arms)
-        q.arms.push_back(a == 1 ? arm::one : arm::two);
+        q.arms.push_back(arm_of(a));
     try {
         check_trajectory_request(q);
     } catch (const input_error& err) {
@@ -426,7 +423,7 @@ std::vector<energy_entry> viewer_energies(const scene& s, const double_pendulum<
                                           int a) {
     std::vector<energy_entry> out;
     for (const std::string& text :
-         viewer_energy_texts(model, arm_of_number(a), s.viewer->energies_per_arm))
+         viewer_energy_texts(model, arm_of(a), s.viewer->energies_per_arm))
         out.push_back({parse_real<double>(text, "viewer"), text});
     return out;
 }
@@ -448,20 +445,25 @@ plan_step viewer_step(const scene& s, const double_pendulum<double>& model) {
 /// Whether two ensembles integrate the same trajectories (then one run serves both; the chaos
 /// threshold only classifies them).
 bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b) {
-    const auto same = [](const std::string& x, const std::string& y) {
-        try {
-            return parse_real<double>(x, "") == parse_real<double>(y, "");
-        } catch (const input_error&) {
-            return x == y;  // refused when the ensemble runs, naming its key
-        }
-    };
-    return a.trajectories == b.trajectories && a.replicates == b.replicates &&
-           same(a.time, b.time) && a.seed == b.seed && same(a.rtol, b.rtol) &&
-           same(a.atol, b.atol) && a.integrator == b.integrator && a.estimator == b.estimator &&
-           a.chaos == b.chaos;
+    return trajectory_key_of(ensemble_settings(a)) == trajectory_key_of(ensemble_settings(b));
 }
 
 }  // namespace
+
+simulation_request ensemble_settings(const ensemble_spec& x) {
+    const settings_text t{{"trajectories", std::to_string(x.trajectories)},
+                          {"replicates", std::to_string(x.replicates)},
+                          {"time", x.time},
+                          {"seed", std::to_string(x.seed)},
+                          {"rtol", x.rtol},
+                          {"atol", x.atol},
+                          {"method", x.integrator},
+                          {"chaos", x.chaos ? "true" : "false"},
+                          {"chaos_threshold", x.chaos_threshold},
+                          {"estimator", x.estimator},
+                          {"reference_time", x.reference_time}};
+    return make_simulation_request(t, settings_surface::scene);
+}
 
 plan make_plan(const scene& s) {
     plan p;
@@ -471,7 +473,7 @@ plan make_plan(const scene& s) {
     std::map<std::pair<int, precision>, std::map<double, std::string>> family;
     auto want_orbits = [&](int arm_number, const std::vector<energy_entry>& energies,
                            precision prec) {
-        const arm a = arm_number == 1 ? arm::one : arm::two;
+        const arm a = arm_of(arm_number);
         for (const auto& e : energies)  // the family's open range, from the exact decimals
             if (const energy_level<double> level = parse_energy_level<double>(e.text, "energy");
                 level.above(model.saddle_level(a)) > 0 && level.below(model.maximum_level()) > 0)
@@ -506,7 +508,8 @@ plan make_plan(const scene& s) {
         const auto& x = s.ensembles[i];
         ensemble_energies.push_back(
             expand(x.energies, "ensemble[" + std::to_string(i) + "].energies"));
-        if (std::find(x.criteria.begin(), x.criteria.end(), "saddle") != x.criteria.end()) {
+        if (std::any_of(x.criteria.begin(), x.criteria.end(),
+                        [](const std::string& c) { return criterion(c).needs_saddle_orbit; })) {
             want_orbits(x.arm, ensemble_energies.back(), precision{real_kind::double_});
         }
     }

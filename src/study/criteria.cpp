@@ -1,39 +1,144 @@
-// Flip criteria by name (include/flipflux/study/criteria.hpp).
+// The flip criteria's registry and the paper's three criteria
+// (include/flipflux/study/criteria.hpp).
 #include "flipflux/study/criteria.hpp"
 
 #include <cctype>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "flipflux/core/decimal.hpp"
-#include "flipflux/core/error.hpp"
-#include "flipflux/ensemble/pendulum_flow.hpp"
-#include "flipflux/model/dividing_curve.hpp"
+#include "flipflux/core/names.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 
 namespace flipflux {
+namespace {
 
-const std::vector<std::string>& criterion_names() {
-    static const std::vector<std::string> names{"upright", "approx", "saddle"};
+/// The upright arm: f = pi.
+struct make_upright {
+    template <class Real>
+    upright_curve<Real> operator()(const double_pendulum<Real>&, arm a, const Real&) const {
+        return upright_curve<Real>{a};
+    }
+};
+
+/// The approximate saddle curve: a sine with the centre mode's slope.
+struct make_approx {
+    template <class Real>
+    auto operator()(const double_pendulum<Real>& model, arm a, const Real&) const {
+        return approximate_saddle_curve(model, a);
+    }
+};
+
+/// The saddle orbit's configuration curve at this energy (orbits/: continuation from the centre
+/// mode, refined at Real), a Chebyshev interpolant on the turning-point interval (a restricted
+/// domain: crossings beyond the turning points do not count).
+struct make_saddle {
+    template <class Real>
+    saddle_curve<Real> operator()(const double_pendulum<Real>& model, arm a,
+                                  const Real& energy) const {
+        try {
+            check_orbit_energy(model, a, energy);
+        } catch (const input_error& e) {
+            throw criterion_unavailable(e);
+        }
+        const saddle_orbit<Real> orbit = find_or_solve_saddle_orbit<Real>(model, a, energy);
+        if (orbit.status == orbit_status::not_converged)
+            throw_not_converged(model, a, energy, orbit.double_stage,
+                                "saddle criterion: saddle orbit");
+        return make_saddle_curve<Real>(model, orbit);
+    }
+};
+
+std::deque<criterion_definition> builtin_criteria() {
+    std::deque<criterion_definition> out;
+    out.push_back(
+        define_criterion<make_upright>({.name = "upright",
+                                        .help = "the flip angle equals pi (the upright arm)",
+                                        .rate_quantity = "rate-upright",
+                                        .is_level = true}));
+    out.push_back(define_criterion<make_approx>(
+        {.name = "approx",
+         .help = "the approximate saddle curve: a sine with the centre mode's slope",
+         .rate_quantity = "rate-approx"}));
+    out.push_back(define_criterion<make_saddle>(
+        {.name = "saddle",
+         .help = "the saddle orbit's configuration curve at the energy",
+         .rate_quantity = "rate-saddle",
+         .needs_saddle_orbit = true,
+         .is_reference = true}));
+    return out;
+}
+
+std::deque<criterion_definition>& registry() {
+    static std::deque<criterion_definition> r = builtin_criteria();
+    return r;
+}
+
+const criterion_definition* find(const std::string& name) {
+    for (const criterion_definition& c : registry())
+        if (c.name == name) return &c;
+    return nullptr;
+}
+
+}  // namespace
+
+const std::deque<criterion_definition>& criteria_registry() {
+    return registry();
+}
+
+const criterion_definition& register_criterion(criterion_definition definition) {
+    if (!is_plain_name(definition.name) || find(definition.name))
+        throw std::logic_error("register_criterion: the name '" + definition.name +
+                               "' is taken or not a plain name");
+    return registry().emplace_back(std::move(definition));
+}
+
+const criterion_definition& criterion(const std::string& name, const std::string& field) {
+    if (const criterion_definition* c = find(name)) return *c;
+    throw input_error::about(field,
+                             "'" + name + "' is not a criterion (" + criterion_name_list() + ")");
+}
+
+std::vector<std::string> criterion_names() {
+    std::vector<std::string> names;
+    for (const criterion_definition& c : registry())
+        names.push_back(c.name);
     return names;
+}
+
+std::string criterion_name_list(const std::string& separator) {
+    std::string out;
+    for (const criterion_definition& c : registry())
+        out += (out.empty() ? "" : separator) + c.name;
+    return out;
+}
+
+std::string criterion_alternatives() {
+    const std::vector<std::string> names = criterion_names();
+    std::string out;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return out;
+}
+
+const std::string& default_criterion() {
+    return registry().front().name;
 }
 
 std::optional<std::string> criterion_named(const std::string& text) {
     std::string lower = text;
     for (char& c : lower)
         c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    for (const std::string& n : criterion_names())
-        if (n == lower) return n;
+    if (const criterion_definition* c = find(lower)) return c->name;
     return std::nullopt;
 }
 
 void check_criterion_name(const std::string& name, const std::string& option) {
-    for (const std::string& n : criterion_names())
-        if (n == name) return;
-    throw input_error::about(option, "'" + name + "' is not a criterion (upright, approx, saddle)");
+    (void)criterion(name, option);
 }
 
 double criterion_threshold(const double_pendulum<double>& model, arm a, const std::string& name) {
@@ -49,41 +154,16 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
             "energy", "'" + to_decimal(energy) + "' is at or below the threshold " +
                           to_decimal(threshold) + " of criterion '" + name + "' for arm " +
                           to_string(a) + " (the saddle energy: no flips are possible)");
-    const pendulum_flow flow(model);
-    if (name == "upright") return {name, make_flip_detector(upright_curve<double>{a}, flow)};
-    if (name == "approx")
-        return {name, make_flip_detector(approximate_saddle_curve(model, a), flow)};
-    // the saddle orbit at this energy (orbits/: continuation from the centre mode, refined at
-    // double) and its configuration curve, a Chebyshev interpolant on the turning-point interval
-    // (a restricted domain: crossings beyond the turning points do not count)
-    check_orbit_energy(model, a, energy);
-    const saddle_orbit<double> orbit = find_or_solve_saddle_orbit<double>(model, a, energy);
-    if (orbit.status == orbit_status::not_converged)
-        throw_not_converged(model, a, energy, orbit.double_stage, "saddle criterion: saddle orbit");
-    return {name, make_flip_detector(make_saddle_curve<double>(model, orbit), flow)};
+    return {name, criterion(name).detector(model, a, energy, pendulum_flow(model))};
 }
 
 std::optional<quantity_value<double>> criterion_prediction(const double_pendulum<double>& model,
                                                            arm a, const std::string& name,
                                                            double energy) {
-    check_criterion_name(name);
-    auto find = [](const std::string& qname) -> const quantity* {
-        for (const quantity& q : quantities())
-            if (q.name == qname) return &q;
-        return nullptr;
-    };
-    if (const quantity* rate = find("rate-" + name)) return rate->evaluate(model, a, energy, "");
-    // a module that registers the flux but not the rate: R = f / Omega
-    const quantity* flux = find("flux-" + name);
-    const quantity* omega = find("omega");
-    if (flux && omega) {
-        const quantity_value<double> f = flux->evaluate(model, a, energy, "");
-        const quantity_value<double> w = omega->evaluate(model, a, energy, "");
-        const double r = f.value / w.value;
-        return quantity_value<double>{
-            r, f.error_estimate / w.value + std::abs(r) * w.error_estimate / w.value,
-            "flux-" + name + " (" + f.method + ") / omega (" + w.method + ")"};
-    }
+    const criterion_definition& c = criterion(name);
+    for (const quantity& q : quantities())
+        if (!c.rate_quantity.empty() && q.name == c.rate_quantity)
+            return q.evaluate(model, a, energy, "");
     return std::nullopt;
 }
 

@@ -130,14 +130,9 @@ std::string viewer_json(const viewer_data<Real>& d) {
     std::string s =
         "{\"format\":\"flipflux-viewer-1\",\"precision\":" + json_string(precision_name<Real>()) +
         ",\"parameters\":{";
-    const std::pair<const char*, const Real*> fields[] = {
-        {"m1", &p.m1}, {"m2", &p.m2}, {"L1", &p.L1}, {"L2", &p.L2}, {"a1", &p.a1},
-        {"a2", &p.a2}, {"I1", &p.I1}, {"I2", &p.I2}, {"g", &p.g}};
-    bool first = true;
-    for (const auto& [name, value] : fields) {
-        s += std::string(first ? "" : ",") + "\"" + name + "\":" + to_decimal(*value);
-        first = false;
-    }
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        s += std::string(i ? "," : "") + "\"" + std::string(parameter_fields[i].name) +
+             "\":" + to_decimal(p.*parameter_members<Real>[i]);
     s += "},\"maximum_energy\":" + to_decimal(d.maximum_energy) + ",\"families\":[";
     for (std::size_t f = 0; f < d.families.size(); ++f) {
         const viewer_family<Real>& fam = d.families[f];

@@ -1,5 +1,7 @@
 // A Monte Carlo study: ensembles, statistics, JSON report and CSVs (study/simulation.hpp).
 #include "flipflux/study/simulation.hpp"
+#include "flipflux/model/model_json.hpp"
+#include "flipflux/study/settings.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -119,9 +121,7 @@ json checkpoint_header(const double_pendulum<double>& model,
     const bool one = studies.size() == 1;
     json header{{"format", checkpoint_format_version},
                 {"version", version_string()},
-                {"model", json::array({to_decimal(p.m1), to_decimal(p.m2), to_decimal(p.L1),
-                                       to_decimal(p.L2), to_decimal(p.a1), to_decimal(p.a2),
-                                       to_decimal(p.I1), to_decimal(p.I2), to_decimal(p.g)})},
+                {"model", parameter_array(p)},
                 {"arm", one ? arms[0] : arms},
                 {"criteria", one ? criteria[0] : criteria},
                 {"energies", one ? energies[0] : energies},
@@ -225,7 +225,7 @@ ensemble_options checked_options(const simulation_request& request, const proces
         o.trajectories = static_cast<std::uint64_t>(std::max(1.0, n));
         o.time = request.short_time;
     }
-    o.atol = o.atol > 0 ? o.atol : o.rtol;
+    o.atol = effective_atol(o);
     if (request.replicates == 0 || request.replicates > max_replicates)
         throw input_error::about("replicates", "'" + std::to_string(request.replicates) +
                                                    "' is invalid (must be 1 to " +
@@ -675,15 +675,13 @@ ensemble_result project(const double_pendulum<double>& model, const ensemble_res
 /// how the run is driven is the same (the chaos threshold may differ: it only classifies them).
 void check_shareable(const simulation_request& a, const simulation_request& b) {
     const ensemble_options &x = a.options, &y = b.options;
-    const bool same =
-        x.trajectories == y.trajectories && x.first_index == y.first_index && x.time == y.time &&
-        x.seed == y.seed && x.rtol == y.rtol && x.atol == y.atol && x.method == y.method &&
-        x.chaos == y.chaos && x.threads == y.threads && x.keep_crossings == y.keep_crossings &&
-        x.sample_interval == y.sample_interval && x.unwrapped_angles == y.unwrapped_angles &&
-        a.estimator == b.estimator && a.short_time == b.short_time &&
-        a.checkpoint == b.checkpoint && a.checkpoint_interval == b.checkpoint_interval &&
-        a.timing == b.timing && a.group == b.group && a.replicates == b.replicates &&
-        a.initial_states.empty() == b.initial_states.empty();
+    // what decides the trajectories (study/settings.hpp), then how the run is driven
+    const bool same = trajectory_key_of(a) == trajectory_key_of(b) && x.threads == y.threads &&
+                      x.keep_crossings == y.keep_crossings &&
+                      x.sample_interval == y.sample_interval &&
+                      x.unwrapped_angles == y.unwrapped_angles && a.checkpoint == b.checkpoint &&
+                      a.checkpoint_interval == b.checkpoint_interval && a.timing == b.timing &&
+                      a.group == b.group;
     if (!same)
         throw std::invalid_argument(
             "simulate: studies sharing trajectories need the same ensemble options, estimator, "

@@ -16,13 +16,14 @@
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_taylor.hpp"
+#include "flipflux/study/criteria.hpp"
 #include "flipflux/study/trajectory.hpp"
 #include "trajectory_checks.hpp"
 
 namespace flipflux {
 namespace {
 
-/// A criterion's curve at Real, type-erased: h(s), h'(s) on [lo, hi] (clamped outside).
+/// A criterion's curve at Real with its name.
 template <class Real>
 struct curve_at {
     arm flip_arm;
@@ -30,17 +31,6 @@ struct curve_at {
     std::function<Real(const Real&)> offset, slope;
     Real lo, hi;
 };
-
-template <class Real, class Curve>
-curve_at<Real> erase(const std::string& name, const Curve& c) {
-    const auto d = c.domain();
-    return {c.flip_arm(),
-            name,
-            [c](const Real& s) { return Real(c.offset(s)); },
-            [c](const Real& s) { return Real(c.slope(s)); },
-            d[0],
-            d[1]};
-}
 
 /// The criteria's curves at the energy; the ones that cannot flip are listed in `skipped`.
 template <class Real>
@@ -55,22 +45,12 @@ std::vector<curve_at<Real>> curves(const double_pendulum<Real>& model,
                 skipped.push_back(detail::below_threshold(a, name, energy, threshold));
                 continue;
             }
-            if (name == "upright") {
-                out.push_back(erase<Real>(name, upright_curve<Real>{a}));
-            } else if (name == "approx") {
-                out.push_back(erase<Real>(name, approximate_saddle_curve(model, a)));
-            } else {
-                try {
-                    check_orbit_energy(model, a, energy);
-                } catch (const input_error& e) {
-                    skipped.push_back("arm " + to_string(a) + " " + name + ": " + e.detail());
-                    continue;
-                }
-                const saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy);
-                if (orbit.status == orbit_status::not_converged)
-                    throw_not_converged(model, a, energy, orbit.double_stage,
-                                        "trajectory: saddle orbit");
-                out.push_back(erase<Real>(name, make_saddle_curve(model, orbit)));
+            try {
+                any_curve<Real> c = criterion(name).curve(model, a, energy);
+                out.push_back({c.flip_arm, name, std::move(c.offset), std::move(c.slope),
+                               c.domain[0], c.domain[1]});
+            } catch (const criterion_unavailable& e) {
+                skipped.push_back("arm " + to_string(a) + " " + name + ": " + e.detail());
             }
         }
     return out;

@@ -27,25 +27,8 @@ std::string trimmed(const std::string& s) {
 
 /// The field of model_text named `key`, or nullptr.
 std::string* field_of(model_text& p, const std::string& key) {
-    const std::array<std::pair<const char*, std::string*>, 9> fields{{{"m1", &p.m1},
-                                                                      {"m2", &p.m2},
-                                                                      {"L1", &p.L1},
-                                                                      {"L2", &p.L2},
-                                                                      {"a1", &p.a1},
-                                                                      {"a2", &p.a2},
-                                                                      {"I1", &p.I1},
-                                                                      {"I2", &p.I2},
-                                                                      {"g", &p.g}}};
-    for (const auto& [name, f] : fields)
-        if (key == name) return f;
-    return nullptr;
-}
-
-/// The parameters with a1/a2 resolved to L1/L2 when not given.
-model_text resolved(model_text p) {
-    if (p.a1.empty()) p.a1 = p.L1;
-    if (p.a2.empty()) p.a2 = p.L2;
-    return p;
+    const int i = parameter_index(key);
+    return i < 0 ? nullptr : &(p.*text_members[static_cast<std::size_t>(i)]);
 }
 
 bool same_number(const std::string& a, const std::string& b) {
@@ -83,8 +66,8 @@ std::optional<declared_pendulum> read_declared_pendulum(const std::filesystem::p
             const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
             std::string* f = field_of(out->parameters, key);
             if (!f)
-                throw input_error(at + "'" + key +
-                                  "' is not a parameter (m1, m2, L1, L2, a1, a2, I1, I2, g)");
+                throw input_error(at + "'" + key + "' is not a parameter (" +
+                                  parameter_name_list() + ")");
             if (!given.insert(key).second) throw input_error(at + key + " is given twice");
             if (!is_decimal_number(value))
                 throw input_error(at + key + ": '" + value + "' is not a finite decimal number");
@@ -98,17 +81,16 @@ std::optional<declared_pendulum> read_declared_pendulum(const std::filesystem::p
 }
 
 bool same_parameters(const model_text& a, const model_text& b) {
-    model_text x = resolved(a), y = resolved(b);
-    for (const char* key : {"m1", "m2", "L1", "L2", "a1", "a2", "I1", "I2", "g"})
-        if (!same_number(*field_of(x, key), *field_of(y, key))) return false;
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        if (!same_number(resolved_text(a, i), resolved_text(b, i))) return false;
     return true;
 }
 
 std::string parameters_text(const model_text& p) {
-    model_text r = resolved(p);
     std::string out;
-    for (const char* key : {"m1", "m2", "L1", "L2", "a1", "a2", "I1", "I2", "g"})
-        out += (out.empty() ? "" : " ") + std::string(key) + "=" + *field_of(r, key);
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        out += (out.empty() ? "" : " ") + std::string(parameter_fields[i].name) + "=" +
+               resolved_text(p, i);
     return out;
 }
 

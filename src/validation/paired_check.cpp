@@ -59,17 +59,18 @@ std::vector<paired_row> read_rows(const std::filesystem::path& file,
         p.time = number(tc, "time");
         if (!(p.time > 0)) throw input_error(at + "time '" + r.fields[tc] + "' must be > 0");
         const double a = number(ac, "arm");
-        if (a != 1 && a != 2) throw input_error(at + "arm '" + r.fields[ac] + "' is not 1 or 2");
-        p.flip_arm = a == 1 ? arm::one : arm::two;
+        if (!arm_numbered(a)) throw input_error(at + "arm '" + r.fields[ac] + "' is not 1 or 2");
+        p.flip_arm = *arm_numbered(a);
         const double f = number(fc, "flips");
         if (!(f >= 0) || f != std::floor(f) || f > 1e15)
             throw input_error(at + "flips '" + r.fields[fc] + "' is not a count");
         p.flips = static_cast<std::uint64_t>(f);
         const std::optional<std::string> named =
-            cc >= 0 ? criterion_named(r.fields[cc]) : std::optional<std::string>("upright");
+            cc >= 0 ? criterion_named(r.fields[cc])
+                    : std::optional<std::string>(default_criterion());
         if (!named)
-            throw input_error(at + "criterion '" + r.fields[cc] +
-                              "' is not upright, approx or saddle");
+            throw input_error(at + "criterion '" + r.fields[cc] + "' is not " +
+                              criterion_alternatives());
         p.criterion = *named;
         try {  // a trajectory that could not finish: the file's line, not an option
             check_trajectory_work(model, p.energy, p.time, "time");

@@ -99,9 +99,9 @@ bool read_row(const csv_row& row, const csv_table& t, const ensemble_columns& c,
     x.criterion = f[c.criterion];
     x.arm = f[c.arm];
     x.energy = f[c.energy];
-    if (x.criterion != "upright" && x.criterion != "approx" && x.criterion != "saddle")
-        x.note = "criterion '" + x.criterion + "' is not upright, approx or saddle";
-    else if (x.arm != "1" && x.arm != "2")
+    if (!criterion_named(x.criterion) || *criterion_named(x.criterion) != x.criterion)
+        x.note = "criterion '" + x.criterion + "' is not " + criterion_alternatives();
+    else if (!arm_named(x.arm))
         x.note = "arm '" + x.arm + "' is not 1 or 2";
     else if (!parse_positive(x.energy, x.simulated))
         x.note = "energy '" + x.energy + "' is not a positive number";
@@ -214,7 +214,7 @@ ensemble_check_report check_simulated_ensemble(const double_pendulum<double>& mo
             continue;
         }
         const double E = x.simulated, M = static_cast<double>(x.trajectories);
-        const arm a = x.arm == "1" ? arm::one : arm::two;
+        const arm a = arm_named(x.arm).value();
         try {
             const auto p = criterion_prediction(model, a, x.criterion, E);
             if (!p) throw input_error("no registered rate");

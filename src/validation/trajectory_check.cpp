@@ -89,10 +89,11 @@ event_file read_events(const std::filesystem::path& file, const event_comparison
         if (arm_number != 1 && arm_number != 2)
             throw input_error(at + "arm '" + a + "' is not 1 or 2");
         const std::optional<std::string> named =
-            cc < 0 ? std::optional<std::string>("upright") : criterion_named(r.fields[cc]);
+            cc < 0 ? std::optional<std::string>(default_criterion())
+                   : criterion_named(r.fields[cc]);
         if (!named)
-            throw input_error(at + "criterion '" + r.fields[cc] +
-                              "' is not upright, approx or saddle");
+            throw input_error(at + "criterion '" + r.fields[cc] + "' is not " +
+                              criterion_alternatives());
         const std::string& criterion = *named;
         if (std::find(out.criteria.begin(), out.criteria.end(), criterion) == out.criteria.end())
             out.criteria.push_back(criterion);
@@ -230,7 +231,7 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
         out.criteria_inferred = true;
         // no criterion column: upright; a column but no rows: the reference's (said below)
         out.criteria = !cand.criteria.empty()       ? cand.criteria
-                       : !cand.has_criterion_column ? std::vector<std::string>{"upright"}
+                       : !cand.has_criterion_column ? std::vector<std::string>{default_criterion()}
                                                     : ref.criteria;
         out.criteria_from_reference = cand.criteria.empty() && cand.has_criterion_column;
     }

@@ -116,7 +116,7 @@ def test_saddle_orbit_integrator_in_the_method():
     assert "Taylor" in v.method
     with pytest.raises(ValueError) as e:
         flipflux.saddle_orbit("2.2", method="periodic/rk4")
-    assert "--integrator" in str(e.value)
+    assert str(e.value).startswith("method: ")
 
 
 @pytest.mark.parametrize("call,args", [
@@ -135,21 +135,36 @@ def test_bad_input_raises_value_error_with_the_cli_message(call, args):
 
 
 def test_bad_input_messages_match_cli_exactly():
+    """The same one-line message as the command line's, naming the Python keyword where the
+    command line names its option."""
     cases = [
-        (lambda: flipflux.evaluate("omega", "abc"), ["eval", "omega", "--energy", "abc"]),
-        (lambda: flipflux.evaluate("omega", "3", arm=3), ["eval", "omega", "--energy", "3",
-                                                          "--arm", "3"]),
-        (lambda: flipflux.evaluate("nope", "3"), ["eval", "nope", "--energy", "3"]),
-        (lambda: flipflux.evaluate("omega", "3", pendulum=flipflux.Pendulum(m1="-1")),
+        (lambda: flipflux.evaluate("omega", "abc"), "energy", ["eval", "omega", "--energy", "abc"]),
+        (lambda: flipflux.evaluate("omega", "3", arm=3), "arm",
+         ["eval", "omega", "--energy", "3", "--arm", "3"]),
+        (lambda: flipflux.evaluate("nope", "3"), None, ["eval", "nope", "--energy", "3"]),
+        (lambda: flipflux.evaluate("omega", "3", pendulum=flipflux.Pendulum(m1="-1")), "m1",
          ["eval", "omega", "--energy", "3", "--m1", "-1"]),
-        (lambda: flipflux.saddle_orbit("1"), ["orbit", "--energy", "1"]),
+        (lambda: flipflux.saddle_orbit("1"), "energy", ["orbit", "--energy", "1"]),
+        (lambda: flipflux.simulate(5, 0, 10), "trajectories",
+         ["simulate", "--energy", "5", "--trajectories", "0", "--time", "10"]),
+        (lambda: flipflux.simulate(5, 10, 10, rtol="1e-30"), "rtol",
+         ["simulate", "--energy", "5", "--trajectories", "10", "--time", "10", "--rtol", "1e-30"]),
+        (lambda: flipflux.simulate(5, 10, 10, chaos_threshold=-1), "chaos_threshold",
+         ["simulate", "--energy", "5", "--trajectories", "10", "--time", "10",
+          "--chaos-threshold", "-1"]),
     ]
-    for call, args in cases:
+    for call, keyword, args in cases:
         with pytest.raises(ValueError) as e:
             call()
+        message = str(e.value)
         r = cli(*args, check=False)
         assert r.returncode == 2
-        assert r.stderr.strip() == "flipflux: error: " + str(e.value)
+        if keyword is None:
+            assert r.stderr.strip() == "flipflux: error: " + message
+        else:
+            assert message.startswith(keyword + ": "), message
+            option = "--" + keyword.replace("_", "-")
+            assert r.stderr.strip() == "flipflux: error: " + option + message[len(keyword):]
 
 
 def test_validate_rows():
@@ -208,7 +223,12 @@ def test_simulate_equals_cli():
         with pytest.raises(ValueError) as e:
             flipflux.simulate("3", time=10, **kwargs)
         r = cli("simulate", "--energy", "3", "--time", "10", *args, check=False)
-        assert r.returncode == 2 and r.stderr.strip() == "flipflux: error: " + str(e.value)
+        # the same message, naming the keyword where the command line names its option
+        option = args[-2]
+        keyword = option[2:].replace("-", "_")
+        assert str(e.value).startswith(keyword + ": "), str(e.value)
+        assert r.returncode == 2
+        assert r.stderr.strip() == "flipflux: error: " + option + str(e.value)[len(keyword):]
 
 
 def test_python_md_example():
@@ -243,3 +263,30 @@ def test_ctrl_c_interrupts_a_long_call(call):
     assert p.returncode == 0, out
     assert "interrupted after" in out
     assert time.monotonic() - sent < 10
+
+
+def test_pendulum_keywords_are_the_parameter_table():
+    """Pendulum's keywords and defaults are model/'s parameter table (a1, a2: None, the length)."""
+    import inspect
+    sig = inspect.signature(flipflux.Pendulum.__init__)
+    names = [p for p in sig.parameters if p != "self"]
+    table = flipflux._flipflux.parameter_fields()
+    assert names == [name for name, _ in table]
+    for name, default in table:
+        given = sig.parameters[name].default
+        assert (given is None) if default == "" else (str(given) == default), name
+
+
+def test_simulate_defaults_are_the_settings_table():
+    """simulate's keywords left None take the library's defaults: the same report as the
+    command line's defaults."""
+    table = dict(flipflux._flipflux.run_settings())
+    assert table["rtol"] == "1e-10" and table["seed"] == "0" and table["method"] == "auto"
+    report, _ = flipflux.simulate(5, 4, 5, threads=1)
+    r = cli("simulate", "--energy", "5", "--trajectories", "4", "--time", "5", "--threads", "1",
+            "--no-timing")
+    expected = json.loads(r.stdout)
+    for key in ("rtol", "atol", "seed", "method", "arm", "estimator"):
+        assert report[key] == expected[key], key
+    assert report["chaos"]["threshold"] == expected["chaos"]["threshold"]
+    assert report["chaos"]["indicator"] == expected["chaos"]["indicator"]

@@ -137,5 +137,24 @@ TEST(Plan, PredictionOnlySceneRunsNoSimulation) {
     EXPECT_EQ(p.count(plan_step::kind::orbit_family), 0u);
 }
 
+// atol = 0 means rtol (study/settings.hpp's trajectory_key): two ensembles that differ only in
+// writing it out integrate the same trajectories, once; another seed does not share them.
+TEST(Plan, EnsemblesWithTheSameEffectiveToleranceShareTrajectories) {
+    const auto ensemble = [](const std::string& name, const std::string& extra) {
+        return "[[ensemble]]\nname = \"" + name +
+               "\"\nenergies = [3]\ntrajectories = 4\ntime = 5\nrtol = 1e-10\n" + extra;
+    };
+    const scene s =
+        parse_scene(std::string(minimal) + ensemble("a", "atol = 0\n") +
+                        ensemble("b", "atol = 1e-10\n") + ensemble("c", "atol = 1e-10\nseed = 5\n"),
+                    "s.toml");
+    const plan p = make_plan(s);
+    ASSERT_EQ(p.count(plan_step::kind::ensemble), 2u);
+    for (const plan_step& step : p.steps) {
+        if (step.what != plan_step::kind::ensemble) continue;
+        EXPECT_EQ(step.ensemble_indices.size(), step.ensemble_indices.front() == 0 ? 2u : 1u);
+    }
+}
+
 }  // namespace
 }  // namespace flipflux::test

@@ -26,10 +26,13 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/names.hpp"
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/energy_level.hpp"
 
@@ -42,12 +45,96 @@ using phase_point = std::array<Real, 4>;
 /// The two arms. Arm 2 flips over the down-up saddle (0, pi); arm 1 over the up-down saddle (pi,
 /// 0).
 enum class arm { one = 1, two = 2 };
-inline std::string to_string(arm a) {
-    return a == arm::one ? "1" : "2";
+
+/// The arms' names: "1", "2" (options, scene keys, CSV columns, JSON; to_string, parse_name).
+template <>
+struct enum_table<arm> {
+    static constexpr std::string_view noun = "an arm";
+    static constexpr std::array<std::pair<arm, std::string_view>, 2> entries{
+        {{arm::one, "1"}, {arm::two, "2"}}};
+};
+
+/// The arm named `text` ("1" or "2"); nullopt for anything else.
+inline std::optional<arm> arm_named(std::string_view text) {
+    for (const auto& [a, name] : enum_table<arm>::entries)
+        if (name == text) return a;
+    return std::nullopt;
+}
+
+/// The arm numbered n (1 or 2: a scene's integers, a CSV's number); nullopt for anything else.
+inline std::optional<arm> arm_numbered(double n) {
+    for (const auto& [a, name] : enum_table<arm>::entries)
+        if (n == static_cast<double>(static_cast<int>(a))) return a;
+    return std::nullopt;
+}
+
+/// The arm's number, 1 or 2.
+inline int number_of(arm a) {
+    return static_cast<int>(a);
+}
+
+/// The domain of a physical parameter.
+enum class parameter_domain { positive, nonnegative };
+
+/// One physical parameter, the one place each is described: its name (the command line's
+/// --NAME, a scene's key, Python's keyword, every JSON key), its domain and the rule an error
+/// states, its help text, its default as decimal text, and the parameter whose value it takes
+/// when not given (a1: L1, a2: L2; point masses), -1 for none. Every parser and writer of the
+/// parameters (model_text.hpp, model_json.hpp, the CLI, scenes, checkpoints, golden provenance,
+/// the viewer, Python, the Arb enclosures) loops over parameter_fields.
+struct parameter_field {
+    std::string_view name;
+    parameter_domain domain;
+    std::string_view rule;
+    std::string_view help;
+    std::string_view default_text;
+    int defaults_to = -1;
+};
+
+inline constexpr std::size_t parameter_count = 9;
+
+inline constexpr std::array<parameter_field, parameter_count> parameter_fields{{
+    {"m1", parameter_domain::positive, "a mass must be > 0", "mass of link 1 (> 0)", "1", -1},
+    {"m2", parameter_domain::positive, "a mass must be > 0", "mass of link 2 (> 0)", "1", -1},
+    {"L1", parameter_domain::positive, "a length must be > 0",
+     "pivot-to-joint length of link 1 (> 0)", "1", -1},
+    {"L2", parameter_domain::positive, "a length must be > 0", "length of link 2 (> 0)", "1", -1},
+    {"a1", parameter_domain::positive, "a centre-of-mass distance must be > 0",
+     "pivot to link 1's centre of mass (> 0)", "", 2},
+    {"a2", parameter_domain::positive, "a centre-of-mass distance must be > 0",
+     "joint to link 2's centre of mass (> 0)", "", 3},
+    {"I1", parameter_domain::nonnegative, "a moment of inertia must be >= 0",
+     "link 1's moment of inertia about its centre of mass (>= 0)", "0", -1},
+    {"I2", parameter_domain::nonnegative, "a moment of inertia must be >= 0",
+     "link 2's moment of inertia about its centre of mass (>= 0)", "0", -1},
+    {"g", parameter_domain::positive, "gravity must be > 0", "gravitational acceleration (> 0)",
+     "1", -1},
+}};
+
+/// "m1, m2, L1, L2, a1, a2, I1, I2, g".
+inline std::string parameter_name_list() {
+    std::string out;
+    for (const parameter_field& f : parameter_fields)
+        out += (out.empty() ? "" : ", ") + std::string(f.name);
+    return out;
+}
+
+/// The index of the parameter named `name` in parameter_fields; -1 for anything else.
+inline int parameter_index(std::string_view name) {
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        if (parameter_fields[i].name == name) return static_cast<int>(i);
+    return -1;
+}
+
+/// Whether v satisfies the domain (v itself compared with 0 by the caller's type).
+template <class Real>
+bool in_domain(parameter_domain d, const Real& v) {
+    return d == parameter_domain::positive ? v > 0 : v >= 0;
 }
 
 /// Physical parameters of a double pendulum made of two rigid links (defaults: the paper's
-/// "egalitarian" pendulum, unit point masses on unit massless rods, g = 1).
+/// "egalitarian" pendulum, unit point masses on unit massless rods, g = 1; parameter_fields'
+/// default texts).
 template <class Real>
 struct physical_parameters {
     Real m1{1};  ///< mass of link 1 (> 0)
@@ -61,12 +148,21 @@ struct physical_parameters {
     Real g{1};   ///< gravitational acceleration (> 0)
 };
 
+/// The members of physical_parameters in parameter_fields' order: p.*parameter_members<Real>[i].
+template <class Real>
+inline constexpr std::array<Real physical_parameters<Real>::*, parameter_count> parameter_members{
+    &physical_parameters<Real>::m1, &physical_parameters<Real>::m2, &physical_parameters<Real>::L1,
+    &physical_parameters<Real>::L2, &physical_parameters<Real>::a1, &physical_parameters<Real>::a2,
+    &physical_parameters<Real>::I1, &physical_parameters<Real>::I2, &physical_parameters<Real>::g};
+
 /// The parameters in another real type, each converted by To's conversion from From (correctly
 /// rounded between binary types; exact when To is at least as precise).
 template <class To, class From>
 physical_parameters<To> convert_parameters(const physical_parameters<From>& p) {
-    auto c = [](const From& x) { return static_cast<To>(x); };
-    return {c(p.m1), c(p.m2), c(p.L1), c(p.L2), c(p.a1), c(p.a2), c(p.I1), c(p.I2), c(p.g)};
+    physical_parameters<To> out;
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        out.*parameter_members<To>[i] = static_cast<To>(p.*parameter_members<From>[i]);
+    return out;
 }
 
 /// The Lagrangian's coefficients: T = A/2 th1'^2 + B/2 th2'^2 + C c th1' th2',
@@ -113,21 +209,17 @@ template <class Real>
 lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p) {
     using boost::multiprecision::isfinite;
     using std::isfinite;
-    auto require = [](const Real& v, bool ok, const char* name, const char* rule) {
+    auto require = [](const Real& v, bool ok, const std::string& name, const std::string& rule) {
         if (!isfinite(v) || !ok) {
             throw input_error::about(name, "'" + to_decimal(v) + "' is invalid (" + rule + ")");
         }
         check_magnitude(v, name);
     };
-    require(p.m1, p.m1 > 0, "m1", "a mass must be > 0");
-    require(p.m2, p.m2 > 0, "m2", "a mass must be > 0");
-    require(p.L1, p.L1 > 0, "L1", "a length must be > 0");
-    require(p.L2, p.L2 > 0, "L2", "a length must be > 0");
-    require(p.a1, p.a1 > 0, "a1", "a centre-of-mass distance must be > 0");
-    require(p.a2, p.a2 > 0, "a2", "a centre-of-mass distance must be > 0");
-    require(p.I1, p.I1 >= 0, "I1", "a moment of inertia must be >= 0");
-    require(p.I2, p.I2 >= 0, "I2", "a moment of inertia must be >= 0");
-    require(p.g, p.g > 0, "g", "gravity must be > 0");
+    for (std::size_t i = 0; i < parameter_count; ++i) {
+        const parameter_field& f = parameter_fields[i];
+        const Real& v = p.*parameter_members<Real>[i];
+        require(v, in_domain(f.domain, v), std::string(f.name), std::string(f.rule));
+    }
     lagrangian_coefficients<Real> k;
     const Real J1 = p.I1 + p.m1 * p.a1 * p.a1;  // link 1's moment of inertia about the pivot
     const Real J2 = p.I2 + p.m2 * p.a2 * p.a2;  // link 2's about the joint

@@ -14,9 +14,20 @@ namespace flipflux {
 /// {"m1", "m2", "L1", "L2", "a1", "a2", "I1", "I2", "g"}.
 template <class Real>
 nlohmann::ordered_json parameters_json(const physical_parameters<Real>& p) {
-    return {{"m1", to_decimal(p.m1)}, {"m2", to_decimal(p.m2)}, {"L1", to_decimal(p.L1)},
-            {"L2", to_decimal(p.L2)}, {"a1", to_decimal(p.a1)}, {"a2", to_decimal(p.a2)},
-            {"I1", to_decimal(p.I1)}, {"I2", to_decimal(p.I2)}, {"g", to_decimal(p.g)}};
+    nlohmann::ordered_json out = nlohmann::ordered_json::object();
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        out[std::string(parameter_fields[i].name)] = to_decimal(p.*parameter_members<Real>[i]);
+    return out;
+}
+
+/// ["m1", ..., "g"]: the values without their names, in parameter_fields' order (the checkpoint
+/// header's compact layout).
+template <class Real>
+nlohmann::ordered_json parameter_array(const physical_parameters<Real>& p) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < parameter_count; ++i)
+        out.push_back(to_decimal(p.*parameter_members<Real>[i]));
+    return out;
 }
 
 /// {"A", "B", "C", "alpha", "beta", "D0"}, D0 = AB - C^2.

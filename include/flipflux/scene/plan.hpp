@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "flipflux/scene/scene.hpp"
+#include "flipflux/study/simulation.hpp"
 
 namespace flipflux {
 
@@ -68,6 +69,11 @@ bool needs_saddle_orbit(const std::string& quantity);
 /// Builds the plan; throws scene_error for an unknown quantity or an energy a requested quantity
 /// does not admit.
 plan make_plan(const scene& s);
+
+/// The run settings of an [[ensemble]] as a study request, by study/settings.hpp's builder (a
+/// scene's defaults; energies, criteria, arm, files and threads are the caller's). The plan's
+/// sharing rule compares the trajectory_key of these requests.
+simulation_request ensemble_settings(const ensemble_spec& x);
 
 /// Writes the plan, one line per step.
 void print_plan(const scene& s, const plan& p, std::ostream& out);

@@ -18,6 +18,7 @@
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/energy_level.hpp"
 #include "flipflux/model/model_text.hpp"
+#include "flipflux/study/criteria.hpp"
 
 namespace flipflux {
 
@@ -50,13 +51,18 @@ struct orbits_spec {
     int line = 0;
 };
 
+/// A scene's arm, from its number (1 or 2: the loader checked it).
+inline arm arm_of(int number) {
+    return arm_numbered(number).value();
+}
+
 /// The longest ensemble name (it becomes file names under the output directory).
 inline constexpr std::size_t max_ensemble_name = 100;
 
 struct ensemble_spec {
     std::string name;
     int arm = 2;
-    std::vector<std::string> criteria{"upright", "approx", "saddle"};
+    std::vector<std::string> criteria = criterion_names();
     energy_grid energies;
     long long trajectories = 1000;
     /// Independent replicates of `trajectories` each (simulation_request::replicates): every
@@ -96,7 +102,7 @@ struct trajectory_spec {
     std::vector<std::string> state;  ///< th1, th2, l1, l2 as decimal text
     std::string time = "20";
     std::string sample_interval = "0.05";
-    std::vector<std::string> criteria{"upright", "approx", "saddle"};
+    std::vector<std::string> criteria = criterion_names();
     std::vector<int> arms{1, 2};
     std::string rtol = "1e-12";
     int line = 0;
