@@ -16,6 +16,7 @@
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/quantities/golden.hpp"
+#include "flipflux/scene/plan.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "flipflux/study/criteria.hpp"
 
@@ -354,51 +355,26 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
         r.integer("replicates", 1, static_cast<long long>(max_replicates)).value_or(x.replicates);
     x.time = r.number("time").value_or(x.time);
     x.seed = static_cast<unsigned long long>(
-        r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(1));
+        r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(x.seed));
     x.rtol = r.number("rtol").value_or(x.rtol);
     x.atol = r.number("atol").value_or(x.atol);
-    if (x.atol.front() == '-' || !(parse_real<double>(x.atol, "atol") >= 0))
-        r.fail(r.get("atol"), "atol", "'" + x.atol + "' must be >= 0 (0: equal to rtol)");
     x.integrator = r.string("integrator").value_or(x.integrator);
-    std::optional<integration_method> method;
-    try {
-        method = parse_name<integration_method>(x.integrator, "integrator");
-    } catch (const input_error&) {
-        r.fail(r.get("integrator"), "integrator",
-               "'" + x.integrator + "' is not an integrator (" + name_list<integration_method>() +
-                   ")");
-    }
     x.estimator = r.string("estimator").value_or(x.estimator);
-    if (x.estimator != "long" && x.estimator != "short") {
-        r.fail(r.get("estimator"), "estimator",
-               "'" + x.estimator + "' is not an estimator (long, short)");
-    }
-    x.chaos = r.boolean("chaos").value_or(false);
+    x.chaos = r.boolean("chaos").value_or(x.chaos);
     x.chaos_threshold = r.number("chaos_threshold").value_or(x.chaos_threshold);
-    if (x.chaos_threshold.front() == '-' ||
-        !(parse_real<double>(x.chaos_threshold, "chaos_threshold") > 0))
-        r.fail(r.get("chaos_threshold"), "chaos_threshold",
-               "'" + x.chaos_threshold + "' must be > 0");
     x.reference_time = r.number("reference_time").value_or(x.reference_time);
-    if (x.reference_time.front() == '-' ||
-        !(parse_real<double>(x.reference_time, "reference_time") >= 0)) {
-        r.fail(r.get("reference_time"), "reference_time",
-               "'" + x.reference_time + "' must be >= 0");
-    }
     x.residence_times = r.boolean("residence_times").value_or(false);
     x.histogram = r.boolean("histogram").value_or(false);
     x.census_of = r.string("census_of").value_or("");
     x.classification_check_of = r.string("classification_check_of").value_or("");
-    const std::string time_text = x.time;
-    if (time_text.front() == '-' || parse_real<double>(time_text, "time") <= 0) {
-        r.fail(r.get("time"), "time", "'" + time_text + "' must be > 0");
+    // the run settings' one check (study/settings.hpp), naming the scene's key
+    try {
+        const simulation_request q = ensemble_settings(x);
+        // `auto` resolved here: plans, sharing and run.json name the integrator
+        x.integrator = to_string(q.options.method);
+    } catch (const input_error& e) {
+        r.fail(r.get(e.field()), e.field(), e.detail());
     }
-    if (const std::string p = rtol_problem(parse_real<double>(x.rtol, "rtol"), x.rtol,
-                                           method.value_or(integration_method::dop853));
-        !p.empty())
-        r.fail(r.get("rtol"), "rtol", p);
-    else if (method)  // `auto` resolved here: plans, sharing and run.json name the integrator
-        x.integrator = to_string(resolved_method(*method, parse_real<double>(x.rtol, "rtol")));
     r.finish();
     return x;
 }

@@ -75,7 +75,7 @@ std::string setting_default(const run_setting& s, settings_surface surface) {
 
 arm parse_arm(const std::string& text, const std::string& field) {
     if (const std::optional<arm> a = arm_named(text)) return *a;
-    throw input_error(field + ": '" + text + "' is not an arm (expected 1 or 2)");
+    throw input_error::about(field, "'" + text + "' is not an arm (expected 1 or 2)");
 }
 
 std::uint64_t parse_unsigned(const std::string& text, const std::string& field, bool positive) {
@@ -83,14 +83,15 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& field, 
     const char* end = text.data() + text.size();
     const auto r = std::from_chars(text.data(), end, v);
     if (text.empty() || r.ec != std::errc() || r.ptr != end || (positive && v == 0))
-        throw input_error(field + ": '" + text + "' is invalid (expected " +
-                          (positive ? "a positive" : "a non-negative") + " integer)");
+        throw input_error::about(field, "'" + text + "' is invalid (expected " +
+                                            (positive ? "a positive" : "a non-negative") +
+                                            " integer)");
     return v;
 }
 
 double parse_positive(const std::string& text, const std::string& field) {
     const double v = parse_real<double>(text, field);
-    if (!(v > 0)) throw input_error(field + ": '" + text + "' is invalid (must be > 0)");
+    if (!(v > 0)) throw input_error::about(field, "'" + text + "' is invalid (must be > 0)");
     return v;
 }
 
@@ -121,7 +122,7 @@ struct settings_reader {
     bool boolean(std::string_view field) const {
         const std::string t = text(field);
         if (t != "true" && t != "false")
-            throw input_error(name(field) + ": '" + t + "' is not true or false");
+            throw input_error::about(name(field), "'" + t + "' is not true or false");
         return t == "true";
     }
 };
@@ -140,21 +141,22 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     o.trajectories = r.count("trajectories", true);
     q.replicates = r.count("replicates", true);
     if (q.replicates > max_replicates)
-        throw input_error(r.name("replicates") + ": '" + r.text("replicates") +
-                          "' is too many (at most " + std::to_string(max_replicates) + ")");
+        throw input_error::about(r.name("replicates"), "'" + r.text("replicates") +
+                                                           "' is too many (at most " +
+                                                           std::to_string(max_replicates) + ")");
     o.time = r.positive("time");
     o.seed = r.count("seed", false);
     o.first_index = r.count("first_index", false);
     o.rtol = r.positive("rtol");
     o.atol = r.real("atol");
     if (!(o.atol >= 0))
-        throw input_error(r.name("atol") + ": '" + r.text("atol") +
-                          "' must be >= 0 (0: equal to rtol)");
+        throw input_error::about(r.name("atol"),
+                                 "'" + r.text("atol") + "' must be >= 0 (0: equal to rtol)");
     o.threads = checked_threads(r.count("threads", false), r.name("threads"));
     o.method =
         resolved_method(parse_name<integration_method>(r.text("method"), r.name("method")), o.rtol);
     if (const std::string p = rtol_problem(o.rtol, r.text("rtol"), o.method); !p.empty())
-        throw input_error(r.name("rtol") + ": " + p);
+        throw input_error::about(r.name("rtol"), p);
     o.chaos = r.boolean("chaos");
     o.chaos_threshold = r.positive("chaos_threshold");
     o.sample_interval = r.real("sample_interval");
@@ -163,6 +165,10 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     q.estimator = parse_name<rate_estimator>(r.text("estimator"), r.name("estimator"));
     q.short_time = r.positive("short_time");
     q.reference_time = r.real("reference_time");
+    if (!(q.reference_time >= 0))
+        throw input_error::about(
+            r.name("reference_time"),
+            "'" + r.text("reference_time") + "' is invalid (must be finite and >= 0)");
     return q;
 }
 

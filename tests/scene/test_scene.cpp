@@ -51,7 +51,7 @@ TEST(Scene, ErrorsNameFileLineAndKey) {
         {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = [3]\ncriteria = [\"up\"]\n",
          "s.toml:5: ensemble[0].criteria: 'up' is not a criterion"},
         {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = [3]\ntime = -2\n",
-         "s.toml:5: ensemble[0].time: '-2' must be > 0"},
+         "s.toml:5: ensemble[0].time: '-2' is invalid (must be > 0)"},
         {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = { from = 2, to = 3 }\n",
          "ensemble[0].energies.step: is required"},
         {"[scene]\noutput = \"o\"\n[[ensemble]]\nenergies = { from = 2, to = 3, step = 1, x = 1 "

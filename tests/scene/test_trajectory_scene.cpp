@@ -53,7 +53,7 @@ TEST(TrajectoryScene, BadKeysNameTheLine) {
     EXPECT_EQ(scene_error_of(e + "atol = -1e-6\n"),
               "t.toml:5: ensemble[0].atol: '-1e-06' must be >= 0 (0: equal to rtol)");
     EXPECT_EQ(scene_error_of(e + "chaos_threshold = 0\n"),
-              "t.toml:5: ensemble[0].chaos_threshold: '0' must be > 0");
+              "t.toml:5: ensemble[0].chaos_threshold: '0' is invalid (must be > 0)");
     const scene s =
         parse_scene(t + "state = [0.5, 2.8, \"0.46561367198671955\", 0.25]\n", "t.toml");
     ASSERT_EQ(s.trajectories.size(), 1u);

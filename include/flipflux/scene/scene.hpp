@@ -19,6 +19,7 @@
 #include "flipflux/model/energy_level.hpp"
 #include "flipflux/model/model_text.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/study/settings.hpp"
 
 namespace flipflux {
 
@@ -51,6 +52,11 @@ struct orbits_spec {
     int line = 0;
 };
 
+/// A run setting's default in a scene (study/settings.hpp's table).
+inline std::string scene_default(std::string_view field) {
+    return setting_default(run_setting_named(field), settings_surface::scene);
+}
+
 /// A scene's arm, from its number (1 or 2: the loader checked it).
 inline arm arm_of(int number) {
     return arm_numbered(number).value();
@@ -64,20 +70,20 @@ struct ensemble_spec {
     int arm = 2;
     std::vector<std::string> criteria = criterion_names();
     energy_grid energies;
-    long long trajectories = 1000;
+    long long trajectories = std::stoll(scene_default("trajectories"));
     /// Independent replicates of `trajectories` each (simulation_request::replicates): every
     /// statistic pooled over R x trajectories and with its spread over the replicates.
-    long long replicates = 1;
-    std::string time = "10000";
-    unsigned long long seed = 1;
-    std::string rtol = "1e-10";
-    std::string atol = "0";  ///< absolute tolerance; 0: equal to rtol (ensemble_options::atol)
-    std::string integrator = "dop853";
-    std::string estimator = "long";    ///< "long" (the paper's) or "short"
-    std::string reference_time = "0";  ///< > 0: the PQI also estimated at this length
-    bool chaos = false;                ///< classify trajectories (finite-time Lyapunov exponent)
+    long long replicates = std::stoll(scene_default("replicates"));
+    std::string time = scene_default("time");
+    unsigned long long seed = std::stoull(scene_default("seed"));
+    std::string rtol = scene_default("rtol");
+    std::string atol = scene_default("atol");  ///< 0: equal to rtol (ensemble_options::atol)
+    std::string integrator = scene_default("method");
+    std::string estimator = scene_default("estimator");  ///< "long" (the paper's) or "short"
+    std::string reference_time = scene_default("reference_time");  ///< > 0: PQI at this length
+    bool chaos = scene_default("chaos") == "true";  ///< classify trajectories (Lyapunov exponent)
     /// lambda_T above this (units sqrt(alpha / A)) is chaotic (ensemble_options::chaos_threshold)
-    std::string chaos_threshold = "0.05";
+    std::string chaos_threshold = scene_default("chaos_threshold");
     /// Write every crossing time (residence_E<label>_<criterion>.csv); the report's residence-time
     /// figure reads them. Without it only the residence statistics (ensemble JSON, histograms).
     bool residence_times = false;
