@@ -513,28 +513,14 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
                Next&& next_index, Deliver&& deliver) {
     using lane_type = lane<Method, Tangent>;
-    const std::size_t count = lanes_per_thread(isa);
-    std::array<std::unique_ptr<lane_type>, max_lanes> lanes;
-    std::array<lane_type*, max_lanes> view{};
-    for (;;) {
-        bool any = false;
-        for (std::size_t l = 0; l < count; ++l) {
-            if (lanes[l] && lanes[l]->finished()) {
-                deliver(lanes[l]->result());
-                lanes[l].reset();
-            }
-            if (!lanes[l]) {
-                std::uint64_t index = 0;
-                if (next_index(index))
-                    lanes[l] = std::make_unique<lane_type>(
-                        model, o, initial_state_of(sampler, o, index), index, detectors[l]);
-            }
-            view[l] = lanes[l].get();
-            any = any || lanes[l] != nullptr;
-        }
-        if (!any) return;
-        lockstep_round<lane_type>(std::span<lane_type* const>(view.data(), count), isa);
-    }
+    detail::refill_lanes<lane_type, max_lanes>(
+        lanes_per_thread(isa),
+        [&](std::uint64_t index, std::size_t l) {
+            return std::make_unique<lane_type>(model, o, initial_state_of(sampler, o, index), index,
+                                               detectors[l]);
+        },
+        next_index, deliver,
+        [isa](std::span<lane_type* const> view) { lockstep_round<lane_type>(view, isa); });
 }
 
 template <class Next, class Deliver>

@@ -6,7 +6,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numbers>
+#include <span>
 #include <vector>
 
 #include "flipflux/ensemble/ensemble.hpp"
@@ -64,6 +66,34 @@ inline void detect(const std::vector<flip_detector_base*>& detectors, const step
             if (keep_crossings)
                 r.crossings[c].insert(r.crossings[c].end(), found.begin(), found.end());
         }
+    }
+}
+
+/// One thread's share of an ensemble, for either runner (DOP853/DOPRI5 lanes, Taylor lanes):
+/// `count` <= N lanes advanced together by `round(span of lanes)` (a null lane is idle), the next
+/// index taken by `next_index(index)` whenever a lane finishes, its trajectory built by
+/// `make(index, lane)`; `deliver` gets each finished (or abandoned) lane's result.
+template <class Lane, std::size_t N, class Make, class Next, class Deliver, class Round>
+void refill_lanes(std::size_t count, Make&& make, Next&& next_index, Deliver&& deliver,
+                  Round&& round) {
+    std::array<std::unique_ptr<Lane>, N> lanes;
+    std::array<Lane*, N> view{};
+    for (;;) {
+        bool any = false;
+        for (std::size_t l = 0; l < count; ++l) {
+            if (lanes[l] && lanes[l]->finished()) {
+                deliver(lanes[l]->result());
+                lanes[l].reset();
+            }
+            if (!lanes[l]) {
+                std::uint64_t index = 0;
+                if (next_index(index)) lanes[l] = make(index, l);
+            }
+            view[l] = lanes[l].get();
+            any = any || lanes[l] != nullptr;
+        }
+        if (!any) return;
+        round(std::span<Lane* const>(view.data(), count));
     }
 }
 

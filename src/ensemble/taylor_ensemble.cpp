@@ -449,28 +449,14 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
     const int p = ensemble_taylor_order(o.rtol);
     const pendulum_flow k(model);
     jet_buffers<Tangent> buf;
-    std::array<std::unique_ptr<lane_type>, 8> lanes;
-    std::array<lane_type*, 8> view{};
-    count = std::min<std::size_t>(count, 8);
-    for (;;) {
-        bool any = false;
-        for (std::size_t l = 0; l < count; ++l) {
-            if (lanes[l] && lanes[l]->finished()) {
-                deliver(lanes[l]->result());
-                lanes[l].reset();
-            }
-            if (!lanes[l]) {
-                std::uint64_t index = 0;
-                if (next_index(index))
-                    lanes[l] = std::make_unique<lane_type>(
-                        model, o, initial_state_of(sampler, o, index), index, detectors[l], p);
-            }
-            view[l] = lanes[l].get();
-            any = any || lanes[l] != nullptr;
-        }
-        if (!any) return;
-        run_round<Tangent>(std::span<lane_type* const>(view.data(), count), isa, buf, k, p);
-    }
+    refill_lanes<lane_type, 8>(
+        std::min<std::size_t>(count, 8),
+        [&](std::uint64_t index, std::size_t l) {
+            return std::make_unique<lane_type>(model, o, initial_state_of(sampler, o, index), index,
+                                               detectors[l], p);
+        },
+        next_index, deliver,
+        [&](std::span<lane_type* const> view) { run_round<Tangent>(view, isa, buf, k, p); });
 }
 
 template <bool Tangent>
