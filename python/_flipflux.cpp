@@ -201,7 +201,7 @@ std::string simulate_json(const std::map<std::string, std::string>& a,
     // the library's one builder of run settings (study/settings.hpp), errors naming keywords
     settings_text given;
     for (const auto& [key, value] : a)
-        if (!value.empty()) given[key] = value;  // empty: not given, the table's default
+        given[key] = value;  // a keyword left None is absent: the table's default
     const double_pendulum<double> model = make_model<double>(model_of(parameters));
     simulation_request q = make_simulation_request(given, settings_surface::python);
     q.csv_dir = csv_dir;
@@ -254,7 +254,10 @@ PYBIND11_MODULE(_flipflux, m) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const input_error& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());  // "keyword: ..."
+            std::string message = e.what();  // "keyword: ...", one line
+            for (char& c : message)
+                if (c == '\n' || c == '\r') c = ' ';
+            PyErr_SetString(PyExc_ValueError, message.c_str());
         }
     });
     m.def("version", [] { return std::string(version_string()) + " (git " + git_commit() + ")"; });

@@ -206,9 +206,10 @@ def simulate(energy, trajectories, time, arm=None, criteria=None, seed=None, rto
 
 
 
-simulate.__doc__ += (
-    "\n\n    Settings left None take the library's defaults (its one settings table): " +
-    ", ".join(f"{k}={v}" for k, v in _flipflux.run_settings() if v) + ".")
+if simulate.__doc__:  # None under python -OO
+    simulate.__doc__ += (
+        "\n\n    Settings left None take the library's defaults (its one settings table): " +
+        ", ".join(f"{k}={v}" for k, v in _flipflux.run_settings() if v) + ".")
 
 def _read_table(path):
     """A --csv-dir table as a NumPy structured array. A column empty in every row (lyapunov

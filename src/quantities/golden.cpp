@@ -128,7 +128,8 @@ golden_outcome certify(const golden_task& t, const evaluation& high,
 /// value. `aim`: the digits asked of the proof (at least the row's).
 void prove_row(golden_row& row, const model_text& model, int aim) {
     if (!has_certified_enclosure(row.quantity)) return;
-    const arm a = parse_name<arm>(row.arm, "arm");
+    // a quantity of both arms (omega) has no arm in its row: any arm evaluates it
+    const arm a = row.arm.empty() ? arm::two : parse_name<arm>(row.arm, "arm");
     const certified_enclosure e =
         certified_value(row.quantity, model, a, row.energy, std::max({row.digits, aim, 1}));
     const std::string slack = dispatch(mp_precision(row.digits + 10), [&]<class Real>() {

@@ -2,6 +2,7 @@
 #include "flipflux/study/settings.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <stdexcept>
 
 #include "flipflux/core/decimal.hpp"
@@ -149,7 +150,7 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     o.first_index = r.count("first_index", false);
     o.rtol = r.positive("rtol");
     o.atol = r.real("atol");
-    if (!(o.atol >= 0))
+    if (!(o.atol >= 0) || std::signbit(o.atol))
         throw input_error::about(r.name("atol"),
                                  "'" + r.text("atol") + "' must be >= 0 (0: equal to rtol)");
     o.threads = checked_threads(r.count("threads", false), r.name("threads"));
@@ -165,10 +166,10 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     q.estimator = parse_name<rate_estimator>(r.text("estimator"), r.name("estimator"));
     q.short_time = r.positive("short_time");
     q.reference_time = r.real("reference_time");
-    if (!(q.reference_time >= 0))
+    if (!(q.reference_time >= 0) || std::signbit(q.reference_time))
         throw input_error::about(
             r.name("reference_time"),
-            "'" + r.text("reference_time") + "' is invalid (must be finite and >= 0)");
+            "'" + to_decimal(q.reference_time) + "' is invalid (must be finite and >= 0)");
     return q;
 }
 

@@ -272,9 +272,10 @@ TEST(Golden, GridCsvAndDigits) {
 }
 
 TEST(Golden, CertifyAddsTheProvenRadius) {
-    // a prediction row and a saddle-orbit row (the action just above the saddle, in mp:20): each
-    // [value +/- radius] is a proven enclosure, its proven digits those of the rounded value
-    for (const char* q : {"flux-upright", "action"}) {
+    // a prediction row, a row of both arms (omega: no arm) and a saddle-orbit row (the action
+    // just above the saddle, in mp:20): each [value +/- radius] is a proven enclosure, its proven
+    // digits those of the rounded value
+    for (const char* q : {"flux-upright", "omega", "action"}) {
         const std::string dir =
             ::testing::TempDir() + "flipflux_golden_certify_" + std::to_string(getpid()) + "_" + q;
         const test::command_result r =

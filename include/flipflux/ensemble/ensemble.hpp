@@ -157,13 +157,13 @@ class microcanonical_sampler;
 phase_point<double> initial_state_of(const microcanonical_sampler& sampler,
                                      const ensemble_options& options, std::uint64_t index);
 
-/// A flip criterion: its name and a detector prototype (cloned per thread).
 /// The absolute tolerance the integrators use: atol, or rtol where atol is 0 (the one home of
 /// that rule).
 inline double effective_atol(const ensemble_options& o) {
     return o.atol > 0 ? o.atol : o.rtol;
 }
 
+/// A flip criterion: its name and a detector prototype (cloned per thread).
 struct ensemble_criterion {
     std::string name;
     std::shared_ptr<const flip_detector_base> detector;
