@@ -3,6 +3,7 @@
 // include/flipflux/prediction/phase_volume.hpp and docs/theory.md#phase-volume-and-fluxes).
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "allowed_region.hpp"
 #include "flipflux/core/constants.hpp"
@@ -29,29 +30,53 @@ Real density_parameter(const double_pendulum<Real>& model) {
     return -(k.C * k.C) / k.D0;
 }
 
+/// E(m) of the density parameter: 1 - m = (D0 + C^2)/D0 = A B / D0, without cancellation.
+template <class Real>
+Real complete_e(const double_pendulum<Real>& model) {
+    const auto& k = model.coefficients();
+    return elliptic_e_complete(density_parameter(model), Real(k.A * k.B / k.D0));
+}
+
 /// The marginal density where the other angle is free: 2 pi sqrt(D0) 4 E(m) = 8 pi sqrt(D0) E(m).
 template <class Real>
 Real full_marginal(const double_pendulum<Real>& model) {
     using std::sqrt;
-    const auto& k = model.coefficients();
-    // 1 - m = (D0 + C^2)/D0 = A B / D0, without cancellation.
-    return 8 * pi<Real>() * sqrt(k.D0) *
-           elliptic_e_complete(density_parameter(model), Real(k.A * k.B / k.D0));
+    return 8 * pi<Real>() * sqrt(model.coefficients().D0) * complete_e(model);
 }
 
 /// 2 pi sqrt(D0) [E(t + x|m) + E(t - x|m)]: the marginal at x in [0, pi] with half-width t,
-/// given to_pi = pi - x. Since E(phi + k pi|m) = E(phi|m) + 2 k E(m), the bracket is also
-/// E(t + u|m) + E(t - u|m) with u = pi - x; near x = pi (where t can be small: just above the
-/// saddle level 2 w_this) that form keeps t - u and t + u to full relative precision, where the
-/// form in x adds and removes 2 E(m) and leaves the small sum to the rounding of t + x.
+/// given to_pi = pi - x and E(m) = `complete`. Since E(phi + k pi|m) = E(phi|m) + 2 k E(m), the
+/// bracket is also E(t + u|m) + E(t - u|m) with u = pi - x; near x = pi (where t can be small: just
+/// above the saddle level 2 w_this) that form keeps t - u and t + u to full relative precision,
+/// where the form in x adds and removes 2 E(m) and leaves the small sum to the rounding of t + x.
 template <class Real>
 Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x, const Real& t,
-                              const Real& to_pi) {
+                              const Real& to_pi, const Real& complete) {
     using std::sqrt;
     const Real m = density_parameter(model);
     const Real& y = to_pi < x ? to_pi : x;
     return two_pi<Real>() * sqrt(model.coefficients().D0) *
-           (elliptic_e(Real(t + y), m) + elliptic_e(Real(t - y), m));
+           (elliptic_e(Real(t + y), m, complete) + elliptic_e(Real(t - y), m, complete));
+}
+
+/// The integral over [a, b] of a marginal whose branch points beyond a and b lie at the distances
+/// `near` (0: none). At quad, where each evaluation costs two float128 elliptic integrals, the
+/// nested Clenshaw-Curtis rules in sin^2 (up to 256 intervals: 127 or 255 evaluations) are tried
+/// first unless a branch point is close enough to need grading (nearer than a quarter of the
+/// width); tanh-sinh, graded towards a close branch point, everywhere else and where the pair has
+/// not converged. Double keeps tanh-sinh alone (its results bit for bit; 0.2 ms), as does mp, whose
+/// pair would need n growing with the digits.
+template <class Real>
+quadrature_result<Real> piece_integral(endpoint_integrand<Real> f, const Real& a, const Real& b,
+                                       const std::array<Real, 2>& near) {
+    if constexpr (std::is_same_v<Real, quad>) {
+        const Real quarter = (b - a) / 4;
+        const auto far = [&](const Real& r) { return !(r > 0) || r >= quarter; };
+        if (far(near[0]) && far(near[1])) {
+            if (auto r = sine_squared_clenshaw_curtis<Real>(f, a, b, 256)) return *r;
+        }
+    }
+    return tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
 }
 
 /// The integral of the marginal rho_which over [0, x], 0 <= x <= pi.
@@ -72,12 +97,13 @@ quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model,
         const Real edge_gap = sup.theta_edge - b;  // 0 when the piece ends at theta_edge
         // pi - b, from the support's supplement when the piece ends at its edge
         const Real b_to_pi = b == sup.theta_edge ? sup.edge_supplement : Real(pi<Real>() - b);
+        const Real complete = complete_e(model);
         auto f = [&](const Real& th, const Real& to_a, const Real& to_b) -> Real {
             const Real t = sup.half_width(th, Real(edge_gap + to_b), to_a);
-            return marginal_from_half_width(model, th, t, Real(b_to_pi + to_b));
+            return marginal_from_half_width(model, th, t, Real(b_to_pi + to_b), complete);
         };
         const std::array<Real, 2> near = detail::singularity_distances(sup, b);
-        r += tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
+        r += piece_integral<Real>(f, a, b, near);
     }
     return r;
 }
@@ -116,7 +142,7 @@ Real marginal_density(const double_pendulum<Real>& model, const Real& energy,
     const Real t = allowed_half_width(model, energy, which, theta);
     if (t == 0) return Real(0);
     if (t == pi<Real>()) return full_marginal(model);
-    return marginal_from_half_width(model, x, t, Real(pi<Real>() - x));
+    return marginal_from_half_width(model, x, t, Real(pi<Real>() - x), complete_e(model));
 }
 
 template <class Real>

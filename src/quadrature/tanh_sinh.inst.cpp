@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "convergence.hpp"
 #include "flipflux/core/budget.hpp"
 #include "flipflux/core/instantiate.hpp"
 #include "flipflux/quadrature/quadrature.hpp"
@@ -38,19 +39,6 @@ boost::math::quadrature::tanh_sinh<Real>& thread_integrator() {
                 tanh_sinh_levels, ldexp(Real(1), -(4 * bits + 64)));
         return *slot;
     }
-}
-
-/// The error of tanh-sinh's last level from d <= tolerance L1, the difference of its last two
-/// levels (Boost's estimate), once the rule converged: each level halves the step h and the
-/// error behaves like exp(-c / h), so the relative error r_k of level k is about r_(k-1)^2, and
-/// d ~ r_(k-1) L1 makes the last level's error ~ d^2 / L1. Where the convergence has not reached
-/// that regime (a near singularity: the doubling starts late) the error falls more slowly; the
-/// estimate uses the power 3/2, d (d / L1)^(1/2). Measured against 40-digit references
-/// (tests/prediction/test_error_estimates.cpp).
-template <class Real>
-Real converged_error(const Real& d, const Real& l1) {
-    using std::sqrt;
-    return d * sqrt(d / l1);
 }
 
 }  // namespace
@@ -102,7 +90,8 @@ quadrature_result<Real> tanh_sinh_integrate(endpoint_integrand<Real> f, const Re
     using std::sqrt;
     const bool converged = l1 > 0 && (error <= tolerance * l1 ||
                                       (levels < tanh_sinh_levels && error <= sqrt(tolerance) * l1));
-    r.error_estimate = (converged ? converged_error(error, l1) : error) + epsilon<Real>() * l1;
+    r.error_estimate =
+        (converged ? detail::converged_error(error, l1) : error) + epsilon<Real>() * l1;
     r.l1_norm = l1;
     r.levels = levels;
     r.evaluations = evaluations;

@@ -50,6 +50,42 @@ TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
               tol);
 }
 
+TYPED_TEST(Quadrature, SineSquaredClenshawCurtisConvergesOrDeclines) {
+    using Real = TypeParam;
+    using std::exp;
+    using std::sqrt;
+    const double tol = 8 * static_cast<double>(eps<Real>());
+    // int_{-1}^{1} sqrt(1 - x^2) dx = pi / 2: the substitution makes it a trigonometric
+    // polynomial in u, entire in the rule's variable: 63 evaluations (32 and 64 intervals) at
+    // double and quad, 127 at 50 digits
+    auto g = [](const Real&, const Real& to_a, const Real& to_b) -> Real {
+        return sqrt(to_a * to_b);
+    };
+    const auto a = sine_squared_clenshaw_curtis<Real>(g, Real(-1), Real(1), 256);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_LE(relative_error(a->value, pi<test::reference_real>() / 2), tol);
+    EXPECT_EQ(a->evaluations, has_variable_precision_v<Real> ? 127u : 63u);
+    // int_{-1}^{1} e^x sqrt(1 - x^2) dx = pi I_1(1) (Boost's Bessel function as reference)
+    auto h = [](const Real& x, const Real& to_a, const Real& to_b) -> Real {
+        return exp(x) * sqrt(to_a * to_b);
+    };
+    const auto b = sine_squared_clenshaw_curtis<Real>(h, Real(-1), Real(1), 256);
+    ASSERT_TRUE(b.has_value());
+    const test::reference_real exact =
+        pi<test::reference_real>() * boost::math::cyl_bessel_i(1, test::reference_real(1));
+    EXPECT_LE(relative_error(b->value, exact), tol);
+    EXPECT_GE(b->error_estimate, abs(b->value - Real(exact)));
+    EXPECT_LE(b->error_estimate, 100 * abs(b->value - Real(exact)) + 8 * eps<Real>() * b->l1_norm);
+    // a pole 1e-9 beyond b: no rule up to 256 intervals converges, and the caller is told so
+    auto near = [](const Real&, const Real&, const Real& to_b) -> Real {
+        return 1 / (to_b + Real(1e-9));
+    };
+    EXPECT_FALSE(sine_squared_clenshaw_curtis<Real>(near, Real(0), Real(1), 256).has_value());
+    EXPECT_EQ(sine_squared_clenshaw_curtis<Real>(near, Real(1), Real(1), 256)->value, Real(0));
+    EXPECT_THROW(sine_squared_clenshaw_curtis<Real>(near, Real(0), Real(1), 96), std::domain_error);
+    EXPECT_THROW(sine_squared_clenshaw_curtis<Real>(near, Real(0), Real(1), 16), std::domain_error);
+}
+
 TYPED_TEST(Quadrature, PiecesAndEmptyIntervals) {
     using Real = TypeParam;
     using std::abs;

@@ -39,6 +39,11 @@ namespace flipflux {
 template <class Real>
 Real elliptic_e(const Real& phi, const Real& m);
 
+/// E(phi|m) given the complete E(m) = `complete` (m <= 1), for many phi at one m: the same value
+/// as elliptic_e(phi, m) without recomputing E(m) for the half periods.
+template <class Real>
+Real elliptic_e(const Real& phi, const Real& m, const Real& complete);
+
 /// Complete E(m) = E(pi/2|m), m <= 1.
 template <class Real>
 Real elliptic_e(const Real& m);
@@ -83,6 +88,7 @@ std::array<Real, 2> carlson_rf_rd(const Real& x, const Real& y, const Real& z);
 #define FLIPFLUX_ELLIPTIC_EXTERN(R)                                                  \
     extern template R elliptic_e<R>(const R&, const R&);                             \
     extern template R elliptic_e<R>(const R&);                                       \
+    extern template R elliptic_e<R>(const R&, const R&, const R&);                   \
     extern template R elliptic_e_complete<R>(const R&, const R&);                    \
     extern template R elliptic_k_complete<R>(const R&, const R&);                    \
     extern template R elliptic_k<R>(const R&);                                       \

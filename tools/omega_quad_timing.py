@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""Omega(E) at quad: CPU seconds of one evaluation and its digits, over energies and pendulums.
+
+    omega_quad_timing.py FLIPFLUX [--repeat N] > bench/results/omega_quad.txt
+
+Each row runs `FLIPFLUX eval omega --precision quad` N times (the median of the JSON's "seconds",
+the evaluation's own CPU time, process start-up excluded) and once at mp:50 as the reference;
+"error" is |quad - mp:50|, "estimate" the quad run's error estimate and "ratio" estimate / error
+(issue 42: the estimate within 100x of the error). The baseline in the same run is the tanh-sinh
+route's cost, Omega by `--method quadrature-2d` excluded: the elliptic route alone changed.
+"""
+import argparse
+import json
+import platform
+import statistics
+import subprocess
+import sys
+from decimal import Decimal, getcontext
+
+getcontext().prec = 60
+
+PENDULUMS = {
+    "paper": [],
+    "light first link (m1 0.1)": ["--m1", "0.1"],
+    "rigid links (a 0.5, I 1/12)": ["--a1", "0.5", "--a2", "0.5", "--I1", "0.0833333333333333333",
+                                    "--I2", "0.0833333333333333333"],
+}
+ENERGIES = ["0.5", "1", "1.9", "2.05", "2.5", "3", "3.5", "3.9", "4.05", "4.3", "5", "5.5", "5.9"]
+
+
+def run(flipflux, energy, precision, model):
+    out = subprocess.run([flipflux, "eval", "omega", "--energy", energy, "--precision", precision]
+                         + model, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("flipflux")
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    print(f"# omega at quad, {args.flipflux} (commit {commit}), {platform.processor() or platform.machine()}")
+    print("# pendulum | E | median CPU ms | evaluations route | error | estimate | ratio")
+    for name, model in PENDULUMS.items():
+        for E in ENERGIES:
+            times = []
+            for _ in range(args.repeat):
+                r = run(args.flipflux, E, "quad", model)
+                times.append(r["seconds"])
+            ref = run(args.flipflux, E, "mp:50", model)
+            err = abs(Decimal(r["value"]) - Decimal(ref["value"]))
+            est = Decimal(r["error_estimate"])
+            ratio = f"{est / err:.1f}" if err > 0 else "exact"
+            print(f"{name} | {E} | {1e3 * statistics.median(times):.1f} | {r['value']} | "
+                  f"{float(err):.2e} | {float(est):.2e} | {ratio}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
