@@ -52,14 +52,17 @@ sine_squared_rules<Real> make_rules(std::size_t max_intervals) {
         T[i] = i == N ? Real(0)
                       : cos(Real(pi<Real>() * Real(static_cast<long>(i)) /
                                  Real(static_cast<long>(2 * N))));
-    for (std::size_t i = N + 1; i <= 2 * N; ++i) T[i] = -T[2 * N - i];
-    for (std::size_t i = 2 * N + 1; i < 4 * N; ++i) T[i] = T[4 * N - i];
+    for (std::size_t i = N + 1; i <= 2 * N; ++i)
+        T[i] = -T[2 * N - i];
+    for (std::size_t i = 2 * N + 1; i < 4 * N; ++i)
+        T[i] = T[4 * N - i];
     sine_squared_rules<Real> r;
     r.max_intervals = N;
     // node k: u = pi (1 + cos(k pi / N)) / 2 = pi cos^2(k pi / (2 N)), pi - u = pi sin^2(...);
     // sin((pi - u_k) / 2) = sin(u_(N-k) / 2)
     std::vector<Real> half_sine(N + 1);  // sin(u_k / 2), k = 0..N
-    for (std::size_t k = 0; k <= N; ++k) half_sine[k] = sin(half_pi<Real>() * T[k] * T[k]);
+    for (std::size_t k = 0; k <= N; ++k)
+        half_sine[k] = sin(half_pi<Real>() * T[k] * T[k]);
     for (std::size_t k = 1; k < N; ++k) {
         const Real &s = half_sine[k], &c = half_sine[N - k];
         r.p.push_back(s * s);
@@ -78,7 +81,8 @@ sine_squared_rules<Real> make_rules(std::size_t max_intervals) {
         const std::size_t stride = 4 * N / M;
         for (std::size_t k = 1; k <= M / 2; ++k) {
             Real sum = 0;
-            for (std::size_t j = 1; j <= M / 2; ++j) sum += coef[j] * T[(j * k * stride) % (4 * N)];
+            for (std::size_t j = 1; j <= M / 2; ++j)
+                sum += coef[j] * T[(j * k * stride) % (4 * N)];
             w[k - 1] = w[M - k - 1] = 2 * (1 - sum) / Real(static_cast<long>(M));
         }
         r.weight.push_back(std::move(w));
@@ -162,8 +166,8 @@ std::optional<quadrature_result<Real>> sine_squared_clenshaw_curtis(
     return std::nullopt;
 }
 
-#define FLIPFLUX_CLENSHAW_CURTIS_INSTANTIATE(R)                                             \
-    template std::optional<quadrature_result<R>> sine_squared_clenshaw_curtis<R>(           \
+#define FLIPFLUX_CLENSHAW_CURTIS_INSTANTIATE(R)                                   \
+    template std::optional<quadrature_result<R>> sine_squared_clenshaw_curtis<R>( \
         endpoint_integrand<R>, const R&, const R&, std::size_t, const quadrature_options<R>&)
 FLIPFLUX_CLENSHAW_CURTIS_INSTANTIATE(inst_real);
 
