@@ -42,7 +42,7 @@ def main():
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True).stdout.strip()
     print(f"# omega at quad, {args.flipflux} (commit {commit}), {platform.processor() or platform.machine()}")
-    print("# pendulum | E | median CPU ms | evaluations route | error | estimate | ratio")
+    print("# pendulum | E | median CPU ms | value | error | estimate | ratio")
     for name, model in PENDULUMS.items():
         for E in ENERGIES:
             times = []
