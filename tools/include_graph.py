@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The include graph of flipflux's modules, checked against the layers of docs/architecture
 (../shared/STYLE.md): core <- model, special, quadrature, integrators, io <- prediction, orbits,
-ensemble, certified, quantities <- study <- validation, report <- scene <- cli.
+ensemble, certified, quantities <- study, output <- validation, report <- scene <- cli.
 
     python3 tools/include_graph.py            # print every module-to-module arrow, flag upward ones
     python3 tools/include_graph.py --check    # exit status 1 if any arrow points up or sideways
@@ -24,7 +24,7 @@ LAYERS = [
     ["model", "special", "quadrature", "integrators", "io"],
     ["prediction", "orbits", "ensemble", "certified"],
     ["quantities"],
-    ["study"],
+    ["study", "output"],
     ["validation", "report"],
     ["scene"],
     ["cli"],

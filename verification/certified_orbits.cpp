@@ -20,6 +20,7 @@
 #include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
+#include "flipflux/output/golden_files.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "support.hpp"

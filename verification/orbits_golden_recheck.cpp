@@ -16,6 +16,7 @@
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/energy_level.hpp"
 #include "flipflux/model/model_text.hpp"
+#include "flipflux/output/golden_files.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "support.hpp"

@@ -23,8 +23,6 @@ let the abandoned computation finish in the background. See docs/python.md.
 import csv as _csv
 import decimal as _decimal
 import fractions as _fractions
-import glob as _glob
-import json as _json
 import os as _os
 import tempfile as _tempfile
 from typing import NamedTuple as _NamedTuple
@@ -196,12 +194,8 @@ def simulate(energy, trajectories, time, arm=None, criteria=None, seed=None, rto
         args["method"] = method
     if chaos is not None:
         args["chaos"] = "true" if chaos else "false"
-    with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
-        report = _json.loads(_flipflux.simulate_json(args, _parameters(pendulum), tmp))
-        per_trajectory = {}
-        for path in sorted(_glob.glob(_os.path.join(tmp, "*.csv"))):
-            name = _os.path.splitext(_os.path.basename(path))[0]
-            per_trajectory[name] = _read_table(path)
+    report, tables = _flipflux.simulate(args, _parameters(pendulum))
+    per_trajectory = {name: _structured(columns) for name, columns in sorted(tables.items())}
     return report, per_trajectory
 
 
@@ -211,22 +205,20 @@ if simulate.__doc__:  # None under python -OO
         "\n\n    Settings left None take the library's defaults (its one settings table): " +
         ", ".join(f"{k}={v}" for k, v in _flipflux.run_settings() if v) + ".")
 
-def _read_table(path):
-    """A --csv-dir table as a NumPy structured array. A column empty in every row (lyapunov
-    without the chaos indicator: not computed) is NaN, as the file means, not the False that
-    genfromtxt infers for it."""
-    table = _np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
-    with open(path, encoding="utf-8", newline="") as f:
-        rows = list(_csv.reader(f))
-    header, body = rows[0], rows[1:]
-    empty = {table.dtype.names[i] for i in range(min(len(header), len(table.dtype.names)))
-             if body and all(i < len(r) and r[i] == "" for r in body)}
-    if not empty:
-        return table
-    out = _np.empty(table.shape, dtype=[(n, float if n in empty else table.dtype[n])
-                                        for n in table.dtype.names])
-    for n in table.dtype.names:
-        out[n] = _np.nan if n in empty else table[n]
+def _structured(columns):
+    """A table of the library's study_files (a list of (column, values): NumPy int64 or float64
+    arrays, lists of str) as a NumPy structured array with those columns, in order: the columns of
+    the --csv-dir file of the same name."""
+    rows = len(columns[0][1]) if columns else 0
+    dtype = []
+    for name, values in columns:
+        if isinstance(values, _np.ndarray):
+            dtype.append((name, values.dtype))
+        else:
+            dtype.append((name, f"<U{max([1] + [len(v) for v in values])}"))
+    out = _np.empty(rows, dtype=dtype)
+    for name, values in columns:
+        out[name] = values
     return out
 
 

@@ -5,6 +5,7 @@
 #include "common.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/output/accuracy_markdown.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"

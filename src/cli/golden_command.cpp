@@ -12,6 +12,7 @@
 #include "flipflux/core/limits.hpp"
 #include "flipflux/core/names.hpp"
 #include "flipflux/io/atomic_file.hpp"
+#include "flipflux/output/golden_files.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "progress.hpp"

@@ -271,7 +271,8 @@ const register_command registration([](CLI::App& app) {
         }
         const validation_report r =
             validate_candidate(s->candidate, golden, rtol, s->allow_missing, s->require_all);
-        print(format_report(r, rtol, s->verbose));
+        print(format_report(r, rtol, s->verbose,
+                            ": --verbose lists them, --allow-missing accepts them"));
         if (!r.passed()) exit_status() = 1;
     });
 });

@@ -324,7 +324,6 @@ class lane {
         } else {
             r_.lyapunov = std::numeric_limits<double>::quiet_NaN();
         }
-        r_.chaotic = is_chaotic(model_, o_.chaos, o_.chaos_threshold, r_.lyapunov);
     }
 
     const ensemble_options& o_;
@@ -718,6 +717,7 @@ ensemble_result run_ensemble(const double_pendulum<double>& model, const ensembl
     result.rtol = o.rtol;
     result.atol = effective_atol(o);
     result.chaos_threshold = o.chaos_threshold;
+    result.chaos_threshold_rate = chaos_threshold_rate(model, o.chaos_threshold);
     result.seed = o.seed;
     result.first_index = o.first_index;
     result.method = resolved_method(o.method, o.rtol);

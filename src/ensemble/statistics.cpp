@@ -178,7 +178,7 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
         s.flips += times.size();
         const double rate = static_cast<double>(times.size()) / r.time;
         rates.push_back(rate);
-        if (t.chaotic) chaotic_rates.push_back(rate);
+        if (r.chaotic(t)) chaotic_rates.push_back(rate);
         for (std::size_t i = 1; i < times.size(); ++i)
             residence.push_back(times[i] - times[i - 1]);
     }
@@ -206,7 +206,7 @@ criterion_statistics analyze(const ensemble_result& r, std::size_t c, double pre
                 if (t.status != rk_status::ok) continue;
                 const double rate = static_cast<double>(t.crossing_times[c].size()) / r.time;
                 rates.push_back(rate);
-                if (t.chaotic) chaotic_rates.push_back(rate);
+                if (r.chaotic(t)) chaotic_rates.push_back(rate);
             }
             s.replicate_rates.push_back(summarize(rates));
             s.replicate_chaotic_rates.push_back(summarize(chaotic_rates));
@@ -234,7 +234,7 @@ flip_count_statistics flip_counts(const ensemble_result& r, std::size_t c) {
                 if (w < per) ++count[w];
             }
             for (int chaotic = 0; chaotic < 2; ++chaotic) {
-                if (chaotic && !t.chaotic) continue;
+                if (chaotic && !r.chaotic(t)) continue;
                 for (std::uint64_t n : count) {
                     sum[chaotic] += n;
                     sum2[chaotic] += static_cast<long double>(n) * n;
@@ -264,7 +264,7 @@ flip_count_statistics flip_counts(const ensemble_result& r, std::size_t c) {
         if (t.status != rk_status::ok) continue;
         const auto& times = t.crossing_times[c];
         for (int chaotic = 0; chaotic < 2; ++chaotic) {
-            if (chaotic && !t.chaotic) continue;
+            if (chaotic && !r.chaotic(t)) continue;
             for (std::size_t i = 1; i < times.size(); ++i)
                 tau[chaotic].push_back(times[i] - times[i - 1]);
         }

@@ -328,7 +328,6 @@ class taylor_lane final : public step_interpolant {
         } else {
             r_.lyapunov = std::numeric_limits<double>::quiet_NaN();
         }
-        r_.chaotic = is_chaotic(model_, o_.chaos, o_.chaos_threshold, r_.lyapunov);
     }
 
     const ensemble_options& o_;

@@ -21,6 +21,8 @@
 #include "flipflux/model/model_json.hpp"
 #include "flipflux/orbits/orbit_store.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
+#include "flipflux/output/accuracy_markdown.hpp"
+#include "flipflux/output/golden_files.hpp"
 #include "flipflux/prediction/curve_flux.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"

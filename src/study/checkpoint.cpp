@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -94,271 +95,253 @@ std::string shorten(const std::string& s) {
     return s.size() <= 60 ? s : s.substr(0, 57) + "...";
 }
 
+// One field list per record drives both directions: each `*_fields(io, x)` below names the fields
+// in their order once, and is run with a record_writer (x const: the line is built) or a
+// record_reader (the line's tokens parsed into x, each count checked against its bound).
+
+/// Builds a record: its tag, then each field as a space and its shortest round-trip text.
+class record_writer {
+  public:
+    explicit record_writer(const char* tag) : s_(tag) {}
+    void real(const double& x) { put(s_, x); }
+    template <class Int>
+    void integer(const Int& x) {
+        put_int(s_, x);
+    }
+    /// A count of items that follow (written as is; `bound` and `what` serve the reader).
+    std::size_t count(std::size_t n, std::size_t /*bound*/, const char* /*what*/) {
+        put_int(s_, n);
+        return n;
+    }
+    /// A vector's size, then its items by `each`.
+    template <class V, class F>
+    void sequence(V& v, std::size_t bound, const char* what, F each) {
+        count(v.size(), bound, what);
+        for (auto& x : v)
+            each(x);
+    }
+    static constexpr bool reading = false;
+    std::string line() const { return hashed_line(s_); }
+
+  private:
+    std::string s_;
+};
+
+/// Parses a record written by record_writer through the same field list.
+class record_reader {
+  public:
+    /// The verified content of `line` (its hash checked), which must start with `tag` (else
+    /// `wrong_tag` is the error).
+    record_reader(std::string_view line, std::string_view tag, const char* wrong_tag) {
+        if (!verified(line, content_)) throw std::runtime_error("damaged record (hash mismatch)");
+        t_.emplace(content_);
+        if (t_->next() != tag) throw std::runtime_error(wrong_tag);
+    }
+    void real(double& x) { x = t_->real(); }
+    template <class Int>
+    void integer(Int& x) {
+        x = t_->template integer<Int>();
+    }
+    /// A count, at most `bound` (else "bad <what>"; a bound of 0 means the line's length).
+    std::size_t count(std::size_t /*written*/, std::size_t bound, const char* what) {
+        const auto n = t_->integer<std::size_t>();
+        if (n > (bound ? bound : content_.size()))
+            throw std::runtime_error(std::string("bad ") + what);
+        return n;
+    }
+    template <class V, class F>
+    void sequence(V& v, std::size_t bound, const char* what, F each) {
+        v.resize(count(0, bound, what));
+        for (auto& x : v)
+            each(x);
+    }
+    static constexpr bool reading = true;
+    bool done() { return t_->done(); }
+
+  private:
+    std::string_view content_;
+    std::optional<tokens> t_;
+};
+
+/// A record's criteria count: written as is; read, it must be the layout's.
+template <class Io>
+std::size_t criteria_count(Io& io, std::size_t n, std::size_t criteria) {
+    const std::size_t got = io.count(n, std::numeric_limits<std::size_t>::max(), "criteria");
+    if (Io::reading && got != criteria)
+        throw std::runtime_error("the record has " + std::to_string(got) + " criteria, not " +
+                                 std::to_string(criteria));
+    return got;
+}
+
+/// A trajectory (the T record after its energy). `chaotic`: the classification, written for the
+/// readers of older versions and ignored when read (it is computed: ensemble_result::chaotic).
+template <class Io, class R>
+void trajectory_fields(Io& io, R& r, std::size_t criteria, int& chaotic) {
+    io.integer(r.index);
+    int status = static_cast<int>(r.status);
+    io.integer(status);
+    if constexpr (Io::reading) {
+        if (status < 0 || status > static_cast<int>(rk_status::non_finite))
+            throw std::runtime_error("bad status " + std::to_string(status));
+        r.status = static_cast<rk_status>(status);
+    }
+    io.real(r.end_time);
+    io.real(r.max_energy_drift);
+    io.real(r.lyapunov);
+    io.integer(chaotic);
+    io.integer(r.steps);
+    io.integer(r.rejected_steps);
+    io.integer(r.evaluations);
+    io.integer(r.energy_check_rejections);
+    for (auto& x : r.initial_state)
+        io.real(x);
+    const std::size_t nc = criteria_count(io, r.crossing_times.size(), criteria);
+    if constexpr (Io::reading) r.crossing_times.resize(nc);
+    for (auto& times : r.crossing_times)
+        io.sequence(times, 0, "crossing count", [&](auto& t) { io.real(t); });
+}
+
+template <class Io, class S>
+void summary_fields(Io& io, S& x) {
+    io.integer(x.count);
+    io.real(x.mean);
+    io.real(x.standard_deviation);
+    io.real(x.standard_error);
+    io.real(x.minimum);
+    io.real(x.maximum);
+    io.real(x.skewness);
+    io.real(x.kurtosis);
+}
+
+template <class Io, class H>
+void histogram_fields(Io& io, H& h) {
+    io.real(h.lower);
+    io.real(h.upper);
+    io.integer(h.underflow);
+    io.integer(h.overflow);
+    io.sequence(h.counts, 0, "bin count", [&](auto& n) { io.integer(n); });
+}
+
+template <class Io, class C>
+void counts_fields(Io& io, C& x) {
+    io.sequence(x.fano, 0, "window count", [&](auto& f) {
+        io.real(f.window);
+        io.integer(f.windows);
+        io.integer(f.windows_chaotic);
+        io.real(f.mean_count);
+        io.real(f.fano);
+        io.real(f.mean_count_chaotic);
+        io.real(f.fano_chaotic);
+    });
+    io.real(x.cv2);
+    io.real(x.cv2_chaotic);
+    io.sequence(x.survival, 0, "tail count", [&](auto& p) {
+        io.real(p.time);
+        io.real(p.survival);
+        io.real(p.survival_chaotic);
+    });
+}
+
+template <class Io, class X>
+void criterion_fields(Io& io, X& x) {
+    io.real(x.predicted_rate);
+    io.integer(x.flips);
+    summary_fields(io, x.rates);
+    io.real(x.z_score);
+    io.integer(x.chaotic);
+    io.real(x.chaotic_fraction);
+    summary_fields(io, x.chaotic_rates);
+    io.real(x.chaotic_z_score);
+    summary_fields(io, x.residence.summary);
+    io.real(x.residence.q001);
+    io.real(x.residence.q01);
+    io.real(x.residence.median);
+    histogram_fields(io, x.residence.distribution);
+    histogram_fields(io, x.rate_distribution);
+    // the replicates' summaries, pooled and chaotic, in pairs
+    const std::size_t replicates = io.count(x.replicate_rates.size(), 0, "replicate count");
+    if constexpr (Io::reading) {
+        x.replicate_rates.resize(replicates);
+        x.replicate_chaotic_rates.resize(replicates);
+    }
+    for (std::size_t k = 0; k < replicates; ++k) {
+        summary_fields(io, x.replicate_rates[k]);
+        summary_fields(io, x.replicate_chaotic_rates[k]);
+    }
+    counts_fields(io, x.counts);
+}
+
+/// An energy's statistics (the E record after its energy). cpu_seconds comes last: records
+/// written before it was recorded end at the pairs (read as NaN).
+template <class Io, class E>
+void energy_fields(Io& io, E& e, std::size_t criteria) {
+    io.real(e.seconds);
+    io.integer(e.threads);
+    io.integer(e.processes);
+    io.real(e.steps_per_trajectory);
+    io.integer(e.failed_trajectories);
+    io.integer(e.energy_check_rejections);
+    io.real(e.max_energy_drift);
+    const std::size_t nc = criteria_count(io, e.criteria.size(), criteria);
+    if constexpr (Io::reading) e.criteria.resize(nc);
+    for (auto& c : e.criteria)
+        criterion_fields(io, c.statistics);
+    const std::size_t pairs =
+        io.count(e.paired.size(), std::numeric_limits<std::size_t>::max(), "pair count");
+    if (Io::reading && pairs != criteria * (criteria - 1) / 2)
+        throw std::runtime_error("bad pair count");
+    if constexpr (Io::reading) e.paired.resize(pairs);
+    for (auto& d : e.paired) {
+        io.integer(d.first);
+        io.integer(d.second);
+        if (Io::reading && !(d.first < d.second && d.second < criteria))
+            throw std::runtime_error("bad criterion pair");
+        summary_fields(io, d.difference);
+    }
+    if constexpr (Io::reading) {
+        if (io.done()) {
+            e.cpu_seconds = std::numeric_limits<double>::quiet_NaN();
+            return;
+        }
+    }
+    io.real(e.cpu_seconds);
+}
+
 }  // namespace
 
-std::string trajectory_record(std::size_t energy, const trajectory_result& r) {
-    std::string s = "T";
-    put_int(s, energy);
-    put_int(s, r.index);
-    put_int(s, static_cast<int>(r.status));
-    put(s, r.end_time);
-    put(s, r.max_energy_drift);
-    put(s, r.lyapunov);
-    put_int(s, r.chaotic ? 1 : 0);
-    put_int(s, r.steps);
-    put_int(s, r.rejected_steps);
-    put_int(s, r.evaluations);
-    put_int(s, r.energy_check_rejections);
-    for (double x : r.initial_state)
-        put(s, x);
-    put_int(s, r.crossing_times.size());
-    for (const std::vector<double>& times : r.crossing_times) {
-        put_int(s, times.size());
-        for (double t : times)
-            put(s, t);
-    }
-    return hashed_line(s);
+std::string trajectory_record(std::size_t energy, const trajectory_result& r, bool chaotic) {
+    record_writer w("T");
+    w.integer(energy);
+    int flag = chaotic ? 1 : 0;
+    trajectory_fields(w, r, r.crossing_times.size(), flag);
+    return w.line();
 }
 
 trajectory_result parse_trajectory_record(std::string_view line, std::size_t criteria,
                                           std::size_t& energy) {
-    std::string_view content;
-    if (!verified(line, content)) throw std::runtime_error("damaged record (hash mismatch)");
-    tokens t(content);
-    if (t.next() != "T") throw std::runtime_error("not a trajectory record");
+    record_reader io(line, "T", "not a trajectory record");
     trajectory_result r;
-    energy = t.integer<std::size_t>();
-    r.index = t.integer<std::uint64_t>();
-    const int status = t.integer<int>();
-    if (status < 0 || status > static_cast<int>(rk_status::non_finite))
-        throw std::runtime_error("bad status " + std::to_string(status));
-    r.status = static_cast<rk_status>(status);
-    r.end_time = t.real();
-    r.max_energy_drift = t.real();
-    r.lyapunov = t.real();
-    r.chaotic = t.integer<int>() != 0;
-    r.steps = t.integer<long>();
-    r.rejected_steps = t.integer<long>();
-    r.evaluations = t.integer<long>();
-    r.energy_check_rejections = t.integer<long>();
-    for (double& x : r.initial_state)
-        x = t.real();
-    const auto nc = t.integer<std::size_t>();
-    if (nc != criteria)
-        throw std::runtime_error("the record has " + std::to_string(nc) + " criteria, not " +
-                                 std::to_string(criteria));
-    r.crossing_times.resize(nc);
-    for (std::vector<double>& times : r.crossing_times) {
-        const auto n = t.integer<std::size_t>();
-        if (n > content.size()) throw std::runtime_error("bad crossing count");
-        times.resize(n);
-        for (double& x : times)
-            x = t.real();
-    }
-    if (!t.done()) throw std::runtime_error("trailing fields");
+    io.integer(energy);
+    int chaotic = 0;  // computed from lyapunov by the ensemble's rule, not read
+    trajectory_fields(io, r, criteria, chaotic);
+    if (!io.done()) throw std::runtime_error("trailing fields");
     return r;
 }
 
-namespace {
-
-void put_summary(std::string& s, const summary_statistics& x) {
-    put_int(s, x.count);
-    put(s, x.mean);
-    put(s, x.standard_deviation);
-    put(s, x.standard_error);
-    put(s, x.minimum);
-    put(s, x.maximum);
-    put(s, x.skewness);
-    put(s, x.kurtosis);
-}
-
-summary_statistics get_summary(tokens& t) {
-    summary_statistics x;
-    x.count = t.integer<std::size_t>();
-    x.mean = t.real();
-    x.standard_deviation = t.real();
-    x.standard_error = t.real();
-    x.minimum = t.real();
-    x.maximum = t.real();
-    x.skewness = t.real();
-    x.kurtosis = t.real();
-    return x;
-}
-
-void put_histogram(std::string& s, const histogram& h) {
-    put(s, h.lower);
-    put(s, h.upper);
-    put_int(s, h.underflow);
-    put_int(s, h.overflow);
-    put_int(s, h.counts.size());
-    for (std::uint64_t n : h.counts)
-        put_int(s, n);
-}
-
-histogram get_histogram(tokens& t, std::size_t limit) {
-    histogram h;
-    h.lower = t.real();
-    h.upper = t.real();
-    h.underflow = t.integer<std::uint64_t>();
-    h.overflow = t.integer<std::uint64_t>();
-    const auto n = t.integer<std::size_t>();
-    if (n > limit) throw std::runtime_error("bad bin count");
-    h.counts.resize(n);
-    for (std::uint64_t& c : h.counts)
-        c = t.integer<std::uint64_t>();
-    return h;
-}
-
-void put_counts(std::string& s, const flip_count_statistics& x) {
-    put_int(s, x.fano.size());
-    for (const window_fano& f : x.fano) {
-        put(s, f.window);
-        put_int(s, f.windows);
-        put_int(s, f.windows_chaotic);
-        put(s, f.mean_count);
-        put(s, f.fano);
-        put(s, f.mean_count_chaotic);
-        put(s, f.fano_chaotic);
-    }
-    put(s, x.cv2);
-    put(s, x.cv2_chaotic);
-    put_int(s, x.survival.size());
-    for (const auto& p : x.survival) {
-        put(s, p.time);
-        put(s, p.survival);
-        put(s, p.survival_chaotic);
-    }
-}
-
-flip_count_statistics get_counts(tokens& t, std::size_t limit) {
-    flip_count_statistics x;
-    const auto n = t.integer<std::size_t>();
-    if (n > limit) throw std::runtime_error("bad window count");
-    x.fano.resize(n);
-    for (window_fano& f : x.fano) {
-        f.window = t.real();
-        f.windows = t.integer<std::uint64_t>();
-        f.windows_chaotic = t.integer<std::uint64_t>();
-        f.mean_count = t.real();
-        f.fano = t.real();
-        f.mean_count_chaotic = t.real();
-        f.fano_chaotic = t.real();
-    }
-    x.cv2 = t.real();
-    x.cv2_chaotic = t.real();
-    const auto m = t.integer<std::size_t>();
-    if (m > limit) throw std::runtime_error("bad tail count");
-    x.survival.resize(m);
-    for (auto& p : x.survival) {
-        p.time = t.real();
-        p.survival = t.real();
-        p.survival_chaotic = t.real();
-    }
-    return x;
-}
-
-}  // namespace
-
 std::string energy_record(std::size_t energy, const energy_result& e) {
-    std::string s = "E";
-    put_int(s, energy);
-    put(s, e.seconds);
-    put_int(s, e.threads);
-    put_int(s, e.processes);
-    put(s, e.steps_per_trajectory);
-    put_int(s, e.failed_trajectories);
-    put_int(s, e.energy_check_rejections);
-    put(s, e.max_energy_drift);
-    put_int(s, e.criteria.size());
-    for (const criterion_result& c : e.criteria) {
-        const criterion_statistics& x = c.statistics;
-        put(s, x.predicted_rate);
-        put_int(s, x.flips);
-        put_summary(s, x.rates);
-        put(s, x.z_score);
-        put_int(s, x.chaotic);
-        put(s, x.chaotic_fraction);
-        put_summary(s, x.chaotic_rates);
-        put(s, x.chaotic_z_score);
-        put_summary(s, x.residence.summary);
-        put(s, x.residence.q001);
-        put(s, x.residence.q01);
-        put(s, x.residence.median);
-        put_histogram(s, x.residence.distribution);
-        put_histogram(s, x.rate_distribution);
-        put_int(s, x.replicate_rates.size());
-        for (std::size_t k = 0; k < x.replicate_rates.size(); ++k) {
-            put_summary(s, x.replicate_rates[k]);
-            put_summary(s, x.replicate_chaotic_rates[k]);
-        }
-        put_counts(s, x.counts);
-    }
-    put_int(s, e.paired.size());
-    for (const paired_difference& d : e.paired) {
-        put_int(s, d.first);
-        put_int(s, d.second);
-        put_summary(s, d.difference);
-    }
-    put(s, e.cpu_seconds);  // last: the records before it was recorded end at the pairs
-    return hashed_line(s);
+    record_writer w("E");
+    w.integer(energy);
+    energy_fields(w, e, e.criteria.size());
+    return w.line();
 }
 
 energy_result parse_energy_record(std::string_view line, std::size_t criteria,
                                   std::size_t& energy) {
-    std::string_view content;
-    if (!verified(line, content)) throw std::runtime_error("damaged record (hash mismatch)");
-    tokens t(content);
-    if (t.next() != "E") throw std::runtime_error("not an energy record");
+    record_reader io(line, "E", "not an energy record");
     energy_result e;
-    energy = t.integer<std::size_t>();
-    e.seconds = t.real();
-    e.threads = t.integer<int>();
-    e.processes = t.integer<int>();
-    e.steps_per_trajectory = t.real();
-    e.failed_trajectories = t.integer<std::uint64_t>();
-    e.energy_check_rejections = t.integer<std::int64_t>();
-    e.max_energy_drift = t.real();
-    const auto nc = t.integer<std::size_t>();
-    if (nc != criteria)
-        throw std::runtime_error("the record has " + std::to_string(nc) + " criteria, not " +
-                                 std::to_string(criteria));
-    e.criteria.resize(nc);
-    for (criterion_result& c : e.criteria) {
-        criterion_statistics& x = c.statistics;
-        x.predicted_rate = t.real();
-        x.flips = t.integer<std::uint64_t>();
-        x.rates = get_summary(t);
-        x.z_score = t.real();
-        x.chaotic = t.integer<std::size_t>();
-        x.chaotic_fraction = t.real();
-        x.chaotic_rates = get_summary(t);
-        x.chaotic_z_score = t.real();
-        x.residence.summary = get_summary(t);
-        x.residence.q001 = t.real();
-        x.residence.q01 = t.real();
-        x.residence.median = t.real();
-        x.residence.distribution = get_histogram(t, content.size());
-        x.rate_distribution = get_histogram(t, content.size());
-        const auto replicates = t.integer<std::size_t>();
-        if (replicates > content.size()) throw std::runtime_error("bad replicate count");
-        for (std::size_t k = 0; k < replicates; ++k) {
-            x.replicate_rates.push_back(get_summary(t));
-            x.replicate_chaotic_rates.push_back(get_summary(t));
-        }
-        x.counts = get_counts(t, content.size());
-    }
-    const auto pairs = t.integer<std::size_t>();
-    if (pairs != criteria * (criteria - 1) / 2) throw std::runtime_error("bad pair count");
-    e.paired.resize(pairs);
-    for (paired_difference& d : e.paired) {
-        d.first = t.integer<std::size_t>();
-        d.second = t.integer<std::size_t>();
-        if (!(d.first < d.second && d.second < criteria))
-            throw std::runtime_error("bad criterion pair");
-        d.difference = get_summary(t);
-    }
-    e.cpu_seconds = t.done() ? std::numeric_limits<double>::quiet_NaN() : t.real();
-    if (!t.done()) throw std::runtime_error("trailing fields");
+    io.integer(energy);
+    energy_fields(io, e, criteria);
+    if (!io.done()) throw std::runtime_error("trailing fields");
     return e;
 }
 
@@ -474,7 +457,8 @@ checkpoint_content parse_checkpoint(const std::string& text, const json& header,
 }
 
 checkpoint_writer::checkpoint_writer(std::filesystem::path file, const json& header,
-                                     const checkpoint_content& content, double interval_seconds)
+                                     const checkpoint_content& content, double interval_seconds,
+                                     const std::function<bool(const trajectory_result&)>& chaotic)
     : file_(std::move(file)),
       header_line_(hashed_line(std::string(header_tag) + header.dump())),
       interval_(interval_seconds),
@@ -484,7 +468,7 @@ checkpoint_writer::checkpoint_writer(std::filesystem::path file, const json& hea
     std::string tail;
     for (const auto& [k, trajectories] : content.trajectories)
         for (const auto& [index, r] : trajectories) {
-            tail += trajectory_record(k, r);
+            tail += trajectory_record(k, r, chaotic && chaotic(r));
             ++saved_;
         }
     rewrite(tail);

@@ -190,7 +190,7 @@ ensemble_options checked_options(const simulation_request& request, const proces
     o.method = resolved_method(o.method, o.rtol);  // outputs name the concrete integrator
     if (request.energies.empty()) throw input_error::about("energy", "no energy given");
     if (request.criteria.empty()) throw input_error::about("criteria", "no criterion given");
-    if (o.sample_interval != 0 && request.csv_dir.empty())
+    if (o.sample_interval != 0 && request.csv_dir.empty() && !request.sink)
         throw input_error::about(
             "sample_interval",
             "'" + to_decimal(o.sample_interval) +
@@ -307,7 +307,8 @@ struct resumption {
 };
 
 resumption resume(const simulation_request& request, const json& header,
-                  const checkpoint_layout& layout, process_group& group) {
+                  const checkpoint_layout& layout, process_group& group,
+                  const std::function<bool(const trajectory_result&)>& chaotic) {
     resumption r;
     if (request.checkpoint.empty()) return r;
     const bool root = group.rank() == 0;
@@ -332,7 +333,7 @@ resumption resume(const simulation_request& request, const json& header,
     if (exists) r.saved = parse_checkpoint(text, header, layout, request.checkpoint);
     if (root)
         r.writer = std::make_unique<checkpoint_writer>(request.checkpoint, header, r.saved,
-                                                       request.checkpoint_interval);
+                                                       request.checkpoint_interval, chaotic);
     return r;
 }
 
@@ -559,14 +560,16 @@ void add_comparisons(study_result& out) {
 }
 
 /// The ensemble of one energy from its trajectories, in index order (moved out of `have`).
-ensemble_result collect(const ensemble_options& o, const std::vector<std::string>& names,
-                        int threads, std::map<std::uint64_t, trajectory_result>& have) {
+ensemble_result collect(const double_pendulum<double>& model, const ensemble_options& o,
+                        const std::vector<std::string>& names, int threads,
+                        std::map<std::uint64_t, trajectory_result>& have) {
     ensemble_result r;
     r.energy = o.energy;
     r.time = o.time;
     r.rtol = o.rtol;
     r.atol = o.atol;
     r.chaos_threshold = o.chaos_threshold;
+    r.chaos_threshold_rate = chaos_threshold_rate(model, o.chaos_threshold);
     r.seed = o.seed;
     r.first_index = o.first_index;
     r.method = o.method;
@@ -657,8 +660,8 @@ ensemble_result project(const double_pendulum<double>& model, const ensemble_res
     ensemble_result r = all;
     r.criteria = study.criteria;
     r.chaos_threshold = study.options.chaos_threshold;
+    r.chaos_threshold_rate = chaos_threshold_rate(model, r.chaos_threshold);
     for (trajectory_result& t : r.trajectories) {
-        t.chaotic = is_chaotic(model, r.chaos, r.chaos_threshold, t.lyapunov);
         std::vector<std::vector<double>> times;
         std::vector<std::vector<crossing>> crossings;
         for (std::size_t column : m.columns) {
@@ -690,190 +693,274 @@ void check_shareable(const simulation_request& a, const simulation_request& b) {
 
 }  // namespace
 
+namespace {
+
+/// One run of simulate(): its phases, in order, share this state.
+///   1. check (constructor): every input checked and every curve built, the energies shared;
+///   2. resume: the checkpoint read, and energies whose results are gone from their sink redone;
+///   3. per energy: restore (complete in the checkpoint) or integrate, then finish (statistics,
+///      the sink, the checkpoint's record);
+///   4. finish the studies: the quality indices and comparisons over the energies.
+class study_run {
+  public:
+    study_run(const double_pendulum<double>& model,
+              const std::vector<simulation_request>& requests);
+    std::optional<std::vector<study_result>> run();
+
+  private:
+    void resume_checkpoint();
+    void redo_missing_results();
+    void set_initial_states(std::size_t k);
+    void restore_energy(std::size_t k);
+    std::optional<ensemble_result> integrate_energy(std::size_t k);
+    void finish_energy(std::size_t k, const ensemble_result& all);
+    std::vector<study_result> finish_studies();
+    /// An energy is complete when every study that has it is (their records are written
+    /// together).
+    bool complete(std::size_t k) const;
+    /// The run's classification of a trajectory (its ensemble's rule and threshold), for the
+    /// checkpoint's records.
+    bool chaotic(const trajectory_result& r) const {
+        return is_chaotic(model_, o_.chaos, o_.chaos_threshold, r.lyapunov);
+    }
+
+    const double_pendulum<double>& model_;
+    const std::vector<simulation_request>& requests_;
+    const simulation_request& request_;  ///< the first: the shared settings
+    const std::size_t studies_;
+    single_process alone_;
+    process_group& group_;
+    const bool root_;
+    ensemble_options o_;
+    std::vector<study_criteria> setups_;
+    shared_energies shared_;
+    resumption resumed_;
+    std::vector<energy_sink*> sinks_;  ///< per study (null: none)
+    std::vector<std::unique_ptr<csv_directory_sink>> owned_sinks_;
+    std::vector<study_result> heads_;  ///< per study, until its energies join it
+    std::vector<std::vector<std::optional<energy_result>>> done_;
+    simulation_progress progress_;
+};
+
+study_run::study_run(const double_pendulum<double>& model,
+                     const std::vector<simulation_request>& requests)
+    : model_(model),
+      requests_(requests),
+      request_(requests.front()),
+      studies_(requests.size()),
+      group_(request_.group ? *request_.group : alone_),
+      root_(group_.rank() == 0) {
+    for (const simulation_request& q : requests)
+        check_shareable(request_, q);
+    for (const simulation_request& q : requests) {
+        o_ = checked_options(q, group_);
+        setups_.push_back(build_criteria(model, q, o_));
+    }
+    shared_ = share_energies(requests, setups_);
+    for (const simulation_request& q : requests) {
+        if (!q.sink && !q.csv_dir.empty())
+            owned_sinks_.push_back(
+                std::make_unique<csv_directory_sink>(q.csv_dir, q.residence_times));
+        sinks_.push_back(q.sink ? q.sink : q.csv_dir.empty() ? nullptr : owned_sinks_.back().get());
+    }
+}
+
+bool study_run::complete(std::size_t k) const {
+    for (const shared_energies::member& m : shared_.energies[k].members)
+        if (!resumed_.saved.completed.count(k * studies_ + m.study)) return false;
+    return true;
+}
+
+void study_run::resume_checkpoint() {
+    checkpoint_layout layout;
+    layout.studies = studies_;
+    layout.energy_criteria.assign(shared_.energies.size() * studies_, 0);
+    for (std::size_t k = 0; k < shared_.energies.size(); ++k) {
+        layout.trajectory_criteria.push_back(shared_.energies[k].criteria.size());
+        for (const shared_energies::member& m : shared_.energies[k].members)
+            layout.energy_criteria[k * studies_ + m.study] = m.columns.size();
+    }
+    resumed_ = resume(request_, checkpoint_header(model_, requests_, o_), layout, group_,
+                      [this](const trajectory_result& r) { return chaotic(r); });
+}
+
+/// A complete energy's checkpoint holds its statistics only: its per-trajectory results went to
+/// the sink when it completed. Where they are gone (a folder deleted before the rerun), the energy
+/// is integrated again rather than reported without them. Rank 0 decides.
+void study_run::redo_missing_results() {
+    const auto& energies = shared_.energies;
+    std::string redo(energies.size(), '0');
+    if (root_)
+        for (std::size_t k = 0; k < energies.size(); ++k)
+            for (const shared_energies::member& m : energies[k].members) {
+                const energy_sink* sink = sinks_[m.study];
+                if (complete(k) && sink &&
+                    !sink->has(requests_[m.study].energies[m.position].first))
+                    redo[k] = '1';
+            }
+    if (group_.size() > 1) redo = group_.broadcast(redo);
+    for (std::size_t k = 0; k < energies.size(); ++k)
+        if (redo[k] == '1')
+            for (const shared_energies::member& m : energies[k].members)
+                resumed_.saved.completed.erase(k * studies_ + m.study);
+}
+
+/// Given initial states: the same list in every member study of energy k.
+void study_run::set_initial_states(std::size_t k) {
+    o_.energy = shared_.energies[k].value;
+    o_.initial_states = nullptr;
+    for (const shared_energies::member& m : shared_.energies[k].members) {
+        const simulation_request& q = requests_[m.study];
+        if (q.initial_states.empty()) continue;
+        if (o_.initial_states && o_.initial_states != q.initial_states[m.position])
+            throw std::invalid_argument(
+                "simulate: studies sharing an energy need the same "
+                "initial states");
+        o_.initial_states = q.initial_states[m.position];
+    }
+}
+
+/// The checkpoint stores a complete energy's statistics; the label, energy and predictions are
+/// this run's (the header guarantees they are the same).
+void study_run::restore_energy(std::size_t k) {
+    for (const shared_energies::member& m : shared_.energies[k].members) {
+        const simulation_request& q = requests_[m.study];
+        energy_result e = std::move(resumed_.saved.completed.at(k * studies_ + m.study));
+        e.label = q.energies[m.position].first;
+        e.energy = o_.energy;
+        for (std::size_t c = 0; c < q.criteria.size(); ++c) {
+            e.criteria[c].prediction = setups_[m.study].predictions[m.position][c];
+            e.criteria[c].statistics.criterion = q.criteria[c];
+        }
+        done_[m.study][m.position] = std::move(e);
+    }
+}
+
+/// Energy k's trajectories not yet in the checkpoint, dealt out round-robin over the ranks and
+/// gathered on rank 0: its ensemble there, nothing elsewhere.
+std::optional<ensemble_result> study_run::integrate_energy(std::size_t k) {
+    const auto& energy = shared_.energies[k];
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
+    checkpoint_writer* writer = resumed_.writer.get();
+    std::map<std::uint64_t, trajectory_result>& have = resumed_.saved.trajectories[k];
+    // NOTE: a record's hash covers the record, not the run: one spliced in from another run
+    // (another seed, say) would pass. Its initial state must be this run's sample.
+    if (!have.empty()) {
+        const microcanonical_sampler sampler(model_, o_.energy);
+        for (const auto& [index, t] : have)
+            if (!(initial_state_of(sampler, o_, index) == t.initial_state))
+                throw input_error::about(
+                    "checkpoint",
+                    "'" + request_.checkpoint.string() + "': the record of trajectory " +
+                        std::to_string(index) + " at E = " + energy.label +
+                        " is not this run's (its initial state is not " +
+                        (o_.initial_states ? std::string("the given one")
+                                           : "the sample of seed " + std::to_string(o_.seed)) +
+                        "): the file mixes runs");
+    }
+    const auto ranks = static_cast<std::uint64_t>(group_.size());
+    std::vector<std::uint64_t> mine;
+    std::uint64_t position = 0;
+    for (std::uint64_t i = 0; i < o_.trajectories; ++i) {
+        const std::uint64_t index = o_.first_index + i;
+        if (have.count(index)) continue;
+        if (position++ % ranks == static_cast<std::uint64_t>(group_.rank())) mine.push_back(index);
+    }
+    progress_.energy = k;
+    std::string outgoing;
+    const batch_outcome b =
+        run_trajectories(model_, o_, energy.criteria, mine, [&](trajectory_result&& r) {
+            if (root_) {
+                if (writer) writer->add(trajectory_record(k, r, chaotic(r)));
+                const std::uint64_t index = r.index;
+                have.emplace(index, std::move(r));
+                progress_.done = std::min(progress_.total, progress_.done + ranks);
+                if (request_.progress) request_.progress(progress_);
+            } else {
+                outgoing += trajectory_record(k, r, chaotic(r));
+            }
+        });
+    const bool interrupted = group_.size() > 1 ? group_.any(b.interrupted) : b.interrupted;
+    if (group_.size() > 1)
+        receive_trajectories(group_.gather(outgoing), energy.criteria.size(), have, writer);
+    if (interrupted) throw interruption(request_, energy.label, k, o_, writer);
+    if (!root_) {
+        resumed_.saved.trajectories.erase(k);
+        return std::nullopt;
+    }
+    if (have.size() != o_.trajectories)
+        throw std::logic_error("simulate: trajectories missing after the gather");
+    std::vector<std::string> columns;
+    for (const ensemble_criterion& c : energy.criteria)
+        columns.push_back(c.name);
+    ensemble_result all = collect(model_, o_, columns, b.threads, have);
+    resumed_.saved.trajectories.erase(k);
+    all.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    all.cpu_seconds = process_cpu_seconds() - cpu_start;
+    return all;
+}
+
+/// Each member study's view of energy k: its statistics, its sink, the checkpoint's record.
+void study_run::finish_energy(std::size_t k, const ensemble_result& all) {
+    std::vector<std::pair<std::size_t, const energy_result*>> records;
+    for (const shared_energies::member& m : shared_.energies[k].members) {
+        const simulation_request& q = requests_[m.study];
+        const ensemble_result r = project(model_, all, m, q);
+        energy_result e = summarise_energy(r, q.energies[m.position].first, q, group_,
+                                           setups_[m.study].predictions[m.position]);
+        if (energy_sink* sink = sinks_[m.study]) sink->put(r, e);
+        done_[m.study][m.position] = std::move(e);
+        records.emplace_back(k * studies_ + m.study, &*done_[m.study][m.position]);
+    }
+    if (checkpoint_writer* writer = resumed_.writer.get()) writer->complete(records);
+}
+
+std::vector<study_result> study_run::finish_studies() {
+    for (std::size_t p = 0; p < studies_; ++p) {
+        for (std::optional<energy_result>& e : done_[p])
+            heads_[p].energies.push_back(std::move(*e));
+        add_quality(heads_[p], model_);
+        add_comparisons(heads_[p]);
+    }
+    return std::move(heads_);
+}
+
+std::optional<std::vector<study_result>> study_run::run() {
+    resume_checkpoint();
+    redo_missing_results();
+    const auto& energies = shared_.energies;
+    for (std::size_t p = 0; p < studies_; ++p) {
+        ensemble_options own = o_;  // the result's head: the run's settings, no energy yet
+        own.chaos_threshold = requests_[p].options.chaos_threshold;
+        heads_.push_back(result_head(model_, requests_[p], own));
+        done_.emplace_back(requests_[p].energies.size());
+    }
+    progress_.energies = energies.size();
+    progress_.total = o_.trajectories * energies.size();
+    for (std::size_t k = 0; k < energies.size(); ++k)
+        progress_.done += complete(k) ? o_.trajectories : 0;
+    for (const auto& [k, t] : resumed_.saved.trajectories)
+        progress_.done += t.size();
+    progress_.resumed = progress_.done;
+    for (std::size_t k = 0; k < energies.size(); ++k) {
+        set_initial_states(k);
+        if (complete(k)) {
+            restore_energy(k);
+            continue;
+        }
+        if (const std::optional<ensemble_result> all = integrate_energy(k)) finish_energy(k, *all);
+    }
+    if (!root_) return std::nullopt;
+    return finish_studies();
+}
+
+}  // namespace
+
 std::optional<std::vector<study_result>> simulate(const double_pendulum<double>& model,
                                                   const std::vector<simulation_request>& requests) {
     if (requests.empty()) throw std::invalid_argument("simulate: no study");
-    for (const simulation_request& q : requests)
-        check_shareable(requests.front(), q);
-    const simulation_request& request = requests.front();  // the shared settings
-    const std::size_t studies = requests.size();
-    single_process alone;
-    process_group& group = request.group ? *request.group : alone;
-    const bool root = group.rank() == 0;
-    ensemble_options o;
-    // every input is checked, and every curve built, before anything is simulated
-    std::vector<study_criteria> setups;
-    for (const simulation_request& q : requests) {
-        o = checked_options(q, group);
-        setups.push_back(build_criteria(model, q, o));
-    }
-    const shared_energies shared = share_energies(requests, setups);
-    const auto& energies = shared.energies;
-    checkpoint_layout layout;
-    layout.studies = studies;
-    layout.energy_criteria.assign(energies.size() * studies, 0);
-    for (std::size_t k = 0; k < energies.size(); ++k) {
-        layout.trajectory_criteria.push_back(energies[k].criteria.size());
-        for (const shared_energies::member& m : energies[k].members)
-            layout.energy_criteria[k * studies + m.study] = m.columns.size();
-    }
-    resumption resumed = resume(request, checkpoint_header(model, requests, o), layout, group);
-    checkpoint_content& saved = resumed.saved;
-    checkpoint_writer* writer = resumed.writer.get();
-    // an energy is complete when every study that has it is (their records are written together)
-    const auto complete = [&](std::size_t k) {
-        for (const shared_energies::member& m : energies[k].members)
-            if (!saved.completed.count(k * studies + m.study)) return false;
-        return true;
-    };
-    // A complete energy's checkpoint holds its statistics only: its per-trajectory CSVs were
-    // written when it completed. Where one is gone (a folder deleted before the rerun), the
-    // energy is integrated again rather than reported without its files. Rank 0 decides.
-    {
-        std::string redo(energies.size(), '0');
-        if (root)
-            for (std::size_t k = 0; k < energies.size(); ++k)
-                for (const shared_energies::member& m : energies[k].members) {
-                    const simulation_request& q = requests[m.study];
-                    std::error_code ec;
-                    if (complete(k) && !q.csv_dir.empty() &&
-                        !std::filesystem::is_regular_file(
-                            q.csv_dir / ("trajectories_E" + q.energies[m.position].first + ".csv"),
-                            ec))
-                        redo[k] = '1';
-                }
-        if (group.size() > 1) redo = group.broadcast(redo);
-        for (std::size_t k = 0; k < energies.size(); ++k)
-            if (redo[k] == '1')
-                for (const shared_energies::member& m : energies[k].members)
-                    saved.completed.erase(k * studies + m.study);
-    }
-
-    std::vector<study_result> out;
-    std::vector<std::vector<std::optional<energy_result>>> done(studies);
-    for (std::size_t p = 0; p < studies; ++p) {
-        ensemble_options own = o;
-        own.chaos_threshold = requests[p].options.chaos_threshold;
-        out.push_back(result_head(model, requests[p], own));
-        done[p].resize(requests[p].energies.size());
-    }
-    simulation_progress progress;
-    progress.energies = energies.size();
-    progress.total = o.trajectories * energies.size();
-    for (std::size_t k = 0; k < energies.size(); ++k)
-        progress.done += complete(k) ? o.trajectories : 0;
-    for (const auto& [k, t] : saved.trajectories)
-        progress.done += t.size();
-    progress.resumed = progress.done;
-    const auto ranks = static_cast<std::uint64_t>(group.size());
-
-    for (std::size_t k = 0; k < energies.size(); ++k) {
-        o.energy = energies[k].value;
-        o.initial_states = nullptr;  // given initial states: the same list in every member study
-        for (const shared_energies::member& m : energies[k].members) {
-            const simulation_request& q = requests[m.study];
-            if (q.initial_states.empty()) continue;
-            if (o.initial_states && o.initial_states != q.initial_states[m.position])
-                throw std::invalid_argument(
-                    "simulate: studies sharing an energy need the same "
-                    "initial states");
-            o.initial_states = q.initial_states[m.position];
-        }
-        if (complete(k)) {
-            // the checkpoint stores the statistics; the label, energy and predictions are this
-            // run's (the header guarantees they are the same)
-            for (const shared_energies::member& m : energies[k].members) {
-                const simulation_request& q = requests[m.study];
-                energy_result e = std::move(saved.completed.at(k * studies + m.study));
-                e.label = q.energies[m.position].first;
-                e.energy = o.energy;
-                for (std::size_t c = 0; c < q.criteria.size(); ++c) {
-                    e.criteria[c].prediction = setups[m.study].predictions[m.position][c];
-                    e.criteria[c].statistics.criterion = q.criteria[c];
-                }
-                done[m.study][m.position] = std::move(e);
-            }
-            continue;
-        }
-        const auto start = std::chrono::steady_clock::now();
-        const double cpu_start = process_cpu_seconds();
-        std::map<std::uint64_t, trajectory_result>& have = saved.trajectories[k];
-        // NOTE: a record's hash covers the record, not the run: one spliced in from another run
-        // (another seed, say) would pass. Its initial state must be this run's sample.
-        if (!have.empty()) {
-            const microcanonical_sampler sampler(model, o.energy);
-            for (const auto& [index, t] : have)
-                if (!(initial_state_of(sampler, o, index) == t.initial_state))
-                    throw input_error::about(
-                        "checkpoint",
-                        "'" + request.checkpoint.string() + "': the record of trajectory " +
-                            std::to_string(index) + " at E = " + energies[k].label +
-                            " is not this run's (its initial state is not " +
-                            (o.initial_states ? std::string("the given one")
-                                              : "the sample of seed " + std::to_string(o.seed)) +
-                            "): the file mixes runs");
-        }
-        // the trajectories still to do, dealt out round-robin over the ranks
-        std::vector<std::uint64_t> mine;
-        std::uint64_t position = 0;
-        for (std::uint64_t i = 0; i < o.trajectories; ++i) {
-            const std::uint64_t index = o.first_index + i;
-            if (have.count(index)) continue;
-            if (position++ % ranks == static_cast<std::uint64_t>(group.rank()))
-                mine.push_back(index);
-        }
-        progress.energy = k;
-        std::string outgoing;
-        const batch_outcome b =
-            run_trajectories(model, o, energies[k].criteria, mine, [&](trajectory_result&& r) {
-                if (root) {
-                    if (writer) writer->add(trajectory_record(k, r));
-                    const std::uint64_t index = r.index;
-                    have.emplace(index, std::move(r));
-                    progress.done = std::min(progress.total, progress.done + ranks);
-                    if (request.progress) request.progress(progress);
-                } else {
-                    outgoing += trajectory_record(k, r);
-                }
-            });
-        const bool interrupted = group.size() > 1 ? group.any(b.interrupted) : b.interrupted;
-        if (group.size() > 1)
-            receive_trajectories(group.gather(outgoing), energies[k].criteria.size(), have, writer);
-        if (interrupted) throw interruption(request, energies[k].label, k, o, writer);
-        if (!root) {
-            saved.trajectories.erase(k);
-            continue;
-        }
-        if (have.size() != o.trajectories)
-            throw std::logic_error("simulate: trajectories missing after the gather");
-        std::vector<std::string> columns;
-        for (const ensemble_criterion& c : energies[k].criteria)
-            columns.push_back(c.name);
-        ensemble_result all = collect(o, columns, b.threads, have);
-        saved.trajectories.erase(k);
-        all.seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        all.cpu_seconds = process_cpu_seconds() - cpu_start;
-        std::vector<std::pair<std::size_t, const energy_result*>> records;
-        for (const shared_energies::member& m : energies[k].members) {
-            const simulation_request& q = requests[m.study];
-            const ensemble_result r = project(model, all, m, q);
-            energy_result e = summarise_energy(r, q.energies[m.position].first, q, group,
-                                               setups[m.study].predictions[m.position]);
-            if (!q.csv_dir.empty()) write_energy_csvs(q.csv_dir, r, e, q.residence_times);
-            done[m.study][m.position] = std::move(e);
-            records.emplace_back(k * studies + m.study, &*done[m.study][m.position]);
-        }
-        if (writer) writer->complete(records);
-    }
-    if (!root) return std::nullopt;
-    for (std::size_t p = 0; p < studies; ++p) {
-        for (std::optional<energy_result>& e : done[p])
-            out[p].energies.push_back(std::move(*e));
-        add_quality(out[p], model);
-        add_comparisons(out[p]);
-    }
-    return out;
+    return study_run(model, requests).run();
 }
 
 std::optional<study_result> simulate(const double_pendulum<double>& model,

@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
@@ -164,59 +165,97 @@ void write_atomically(const std::filesystem::path& path, const std::string& cont
     write_file_atomically(path, content);  // output_error (exit 1) naming the path
 }
 
-std::string histogram_csv(const histogram& h, std::uint64_t total) {
-    std::string s = "bin_lower,bin_upper,count,density\n";
+table_column integer_column(std::string name) {
+    table_column c;
+    c.name = std::move(name);
+    c.type = table_column::kind::integer;
+    return c;
+}
+
+table_column real_column(std::string name, bool nan_is_empty = false) {
+    table_column c;
+    c.name = std::move(name);
+    c.type = table_column::kind::real;
+    c.nan_is_empty = nan_is_empty;
+    return c;
+}
+
+table_column text_column(std::string name) {
+    table_column c;
+    c.name = std::move(name);
+    c.type = table_column::kind::text;
+    return c;
+}
+
+energy_table histogram_table(std::string name, const histogram& h, std::uint64_t total) {
+    energy_table t{std::move(name),
+                   {real_column("bin_lower"), real_column("bin_upper"), integer_column("count"),
+                    real_column("density")}};
     for (std::size_t i = 0; i < h.counts.size(); ++i) {
         const double lo = h.lower + h.bin_width() * static_cast<double>(i);
         const double density =
             total ? static_cast<double>(h.counts[i]) / (static_cast<double>(total) * h.bin_width())
                   : 0.0;
-        s += to_decimal(lo) + "," + to_decimal(lo + h.bin_width()) + "," +
-             std::to_string(h.counts[i]) + "," + to_decimal(density) + "\n";
-    }
-    return s;
-}
-
-std::string trajectories_csv(const ensemble_result& r) {
-    std::string t = "index,lyapunov,chaotic,max_energy_drift,steps,energy_check_rejections,status";
-    for (const std::string& c : r.criteria)
-        t += ",flips_" + c + ",rate_" + c;
-    t += "\n";
-    for (const trajectory_result& x : r.trajectories) {
-        t += std::to_string(x.index) + "," +
-             (std::isnan(x.lyapunov) ? "" : to_decimal(x.lyapunov)) + "," +
-             (x.chaotic ? "1" : "0") + "," + to_decimal(x.max_energy_drift) + "," +
-             std::to_string(x.steps) + "," + std::to_string(x.energy_check_rejections) + "," +
-             to_string(x.status);
-        for (std::size_t c = 0; c < r.criteria.size(); ++c)
-            t += "," + std::to_string(x.flips(c)) + "," +
-                 to_decimal(static_cast<double>(x.flips(c)) / r.time);
-        t += "\n";
+        t.columns[0].reals.push_back(lo);
+        t.columns[1].reals.push_back(lo + h.bin_width());
+        t.columns[2].integers.push_back(h.counts[i]);
+        t.columns[3].reals.push_back(density);
     }
     return t;
 }
 
-std::string samples_csv(const ensemble_result& r) {
-    std::string smp = "trajectory,t,theta1,theta2,l1,l2\n";
-    for (const trajectory_result& x : r.trajectories)
-        for (const auto& v : x.samples) {
-            smp += std::to_string(x.index);
-            for (double c : v)
-                smp += "," + to_decimal(c);
-            smp += "\n";
+energy_table trajectories_table(const std::string& label, const ensemble_result& r) {
+    energy_table t{
+        "trajectories_E" + label,
+        {integer_column("index"), real_column("lyapunov", true), integer_column("chaotic"),
+         real_column("max_energy_drift"), integer_column("steps"),
+         integer_column("energy_check_rejections"), text_column("status")}};
+    for (const std::string& c : r.criteria) {
+        t.columns.push_back(integer_column("flips_" + c));
+        t.columns.push_back(real_column("rate_" + c));
+    }
+    for (const trajectory_result& x : r.trajectories) {
+        t.columns[0].integers.push_back(x.index);
+        t.columns[1].reals.push_back(x.lyapunov);
+        t.columns[2].integers.push_back(r.chaotic(x) ? 1 : 0);
+        t.columns[3].reals.push_back(x.max_energy_drift);
+        t.columns[4].integers.push_back(static_cast<std::uint64_t>(x.steps));
+        t.columns[5].integers.push_back(static_cast<std::uint64_t>(x.energy_check_rejections));
+        t.columns[6].texts.emplace_back(to_string(x.status));
+        for (std::size_t c = 0; c < r.criteria.size(); ++c) {
+            t.columns[7 + 2 * c].integers.push_back(x.flips(c));
+            t.columns[8 + 2 * c].reals.push_back(static_cast<double>(x.flips(c)) / r.time);
         }
-    return smp;
+    }
+    return t;
 }
 
-std::string residence_csv(const ensemble_result& r, std::size_t c) {
-    std::string res = "trajectory,crossing_time,residence_time\n";
+energy_table samples_table(const std::string& label, const ensemble_result& r) {
+    energy_table t{"samples_E" + label,
+                   {integer_column("trajectory"), real_column("t"), real_column("theta1"),
+                    real_column("theta2"), real_column("l1"), real_column("l2")}};
+    for (const trajectory_result& x : r.trajectories)
+        for (const auto& v : x.samples) {
+            t.columns[0].integers.push_back(x.index);
+            for (std::size_t i = 0; i < v.size(); ++i)
+                t.columns[1 + i].reals.push_back(v[i]);
+        }
+    return t;
+}
+
+energy_table residence_table(const std::string& label, const ensemble_result& r, std::size_t c) {
+    energy_table t{"residence_E" + label + "_" + r.criteria[c],
+                   {integer_column("trajectory"), real_column("crossing_time"),
+                    real_column("residence_time")}};
     for (const trajectory_result& x : r.trajectories) {
         const auto& times = x.crossing_times[c];
-        for (std::size_t i = 1; i < times.size(); ++i)
-            res += std::to_string(x.index) + "," + to_decimal(times[i]) + "," +
-                   to_decimal(times[i] - times[i - 1]) + "\n";
+        for (std::size_t i = 1; i < times.size(); ++i) {
+            t.columns[0].integers.push_back(x.index);
+            t.columns[1].reals.push_back(times[i]);
+            t.columns[2].reals.push_back(times[i] - times[i - 1]);
+        }
     }
-    return res;
+    return t;
 }
 
 }  // namespace
@@ -299,23 +338,76 @@ json study_json(const study_result& s) {
     return out;
 }
 
-void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& r,
-                       const energy_result& summary, bool residence_times) {
+std::size_t table_column::size() const {
+    switch (type) {
+        case kind::integer:
+            return integers.size();
+        case kind::real:
+            return reals.size();
+        case kind::text:
+            return texts.size();
+    }
+    return 0;
+}
+
+std::size_t energy_table::rows() const {
+    return columns.empty() ? 0 : columns.front().size();
+}
+
+std::vector<energy_table> energy_tables(const ensemble_result& r, const energy_result& summary,
+                                        bool residence_times) {
     const std::string& label = summary.label;
-    write_atomically(dir / ("trajectories_E" + label + ".csv"), trajectories_csv(r));
+    std::vector<energy_table> out;
+    out.push_back(trajectories_table(label, r));
     if (!r.trajectories.empty() && !r.trajectories.front().samples.empty())
-        write_atomically(dir / ("samples_E" + label + ".csv"), samples_csv(r));
+        out.push_back(samples_table(label, r));
     for (std::size_t c = 0; c < r.criteria.size(); ++c) {
         const std::string& name = r.criteria[c];
         const criterion_statistics& st = summary.criteria.at(c).statistics;
-        if (residence_times)
-            write_atomically(dir / ("residence_E" + label + "_" + name + ".csv"),
-                             residence_csv(r, c));
-        write_atomically(dir / ("rate_histogram_E" + label + "_" + name + ".csv"),
-                         histogram_csv(st.rate_distribution, st.rates.count));
-        write_atomically(dir / ("residence_histogram_E" + label + "_" + name + ".csv"),
-                         histogram_csv(st.residence.distribution, st.residence.summary.count));
+        if (residence_times) out.push_back(residence_table(label, r, c));
+        out.push_back(histogram_table("rate_histogram_E" + label + "_" + name, st.rate_distribution,
+                                      st.rates.count));
+        out.push_back(histogram_table("residence_histogram_E" + label + "_" + name,
+                                      st.residence.distribution, st.residence.summary.count));
     }
+    return out;
+}
+
+std::string csv_text(const energy_table& t) {
+    std::string s;
+    for (std::size_t j = 0; j < t.columns.size(); ++j)
+        s += (j ? "," : "") + t.columns[j].name;
+    s += "\n";
+    const std::size_t rows = t.rows();
+    for (std::size_t i = 0; i < rows; ++i) {
+        for (std::size_t j = 0; j < t.columns.size(); ++j) {
+            const table_column& c = t.columns[j];
+            if (j) s += ",";
+            switch (c.type) {
+                case table_column::kind::integer:
+                    s += std::to_string(c.integers[i]);
+                    break;
+                case table_column::kind::real:
+                    if (!(c.nan_is_empty && std::isnan(c.reals[i]))) s += to_decimal(c.reals[i]);
+                    break;
+                case table_column::kind::text:
+                    s += c.texts[i];
+                    break;
+            }
+        }
+        s += "\n";
+    }
+    return s;
+}
+
+bool csv_directory_sink::has(const std::string& label) const {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(dir_ / ("trajectories_E" + label + ".csv"), ec);
+}
+
+void csv_directory_sink::put(const ensemble_result& ensemble, const energy_result& summary) {
+    for (const energy_table& t : energy_tables(ensemble, summary, residence_times_))
+        write_atomically(dir_ / (t.name + ".csv"), csv_text(t));
 }
 
 std::string initial_states_csv(const std::vector<initial_state_set>& sets,

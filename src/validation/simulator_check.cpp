@@ -19,6 +19,7 @@
 #include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/io/csv.hpp"
+#include "flipflux/io/text_table.hpp"
 #include "flipflux/study/criteria.hpp"
 
 namespace flipflux {
@@ -271,25 +272,21 @@ std::string format_ensemble_check(const ensemble_check_report& r) {
                   r.count(status::fail), r.count(status::malformed), r.count(status::no_prediction),
                   r.options.warn_z, r.options.fail_z, r.passed() ? "PASSED" : "FAILED");
     out += buf;
-    std::snprintf(buf, sizeof buf, "%-5s %-13s %-8s %-3s %-8s %-13s %-13s %-11s %-8s %-10s %s\n",
-                  "line", "status", "crit.", "arm", "energy", "simulated", "predicted", "std.error",
-                  "z", "variance", "note");
-    out += buf;
+    text_table table({5, 13, 8, 3, 8, 13, 13, 11, 8, 10});
+    table.row({"line", "status", "crit.", "arm", "energy", "simulated", "predicted", "std.error",
+               "z", "variance", "note"});
     for (const auto& e : r.entries) {
-        if (e.what == status::malformed || e.what == status::no_prediction) {
-            std::snprintf(buf, sizeof buf, "%-5d %-13s %-8s %-3s %-8s %s\n", e.line,
-                          to_string(e.what).c_str(), e.criterion.c_str(), e.arm.c_str(),
-                          e.energy.c_str(), e.note.c_str());
-        } else {
-            std::snprintf(buf, sizeof buf,
-                          "%-5d %-13s %-8s %-3s %-8s %-13.8f %-13.8f %-11.3e %+-8.2f %-10s %s\n",
-                          e.line, to_string(e.what).c_str(), e.criterion.c_str(), e.arm.c_str(),
-                          e.energy.c_str(), e.simulated, e.predicted, e.standard_error, e.z,
-                          e.variance.c_str(), e.note.c_str());
-        }
-        out += buf;
+        const std::vector<std::string> head{std::to_string(e.line), to_string(e.what), e.criterion,
+                                            e.arm, e.energy};
+        std::vector<std::string> cells = head;
+        if (e.what != status::malformed && e.what != status::no_prediction)
+            cells.insert(cells.end(),
+                         {cell("%.8f", e.simulated), cell("%.8f", e.predicted),
+                          cell("%.3e", e.standard_error), cell("%+.2f", e.z), e.variance});
+        cells.push_back(e.note);
+        table.row(cells);
     }
-    return out;
+    return out + table.text();
 }
 
 }  // namespace flipflux

@@ -13,6 +13,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/io/csv.hpp"
+#include "flipflux/io/text_table.hpp"
 #include "flipflux/quantities/registry.hpp"
 
 namespace flipflux {
@@ -260,7 +261,8 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
     return report;
 }
 
-std::string format_report(const validation_report& r, double rtol, bool verbose) {
+std::string format_report(const validation_report& r, double rtol, bool verbose,
+                          const std::string& missing_hint) {
     using status = validation_entry::status;
     std::string out;
     char buf[512];
@@ -272,26 +274,18 @@ std::string format_report(const validation_report& r, double rtol, bool verbose)
                   r.count(status::duplicate), r.count(status::malformed), r.count(status::missing),
                   rtol, r.passed() ? "PASSED" : "FAILED");
     out += buf;
-    std::size_t shown = 0;
-    std::string table;
+    text_table table({6, 10, 16, 4, 22, 11, 7});
+    table.row({"line", "status", "quantity", "arm", "energy", "rel.error", "digits", "note"});
     for (const auto& e : r.entries) {
         if (!verbose && (e.what == status::ok || e.what == status::missing)) continue;
-        std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11.3e %-7.1f %s\n",
-                      e.line ? std::to_string(e.line).c_str() : "-", to_string(e.what).c_str(),
-                      e.quantity.c_str(), e.arm.empty() ? "-" : e.arm.c_str(), e.energy.c_str(),
-                      e.relative_error, e.matched_digits, e.note.c_str());
-        table += buf;
-        ++shown;
+        table.row({e.line ? std::to_string(e.line) : "-", to_string(e.what), e.quantity,
+                   e.arm.empty() ? "-" : e.arm, e.energy, cell("%.3e", e.relative_error),
+                   cell("%.1f", e.matched_digits), e.note});
     }
-    if (shown > 0) {
-        std::snprintf(buf, sizeof buf, "%-6s %-10s %-16s %-4s %-22s %-11s %-7s %s\n", "line",
-                      "status", "quantity", "arm", "energy", "rel.error", "digits", "note");
-        out += buf + table;
-    }
+    if (table.rows() > 1) out += table.text();
     if (!verbose && r.count(status::missing) > 0)
         out += std::to_string(r.count(status::missing)) +
-               " missing rows (golden rows with no candidate row): --verbose lists them, "
-               "--allow-missing accepts them\n";
+               " missing rows (golden rows with no candidate row)" + missing_hint + "\n";
     return out;
 }
 

@@ -69,7 +69,7 @@ TEST(Statistics, AnalyzeAnEnsemble) {
     auto traj = [](std::vector<double> a, std::vector<double> b, bool chaotic) {
         trajectory_result t;
         t.crossing_times = {std::move(a), std::move(b)};
-        t.chaotic = chaotic;
+        t.lyapunov = chaotic ? 1 : -1;  // chaotic: above the threshold rate (0 here)
         return t;
     };
     r.trajectories.push_back(traj({1, 2, 4}, {}, true));    // rate 0.3, residences 1, 2
@@ -154,7 +154,7 @@ TEST(Statistics, AnalyzeSplitsReplicatesInIndexBlocks) {
         trajectory_result t;
         t.index = static_cast<std::uint64_t>(i);
         t.crossing_times = {std::vector<double>(static_cast<std::size_t>(i + 1), 1.0)};
-        t.chaotic = i % 2 == 0;
+        t.lyapunov = i % 2 == 0 ? 1 : -1;  // chaotic: above the threshold rate (0 here)
         r.trajectories.push_back(t);
     }
     const criterion_statistics one = analyze(r, 0, 0.3), three = analyze(r, 0, 0.3, 0, 0, 3);
@@ -199,7 +199,7 @@ TEST(Statistics, FanoFactorsAndInterFlipTails) {
     std::exponential_distribution<double> law(2.0);  // rate 2, mean 0.5
     for (int k = 0; k < 4; ++k) {
         trajectory_result x;
-        x.chaotic = true;
+        x.lyapunov = 1;  // chaotic: above the threshold rate (0 here)
         x.crossing_times = {{}};
         for (double s = law(engine); s < poisson.time; s += law(engine))
             x.crossing_times[0].push_back(s);
@@ -233,7 +233,7 @@ TEST(Statistics, FailedTrajectoriesAreNotCountedAsZeroFlips) {
         trajectory_result t;
         t.crossing_times = {std::move(a)};
         t.status = status;
-        t.chaotic = true;
+        t.lyapunov = 1;  // chaotic: above the threshold rate (0 here)
         return t;
     };
     r.trajectories.push_back(traj({1, 2, 4}, rk_status::ok));            // rate 0.3

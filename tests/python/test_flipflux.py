@@ -213,6 +213,12 @@ def test_simulate_equals_cli():
                         assert np.isnan(value), (name, field)
                     elif a.dtype[field].kind == "f":
                         assert value == float(row[field]), (name, field)
+                    elif a.dtype[field].kind == "i":
+                        assert value == int(row[field]), (name, field)
+                    else:
+                        assert value == row[field], (name, field)
+        # one array per file, built from the library's tables (no file in between)
+        assert set(per_trajectory) == {os.path.splitext(n)[0] for n in os.listdir(d)}
         lyapunov = [a["lyapunov"] for a in per_trajectory.values() if "lyapunov" in a.dtype.names]
         assert lyapunov and all(np.all(np.isnan(x)) for x in lyapunov)
     for kwargs, args in ((dict(trajectories=0), ["--trajectories", "0"]),

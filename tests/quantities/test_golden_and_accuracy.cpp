@@ -11,6 +11,8 @@
 
 #include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/output/accuracy_markdown.hpp"
+#include "flipflux/output/golden_files.hpp"
 #include "flipflux/quantities/accuracy.hpp"
 #include "flipflux/quantities/golden.hpp"
 #include "flipflux/quantities/registry.hpp"

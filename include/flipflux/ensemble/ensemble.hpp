@@ -176,7 +176,6 @@ struct trajectory_result {
     double end_time = 0;          ///< T, unless the integration failed
     double max_energy_drift = 0;  ///< max |H - E| over the step ends
     double lyapunov = 0;          ///< finite-time exponent lambda_T (NaN without `chaos`)
-    bool chaotic = false;         ///< lambda_T > threshold (false without `chaos`)
     long steps = 0, rejected_steps = 0, evaluations = 0;
     long energy_check_rejections = 0;  ///< steps the energy check refused (see energy_jump_factor)
     bool abandoned = false;            ///< stopped before T by options.stop (not a result)
@@ -189,6 +188,8 @@ struct trajectory_result {
 
 struct ensemble_result {
     double energy = 0, time = 0, rtol = 0, atol = 0, chaos_threshold = 0;
+    /// chaos_threshold in the model's time units (chaos_threshold_rate): set with it
+    double chaos_threshold_rate = 0;
     std::uint64_t seed = 0, first_index = 0;
     integration_method method = integration_method::dop853;
     bool chaos = false;
@@ -197,6 +198,11 @@ struct ensemble_result {
     std::vector<trajectory_result> trajectories;  ///< by index
     double seconds = 0;                           ///< wall-clock time
     double cpu_seconds = 0;                       ///< CPU time of the process, every thread
+    /// Whether trajectory t is chaotic here: is_chaotic's rule with this ensemble's threshold
+    /// (computed, never stored: studies sharing trajectories classify them each with its own).
+    bool chaotic(const trajectory_result& t) const {
+        return chaos && t.lyapunov > chaos_threshold_rate;
+    }
 };
 
 /// Validates the options (throws input_error naming the option: --trajectories, --time, --rtol,

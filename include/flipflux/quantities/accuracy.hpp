@@ -78,8 +78,7 @@ struct accuracy_entry {
 /// Measures every (quantity, method, precision).
 std::vector<accuracy_entry> measure_accuracy(const accuracy_options& options);
 
-/// The Markdown report of entries measured with `options` (its precisions are the columns).
-std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
-                              const accuracy_options& options, const std::string& command);
+/// The digits a column prints (and at which its agreement is capped): those of its precision.
+int accuracy_column_cap(const precision& p);
 
 }  // namespace flipflux

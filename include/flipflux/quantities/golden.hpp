@@ -93,36 +93,6 @@ void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, i
 /// clamped to [0, cap]; cap when they are equal.
 int agreement_digits(const std::string& value, const std::string& reference, int cap = 50);
 
-/// Writes rows.csv-style text: header "quantity,arm,energy,value,digits,method", and
-/// ",radius,proven_digits" when a row has an enclosure (empty in the rows without one).
-std::string golden_csv(const std::vector<golden_row>& rows);
-
-/// Parses golden_csv text (6 columns, or 8 with radius and proven_digits); throws input_error
-/// naming the line on malformed input.
-std::vector<golden_row> parse_golden_csv(const std::string& text);
-
-/// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
-/// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count. With
-/// `merged_into` (the provenance text of the set that this run extends, `golden --merge`), its
-/// "runs" list the earlier runs' commands, commits and dates, then this one's.
-std::string golden_provenance(const std::string& command, std::size_t rows,
-                              const precision& value_precision, const model_text& model = {},
-                              const std::string& pendulum = "egalitarian",
-                              const std::string& merged_into = "");
-
-/// Checks that a golden set's provenance text (possibly corrupt) describes the same pendulum
-/// (parameters, as text) and value precision as a run that would extend it; throws input_error
-/// naming what differs.
-void check_golden_merge(const std::string& provenance_text, const precision& value_precision,
-                        const model_text& model);
-
-/// The rows of a golden set extended by a run (`golden --merge`): the rows of `existing` whose
-/// quantity is not among `regenerated` (every quantity when empty), then `fresh`, in the
-/// registry's order of quantities (rows of one quantity keep their order).
-std::vector<golden_row> merge_golden(const std::vector<golden_row>& existing,
-                                     const std::vector<golden_row>& fresh,
-                                     const std::vector<std::string>& regenerated);
-
 /// The precision that certifies golden values computed in `value_precision`: mp:N -> mp:(N/2),
 /// quad -> double. Throws input_error for double (and mp:1).
 precision golden_check_precision(const precision& value_precision);

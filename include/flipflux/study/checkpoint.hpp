@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -39,8 +40,11 @@ namespace flipflux {
 inline constexpr int checkpoint_format_version = 4;
 
 /// One line (with its hash and the newline) holding trajectory r of energy k, and back.
-/// Everything but `crossings` and `samples` (never checkpointed) is stored.
-std::string trajectory_record(std::size_t energy, const trajectory_result& r);
+/// Everything but `crossings` and `samples` (never checkpointed) is stored, and `chaotic`, the
+/// ensemble's classification of r (ensemble_result::chaotic), for readers of older versions: it
+/// is computed, not read back. The fields' one list (checkpoint.cpp, trajectory_fields) drives
+/// both the writing and the parsing, as energy_fields does for energy records.
+std::string trajectory_record(std::size_t energy, const trajectory_result& r, bool chaotic);
 /// Parses a line written by trajectory_record (without the newline; the hash is checked).
 /// Throws std::runtime_error describing the defect.
 trajectory_result parse_trajectory_record(std::string_view line, std::size_t criteria,
@@ -92,9 +96,11 @@ std::string read_checkpoint_text(const std::filesystem::path& file, bool& exists
 class checkpoint_writer {
   public:
     /// Starts the file: header plus the completed energies and trajectories of `content`,
-    /// written atomically; appends go to it afterwards.
+    /// written atomically; appends go to it afterwards. `chaotic` classifies the trajectories of
+    /// `content` for their records (trajectory_record); null: none is chaotic.
     checkpoint_writer(std::filesystem::path file, const nlohmann::ordered_json& header,
-                      const checkpoint_content& content, double interval_seconds);
+                      const checkpoint_content& content, double interval_seconds,
+                      const std::function<bool(const trajectory_result&)>& chaotic = {});
     ~checkpoint_writer();
     checkpoint_writer(const checkpoint_writer&) = delete;
     checkpoint_writer& operator=(const checkpoint_writer&) = delete;

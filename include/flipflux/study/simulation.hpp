@@ -55,6 +55,19 @@ class simulation_interrupted : public std::runtime_error {
     std::uint64_t saved_;
 };
 
+/// Where a study's per-energy results go as each energy completes: the CSV files of a directory
+/// (csv_directory_sink, study/study_files.hpp: the command line and scenes) or memory (the Python
+/// module's arrays). Called on rank 0 only, one energy at a time.
+class energy_sink {
+  public:
+    virtual ~energy_sink() = default;
+    /// Whether energy `label`'s results are still there: asked of the energies a checkpoint holds
+    /// as complete (their trajectories are not in it); false integrates the energy again.
+    virtual bool has(const std::string& label) const = 0;
+    /// One completed energy: its trajectories and its statistics.
+    virtual void put(const ensemble_result& ensemble, const energy_result& summary) = 0;
+};
+
 struct simulation_request {
     arm flip_arm = arm::two;
     std::vector<std::string> criteria;  ///< names (criteria.hpp), each at most once
@@ -65,7 +78,10 @@ struct simulation_request {
     /// integrates R x trajectories (indices first_index + k N ... for replicate k) and reports
     /// every statistic pooled and with its spread over the replicates (study_result::replicates).
     std::size_t replicates = 1;
-    std::size_t bins = 0;           ///< histogram bins (0: square-root rule)
+    std::size_t bins = 0;  ///< histogram bins (0: square-root rule)
+    /// The per-energy results' destination (energy_sink); null: the CSV files of csv_dir, when
+    /// it is set (a csv_directory_sink made by simulate), else none.
+    energy_sink* sink = nullptr;
     std::filesystem::path csv_dir;  ///< empty: no CSV output
     /// With csv_dir: also write residence_E<label>_<criterion>.csv, every crossing time and the
     /// residence time since the previous one (the largest files by far: ~10 MB per criterion and
@@ -94,8 +110,8 @@ double trajectory_record_bytes(std::size_t criteria);
 
 /// Runs the study. Throws input_error for bad input (naming the field) before integrating, and
 /// simulation_interrupted when options.stop is set during the run. With a process group, only
-/// rank 0 returns the result (the others return nothing). The per-energy CSVs are written to
-/// request.csv_dir as each energy completes (study/study_files.hpp).
+/// rank 0 returns the result (the others return nothing). Each energy's results go to the
+/// request's sink (or the CSV files of csv_dir) as it completes.
 std::optional<study_result> simulate(const double_pendulum<double>& model,
                                      const simulation_request& request);
 

@@ -26,11 +26,15 @@
 // (trajectory, t, theta1, theta2, l1, l2).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "flipflux/ensemble/ensemble.hpp"
 #include "flipflux/io/csv.hpp"
+#include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_result.hpp"
 
 namespace flipflux {
@@ -38,11 +42,48 @@ namespace flipflux {
 /// The JSON report of a study.
 nlohmann::ordered_json study_json(const study_result& result);
 
-/// The CSV files of one energy: its trajectories (the ensemble) and its statistics (`summary`);
-/// with residence_times also every crossing time (residence_E<label>_<criterion>.csv).
-/// Throws input_error naming csv_dir when a file cannot be written.
-void write_energy_csvs(const std::filesystem::path& dir, const ensemble_result& ensemble,
-                       const energy_result& summary, bool residence_times);
+/// A column of an energy's table: integers, reals (written with every digit of double; NaN as an
+/// empty cell where nan_is_empty: not computed) or texts. One of the three vectors holds it.
+struct table_column {
+    enum class kind { integer, real, text };
+    std::string name;
+    kind type = kind::real;
+    bool nan_is_empty = false;
+    std::vector<std::uint64_t> integers;
+    std::vector<double> reals;
+    std::vector<std::string> texts;
+    std::size_t size() const;
+};
+
+/// One table of an energy's results: `name` is its CSV file's stem (trajectories_E<label>, ...:
+/// the list above), the columns those of the file, in order.
+struct energy_table {
+    std::string name;
+    std::vector<table_column> columns;
+    std::size_t rows() const;
+};
+
+/// The tables of one energy: its trajectories (the ensemble) and its statistics (`summary`); with
+/// residence_times also every crossing time (residence_E<label>_<criterion>).
+std::vector<energy_table> energy_tables(const ensemble_result& ensemble,
+                                        const energy_result& summary, bool residence_times);
+
+/// A table as CSV: the header, then one line per row.
+std::string csv_text(const energy_table& table);
+
+/// The file sink: each energy's tables as <dir>/<name>.csv, each written atomically (output_error
+/// naming the path when one cannot be).
+class csv_directory_sink : public energy_sink {
+  public:
+    csv_directory_sink(std::filesystem::path dir, bool residence_times)
+        : dir_(std::move(dir)), residence_times_(residence_times) {}
+    bool has(const std::string& label) const override;
+    void put(const ensemble_result& ensemble, const energy_result& summary) override;
+
+  private:
+    std::filesystem::path dir_;
+    bool residence_times_;
+};
 
 /// The initial states of an ensemble (simulate --write-initial-states and --initial-states; the
 /// paired check with another simulator, docs/validating.md): CSV trajectory,energy,theta1,theta2,

@@ -56,7 +56,10 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
 
 /// The report: the summary line first, then a table of the rows that need attention (FAIL,
 /// duplicate, malformed, unmatched); with `verbose` every row, the ok and missing ones too.
-std::string format_report(const validation_report& r, double rtol, bool verbose = false);
+/// Without `verbose`, a line counts the missing rows, ended by `missing_hint` (the caller's words
+/// for listing or accepting them: the command line's options, Python's keyword).
+std::string format_report(const validation_report& r, double rtol, bool verbose = false,
+                          const std::string& missing_hint = "");
 
 template <>
 struct enum_table<validation_entry::status> {
