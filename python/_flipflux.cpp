@@ -3,12 +3,12 @@
 // prints (python/flipflux/__init__.py builds the Pythonic interface on them: floats, mpmath
 // numbers, NumPy arrays). simulate returns its report as a dict and each energy's tables as NumPy
 // arrays, built from the library's structs through a memory sink (study/simulation.hpp's
-// energy_sink): no file in between. Every computation runs in a worker thread with the GIL released; the
-// calling thread polls for Ctrl-C (PyErr_CheckSignals) and raises KeyboardInterrupt: simulate
-// stops its trajectories at the next step (ensemble_options::stop), the other calls (seconds, an
-// mp orbit minutes) are abandoned to finish in the background. Bad input raises ValueError with
-// the library's one-line message naming the Python keyword ("energy: '...' ..."). The module
-// links the library only: no command-line code.
+// energy_sink): no file in between. Every computation runs in a worker thread with the GIL
+// released; the calling thread polls for Ctrl-C (PyErr_CheckSignals) and raises KeyboardInterrupt:
+// simulate stops its trajectories at the next step (ensemble_options::stop), the other calls
+// (seconds, an mp orbit minutes) are abandoned to finish in the background. Bad input raises
+// ValueError with the library's one-line message naming the Python keyword ("energy: '...' ...").
+// The module links the library only: no command-line code.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

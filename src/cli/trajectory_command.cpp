@@ -13,6 +13,7 @@
 #include "common.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/study/settings.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/trajectory.hpp"
 #include "flipflux/study/trajectory_files.hpp"

@@ -191,4 +191,59 @@ trajectory_key trajectory_key_of(const simulation_request& q) {
     return k;
 }
 
+/// "5", "2.5,3,3.5" or "2.1:5.9:0.1" (a grid by decimal_grid's rule, core/decimal.hpp).
+std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
+                                                              const std::string& option) {
+    std::vector<std::pair<std::string, double>> out;
+    std::size_t pos = 0;
+    while (pos <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', pos), text.size());
+        const std::string item = text.substr(pos, comma - pos);
+        const std::size_t c1 = item.find(':');
+        if (c1 == std::string::npos) {
+            out.emplace_back(item, parse_real<double>(item, option));
+        } else {
+            const std::size_t c2 = item.find(':', c1 + 1);
+            if (c2 == std::string::npos || item.find(':', c2 + 1) != std::string::npos)
+                throw input_error::about(option, "'" + item + "' is not a range (FROM:TO:STEP)");
+            const std::string_view v(item);
+            for (const std::string& e : decimal_grid(v.substr(0, c1), v.substr(c1 + 1, c2 - c1 - 1),
+                                                     v.substr(c2 + 1), option, max_energy_count))
+                out.emplace_back(e, parse_real<double>(e, option));
+        }
+        pos = comma + 1;
+        if (out.size() > max_energy_count)
+            throw input_error::about(option, "more than " + std::to_string(max_energy_count) +
+                                                 " energies (docs/limits.md)");
+    }
+    // one energy once: "3,3.0" would run two identical ensembles (compared as the doubles run)
+    std::vector<std::pair<double, std::size_t>> sorted;
+    for (std::size_t i = 0; i < out.size(); ++i)
+        sorted.emplace_back(out[i].second, i);
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first) {
+            const std::size_t a = std::min(sorted[i].second, sorted[i - 1].second);
+            const std::size_t b = std::max(sorted[i].second, sorted[i - 1].second);
+            throw input_error::about(
+                option, "E = " + out[b].first + " is given twice (as '" + out[a].first + "')");
+        }
+    return out;
+}
+
+std::vector<std::string> parse_criterion_list(const std::string& text, const std::string& option) {
+    std::vector<std::string> out;
+    std::size_t pos = 0;
+    while (pos <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', pos), text.size());
+        const std::string name = text.substr(pos, comma - pos);
+        check_criterion_name(name, option);
+        for (const std::string& seen : out)
+            if (seen == name) throw input_error::about(option, "'" + name + "' is given twice");
+        out.push_back(name);
+        pos = comma + 1;
+    }
+    return out;
+}
+
 }  // namespace flipflux

@@ -24,69 +24,15 @@
 #include "flipflux/study/checkpoint.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "flipflux/study/study_files.hpp"
+#include "study_checks.hpp"
+#include "study_statistics.hpp"
 
 namespace flipflux {
 namespace {
 
 using json = nlohmann::ordered_json;
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
-
-/// "5", "2.5,3,3.5" or "2.1:5.9:0.1" (a grid by decimal_grid's rule, core/decimal.hpp).
-std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
-                                                              const std::string& option) {
-    std::vector<std::pair<std::string, double>> out;
-    std::size_t pos = 0;
-    while (pos <= text.size()) {
-        const std::size_t comma = std::min(text.find(',', pos), text.size());
-        const std::string item = text.substr(pos, comma - pos);
-        const std::size_t c1 = item.find(':');
-        if (c1 == std::string::npos) {
-            out.emplace_back(item, parse_real<double>(item, option));
-        } else {
-            const std::size_t c2 = item.find(':', c1 + 1);
-            if (c2 == std::string::npos || item.find(':', c2 + 1) != std::string::npos)
-                throw input_error::about(option, "'" + item + "' is not a range (FROM:TO:STEP)");
-            const std::string_view v(item);
-            for (const std::string& e : decimal_grid(v.substr(0, c1), v.substr(c1 + 1, c2 - c1 - 1),
-                                                     v.substr(c2 + 1), option, max_energy_count))
-                out.emplace_back(e, parse_real<double>(e, option));
-        }
-        pos = comma + 1;
-        if (out.size() > max_energy_count)
-            throw input_error::about(option, "more than " + std::to_string(max_energy_count) +
-                                                 " energies (docs/limits.md)");
-    }
-    // one energy once: "3,3.0" would run two identical ensembles (compared as the doubles run)
-    std::vector<std::pair<double, std::size_t>> sorted;
-    for (std::size_t i = 0; i < out.size(); ++i)
-        sorted.emplace_back(out[i].second, i);
-    std::sort(sorted.begin(), sorted.end());
-    for (std::size_t i = 1; i < sorted.size(); ++i)
-        if (sorted[i].first == sorted[i - 1].first) {
-            const std::size_t a = std::min(sorted[i].second, sorted[i - 1].second);
-            const std::size_t b = std::max(sorted[i].second, sorted[i - 1].second);
-            throw input_error::about(
-                option, "E = " + out[b].first + " is given twice (as '" + out[a].first + "')");
-        }
-    return out;
-}
-
-std::vector<std::string> parse_criterion_list(const std::string& text, const std::string& option) {
-    std::vector<std::string> out;
-    std::size_t pos = 0;
-    while (pos <= text.size()) {
-        const std::size_t comma = std::min(text.find(',', pos), text.size());
-        const std::string name = text.substr(pos, comma - pos);
-        check_criterion_name(name, option);
-        for (const std::string& seen : out)
-            if (seen == name) throw input_error::about(option, "'" + name + "' is given twice");
-        out.push_back(name);
-        pos = comma + 1;
-    }
-    return out;
-}
 
 namespace {
 
@@ -157,123 +103,6 @@ double trajectory_record_bytes(std::size_t criteria) {
 }
 
 namespace {
-
-/// What one energy's ensemble holds in memory, bounded up front (core/limits.hpp): every
-/// trajectory's record (with its per-criterion vectors, its node in the map of finished
-/// trajectories and its index in the work list) and, with a sample interval, its samples.
-void check_sizes(const simulation_request& request, const ensemble_options& o) {
-    if (request.bins > max_bins)
-        throw input_error::about("bins", "'" + std::to_string(request.bins) +
-                                             "' is too many histogram bins (at most " +
-                                             std::to_string(max_bins) + ")");
-    (void)checked_threads(static_cast<std::uint64_t>(std::max(o.threads, 0)), "threads");
-    const double record = trajectory_record_bytes(request.criteria.size());
-    const double n = static_cast<double>(o.trajectories);
-    const std::string field =
-        request.estimator == rate_estimator::short_trajectories ? "short_time" : "trajectories";
-    const std::string value = request.estimator == rate_estimator::short_trajectories
-                                  ? to_decimal(request.short_time)
-                                  : std::to_string(o.trajectories);
-    check_memory(field, value, n * record, std::to_string(o.trajectories) + " trajectory records");
-    if (o.sample_interval > 0) {
-        const double samples = std::floor(o.time / o.sample_interval) + 2;
-        check_memory("sample_interval", to_decimal(o.sample_interval),
-                     n * samples * sizeof(std::array<double, 5>),
-                     "the sampled states of " + std::to_string(o.trajectories) + " trajectories");
-    }
-}
-
-/// The request checked (every option, the short estimator's budget turned into trajectories) and
-/// the CSV directory created: the ensemble options every energy runs with (energy set per energy).
-ensemble_options checked_options(const simulation_request& request, const process_group& group) {
-    ensemble_options o = request.options;
-    o.method = resolved_method(o.method, o.rtol);  // outputs name the concrete integrator
-    if (request.energies.empty()) throw input_error::about("energy", "no energy given");
-    if (request.criteria.empty()) throw input_error::about("criteria", "no criterion given");
-    if (o.sample_interval != 0 && request.csv_dir.empty() && !request.sink)
-        throw input_error::about(
-            "sample_interval",
-            "'" + to_decimal(o.sample_interval) +
-                "' needs a CSV directory, csv_dir (the sampled trajectories are written there)");
-    if (o.sample_interval != 0 && (!request.checkpoint.empty() || group.size() > 1))
-        throw input_error::about(
-            "sample_interval", "'" + to_decimal(o.sample_interval) +
-                                   "' cannot be combined with a checkpoint or MPI (samples are not "
-                                   "checkpointed or gathered)");
-    if (!(request.reference_time >= 0) || !std::isfinite(request.reference_time))
-        throw input_error::about("reference_time", "'" + to_decimal(request.reference_time) +
-                                                       "' is invalid (must be finite and >= 0)");
-    if (!(request.checkpoint_interval >= 0))
-        throw input_error::about(
-            "checkpoint_interval",
-            "'" + to_decimal(request.checkpoint_interval) + "' is invalid (must be >= 0)");
-    if (request.estimator == rate_estimator::short_trajectories) {
-        if (!std::isfinite(request.short_time) || !(request.short_time > 0))
-            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
-                                                       "' is invalid (must be finite and > 0)");
-        if (!(o.time > 0) || o.trajectories == 0) validate(o);
-        if (request.short_time > o.time)
-            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
-                                                       "' is longer than the budget's trajectory "
-                                                       "length, time = " +
-                                                       to_decimal(o.time));
-        const double n = std::ceil(static_cast<double>(o.trajectories) * o.time /
-                                   request.short_time * (1 - 1e-15));
-        if (!(n <= 1e12))
-            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
-                                                       "' gives too many trajectories");
-        o.trajectories = static_cast<std::uint64_t>(std::max(1.0, n));
-        o.time = request.short_time;
-    }
-    o.atol = effective_atol(o);
-    if (request.replicates == 0 || request.replicates > max_replicates)
-        throw input_error::about("replicates", "'" + std::to_string(request.replicates) +
-                                                   "' is invalid (must be 1 to " +
-                                                   std::to_string(max_replicates) + ")");
-    if (request.replicates > 1) {
-        if (o.trajectories > std::numeric_limits<std::uint64_t>::max() / request.replicates)
-            throw input_error::about(
-                "replicates", "'" + std::to_string(request.replicates) + "' replicates of " +
-                                  std::to_string(o.trajectories) + " trajectories are too many");
-        o.trajectories *= request.replicates;
-    }
-    if (!request.initial_states.empty()) {
-        if (request.initial_states.size() != request.energies.size())
-            throw std::invalid_argument("simulate: initial_states needs one list per energy");
-        if (request.replicates != 1 || request.estimator != rate_estimator::long_trajectories)
-            throw input_error::about("initial_states",
-                                     "given initial states need one replicate and the long "
-                                     "estimator");
-        for (const auto& list : request.initial_states)
-            if (!list || list->size() != o.trajectories)
-                throw input_error::about("initial_states", "every energy needs trajectories = " +
-                                                               std::to_string(o.trajectories) +
-                                                               " initial states");
-    }
-    check_sizes(request, o);
-    // checked, not created: a refused request leaves no folder (the CSVs create it when written)
-    const std::filesystem::path& dir = request.csv_dir;
-    if (!dir.empty() && group.rank() == 0) {
-        check_output_folder(dir, "csv_dir");
-        if (!request.checkpoint.empty()) {
-            namespace fs = std::filesystem;
-            std::error_code ec;
-            const fs::path c = fs::weakly_canonical(fs::absolute(request.checkpoint, ec), ec);
-            const fs::path d = fs::weakly_canonical(fs::absolute(dir, ec), ec);
-            if (c == d)
-                throw input_error::about("checkpoint", "'" + request.checkpoint.string() +
-                                                           "' is the CSV directory csv_dir");
-            if (c.parent_path() == d && c.extension() == ".csv")
-                throw input_error::about(
-                    "checkpoint", "'" + request.checkpoint.string() +
-                                      "' is a CSV name in the CSV directory csv_dir, where the "
-                                      "ensemble's CSVs are written: choose another name");
-        }
-    }
-    if (!request.checkpoint.empty() && group.rank() == 0)
-        check_output_file(request.checkpoint, "checkpoint");
-    return o;
-}
 
 /// Per energy and criterion: the flip criterion and its predicted rate (if any), all built
 /// before anything is simulated.
@@ -374,189 +203,6 @@ void receive_trajectories(const std::vector<std::string>& incoming, std::size_t 
             pos = nl + 1;
         }
     }
-}
-
-/// One energy's result from its finished ensemble: drift and step counts, and per criterion the
-/// statistics against the prediction.
-energy_result summarise_energy(
-    const ensemble_result& r, const std::string& label, const simulation_request& request,
-    const process_group& group,
-    const std::vector<std::optional<quantity_value<double>>>& predictions) {
-    energy_result e;
-    e.label = label;
-    e.energy = r.energy;
-    e.seconds = r.seconds;
-    e.cpu_seconds = r.cpu_seconds;
-    e.threads = r.threads;
-    e.processes = group.size();
-    long steps = 0;
-    for (const trajectory_result& t : r.trajectories) {
-        e.max_energy_drift = std::max(e.max_energy_drift, t.max_energy_drift);
-        steps += t.steps;
-        e.failed_trajectories += t.status != rk_status::ok;
-        e.energy_check_rejections += t.energy_check_rejections;
-    }
-    e.steps_per_trajectory =
-        static_cast<double>(steps) / static_cast<double>(r.trajectories.size());
-    for (std::size_t c = 0; c < request.criteria.size(); ++c) {
-        const auto& p = predictions[c];
-        e.criteria.push_back(
-            {p, analyze(r, c, p ? p->value : nan, request.bins, request.bins, request.replicates)});
-    }
-    std::vector<double> d;
-    for (std::size_t i = 0; i < request.criteria.size(); ++i)
-        for (std::size_t j = i + 1; j < request.criteria.size(); ++j) {
-            d.clear();
-            for (const trajectory_result& t : r.trajectories)  // failed ones are no data
-                if (t.status == rk_status::ok)
-                    d.push_back(static_cast<double>(t.flips(i)) / r.time -
-                                static_cast<double>(t.flips(j)) / r.time);
-            e.paired.push_back({i, j, summarize(d)});
-        }
-    return e;
-}
-
-/// The replicate errors of criterion c's quality indices: the indices of each replicate alone and
-/// of the ensemble without each replicate (statistics.hpp, replicate_quality), over the energies
-/// the pooled indices use.
-void add_replicate_quality(study_result& out, std::size_t c) {
-    const std::size_t R = out.replicates;
-    for (const bool chaotic : {false, true}) {
-        std::vector<std::vector<quality_sample>> own(R), without(R);
-        for (const energy_result& e : out.energies) {
-            const criterion_result& x = e.criteria[c];
-            if (!x.prediction) continue;
-            const criterion_statistics& st = x.statistics;
-            if (chaotic && st.chaotic == 0) continue;
-            const auto& parts = chaotic ? st.replicate_chaotic_rates : st.replicate_rates;
-            const auto sample = [&](const summary_statistics& r) {
-                return quality_sample{
-                    e.energy,         r.mean, x.prediction->value, r.standard_deviation,
-                    r.standard_error, r.count};
-            };
-            std::vector<summary_statistics> rest;
-            for (std::size_t k = 0; k < R; ++k) {
-                own[k].push_back(sample(parts[k]));
-                rest.clear();
-                for (std::size_t j = 0; j < R; ++j)
-                    if (j != k) rest.push_back(parts[j]);
-                without[k].push_back(sample(merge(rest)));
-            }
-        }
-        auto& pooled =
-            chaotic ? out.quality[c].chaotic_trajectories : out.quality[c].all_trajectories;
-        replicate_quality(pooled, own, without, out.regimes);
-    }
-}
-
-/// The quality indices (paper Sec. 5.6) of each criterion over the energies, per regime: IQI
-/// over all trajectories, PQI also over the chaotic sub-ensemble. An energy enters where its
-/// criterion has a prediction (and, for the chaotic table, chaotic trajectories).
-void add_quality(study_result& out, const double_pendulum<double>& model) {
-    out.regimes = paper_regimes(model, out.flip_arm);
-    for (std::size_t c = 0; c < out.criteria.size(); ++c) {
-        std::vector<quality_sample> all, chaotic;
-        for (const energy_result& e : out.energies) {
-            const criterion_result& x = e.criteria[c];
-            if (!x.prediction) continue;
-            const criterion_statistics& st = x.statistics;
-            const auto sample = [&](const summary_statistics& r) {
-                return quality_sample{
-                    e.energy,         r.mean,  x.prediction->value, r.standard_deviation,
-                    r.standard_error, r.count, r.skewness,          r.kurtosis};
-            };
-            all.push_back(sample(st.rates));
-            if (st.chaotic > 0) chaotic.push_back(sample(st.chaotic_rates));
-        }
-        const double scale = out.reference_time > 0 ? out.options.time / out.reference_time : 0;
-        out.quality.push_back(
-            {quality(all, out.regimes, scale), quality(chaotic, out.regimes, scale)});
-        if (out.replicates > 1) add_replicate_quality(out, c);
-    }
-}
-
-/// z-scores over the energies (paper Sec. 5.5): their chi^2, the worst, the largest relative
-/// deviation, for one criterion over all or over the chaotic trajectories.
-criterion_agreement agreement(const std::vector<energy_result>& energies, std::size_t c,
-                              bool chaotic) {
-    criterion_agreement a;
-    a.worst_z = a.max_relative_deviation = nan;
-    for (const energy_result& e : energies) {
-        const criterion_statistics& st = e.criteria[c].statistics;
-        const summary_statistics& s = chaotic ? st.chaotic_rates : st.rates;
-        const double p = st.predicted_rate;
-        if (!(p > 0) || !std::isfinite(s.mean) || !(s.standard_error > 0)) continue;
-        const double z = (s.mean - p) / s.standard_error, rel = std::abs(s.mean / p - 1);
-        a.chi2 += z * z;
-        if (!(std::abs(z) <= std::abs(a.worst_z))) a.worst_z = z;
-        if (!(rel <= a.max_relative_deviation)) a.max_relative_deviation = rel;
-        ++a.energies;
-    }
-    return a;
-}
-
-/// The agreement of criterion c's pooled means with its predictions by the replicate errors,
-/// and each replicate's own chi^2 (criterion_agreement::replicate_verdict).
-criterion_agreement::replicate_verdict replicate_agreement(
-    const std::vector<energy_result>& energies, std::size_t c, bool chaotic, std::size_t R) {
-    criterion_agreement::replicate_verdict v;
-    v.worst_z = v.max_error_ratio = v.min_error_ratio = nan;
-    v.chi2_of_replicates.assign(R, 0);
-    for (const energy_result& e : energies) {
-        const criterion_statistics& st = e.criteria[c].statistics;
-        const summary_statistics& s = chaotic ? st.chaotic_rates : st.rates;
-        const auto& parts = chaotic ? st.replicate_chaotic_rates : st.replicate_rates;
-        const double p = st.predicted_rate;
-        if (!(p > 0) || !std::isfinite(s.mean) || parts.size() != R) continue;
-        for (std::size_t k = 0; k < R; ++k) {
-            const double z = (parts[k].mean - p) / parts[k].standard_error;
-            if (std::isfinite(z)) v.chi2_of_replicates[k] += z * z;
-        }
-        const double se = replicate_standard_error(parts);
-        if (!(se > 0)) continue;
-        const double z = (s.mean - p) / se;
-        v.chi2 += z * z;
-        if (!(std::abs(z) <= std::abs(v.worst_z))) v.worst_z = z;
-        const double ratio = se / s.standard_error;
-        if (std::isfinite(ratio)) {
-            if (!(ratio <= v.max_error_ratio)) v.max_error_ratio = ratio;
-            if (!(ratio >= v.min_error_ratio)) v.min_error_ratio = ratio;
-            v.error_mismatches += ratio > 2 || ratio < 0.5;
-        }
-        ++v.energies;
-    }
-    const double r = static_cast<double>(R);
-    v.expected_chi2 = R > 3 ? static_cast<double>(v.energies) * (r - 1) / (r - 3) : nan;
-    return v;
-}
-
-/// The agreement of every criterion and the differences between the criteria's predictions.
-void add_comparisons(study_result& out) {
-    const std::size_t n = out.criteria.size();
-    for (std::size_t c = 0; c < n; ++c) {
-        out.agreement.push_back(
-            {agreement(out.energies, c, false), agreement(out.energies, c, true)});
-        if (out.replicates > 1) {
-            out.agreement.back().all_trajectories.replicates =
-                replicate_agreement(out.energies, c, false, out.replicates);
-            out.agreement.back().chaotic_trajectories.replicates =
-                replicate_agreement(out.energies, c, true, out.replicates);
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = i + 1; j < n; ++j) {
-            prediction_difference d{i, j, 0, 0};
-            double sum = 0;
-            for (const energy_result& e : out.energies) {
-                const auto &p = e.criteria[i].prediction, &q = e.criteria[j].prediction;
-                if (!p || !q || !(q->value > 0)) continue;
-                const double rel = p->value / q->value - 1;
-                sum += rel * rel;
-                ++d.energies;
-            }
-            d.rms_relative = d.energies ? std::sqrt(sum / static_cast<double>(d.energies)) : nan;
-            out.prediction_differences.push_back(d);
-        }
 }
 
 /// The ensemble of one energy from its trajectories, in index order (moved out of `have`).
@@ -753,7 +399,7 @@ study_run::study_run(const double_pendulum<double>& model,
     for (const simulation_request& q : requests)
         check_shareable(request_, q);
     for (const simulation_request& q : requests) {
-        o_ = checked_options(q, group_);
+        o_ = detail::checked_options(q, group_);
         setups_.push_back(build_criteria(model, q, o_));
     }
     shared_ = share_energies(requests, setups_);
@@ -907,8 +553,8 @@ void study_run::finish_energy(std::size_t k, const ensemble_result& all) {
     for (const shared_energies::member& m : shared_.energies[k].members) {
         const simulation_request& q = requests_[m.study];
         const ensemble_result r = project(model_, all, m, q);
-        energy_result e = summarise_energy(r, q.energies[m.position].first, q, group_,
-                                           setups_[m.study].predictions[m.position]);
+        energy_result e = detail::summarise_energy(r, q.energies[m.position].first, q, group_,
+                                                   setups_[m.study].predictions[m.position]);
         if (energy_sink* sink = sinks_[m.study]) sink->put(r, e);
         done_[m.study][m.position] = std::move(e);
         records.emplace_back(k * studies_ + m.study, &*done_[m.study][m.position]);
@@ -920,8 +566,8 @@ std::vector<study_result> study_run::finish_studies() {
     for (std::size_t p = 0; p < studies_; ++p) {
         for (std::optional<energy_result>& e : done_[p])
             heads_[p].energies.push_back(std::move(*e));
-        add_quality(heads_[p], model_);
-        add_comparisons(heads_[p]);
+        detail::add_quality(heads_[p], model_);
+        detail::add_comparisons(heads_[p]);
     }
     return std::move(heads_);
 }

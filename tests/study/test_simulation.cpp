@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/study/settings.hpp"
 #include "flipflux/study/simulation.hpp"
 #include "flipflux/study/study_files.hpp"
 #include "support.hpp"

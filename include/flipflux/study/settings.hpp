@@ -80,4 +80,15 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& field, 
 /// A number > 0; input_error about `field` otherwise.
 double parse_positive(const std::string& text, const std::string& field);
 
+/// "5", "2.5,3,3.5" or "FROM:TO:STEP" items (a grid by the one grid rule, core/decimal.hpp's
+/// decimal_grid: TO - FROM a multiple of STEP, at most 1e5 values), in order, each with its decimal
+/// text as label; throws input_error naming `option`.
+std::vector<std::pair<std::string, double>> parse_energy_list(const std::string& text,
+                                                              const std::string& option = "energy");
+
+/// Comma-separated criterion names, each known and at most once; throws input_error naming
+/// `option`.
+std::vector<std::string> parse_criterion_list(const std::string& text,
+                                              const std::string& option = "criteria");
+
 }  // namespace flipflux
