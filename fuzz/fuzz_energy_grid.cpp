@@ -1,10 +1,10 @@
 // Fuzz target: energy lists and grids as the command line and scenes give them
-// (study/simulation.hpp's parse_energy_list, the grid rule of core/decimal.hpp).
+// (study/settings.hpp's parse_energy_list, the grid rule of core/decimal.hpp).
 #include <cstdint>
 #include <string>
 
 #include "flipflux/core/error.hpp"
-#include "flipflux/study/simulation.hpp"
+#include "flipflux/study/settings.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

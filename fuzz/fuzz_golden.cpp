@@ -1,6 +1,6 @@
 // Fuzz target: golden data files, as `flipflux validate --golden DIR` reads them (validation/
 // validate.hpp's read_golden) and as the golden writer's parser reads them back
-// (quantities/golden.hpp's parse_golden_csv).
+// (output/golden_files.hpp's parse_golden_csv).
 #include <unistd.h>
 
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "flipflux/core/error.hpp"
-#include "flipflux/quantities/golden.hpp"
+#include "flipflux/output/golden_files.hpp"
 #include "flipflux/validation/validate.hpp"
 
 namespace {

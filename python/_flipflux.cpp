@@ -15,6 +15,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <exception>
 #include <filesystem>
@@ -223,8 +224,10 @@ py::object python_of(const nlohmann::ordered_json& j) {
             return py::int_(j.get<std::int64_t>());
         case nlohmann::ordered_json::value_t::number_unsigned:
             return py::int_(j.get<std::uint64_t>());
-        case nlohmann::ordered_json::value_t::number_float:
-            return py::float_(j.get<double>());
+        case nlohmann::ordered_json::value_t::number_float: {
+            const double x = j.get<double>();  // dump() writes a non-finite double as null
+            return std::isfinite(x) ? py::object(py::float_(x)) : py::none();
+        }
         default:
             return py::none();
     }

@@ -45,18 +45,20 @@ Real full_marginal(const double_pendulum<Real>& model) {
 }
 
 /// 2 pi sqrt(D0) [E(t + x|m) + E(t - x|m)]: the marginal at x in [0, pi] with half-width t,
-/// given to_pi = pi - x and E(m) = `complete`. Since E(phi + k pi|m) = E(phi|m) + 2 k E(m), the
-/// bracket is also E(t + u|m) + E(t - u|m) with u = pi - x; near x = pi (where t can be small: just
-/// above the saddle level 2 w_this) that form keeps t - u and t + u to full relative precision,
-/// where the form in x adds and removes 2 E(m) and leaves the small sum to the rounding of t + x.
+/// given to_pi = pi - x and E(m) = *complete (null: computed where needed). Since E(phi + k pi|m) =
+/// E(phi|m) + 2 k E(m), the bracket is also E(t + u|m) + E(t - u|m) with u = pi - x; near x = pi
+/// (where t can be small: just above the saddle level 2 w_this) that form keeps t - u and t + u to
+/// full relative precision, where the form in x adds and removes 2 E(m) and leaves the small sum to
+/// the rounding of t + x.
 template <class Real>
 Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x, const Real& t,
-                              const Real& to_pi, const Real& complete) {
+                              const Real& to_pi, const Real* complete) {
     using std::sqrt;
     const Real m = density_parameter(model);
     const Real& y = to_pi < x ? to_pi : x;
     return two_pi<Real>() * sqrt(model.coefficients().D0) *
-           (elliptic_e(Real(t + y), m, complete) + elliptic_e(Real(t - y), m, complete));
+           (complete ? elliptic_e(Real(t + y), m, *complete) + elliptic_e(Real(t - y), m, *complete)
+                     : elliptic_e(Real(t + y), m) + elliptic_e(Real(t - y), m));
 }
 
 /// The integral over [a, b] of a marginal whose branch points beyond a and b lie at the distances
@@ -77,6 +79,10 @@ quadrature_result<Real> piece_integral(endpoint_integrand<Real> f, const Real& a
         // before tanh-sinh); at |m| = 1 they converge at 127 or 255
         if (far(near[0]) && far(near[1]) && -m <= 4) {
             if (auto r = sine_squared_clenshaw_curtis<Real>(f, a, b, 256)) return *r;
+            // not converged: every node of the 256-interval rule was evaluated
+            quadrature_result<Real> r = tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
+            r.evaluations += 255;
+            return r;
         }
     }
     return tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
@@ -100,10 +106,13 @@ quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model,
         const Real edge_gap = sup.theta_edge - b;  // 0 when the piece ends at theta_edge
         // pi - b, from the support's supplement when the piece ends at its edge
         const Real b_to_pi = b == sup.theta_edge ? sup.edge_supplement : Real(pi<Real>() - b);
-        const Real complete = complete_e(model);
+        // E(m) for the half periods, once: as elliptic_e(phi, m) computes it (from 1 - m), so the
+        // values are those of the two-argument form bit for bit
+        const Real m = density_parameter(model);
+        const Real complete = elliptic_e_complete(m, Real(1 - m));
         auto f = [&](const Real& th, const Real& to_a, const Real& to_b) -> Real {
             const Real t = sup.half_width(th, Real(edge_gap + to_b), to_a);
-            return marginal_from_half_width(model, th, t, Real(b_to_pi + to_b), complete);
+            return marginal_from_half_width(model, th, t, Real(b_to_pi + to_b), &complete);
         };
         const std::array<Real, 2> near = detail::singularity_distances(sup, b);
         r += piece_integral<Real>(f, a, b, near, density_parameter(model));
@@ -145,7 +154,7 @@ Real marginal_density(const double_pendulum<Real>& model, const Real& energy,
     const Real t = allowed_half_width(model, energy, which, theta);
     if (t == 0) return Real(0);
     if (t == pi<Real>()) return full_marginal(model);
-    return marginal_from_half_width(model, x, t, Real(pi<Real>() - x), complete_e(model));
+    return marginal_from_half_width<Real>(model, x, t, Real(pi<Real>() - x), nullptr);
 }
 
 template <class Real>

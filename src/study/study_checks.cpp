@@ -44,7 +44,8 @@ void check_sizes(const simulation_request& request, const ensemble_options& o) {
 }  // namespace
 
 /// The request checked (every option, the short estimator's budget turned into trajectories) and
-/// the CSV directory created: the ensemble options every energy runs with (energy set per energy).
+/// the CSV directory checked (not created): the ensemble options every energy runs with (energy set
+/// per energy).
 ensemble_options checked_options(const simulation_request& request, const process_group& group) {
     ensemble_options o = request.options;
     o.method = resolved_method(o.method, o.rtol);  // outputs name the concrete integrator

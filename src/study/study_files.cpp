@@ -354,22 +354,28 @@ std::size_t energy_table::rows() const {
     return columns.empty() ? 0 : columns.front().size();
 }
 
-std::vector<energy_table> energy_tables(const ensemble_result& r, const energy_result& summary,
-                                        bool residence_times) {
+void for_each_energy_table(const ensemble_result& r, const energy_result& summary,
+                           bool residence_times, const std::function<void(energy_table&&)>& f) {
     const std::string& label = summary.label;
-    std::vector<energy_table> out;
-    out.push_back(trajectories_table(label, r));
+    f(trajectories_table(label, r));
     if (!r.trajectories.empty() && !r.trajectories.front().samples.empty())
-        out.push_back(samples_table(label, r));
+        f(samples_table(label, r));
     for (std::size_t c = 0; c < r.criteria.size(); ++c) {
         const std::string& name = r.criteria[c];
         const criterion_statistics& st = summary.criteria.at(c).statistics;
-        if (residence_times) out.push_back(residence_table(label, r, c));
-        out.push_back(histogram_table("rate_histogram_E" + label + "_" + name, st.rate_distribution,
-                                      st.rates.count));
-        out.push_back(histogram_table("residence_histogram_E" + label + "_" + name,
-                                      st.residence.distribution, st.residence.summary.count));
+        if (residence_times) f(residence_table(label, r, c));
+        f(histogram_table("rate_histogram_E" + label + "_" + name, st.rate_distribution,
+                          st.rates.count));
+        f(histogram_table("residence_histogram_E" + label + "_" + name, st.residence.distribution,
+                          st.residence.summary.count));
     }
+}
+
+std::vector<energy_table> energy_tables(const ensemble_result& r, const energy_result& summary,
+                                        bool residence_times) {
+    std::vector<energy_table> out;
+    for_each_energy_table(r, summary, residence_times,
+                          [&](energy_table&& t) { out.push_back(std::move(t)); });
     return out;
 }
 
@@ -406,8 +412,10 @@ bool csv_directory_sink::has(const std::string& label) const {
 }
 
 void csv_directory_sink::put(const ensemble_result& ensemble, const energy_result& summary) {
-    for (const energy_table& t : energy_tables(ensemble, summary, residence_times_))
+    // one table in memory at a time (a residence table is the largest output by far)
+    for_each_energy_table(ensemble, summary, residence_times_, [&](energy_table&& t) {
         write_atomically(dir_ / (t.name + ".csv"), csv_text(t));
+    });
 }
 
 std::string initial_states_csv(const std::vector<initial_state_set>& sets,

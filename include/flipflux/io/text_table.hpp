@@ -38,9 +38,10 @@ class text_table {
 
 /// printf's rendering of one number, e.g. cell("%.3e", x): a table cell.
 inline std::string cell(const char* format, double x) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, x);
-    return buf;
+    const int n = std::snprintf(nullptr, 0, format, x);
+    std::string s(static_cast<std::size_t>(n > 0 ? n : 0), '\0');
+    std::snprintf(s.data(), s.size() + 1, format, x);
+    return s;
 }
 
 }  // namespace flipflux

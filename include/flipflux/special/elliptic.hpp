@@ -39,8 +39,9 @@ namespace flipflux {
 template <class Real>
 Real elliptic_e(const Real& phi, const Real& m);
 
-/// E(phi|m) given the complete E(m) = `complete` (m <= 1), for many phi at one m: the same value
-/// as elliptic_e(phi, m) without recomputing E(m) for the half periods.
+/// E(phi|m) given the complete E(m) = `complete` (m <= 1), for many phi at one m, without
+/// recomputing E(m) for the half periods: with complete = elliptic_e_complete(m, 1 - m), the same
+/// value as elliptic_e(phi, m) bit for bit.
 template <class Real>
 Real elliptic_e(const Real& phi, const Real& m, const Real& complete);
 

@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -67,6 +68,10 @@ struct energy_table {
 /// residence_times also every crossing time (residence_E<label>_<criterion>).
 std::vector<energy_table> energy_tables(const ensemble_result& ensemble,
                                         const energy_result& summary, bool residence_times);
+
+/// The same tables handed to f one at a time, in that order (one in memory at a time).
+void for_each_energy_table(const ensemble_result& ensemble, const energy_result& summary,
+                           bool residence_times, const std::function<void(energy_table&&)>& f);
 
 /// A table as CSV: the header, then one line per row.
 std::string csv_text(const energy_table& table);
