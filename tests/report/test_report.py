@@ -179,6 +179,13 @@ def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop8
     for c in criteria:
         out["quality"][c] = {"all_trajectories": table(deviation, 0.1),
                              "chaotic_trajectories": table(0.0, 0.05)}
+    # the regimes as the C++ writes them (the paper's fractions of E_max - E_s above E_s)
+    es, em = (2.0, 6.0) if arm == 2 else (4.0, 6.0)
+    cuts = (0.2, 0.75) if arm == 2 else (0.3,)
+    bounds = [es] + [es + f * (em - es) for f in cuts] + [em]
+    out["regimes"] = [{"regime": "full", "lower": repr(es), "upper": repr(em)}] + [
+        {"regime": g, "lower": repr(lo), "upper": repr(hi)}
+        for g, lo, hi in zip(names[1:], bounds, bounds[1:])]
     return out
 
 

@@ -26,7 +26,8 @@ rates of arm 2 (saddle) at E = 5.3 (energies scaled with the model: see `special
 The report draws; flipflux computes. Every statistic in it comes from the C++ results: the quality
 indices with their bootstrap errors, noise floors and reference-length PQI, chi^2 and worst z over
 the energies, paired criterion differences, residence-time statistics, RMS differences of the
-predicted rates (ensemble JSON; run.json for the prediction grid). What the report computes itself
+predicted rates (ensemble JSON; run.json for the prediction grid), and the chaotic regimes
+(the ensemble JSON's "regimes"). What the report computes itself
 is the verdict against the paper's published numbers (`compare`, with the paper's N and T), two
 independent consistency checks of the inputs (dF/dE = T by quadrature, with the orbits' dT/dE; the
 approximate curve's slope from the saddle's centre mode), and closed-form combinations of the
@@ -582,13 +583,11 @@ def load_inputs(run_dir):
 
 # ---- statistics ---------------------------------------------------------------------------------
 
-def regimes(model, a):
-    es, em = model["saddle"][a], model["maximum"]
-    d = em - es
-    if a == 2:
-        return [("full", es, em), ("low", es, es + 0.2 * d), ("central", es + 0.2 * d, es + 0.75 * d),
-                ("high", es + 0.75 * d, em)]
-    return [("full", es, em), ("low", es, es + 0.3 * d), ("high", es + 0.3 * d, em)]
+def regimes(data, a):
+    """The chaotic regimes of arm a as flipflux defined them for its main ensemble (the JSON's
+    "regimes": name, lower, upper; study/study_result.hpp), not recomputed here."""
+    return [(r["regime"], num(r["lower"]), num(r["upper"]))
+            for r in data["main"][a]["json"].get("regimes") or []]
 
 
 def json_quality(ensemble, criterion, subset, regime):
@@ -1133,7 +1132,7 @@ def fig_energy_regimes(data, out):
         ax.barh(i, hi - lo, left=lo, height=0.6, color=c, alpha=0.6)
         ax.text(lo + 0.05, i, label, va="center", fontsize=7)
     for a, y in ((2, len(rows)), (1, len(rows) + 1)):
-        for (reg, lo, hi), c in zip([r for r in regimes(model, a) if r[0] != "full"],
+        for (reg, lo, hi), c in zip([r for r in regimes(data, a) if r[0] != "full"],
                                     ("#fdd", "#fbb", "#f99") if a == 2 else ("#ddf", "#aaf")):
             ax.barh(y, hi - lo, left=lo, height=0.6, color=c, edgecolor="k", lw=0.4)
             ax.text((lo + hi) / 2, y, reg, ha="center", va="center", fontsize=7)
@@ -1529,10 +1528,10 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
     ens = data["main"][a]
     subset = "chaotic_trajectories" if kind == "PQI" else "all_trajectories"
     if kind == "PQI" and not any(json_quality(ens, criterion, subset, reg)
-                                 for reg, _, _ in regimes(data["model"], a)):
+                                 for reg, _, _ in regimes(data, a)):
         subset = "all_trajectories"  # no chaos indicator: the whole ensemble
     entries = {reg: json_quality(ens, criterion, subset, reg)
-               for reg, _, _ in regimes(data["model"], a)}
+               for reg, _, _ in regimes(data, a)}
     reference = [q["reference"] for q in entries.values() if q and "reference" in q]
     rescale = kind == "PQI" and bool(reference) and \
         abs(float(reference[0]["time"]) - ens["time"]) > 1e-12 * ens["time"]
@@ -1544,7 +1543,7 @@ def quality_table(data, out, name, a, criterion, kind, paper_values):
     if rescale:
         header.append("PQI with S rescaled to T = %s [%%]" % reference[0]["time"])
     rows = []
-    for reg, lo, hi in regimes(data["model"], a):
+    for reg, lo, hi in regimes(data, a):
         if reg not in paper_values:
             continue
         q = entries[reg]
