@@ -14,6 +14,10 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/flipflux DESTINATION ${CMAKE_INS
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/tools/report/make_report.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/flipflux/report)
 install(FILES ${PROJECT_SOURCE_DIR}/tools/report/statistics_sections.py
+              ${PROJECT_SOURCE_DIR}/tools/report/report_common.py
+              ${PROJECT_SOURCE_DIR}/tools/report/report_loading.py
+              ${PROJECT_SOURCE_DIR}/tools/report/report_figures.py
+              ${PROJECT_SOURCE_DIR}/tools/report/report_tables.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/flipflux/report)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/golden/ DESTINATION ${CMAKE_INSTALL_DATADIR}/flipflux/golden)
 
