@@ -305,11 +305,13 @@ py::tuple simulate_tables(const std::map<std::string, std::string>& a,
     return py::make_tuple(python_of(j), tables);
 }
 
-py::dict validate_file(const std::string& candidate, const std::string& golden, double rtol,
+/// validate(): the candidate's rows as CSV text held in memory (errors name them "rows:LINE").
+py::dict validate_rows(const std::string& rows_csv, const std::string& golden, double rtol,
                        bool allow_missing) {
     if (!(rtol > 0 && rtol < 1))
         throw input_error("rtol: '" + std::to_string(rtol) + "' must be in (0, 1)");
-    const validation_report r = validate_candidate(candidate, golden, rtol, allow_missing);
+    const validation_report r =
+        validate_candidate_table(parse_csv(rows_csv, "rows"), "rows", golden, rtol, allow_missing);
     py::list rows;
     for (const validation_entry& e : r.entries) {
         py::dict row;
@@ -371,5 +373,5 @@ PYBIND11_MODULE(_flipflux, m) {
     m.def("evaluate", &evaluate);
     m.def("saddle_orbit", &saddle_orbit_text);
     m.def("simulate", &simulate_tables);
-    m.def("validate_file", &validate_file);
+    m.def("validate_rows", &validate_rows);
 }

@@ -23,8 +23,8 @@ let the abandoned computation finish in the background. See docs/python.md.
 import csv as _csv
 import decimal as _decimal
 import fractions as _fractions
+import io as _io
 import os as _os
-import tempfile as _tempfile
 from typing import NamedTuple as _NamedTuple
 
 import mpmath as _mpmath
@@ -246,20 +246,18 @@ def validate(rows, rtol=1e-12, allow_missing=False, golden=None, pendulum=None):
     "report" (the command-line tool's report)."""
     golden = golden or golden_dir()
     if golden is None:
-        raise ValueError("--golden: no golden data found above the package; give the directory")
+        raise ValueError("golden: no golden data found above the package; give the directory")
     if pendulum not in (None, "egalitarian"):
         if not _os.path.isfile(_os.path.join(str(golden), str(pendulum), "golden.csv")) or \
                 _os.sep in str(pendulum) or str(pendulum).startswith("."):
-            raise ValueError(f"--pendulum: '{pendulum}' has no golden set under '{golden}'")
+            raise ValueError(f"pendulum: '{pendulum}' has no golden set under '{golden}'")
         golden = _os.path.join(str(golden), str(pendulum))
-    with _tempfile.TemporaryDirectory(prefix="flipflux-") as tmp:
-        path = _os.path.join(tmp, "candidate.csv")
-        with open(path, "w", newline="") as f:
-            w = _csv.writer(f)
-            w.writerow(["quantity", "arm", "energy", "value"])
-            for row in rows:
-                if isinstance(row, dict):
-                    row = (row["quantity"], row.get("arm"), row["energy"], row["value"])
-                q, a, e, v = row
-                w.writerow([q, "" if a is None else str(a), _text(e, "energy"), _text(v, "value")])
-        return _flipflux.validate_file(path, str(golden), float(rtol), bool(allow_missing))
+    text = _io.StringIO()  # the rows as CSV in memory: no file in between
+    w = _csv.writer(text, lineterminator="\n")
+    w.writerow(["quantity", "arm", "energy", "value"])
+    for row in rows:
+        if isinstance(row, dict):
+            row = (row["quantity"], row.get("arm"), row["energy"], row["value"])
+        q, a, e, v = row
+        w.writerow([q, "" if a is None else str(a), _text(e, "energy"), _text(v, "value")])
+    return _flipflux.validate_rows(text.getvalue(), str(golden), float(rtol), bool(allow_missing))

@@ -52,8 +52,8 @@ std::vector<std::string> split_csv_line(const std::string& line) {
     return out;
 }
 
-csv_table read_csv(const std::filesystem::path& file) {
-    std::istringstream in(read_input_file(file, ""));
+csv_table parse_csv(const std::string& text, const std::string& name) {
+    std::istringstream in(text);
     csv_table t;
     std::string line;
     int number = 0;
@@ -67,14 +67,14 @@ csv_table read_csv(const std::filesystem::path& file) {
         try {
             fields = split_csv_line(line);
         } catch (const std::invalid_argument& e) {
-            throw input_error(file.string() + ":" + std::to_string(number) + ": " + e.what());
+            throw input_error(name + ":" + std::to_string(number) + ": " + e.what());
         }
         if (t.header.empty()) {
             // a column named twice would be read from its first occurrence only, silently
             for (std::size_t i = 0; i < fields.size(); ++i)
                 for (std::size_t j = 0; j < i; ++j)
                     if (!trim(fields[i]).empty() && trim(fields[i]) == trim(fields[j]))
-                        throw input_error(file.string() + ":" + std::to_string(number) +
+                        throw input_error(name + ":" + std::to_string(number) +
                                           ": the header names the column '" + trim(fields[i]) +
                                           "' twice");
             t.header = fields;
@@ -83,10 +83,13 @@ csv_table read_csv(const std::filesystem::path& file) {
             t.rows.push_back({number, fields});
         }
     }
-    if (in.bad())
-        throw input_error(file.string() + ": read error after line " + std::to_string(number));
-    if (t.header.empty()) throw input_error(file.string() + ": empty file (no header line)");
+    if (in.bad()) throw input_error(name + ": read error after line " + std::to_string(number));
+    if (t.header.empty()) throw input_error(name + ": empty file (no header line)");
     return t;
+}
+
+csv_table read_csv(const std::filesystem::path& file) {
+    return parse_csv(read_input_file(file, ""), file.string());
 }
 
 int column_index(const csv_table& t, const std::string& name) {

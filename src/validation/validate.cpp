@@ -170,6 +170,13 @@ bool validation_report::passed() const {
 validation_report validate_candidate(const std::filesystem::path& candidate,
                                      const std::filesystem::path& golden_dir, double rtol,
                                      bool allow_missing, bool require_all) {
+    return validate_candidate_table(read_csv(candidate), candidate.string(), golden_dir, rtol,
+                                    allow_missing, require_all);
+}
+
+validation_report validate_candidate_table(const csv_table& t, const std::string& name,
+                                           const std::filesystem::path& golden_dir, double rtol,
+                                           bool allow_missing, bool require_all) {
     using status = validation_entry::status;
     const std::vector<golden_reference> golden = read_golden(golden_dir);
     for (const auto& g : golden)
@@ -177,11 +184,10 @@ validation_report validate_candidate(const std::filesystem::path& candidate,
             throw input_error(g.file + ": energy '" + g.energy +
                               "' is not a finite decimal number");
 
-    const csv_table t = read_csv(candidate);
     const int q = column_index(t, "quantity"), a = column_index(t, "arm"),
               e = column_index(t, "energy"), v = column_index(t, "value");
     if (q < 0 || a < 0 || e < 0 || v < 0) {
-        throw input_error(candidate.string() +
+        throw input_error(name +
                           ":1: the header must name the columns quantity, arm, energy, value");
     }
     const golden_index index(golden);

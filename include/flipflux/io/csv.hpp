@@ -32,4 +32,7 @@ double finite_field(const std::string& text, const std::string& name, const std:
 /// file and line for unreadable files and malformed quoting.
 csv_table read_csv(const std::filesystem::path& file);
 
+/// The same for CSV text in memory; `name` stands for the file in errors ("NAME:LINE: ...").
+csv_table parse_csv(const std::string& text, const std::string& name);
+
 }  // namespace flipflux

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "flipflux/core/names.hpp"
+#include "flipflux/io/csv.hpp"
 
 namespace flipflux {
 
@@ -53,6 +54,12 @@ struct validation_report {
 validation_report validate_candidate(const std::filesystem::path& candidate,
                                      const std::filesystem::path& golden_dir, double rtol,
                                      bool allow_missing, bool require_all = false);
+
+/// The same for a candidate table already read (e.g. parse_csv of rows held in memory); `name`
+/// stands for its file in errors.
+validation_report validate_candidate_table(const csv_table& table, const std::string& name,
+                                           const std::filesystem::path& golden_dir, double rtol,
+                                           bool allow_missing, bool require_all = false);
 
 /// The report: the summary line first, then a table of the rows that need attention (FAIL,
 /// duplicate, malformed, unmatched); with `verbose` every row, the ok and missing ones too.
