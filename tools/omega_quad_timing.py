@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Omega(E) at quad: CPU seconds of one evaluation and its digits, over energies and pendulums.
 
-    omega_quad_timing.py FLIPFLUX [--repeat N] > bench/results/omega_quad.txt
+    omega_quad_timing.py FLIPFLUX [--repeat N] [--baseline OTHER] > bench/results/omega_quad.txt
 
 Each row runs `FLIPFLUX eval omega --precision quad` N times (the median of the JSON's "seconds",
 the evaluation's own CPU time, process start-up excluded) and once at mp:50 as the reference;
 "error" is |quad - mp:50|, "estimate" the quad run's error estimate and "ratio" estimate / error
-(issue 42: the estimate within 100x of the error). The baseline in the same run is the tanh-sinh
-route's cost, Omega by `--method quadrature-2d` excluded: the elliptic route alone changed.
+(issue 42: the estimate within 100x of the error). --baseline: another flipflux build (e.g. one
+before a change) timed in the same run, interleaved row by row, and the ratio of the medians.
 """
 import argparse
 import json
@@ -38,23 +38,34 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("flipflux")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--baseline", default=None)
     args = ap.parse_args()
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True).stdout.strip()
     print(f"# omega at quad, {args.flipflux} (commit {commit}), {platform.processor() or platform.machine()}")
-    print("# pendulum | E | median CPU ms | value | error | estimate | ratio")
+    if args.baseline:
+        base = subprocess.run([args.baseline, "--version"], capture_output=True, text=True).stdout
+        print("# baseline: %s (%s)" % (args.baseline, base.strip().replace("\n", " ")))
+    print("# pendulum | E | median CPU ms | value | error | estimate | ratio" +
+          (" | baseline median CPU ms | baseline / this" if args.baseline else ""))
     for name, model in PENDULUMS.items():
         for E in ENERGIES:
-            times = []
+            times, base = [], []
             for _ in range(args.repeat):
                 r = run(args.flipflux, E, "quad", model)
                 times.append(r["seconds"])
+                if args.baseline:
+                    base.append(run(args.baseline, E, "quad", model)["seconds"])
             ref = run(args.flipflux, E, "mp:50", model)
             err = abs(Decimal(r["value"]) - Decimal(ref["value"]))
             est = Decimal(r["error_estimate"])
             ratio = f"{est / err:.1f}" if err > 0 else "exact"
+            extra = ""
+            if args.baseline:
+                b, t = statistics.median(base), statistics.median(times)
+                extra = f" | {1e3 * b:.1f} | {b / t:.2f}"
             print(f"{name} | {E} | {1e3 * statistics.median(times):.1f} | {r['value']} | "
-                  f"{float(err):.2e} | {float(est):.2e} | {ratio}")
+                  f"{float(err):.2e} | {float(est):.2e} | {ratio}{extra}")
     return 0
 
 
