@@ -143,7 +143,7 @@ quadrature_result<Real> tanh_sinh_integrate_graded(endpoint_integrand<Real> f, c
 /// returned, its error estimate from their difference by tanh-sinh's convergence model
 /// (tanh_sinh.inst.cpp); nothing is returned when none does, and the caller uses tanh-sinh. Far
 /// fewer evaluations than tanh-sinh where the singularities are not close (Omega at quad: 127 or
-/// 255 against ~1140).
+/// 255; bench/results/omega_quad.txt has the times against tanh-sinh's).
 template <class Real>
 std::optional<quadrature_result<Real>> sine_squared_clenshaw_curtis(
     endpoint_integrand<Real> f, const Real& a, const Real& b, std::size_t max_intervals,

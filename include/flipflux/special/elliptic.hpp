@@ -4,7 +4,7 @@
 //     F(phi|m) = int_0^phi du / sqrt(1 - m sin^2 u),    K(m) = F(pi/2|m).
 //
 // Evaluation: Carlson's symmetric forms (DLMF 19.25.5, 19.25.9) through Boost.Math's ellint_rf and
-// ellint_rd at double and quad, through carlson_rf_rd (below) at mp, for |phi| <= pi/2 with
+// ellint_rd at double, through carlson_rf_rd (below) at quad and mp, for |phi| <= pi/2 with
 // s = sin phi, c = cos phi, D = 1 - m s^2:
 //     F(phi|m) = s R_F(c^2, D, 1),
 //     E(phi|m) = s R_F(c^2, D, 1) - (m/3) s^3 R_D(c^2, D, 1),
