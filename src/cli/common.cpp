@@ -249,14 +249,23 @@ std::string one_line(const std::string& text) {
     return out;
 }
 
+std::string option_name(std::string_view field) {
+    std::string option = "--" + std::string(field);
+    for (char& c : option)
+        if (c == '_') c = '-';
+    return option;
+}
+
+command_words cli_command_words() {
+    return {"flipflux eval --help", "flipflux --m1 ... --g", "golden --certify", "eval --certify",
+            {"--threads", "run --threads"}};
+}
+
 std::string error_text(const input_error& e) {
     const std::string field = e.field();
     if (field.empty() || field.front() == '-' || field.find_first_of(".:/ '") != std::string::npos)
         return one_line(e.what());
-    std::string option = "--" + field;
-    for (char& c : option)
-        if (c == '_') c = '-';
-    return one_line(option + ": " + e.detail());
+    return one_line(option_name(field) + ": " + e.detail());
 }
 
 }  // namespace flipflux::cli

@@ -16,6 +16,7 @@
 #include "flipflux/model/double_pendulum.hpp"
 #include "flipflux/model/model_json.hpp"
 #include "flipflux/model/model_text.hpp"
+#include "flipflux/output/command_words.hpp"
 
 namespace flipflux::cli {
 
@@ -95,6 +96,14 @@ void apply_number_grammar(CLI::App& app);
 /// TEXT on one line, as an error message may quote it: control characters (a newline that could
 /// forge a second message line, a tab, an escape) and DEL written as \n, \t, \xHH.
 std::string one_line(const std::string& text);
+
+/// A library field as the command line names it: "until" -> "--until", "time_tol" -> "--time-tol"
+/// (an input_namer).
+std::string option_name(std::string_view field);
+
+/// The command line's words for its commands in generated files (golden provenance, the
+/// accuracy report): "flipflux eval --help", "golden --certify", ...
+command_words cli_command_words();
 
 /// The one-line message of bad input as the command line names it: a library field becomes its
 /// option (`energy: ...` -> `--energy: ...`, `sample_interval` -> `--sample-interval`); names

@@ -140,7 +140,11 @@ const register_command registration([](CLI::App& app) {
         if (s->merge || s->certify_existing) {  // read and check before hours of computation
             const std::string option = s->merge ? "--merge" : "--certify-existing";
             merged_into = read_text(s->out + "/provenance.json", option);
-            check_golden_merge(merged_into, options.value_precision, options.model);
+            try {
+                check_golden_merge(merged_into, options.value_precision, options.model);
+            } catch (const input_error& e) {
+                throw input_error(option + ": " + e.what());
+            }
             const std::string csv = s->out + "/golden.csv";
             try {
                 kept = parse_golden_csv(read_text(csv, option));
@@ -178,7 +182,8 @@ const register_command registration([](CLI::App& app) {
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
         write_file_atomically(s->out + "/provenance.json",
                               golden_provenance(command, rows.size(), options.value_precision,
-                                                options.model, options.pendulum, merged_into));
+                                                cli_command_words(), options.model,
+                                                options.pendulum, merged_into));
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);

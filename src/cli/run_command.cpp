@@ -95,6 +95,7 @@ void run_scene(const run_state& st, process_group* group) {
         const plan p = make_plan(sc);
         if (s->dry_run) check_existing_output(sc);  // what run would refuse, refused here too
         run_options options;
+        options.words = cli_command_words();
         if (sc.report) {  // refused now rather than after the computation (and by --dry-run)
             options.report_script = find_report_script();
             if (options.report_script.empty())

@@ -121,6 +121,7 @@ void validate_trajectories(const validate_state& s) {
     if (!s.states.empty()) declaring.push_back(s.states);
     (void)declared_pendulum_of(s, declaring, who);  // they must agree
     event_comparison_options o;
+    o.name = option_name;
     o.time_tolerance = parse_real<double>(s.time_tol, "--time-tol");
     o.until = parse_real<double>(s.until, "--until");
     if (!(o.time_tolerance > 0))

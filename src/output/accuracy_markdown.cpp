@@ -34,8 +34,13 @@ std::string format_time(double s) {
 }  // namespace
 
 std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
-                              const accuracy_options& options, const std::string& command) {
+                              const accuracy_options& options, const std::string& command,
+                              const command_words& words) {
     const std::vector<precision>& columns = options.precisions;
+    std::string threads;  // " (`--threads`, `run --threads`)" on the command line
+    for (const std::string& way : words.threads)
+        threads += (threads.empty() ? " (`" : ", `") + way + "`";
+    if (!threads.empty()) threads += ")";
     std::string names, caps, header = "| method |", rule = "|---|";
     for (std::size_t c = 0; c < columns.size(); ++c) {
         const std::string sep = c == 0 ? "" : c + 1 == columns.size() ? " and " : ", ";
@@ -91,11 +96,13 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         "Taylor, at double Gauss-Legendre); its test energies are those in the orbit's domain "
         "(arm 2 at E = 2.5 and 4.5, arm 1 at E = 5). **proof (Arb)** rows give the *proven* "
         "digits, floor(-log10(radius / |mid|)) of a ball that contains the exact value "
-        "(`eval --certify`, [certified.md](certified.md)), asked for the column's digits (double "
+        "(" +
+        (words.eval_certify.empty() ? std::string() : "`" + words.eval_certify + "`, ") +
+        "[certified.md](certified.md)), asked for the column's digits (double "
         "15, quad 33, mp:N N), minimum over the test energies, and the CPU time of one proof; "
         "each ball is checked to contain the column's higher-precision reference (a ball that "
-        "does not is marked FAILED). Cells of one precision are measured concurrently "
-        "(`--threads`, `run --threads`), each timed by its own thread's CPU clock.\n\n"
+        "does not is marked FAILED). Cells of one precision are measured concurrently" +
+        threads + ", each timed by its own thread's CPU clock.\n\n"
         "Targets: double <= 1e-14 (14 digits), quad <= 1e-31 (31), mp:N <= 1e-(N-10) relative. "
         "Google Benchmark timings of the same evaluations: `bench_prediction`. The saddle-orbit "
         "quantities at high precision (the period and action at mp:150 against mp:200, with "

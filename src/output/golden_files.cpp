@@ -94,9 +94,19 @@ std::vector<golden_row> parse_golden_csv(const std::string& text) {
     return rows;
 }
 
+namespace {
+
+/// " (TEXT)", or nothing when the caller gave no words.
+std::string parenthesised(const std::string& text) {
+    return text.empty() ? std::string() : " (" + text + ")";
+}
+
+}  // namespace
+
 std::string golden_provenance(const std::string& command, std::size_t rows,
-                              const precision& value_precision, const model_text& model,
-                              const std::string& pendulum, const std::string& merged_into) {
+                              const precision& value_precision, const command_words& words,
+                              const model_text& model, const std::string& pendulum,
+                              const std::string& merged_into) {
     const precision check = golden_check_precision(value_precision);
     nlohmann::ordered_json j;
     j["command"] = command;
@@ -172,7 +182,7 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
             "= 6, then 6.5, 7, 7.5, 8, 9, 10, 12, 15, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100; "
             "energies are decimal text parsed in each precision";
     } else {
-        j["model"] = "double pendulum with the parameters above (flipflux --m1 ... --g)";
+        j["model"] = "double pendulum with the parameters above" + parenthesised(words.model_options);
         j["grid"] =
             "relative to the critical energies, U = E_max: the fractions k/40 of U above the "
             "saddle energy (0 for omega), E_s + U/1000, U (1 - 1/1000), and 1.25, 1.5, 2, 3, 5, 10 "
@@ -186,17 +196,21 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
               "E_max - 0.05, E_max - 0.01, E_max - 0.001"
             : "quantities of the saddle orbit, per arm: E_s + (E_max - E_s) x 1/100, 1/4, 1/2, "
               "3/4, 99/100, 999/1000, each with 10 significant digits";
-    j["columns"] = {{"quantity", "registered name (flipflux eval --help)"},
+    const std::string certified_only =
+        (words.golden_certify.empty() ? std::string("a certified run") : words.golden_certify) +
+        " only: ";
+    j["columns"] = {{"quantity", "registered name" + parenthesised(words.quantity_list)},
                     {"arm", "1 or 2; empty for quantities that are not per arm"},
                     {"energy", "E as decimal text"},
                     {"value", hi + " value rounded to `digits` significant digits"},
                     {"digits", "certified significant digits"},
                     {"method", "default method | independent method that certified it"},
                     {"radius",
-                     "golden --certify only: radius of a proven enclosure [value +/- radius] of "
-                     "the exact value (Arb; the saddle orbits by a Krawczyk proof), empty where "
-                     "the quantity has none"},
-                    {"proven_digits", "golden --certify only: floor(-log10(radius / |value|))"}};
+                     certified_only +
+                         "radius of a proven enclosure [value +/- radius] of the exact value (Arb; "
+                         "the saddle orbits by a Krawczyk proof), empty where the quantity has "
+                         "none"},
+                    {"proven_digits", certified_only + "floor(-log10(radius / |value|))"}};
     j["rows"] = rows;
     return j.dump(2) + "\n";
 }
@@ -219,14 +233,14 @@ void check_golden_merge(const std::string& provenance_text, const precision& val
     const std::string hi = precision_name(value_precision);
     const std::string values = text_at("precision", "values");
     if (values.substr(0, values.find(' ')) != hi)
-        throw input_error("golden --merge: the set's values are in '" +
+        throw input_error("the set's values are in '" +
                           values.substr(0, values.find(' ')) + "', this run's in '" + hi + "'");
     if (!earlier.contains("parameters")) {  // a set written before parameters were recorded
         const bool paper = earlier.contains("model") && earlier["model"].is_string() &&
                            earlier["model"].get<std::string>().rfind("egalitarian", 0) == 0;
         if (paper && model.is_default()) return;
         throw input_error(paper
-                              ? "golden --merge: the set is the paper's pendulum, this run's is not"
+                              ? "the set is the paper's pendulum, this run's is not"
                               : "golden provenance: no \"parameters\"");
     }
     for (std::size_t i = 0; i < parameter_count; ++i) {
@@ -234,7 +248,7 @@ void check_golden_merge(const std::string& provenance_text, const precision& val
         const std::string& value = resolved_text(model, i);
         const std::string theirs = text_at("parameters", name.c_str());
         if (theirs != value)
-            throw input_error(std::string("golden --merge: the set's ") + name + " is '" + theirs +
+            throw input_error(std::string("the set's ") + name + " is '" + theirs +
                               "', this run's '" + value + "'");
     }
 }

@@ -16,14 +16,18 @@ const std::vector<quantity>& quantities() {
     return list;
 }
 
-const quantity& find_quantity(std::string_view name) {
+std::string quantity_names() {
     std::string known;
-    for (const quantity& q : quantities()) {
-        if (q.name == name) return q;
+    for (const quantity& q : quantities())
         known += (known.empty() ? "" : ", ") + q.name;
-    }
+    return known;
+}
+
+const quantity& find_quantity(std::string_view name) {
+    for (const quantity& q : quantities())
+        if (q.name == name) return q;
     throw input_error("quantity: '" + std::string(name) +
-                      "' is not a known quantity (known: " + known + ")");
+                      "' is not a known quantity (known: " + quantity_names() + ")");
 }
 
 }  // namespace flipflux

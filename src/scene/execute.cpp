@@ -525,7 +525,7 @@ void run_golden(context& ctx) {
     write_file_atomically(dir / "golden.csv", golden_csv(rows));
     write_file_atomically(dir / "provenance.json",
                           golden_provenance("flipflux run " + ctx.s.file.string(), rows.size(),
-                                            options.value_precision));
+                                            options.value_precision, ctx.options.words));
     ctx.counters.files.push_back((dir / "golden.csv").string());
     ctx.counters.files.push_back((dir / "provenance.json").string());
     ctx.log << "  wrote " << (dir / "golden.csv").string() << " (" << rows.size() << " rows)\n";
@@ -551,7 +551,9 @@ void run_accuracy(context& ctx) {
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
     const std::string md =
-        accuracy_markdown(entries, options, "flipflux run " + ctx.s.file.string()) + appendix;
+        accuracy_markdown(entries, options, "flipflux run " + ctx.s.file.string(),
+                          ctx.options.words) +
+        appendix;
     const std::filesystem::path out = a.out;
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     write_file_atomically(out, md);

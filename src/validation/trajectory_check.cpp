@@ -284,7 +284,7 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
     bool inclusive = true;
     if (o.until > 0) {
         out.horizon = o.until;
-        out.horizon_note = "up to t = " + time_text(o.until) + " (--until)";
+        out.horizon_note = "up to t = " + time_text(o.until) + " (" + o.name("until") + ")";
         if (o.until > ref_end)
             out.horizon_note += ", beyond the reference's end t = " + time_text(ref_end) + " (" +
                                 ref_end_from + "): nothing after it is compared";
@@ -301,8 +301,8 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
                                ", the common horizon of the trajectories (" + ends + ")";
         else
             out.horizon_note =
-                "every event (the trajectories' ends are unknown: --until T, or "
-                "the states files, say where they end)";
+                "every event (the trajectories' ends are unknown: " + o.name("until") +
+                " T, or the states files, say where they end)";
         if (cand_double && !golden.horizons.empty() && !o.state.empty() &&
             !std::isfinite(out.double_horizon))
             out.horizon_note += "; no double horizon of " + o.state +
@@ -316,7 +316,8 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
                                " at this time tolerance (the candidate's numbers are "
                                "double precision; data/golden/trajectories/double_horizons.csv: a "
                                "correct simulator at rtol 1e-12 agrees up to there, chaos parts "
-                               "them after it); --until overrides";
+                               "them after it); " +
+                               o.name("until") + " overrides";
         }
     }
     const auto before = [&](double t) { return inclusive ? t <= out.horizon : t < out.horizon; };
@@ -383,7 +384,7 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
             }
             if (why.empty() && !cr && !cand_end_known)
                 why = " (if the candidate stopped before t = " + time_text(rr->time) +
-                      ", say where: its --states, or --until)";
+                      ", say where: its " + o.name("states") + ", or " + o.name("until") + ")";
             note_difference(when, "arm " + k.first + " " + k.second + " event " +
                                       std::to_string(i + 1) + ": candidate " + describe(cr) +
                                       "; reference " + describe(rr) + why);
@@ -437,7 +438,9 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
         if (out.differs && out.first_difference_time < out.double_horizon)
             out.verdict = "the first difference is before " + h + limit +
                           (maybe_stopped ? ": a bug, not chaos, unless the candidate stopped "
-                                           "there (its --states, or --until, say where it ended)"
+                                           "there (its " +
+                                               o.name("states") + ", or " + o.name("until") +
+                                               ", say where it ended)"
                                          : ": a bug, not chaos");
         else if (out.differs && out.double_horizon >= ref_end)
             out.verdict = "the first difference is at t = " + time_text(out.first_difference_time) +
@@ -445,12 +448,14 @@ event_comparison compare_flip_events(const std::filesystem::path& candidate,
                           h + limit +
                           " is its end): the candidate's error there is larger than theirs (the "
                           "Taylor route at the double limit, DOP853 and DOPRI5 at rtol 1e-12); a "
-                          "tighter tolerance, or a looser --time-tol / --state-tol, tells a loose "
-                          "integrator from a bug";
+                          "tighter tolerance, or a looser " +
+                          o.name("time_tol") + " / " + o.name("state_tol") +
+                          ", tells a loose integrator from a bug";
         else if (out.differs)
             out.verdict = "the first difference is after " + h + limit +
                           ": what chaos does to a correct double-precision run, not evidence of "
-                          "a bug; compare before the horizon (the default without --until)";
+                          "a bug; compare before the horizon (the default without " +
+                          o.name("until") + ")";
         else if (!cand_double)
             out.verdict =
                 "the candidate's numbers carry more than double's 17 digits: compared "
@@ -478,16 +483,17 @@ std::string format_event_comparison(const event_comparison& c, const event_compa
     for (const std::string& k : c.criteria)
         criteria += (criteria.empty() ? "" : ",") + k;
     out += "compared: criteria " + (criteria.empty() ? std::string("(none)") : criteria) +
-           (!c.criteria_inferred        ? " (--criteria)"
-            : c.criteria_from_reference ? " (the reference's: the candidate reports no event)"
-                                        : " (those the candidate reports; --criteria insists on "
-                                          "others)") +
+           (!c.criteria_inferred ? " (" + o.name("criteria") + ")"
+            : c.criteria_from_reference
+                ? std::string(" (the reference's: the candidate reports no event)")
+                : " (those the candidate reports; " + o.name("criteria") + " insists on others)") +
            "; " + c.horizon_note + "\n";
     if (c.differs) out += "first difference: " + c.first_difference + "\n";
     if (!c.differs && agree == 0 && c.states.empty())
         out +=
             "note: nothing was compared (no event and no state before the horizon): this "
-            "AGREE says nothing; --until or a looser --time-tol compares more\n";
+            "AGREE says nothing; " +
+            o.name("until") + " or a looser " + o.name("time_tol") + " compares more\n";
     if (!c.verdict.empty()) out += "verdict: " + c.verdict + "\n";
     std::snprintf(buf, sizeof buf, "%-4s %-9s %-10s %-10s %-9s %s\n", "arm", "criterion",
                   "candidate", "reference", "agreeing", "max |dt| (agreeing)");
@@ -507,8 +513,8 @@ std::string format_event_comparison(const event_comparison& c, const event_compa
             out += "states: none compared (" + std::to_string(c.states_not_compared) +
                    " candidate rows after the horizon or at no reference sample time" +
                    (!c.reference_states_known && c.states_not_compared > 0
-                        ? "; --reference-states gives the reference's"
-                        : "") +
+                        ? "; " + o.name("reference_states") + " gives the reference's"
+                        : std::string()) +
                    ")\n";
         for (const auto& s : c.states) {
             std::snprintf(buf, sizeof buf, "state t = %-10.6g max |difference| %.3e (%s) -> %s\n",

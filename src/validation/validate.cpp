@@ -222,7 +222,7 @@ validation_report validate_candidate_table(const csv_table& t, const std::string
             x.note =
                 known == quantities().end()
                     ? "quantity '" + x.quantity +
-                          "' is not a registered quantity (flipflux eval --help)"
+                          "' is not a registered quantity (known: " + quantity_names() + ")"
                     : "arm '" + row.fields[a] + "' is not 1 or 2 (" + x.quantity + " is per arm)";
             report.entries.push_back(x);
             continue;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -464,7 +465,7 @@ TEST(Accuracy, AFailedCellIsReportedWithItsError) {
     ok.seconds = 0.5;
     ok.energies = 3;
     e.cells.emplace_back().failure = "Krawczyk test failed at E = 5.9 | box\nnot contracted";
-    const std::string md = accuracy_markdown({e}, options, "flipflux accuracy");
+    const std::string md = accuracy_markdown({e}, options, "flipflux accuracy", {});
     const std::size_t row = md.find("| proof (Arb) | ");
     ASSERT_NE(row, std::string::npos) << md;
     const std::string line = md.substr(row, md.find('\n', row) - row);
@@ -472,6 +473,37 @@ TEST(Accuracy, AFailedCellIsReportedWithItsError) {
     EXPECT_NE(line.find("| **FAILED: Krawczyk test failed at E = 5.9 / box not contracted** |"),
               std::string::npos)
         << line;
+}
+
+// The prose of generated files names the caller's commands only in the caller's words: with none,
+// no command text and no empty parentheses; with words, each where it belongs.
+TEST(Accuracy, GeneratedProseNamesOnlyTheCallersCommands) {
+    accuracy_options options;
+    options.precisions = {parse_precision("double")};
+    const std::string bare = accuracy_markdown({}, options, "a caller", {});
+    EXPECT_NE(bare.find("the exact value ([certified.md](certified.md)), asked"), std::string::npos);
+    EXPECT_NE(bare.find("measured concurrently, each timed"), std::string::npos);
+    EXPECT_FALSE(std::regex_search(bare, std::regex("--[a-z]")));  // no option
+    const command_words words{"list", "params", "prove-all", "prove", {"-j", "run -j"}};
+    const std::string worded = accuracy_markdown({}, options, "a caller", words);
+    EXPECT_NE(worded.find("value (`prove`, [certified.md](certified.md))"), std::string::npos);
+    EXPECT_NE(worded.find("concurrently (`-j`, `run -j`), each"), std::string::npos);
+
+    model_text unequal;
+    unequal.m2 = "2";
+    const auto columns = [&](const command_words& w) {
+        return nlohmann::json::parse(
+            golden_provenance("a caller", 0, parse_precision("mp:30"), w, unequal));
+    };
+    const nlohmann::json none = columns({});
+    EXPECT_EQ(none["columns"]["quantity"], "registered name");
+    EXPECT_EQ(none["columns"]["proven_digits"],
+              "a certified run only: floor(-log10(radius / |value|))");
+    EXPECT_EQ(none["model"], "double pendulum with the parameters above");
+    const nlohmann::json named = columns(words);
+    EXPECT_EQ(named["columns"]["quantity"], "registered name (list)");
+    EXPECT_EQ(named["columns"]["proven_digits"], "prove-all only: floor(-log10(radius / |value|))");
+    EXPECT_EQ(named["model"], "double pendulum with the parameters above (params)");
 }
 
 }  // namespace

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace flipflux {
 
@@ -36,6 +38,14 @@ class input_error : public std::runtime_error {
   private:
     std::size_t field_length_ = 0;  ///< 1 + the field's length; 0: no field
 };
+
+/// How a caller's surface names an input in the library's advice texts ("compare more with
+/// `until`"): the library writes the field, the caller's namer gives its own words for it (the
+/// command line "--until", cli::option_name). The default keeps the field as it is.
+using input_namer = std::function<std::string(std::string_view field)>;
+
+/// The field as it is: the namer of a caller that gives none.
+inline std::string field_as_named(std::string_view field) { return std::string(field); }
 
 /// An output that could not be written (a full disk, a read-only folder, a FIFO without a reader):
 /// an I/O failure of the environment, not bad input. The message is one line naming the path.

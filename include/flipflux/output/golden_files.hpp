@@ -1,5 +1,5 @@
 // The files of a golden set (data/golden/README.md): rows.csv text, the provenance record, and the
-// checks and merge of `flipflux golden --merge`. Formats at the edge: the rows are data
+// checks and merge of a run that extends a set. Formats at the edge: the rows are data
 // (quantities/golden.hpp's golden_row, computed there), written and read here.
 #pragma once
 
@@ -8,6 +8,7 @@
 
 #include "flipflux/core/real.hpp"
 #include "flipflux/model/model_text.hpp"
+#include "flipflux/output/command_words.hpp"
 #include "flipflux/quantities/golden.hpp"
 
 namespace flipflux {
@@ -23,15 +24,17 @@ std::vector<golden_row> parse_golden_csv(const std::string& text);
 /// The provenance record (JSON text): command, git commit, flipflux version, compiler, library
 /// versions (Boost, MPFR, GMP, Eigen), precisions, Boost.Math policy, grid, row count. With
 /// `merged_into` (the provenance text of the set that this run extends, `golden --merge`), its
-/// "runs" list the earlier runs' commands, commits and dates, then this one's.
+/// "runs" list the earlier runs' commands, commits and dates, then this one's. `words` name the
+/// caller's commands in the descriptions of the model and the columns.
 std::string golden_provenance(const std::string& command, std::size_t rows,
-                              const precision& value_precision, const model_text& model = {},
+                              const precision& value_precision, const command_words& words,
+                              const model_text& model = {},
                               const std::string& pendulum = "egalitarian",
                               const std::string& merged_into = "");
 
 /// Checks that a golden set's provenance text (possibly corrupt) describes the same pendulum
 /// (parameters, as text) and value precision as a run that would extend it; throws input_error
-/// naming what differs.
+/// naming what differs (free-form: the caller prefixes the option or key that asked for it).
 void check_golden_merge(const std::string& provenance_text, const precision& value_precision,
                         const model_text& model);
 

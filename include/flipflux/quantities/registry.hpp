@@ -86,6 +86,9 @@ quantity make_quantity(std::string name, std::string description, std::vector<st
 /// Every registered quantity, in a stable order.
 const std::vector<quantity>& quantities();
 
+/// The registered quantities' names, comma-separated ("omega, flux-upright, ...").
+std::string quantity_names();
+
 /// The quantity called `name`; throws input_error listing the known names otherwise.
 const quantity& find_quantity(std::string_view name);
 

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/output/command_words.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "flipflux/study/simulation.hpp"
 
@@ -106,6 +107,9 @@ struct run_options {
     /// process, bit for bit); everything else -- orbits, predictions, trajectories, files, the
     /// report -- is computed once, by rank 0. The other ranks join only the ensemble steps.
     process_group* group = nullptr;
+    /// The caller's words for its commands in the files the scene generates (golden provenance,
+    /// the accuracy report); the command line gives its own.
+    command_words words;
 };
 
 /// The default cache directory: $FLIPFLUX_CACHE_DIR, else $XDG_CACHE_HOME/flipflux, else

@@ -29,6 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "flipflux/core/error.hpp"
+
 namespace flipflux {
 
 struct event_comparison_options {
@@ -39,6 +41,9 @@ struct event_comparison_options {
     std::filesystem::path candidate_states;  ///< the candidate's states CSV (empty: none)
     std::filesystem::path reference_states;  ///< empty: the golden states.csv beside the reference
     double state_tolerance = 0;              ///< absolute (0: time_tolerance)
+    /// The caller's names of these options in the report's advice (the fields until, states,
+    /// criteria, time_tol, state_tol, reference_states; the command line gives its options).
+    input_namer name = field_as_named;
 };
 
 struct event_stream_summary {
@@ -59,7 +64,7 @@ struct state_row_check {
 struct event_comparison {
     std::vector<event_stream_summary> streams;
     std::vector<std::string> criteria;     ///< compared
-    bool criteria_inferred = false;        ///< from the candidate (not --criteria)
+    bool criteria_inferred = false;        ///< from the candidate (not asked for)
     bool criteria_from_reference = false;  ///< the candidate has a criterion column but no event
     double horizon = 0;                    ///< compared before it (infinity: everything)
     std::string horizon_note;              ///< how the horizon was chosen
