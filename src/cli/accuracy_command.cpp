@@ -79,7 +79,8 @@ const register_command registration([](CLI::App& app) {
         if (s->max_seconds != 120) command += " --max-seconds " + to_decimal(s->max_seconds);
         check_output_file(s->out, "--out");  // before minutes of measuring
         const auto entries = measure_accuracy(options);
-        write_file_atomically(s->out, accuracy_markdown(entries, options, command, cli_command_words()));
+        write_file_atomically(s->out,
+                              accuracy_markdown(entries, options, command, cli_command_words()));
         print(json{{"entries", entries.size()}, {"out", s->out}}.dump(2) + "\n");
     });
 });

@@ -257,7 +257,10 @@ std::string option_name(std::string_view field) {
 }
 
 command_words cli_command_words() {
-    return {"flipflux eval --help", "flipflux --m1 ... --g", "golden --certify", "eval --certify",
+    return {"flipflux eval --help",
+            "flipflux --m1 ... --g",
+            "golden --certify",
+            "eval --certify",
             {"--threads", "run --threads"}};
 }
 

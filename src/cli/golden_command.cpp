@@ -180,10 +180,10 @@ const register_command registration([](CLI::App& app) {
         if (s->certify) command += " --certify";
         if (s->certify_existing) command += " --certify-existing";
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
-        write_file_atomically(s->out + "/provenance.json",
-                              golden_provenance(command, rows.size(), options.value_precision,
-                                                cli_command_words(), options.model,
-                                                options.pendulum, merged_into));
+        write_file_atomically(
+            s->out + "/provenance.json",
+            golden_provenance(command, rows.size(), options.value_precision, cli_command_words(),
+                              options.model, options.pendulum, merged_into));
         int least = rows.empty() ? 0 : rows.front().digits;
         for (const golden_row& r : rows)
             least = std::min(least, r.digits);

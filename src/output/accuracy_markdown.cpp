@@ -102,7 +102,8 @@ std::string accuracy_markdown(const std::vector<accuracy_entry>& entries,
         "15, quad 33, mp:N N), minimum over the test energies, and the CPU time of one proof; "
         "each ball is checked to contain the column's higher-precision reference (a ball that "
         "does not is marked FAILED). Cells of one precision are measured concurrently" +
-        threads + ", each timed by its own thread's CPU clock.\n\n"
+        threads +
+        ", each timed by its own thread's CPU clock.\n\n"
         "Targets: double <= 1e-14 (14 digits), quad <= 1e-31 (31), mp:N <= 1e-(N-10) relative. "
         "Google Benchmark timings of the same evaluations: `bench_prediction`. The saddle-orbit "
         "quantities at high precision (the period and action at mp:150 against mp:200, with "

@@ -182,7 +182,8 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
             "= 6, then 6.5, 7, 7.5, 8, 9, 10, 12, 15, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100; "
             "energies are decimal text parsed in each precision";
     } else {
-        j["model"] = "double pendulum with the parameters above" + parenthesised(words.model_options);
+        j["model"] =
+            "double pendulum with the parameters above" + parenthesised(words.model_options);
         j["grid"] =
             "relative to the critical energies, U = E_max: the fractions k/40 of U above the "
             "saddle energy (0 for omega), E_s + U/1000, U (1 - 1/1000), and 1.25, 1.5, 2, 3, 5, 10 "
@@ -199,18 +200,18 @@ std::string golden_provenance(const std::string& command, std::size_t rows,
     const std::string certified_only =
         (words.golden_certify.empty() ? std::string("a certified run") : words.golden_certify) +
         " only: ";
-    j["columns"] = {{"quantity", "registered name" + parenthesised(words.quantity_list)},
-                    {"arm", "1 or 2; empty for quantities that are not per arm"},
-                    {"energy", "E as decimal text"},
-                    {"value", hi + " value rounded to `digits` significant digits"},
-                    {"digits", "certified significant digits"},
-                    {"method", "default method | independent method that certified it"},
-                    {"radius",
-                     certified_only +
-                         "radius of a proven enclosure [value +/- radius] of the exact value (Arb; "
-                         "the saddle orbits by a Krawczyk proof), empty where the quantity has "
-                         "none"},
-                    {"proven_digits", certified_only + "floor(-log10(radius / |value|))"}};
+    j["columns"] = {
+        {"quantity", "registered name" + parenthesised(words.quantity_list)},
+        {"arm", "1 or 2; empty for quantities that are not per arm"},
+        {"energy", "E as decimal text"},
+        {"value", hi + " value rounded to `digits` significant digits"},
+        {"digits", "certified significant digits"},
+        {"method", "default method | independent method that certified it"},
+        {"radius", certified_only +
+                       "radius of a proven enclosure [value +/- radius] of the exact value (Arb; "
+                       "the saddle orbits by a Krawczyk proof), empty where the quantity has "
+                       "none"},
+        {"proven_digits", certified_only + "floor(-log10(radius / |value|))"}};
     j["rows"] = rows;
     return j.dump(2) + "\n";
 }
@@ -233,15 +234,14 @@ void check_golden_merge(const std::string& provenance_text, const precision& val
     const std::string hi = precision_name(value_precision);
     const std::string values = text_at("precision", "values");
     if (values.substr(0, values.find(' ')) != hi)
-        throw input_error("the set's values are in '" +
-                          values.substr(0, values.find(' ')) + "', this run's in '" + hi + "'");
+        throw input_error("the set's values are in '" + values.substr(0, values.find(' ')) +
+                          "', this run's in '" + hi + "'");
     if (!earlier.contains("parameters")) {  // a set written before parameters were recorded
         const bool paper = earlier.contains("model") && earlier["model"].is_string() &&
                            earlier["model"].get<std::string>().rfind("egalitarian", 0) == 0;
         if (paper && model.is_default()) return;
-        throw input_error(paper
-                              ? "the set is the paper's pendulum, this run's is not"
-                              : "golden provenance: no \"parameters\"");
+        throw input_error(paper ? "the set is the paper's pendulum, this run's is not"
+                                : "golden provenance: no \"parameters\"");
     }
     for (std::size_t i = 0; i < parameter_count; ++i) {
         const std::string name(parameter_fields[i].name);

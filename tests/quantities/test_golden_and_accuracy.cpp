@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "flipflux/certified/enclosure.hpp"
@@ -481,7 +481,8 @@ TEST(Accuracy, GeneratedProseNamesOnlyTheCallersCommands) {
     accuracy_options options;
     options.precisions = {parse_precision("double")};
     const std::string bare = accuracy_markdown({}, options, "a caller", {});
-    EXPECT_NE(bare.find("the exact value ([certified.md](certified.md)), asked"), std::string::npos);
+    EXPECT_NE(bare.find("the exact value ([certified.md](certified.md)), asked"),
+              std::string::npos);
     EXPECT_NE(bare.find("measured concurrently, each timed"), std::string::npos);
     EXPECT_FALSE(std::regex_search(bare, std::regex("--[a-z]")));  // no option
     const command_words words{"list", "params", "prove-all", "prove", {"-j", "run -j"}};

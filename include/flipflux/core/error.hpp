@@ -45,7 +45,9 @@ class input_error : public std::runtime_error {
 using input_namer = std::function<std::string(std::string_view field)>;
 
 /// The field as it is: the namer of a caller that gives none.
-inline std::string field_as_named(std::string_view field) { return std::string(field); }
+inline std::string field_as_named(std::string_view field) {
+    return std::string(field);
+}
 
 /// An output that could not be written (a full disk, a read-only folder, a FIFO without a reader):
 /// an I/O failure of the environment, not bad input. The message is one line naming the path.

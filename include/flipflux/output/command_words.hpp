@@ -10,10 +10,10 @@
 namespace flipflux {
 
 struct command_words {
-    std::string quantity_list;   ///< where the registered quantities are listed
-    std::string model_options;   ///< how a pendulum's nine parameters are given
-    std::string golden_certify;  ///< the golden run that proves enclosures
-    std::string eval_certify;    ///< the evaluation that proves an enclosure
+    std::string quantity_list;         ///< where the registered quantities are listed
+    std::string model_options;         ///< how a pendulum's nine parameters are given
+    std::string golden_certify;        ///< the golden run that proves enclosures
+    std::string eval_certify;          ///< the evaluation that proves an enclosure
     std::vector<std::string> threads;  ///< how the measuring threads are set (one way each)
 };
 
