@@ -19,6 +19,7 @@
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "flipflux/study/criteria.hpp"
+#include "flipflux/study/settings.hpp"
 
 namespace flipflux {
 namespace {
@@ -124,6 +125,17 @@ class table_reader {
         }
         if (!is_decimal_number(text)) fail(n, key, "'" + text + "' is not a finite decimal number");
         return text;
+    }
+    /// A scalar as the text of a run setting (study/settings.hpp parses and checks it, once for
+    /// every surface): an integer or a float as number_text, true/false, or a string.
+    std::optional<std::string> setting_text(const std::string& key) {
+        const toml::node* n = get(key);
+        if (n == nullptr) return std::nullopt;
+        if (n->is_boolean()) return std::string(*n->value<bool>() ? "true" : "false");
+        if (n->is_string()) return *n->value<std::string>();
+        if (!n->is_integer() && !n->is_floating_point())
+            fail(n, key, "expected a number, a string or true/false, got " + type_name(*n));
+        return number_text(n, key);
     }
     /// An array of exactly `count` numbers (each as number_text validates it).
     std::optional<std::vector<std::string>> numbers(const std::string& key, std::size_t count) {
@@ -350,26 +362,37 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
         x.criteria = *c;
     }
     x.energies = r.energies("energies", true);
-    x.trajectories = r.integer("trajectories", 1, 1000000000LL).value_or(x.trajectories);
-    x.replicates =
-        r.integer("replicates", 1, static_cast<long long>(max_replicates)).value_or(x.replicates);
-    x.time = r.number("time").value_or(x.time);
-    x.seed = static_cast<unsigned long long>(
-        r.integer("seed", 0, std::numeric_limits<long long>::max()).value_or(x.seed));
-    x.rtol = r.number("rtol").value_or(x.rtol);
-    x.atol = r.number("atol").value_or(x.atol);
-    x.integrator = r.string("integrator").value_or(x.integrator);
-    x.estimator = r.string("estimator").value_or(x.estimator);
-    x.chaos = r.boolean("chaos").value_or(x.chaos);
-    x.chaos_threshold = r.number("chaos_threshold").value_or(x.chaos_threshold);
-    x.reference_time = r.number("reference_time").value_or(x.reference_time);
+    // the run settings: read as text by the settings table's scene keys, checked once by
+    // make_simulation_request (study/settings.hpp) below, as the command line's and Python's are
+    settings_text given;
+    for (const run_setting& setting : run_settings()) {
+        const std::string key(setting.scene_key);
+        if (key.empty() || key == "energies" || key == "arm" || key == "criteria") continue;
+        if (std::optional<std::string> text = r.setting_text(key))
+            given.emplace(setting.field, std::move(*text));
+    }
+    const auto text_of = [&given](std::string_view field, const std::string& otherwise) {
+        const auto it = given.find(field);
+        return it != given.end() ? it->second : otherwise;
+    };
+    x.time = text_of("time", x.time);
+    x.rtol = text_of("rtol", x.rtol);
+    x.atol = text_of("atol", x.atol);
+    x.integrator = text_of("method", x.integrator);
+    x.estimator = text_of("estimator", x.estimator);
+    x.chaos_threshold = text_of("chaos_threshold", x.chaos_threshold);
+    x.reference_time = text_of("reference_time", x.reference_time);
     x.residence_times = r.boolean("residence_times").value_or(false);
     x.histogram = r.boolean("histogram").value_or(false);
     x.census_of = r.string("census_of").value_or("");
     x.classification_check_of = r.string("classification_check_of").value_or("");
     // the run settings' one check (study/settings.hpp), naming the scene's key
     try {
-        const simulation_request q = ensemble_settings(x);
+        const simulation_request q = make_simulation_request(given, settings_surface::scene);
+        x.trajectories = static_cast<long long>(q.options.trajectories);
+        x.replicates = static_cast<long long>(q.replicates);
+        x.seed = q.options.seed;
+        x.chaos = q.options.chaos;
         // `auto` resolved here: plans, sharing and run.json name the integrator
         x.integrator = to_string(q.options.method);
     } catch (const input_error& e) {
