@@ -257,11 +257,8 @@ std::string option_name(std::string_view field) {
 }
 
 command_words cli_command_words() {
-    return {"flipflux eval --help",
-            "flipflux --m1 ... --g",
-            "golden --certify",
-            "eval --certify",
-            {"--threads", "run --threads"}};
+    return {"flipflux run",     "flipflux eval --help", "flipflux --m1 ... --g",
+            "golden --certify", "eval --certify",       {"--threads", "run --threads"}};
 }
 
 std::string error_text(const input_error& e) {

@@ -1,7 +1,6 @@
 // The ensemble runner: one trajectory per index, OpenMP across indices (see ensemble.hpp).
 #include "flipflux/ensemble/ensemble.hpp"
 
-#include <cpuid.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -23,90 +22,6 @@
 #include "lane_common.hpp"
 
 namespace flipflux {
-
-integration_method resolved_method(integration_method method, double rtol) {
-    if (method != integration_method::automatic) return method;
-    return rtol < automatic_taylor_below ? integration_method::taylor : integration_method::dop853;
-}
-
-std::string rtol_problem(double rtol, const std::string& text, integration_method method) {
-    method = resolved_method(method, rtol);
-    const std::string shown = text.empty() ? to_decimal(rtol) : text;
-    if (!(rtol > 0) || !(rtol <= 0.1)) return "'" + shown + "' is invalid (must be in (0, 0.1])";
-    if (method == integration_method::taylor) {
-        if (rtol < min_taylor_rtol)
-            return "'" + shown + "' is below what double precision can meet (at least eps = " +
-                   to_decimal(min_taylor_rtol) + " with taylor)";
-    } else if (rtol < min_rtol) {
-        return "'" + shown + "' is below what double precision can meet (at least 100 eps = " +
-               to_decimal(min_rtol) + " with " + to_string(method) + "; taylor reaches eps)";
-    }
-    return {};
-}
-
-void validate(const ensemble_options& o) {
-    if (o.trajectories == 0)
-        throw input_error::about("trajectories",
-                                 "'0' is invalid (the number of trajectories must be > 0)");
-    if (!std::isfinite(o.time) || !(o.time > 0))
-        throw input_error::about("time",
-                                 "'" + to_decimal(o.time) +
-                                     "' is invalid (the integration time must be finite and > 0)");
-    if (const std::string p = rtol_problem(o.rtol, "", o.method); !p.empty())
-        throw input_error::about("rtol", p);
-    if (o.atol < 0 || !std::isfinite(o.atol))
-        throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
-    if (!std::isfinite(o.energy) || !(o.energy > 0))
-        throw input_error::about("energy",
-                                 "'" + to_decimal(o.energy) + "' is invalid (must be > 0)");
-    if (o.threads < 0)
-        throw input_error::about("threads",
-                                 "'" + std::to_string(o.threads) + "' is invalid (>= 0)");
-    (void)checked_threads(static_cast<std::uint64_t>(o.threads), "threads");
-    if (!std::isfinite(o.sample_interval) || o.sample_interval < 0)
-        throw input_error::about(
-            "sample_interval", "'" + to_decimal(o.sample_interval) + "' is invalid (must be >= 0)");
-    if (!std::isfinite(o.chaos_threshold) || !(o.chaos_threshold > 0))
-        throw input_error::about(
-            "chaos_threshold", "'" + to_decimal(o.chaos_threshold) + "' is invalid (must be > 0)");
-    if (o.first_index > std::numeric_limits<std::uint64_t>::max() - o.trajectories)
-        throw input_error::about("first_index", "the index range overflows");
-}
-
-double turns_bound(const double_pendulum<double>& model, double energy, double time) {
-    const auto& k = model.coefficients();
-    const double m = mass_eigenvalue_range(k)[0];
-    const double w = std::sqrt(2 * std::max(energy, 0.0) / m) + std::sqrt((k.alpha + k.beta) / m);
-    return time * w / (2 * std::numbers::pi);
-}
-
-void check_trajectory_work(const double_pendulum<double>& model, double energy, double time,
-                           const std::string& field, double epsilon) {
-    check_conditioning(model.coefficients(), epsilon);
-    const double turns = turns_bound(model, energy, time);
-    if (!(turns <= max_turns_per_trajectory))
-        throw input_error::about(
-            field, "T = " + to_decimal(time) + " at E = " + to_decimal(energy) + " allows up to " +
-                       to_decimal(turns, 3) + " turns of the arms per trajectory, more than " +
-                       to_decimal(max_turns_per_trajectory) + " (docs/limits.md)");
-}
-
-double chaos_threshold_rate(const double_pendulum<double>& model, double threshold) {
-    const auto& k = model.coefficients();
-    return threshold * std::sqrt(k.alpha / k.A);
-}
-
-bool is_chaotic(const double_pendulum<double>& model, bool chaos, double threshold,
-                double lyapunov) {
-    return chaos && lyapunov > chaos_threshold_rate(model, threshold);
-}
-
-bool chaos_classification_reliable(const double_pendulum<double>& model, double threshold,
-                                   double time) {
-    const auto& k = model.coefficients();
-    const double nu = std::sqrt(k.alpha / k.A);
-    return std::log1p(time * nu) / time <= 0.25 * chaos_threshold_rate(model, threshold);
-}
 
 namespace {
 
@@ -442,43 +357,6 @@ __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* cons
     vector_stages<Lane, v8d>(active, m);
 }
 
-bool processor_has_avx512() {
-    static const bool has = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx512f") != 0;
-    }();
-    return has;
-}
-
-bool processor_has_avx2() {
-    static const bool has = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0;
-    }();
-    return has;
-}
-
-// AMD family 19h (Zen 3 and Zen 4; of them only Zen 4 has AVX-512): CPUID leaf 1's base family
-// 0xF plus its extended family 0x0A.
-bool processor_is_amd_family_19h() {
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    if (__get_cpuid(0, &a, &b, &c, &d) == 0) return false;
-    const bool amd = b == 0x68747541 && d == 0x69746e65 && c == 0x444d4163;  // "AuthenticAMD"
-    if (!amd || __get_cpuid(1, &a, &b, &c, &d) == 0) return false;
-    const unsigned family = (a >> 8) & 0xF, extended = (a >> 20) & 0xFF;
-    return family == 0xF && family + extended == 0x19;
-}
-
-vector_isa automatic_isa() {
-    if (processor_has_avx512() && processor_has_avx2() && !processor_is_amd_family_19h())
-        return vector_isa::avx512;
-    if (processor_has_avx2()) return vector_isa::avx2;
-    return vector_isa::sse2;
-}
-
-// The choice of set_ensemble_vector_isa (automatic: none made).
-std::atomic<vector_isa> chosen_isa{vector_isa::automatic};
-
 // Trajectories per thread in lockstep with `isa`.
 std::size_t lanes_per_thread(vector_isa isa) {
     return isa == vector_isa::avx512 ? 8 : 4;
@@ -568,36 +446,6 @@ trajectory_result single_trajectory(const double_pendulum<double>& model, const 
 }
 
 }  // namespace
-
-bool processor_supports(vector_isa isa) {
-    switch (isa) {
-        case vector_isa::avx512:  // its last lanes run in AVX2 vectors
-            return processor_has_avx512() && processor_has_avx2();
-        case vector_isa::avx2:
-            return processor_has_avx2();
-        default:
-            return true;
-    }
-}
-
-void set_ensemble_vector_isa(vector_isa isa) {
-    if (!processor_supports(isa))
-        throw input_error::about("vector_isa",
-                                 "'" + to_string(isa) + "' is not supported by this processor");
-    chosen_isa.store(isa);
-}
-
-vector_isa ensemble_vector_isa() {
-    if (const vector_isa isa = chosen_isa.load(); isa != vector_isa::automatic) return isa;
-    const char* env = std::getenv("FLIPFLUX_VECTOR_ISA");
-    if (env == nullptr || *env == 0) return automatic_isa();
-    const std::string field = "environment variable FLIPFLUX_VECTOR_ISA";
-    const vector_isa isa = parse_name<vector_isa>(env, field);
-    if (!processor_supports(isa))
-        throw input_error::about(field,
-                                 "'" + std::string(env) + "' is not supported by this processor");
-    return isa == vector_isa::automatic ? automatic_isa() : isa;
-}
 
 trajectory_result simulate_trajectory(const double_pendulum<double>& model,
                                       const phase_point<double>& x0, const ensemble_options& o,

@@ -123,6 +123,35 @@ void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbi
 }
 
 template <class Real>
+std::vector<std::string> remembered_orbit_records(const double_pendulum<Real>& model) {
+    std::vector<saddle_orbit<Real>> orbits;
+    {
+        auto& m = memo<Real>::instance();
+        const std::lock_guard<std::mutex> lock(m.mutex);
+        m.refresh();
+        const std::string prefix = model_text_key(model) + precision_name<Real>() + ";";
+        for (const auto& [key, orbit] : m.orbits)
+            // a failed orbit (a family remembers it) has no record: recalling it solves again
+            if (key.compare(0, prefix.size(), prefix) == 0 &&
+                orbit.status != orbit_status::not_converged)
+                orbits.push_back(orbit);
+    }
+    std::vector<std::string> records;
+    for (const saddle_orbit<Real>& orbit : orbits)
+        records.push_back(orbit_to_json(orbit));  // outside the lock: mp records take time
+    return records;
+}
+
+template <class Real>
+void remember_orbit_records(const double_pendulum<Real>& model,
+                            const std::vector<std::string>& records, const std::string& where) {
+    for (std::size_t i = 0; i < records.size(); ++i)
+        remember_saddle_orbit(
+            model,
+            orbit_from_json<Real>(records[i], where + " (record " + std::to_string(i + 1) + ")"));
+}
+
+template <class Real>
 saddle_orbit<Real> find_or_solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
                                               const level_arg<Real>& energy,
                                               const orbit_options<Real>& options) {
@@ -386,6 +415,9 @@ template std::optional<saddle_orbit<R>> recall_saddle_orbit<R>(const double_pend
                                                                const level_arg<R>&, orbit_method,
                                                                orbit_integrator);
 template void remember_saddle_orbit<R>(const double_pendulum<R>&, const saddle_orbit<R>&);
+template std::vector<std::string> remembered_orbit_records<R>(const double_pendulum<R>&);
+template void remember_orbit_records<R>(const double_pendulum<R>&, const std::vector<std::string>&,
+                                        const std::string&);
 template saddle_orbit<R> find_or_solve_saddle_orbit<R>(const double_pendulum<R>&, arm,
                                                        const level_arg<R>&,
                                                        const orbit_options<R>&);

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -484,43 +485,49 @@ void run_viewer(context& ctx) {
 
 namespace {
 
-/// The ranks of an MPI run meet here before rank 0's first ensemble step and after the other
-/// ranks' wait: rank 0 has then solved (and cached) every saddle orbit of the scene's families and
-/// predictions.
-void meet_before_the_ensembles(const run_options& options) {
-    (void)options.group->broadcast("ensembles");
+/// The ranks of an MPI run meet here before rank 0's first ensemble step: rank 0 has then solved
+/// (or read from its cache) every saddle orbit of the scene's families and predictions, and sends
+/// those at double -- what the ensembles' saddle criterion recalls -- to every other rank, whose
+/// memo then holds rank 0's bits. Returns the number of orbits sent.
+std::size_t meet_before_the_ensembles(const run_options& options, const scene& s) {
+    const double_pendulum<double> model = make_model<double>(s.model);
+    const bool root = options.group->rank() == 0;
+    const nlohmann::json sent = root ? remembered_orbit_records(model) : std::vector<std::string>{};
+    const std::string text = options.group->broadcast(root ? sent.dump() : std::string());
+    if (root) return sent.size();
+    // what rank 0 sent is no user's input: a failure here is internal (printed by this rank)
+    const std::string who = "rank " + std::to_string(options.group->rank());
+    const nlohmann::json received = nlohmann::json::parse(text, nullptr, false);
+    if (!received.is_array() ||
+        !std::all_of(received.begin(), received.end(), [](const auto& r) { return r.is_string(); }))
+        throw std::runtime_error(who + ": rank 0's orbits are not a JSON array of records");
+    try {
+        remember_orbit_records(model, received.get<std::vector<std::string>>(), "rank 0's orbits");
+    } catch (const input_error& e) {
+        throw std::runtime_error(who + ": " + e.what());
+    }
+    return received.size();
 }
 
 /// A rank other than 0 of `mpirun -np N flipflux run`: its share of the ensembles' trajectories.
-/// The saddle criterion's curves must have rank 0's bits, so this rank first repeats the orbit
-/// families and predictions once rank 0 has done them (reading rank 0's cache entries, or, with
-/// no cache, solving them the same way), writing nothing; then it joins each ensemble step with
-/// the same requests as rank 0 (the collectives inside simulate() follow the same path; rank 0
-/// reads and writes the checkpoint and the CSVs).
+/// It computes no family and no prediction: the saddle criterion's curves need rank 0's orbits
+/// bit for bit, and rank 0 sends them (meet_before_the_ensembles). Then it joins each ensemble
+/// step with the same requests as rank 0 (the collectives inside simulate() follow the same path;
+/// rank 0 reads and writes the checkpoint and the CSVs), writing nothing.
 run_counters join_ensembles(const scene& s, const plan& p, std::ostream& log,
                             const run_options& options) {
     context ctx{s, log, options, {}};
     ctx.writes = false;
-    ctx.summary["orbit_families"] = json::array();
     const double_pendulum<double> model = make_model<double>(s.model);
     bool met = false;
     for (const plan_step& step : p.steps) {
-        if (step.what == plan_step::kind::orbit_family ||
-            step.what == plan_step::kind::predictions) {
-            if (!met) meet_before_the_ensembles(options);
-            met = true;
-            if (step.what == plan_step::kind::orbit_family)
-                dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
-            else
-                dispatch(s.prec, [&]<class Real>() { run_predictions<Real>(ctx, step); });
-        } else if (step.what == plan_step::kind::ensemble) {
-            if (!met) meet_before_the_ensembles(options);
-            met = true;
-            std::string names;
-            (void)simulate(model, ensemble_step_requests(ctx, step, names));  // rank 0's results
-        }
+        if (step.what != plan_step::kind::ensemble) continue;
+        if (!met) log << "  " << meet_before_the_ensembles(options, s) << " orbits from rank 0\n";
+        met = true;
+        std::string names;
+        (void)simulate(model, ensemble_step_requests(ctx, step, names));  // rank 0's results
     }
-    if (!met) meet_before_the_ensembles(options);
+    if (!met) (void)meet_before_the_ensembles(options, s);
     return ctx.counters;
 }
 
@@ -569,7 +576,8 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     bool met = options.group == nullptr;  // an MPI run's ranks meet before the first ensemble
     for (const plan_step& step : p.steps) {
         if (!met && step.what == plan_step::kind::ensemble) {
-            meet_before_the_ensembles(options);
+            log << "  " << meet_before_the_ensembles(options, s)
+                << " orbits sent to the other ranks\n";
             met = true;
         }
         // (the orbit tables belong to the families before: written before this step's clock)
@@ -610,7 +618,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         log << "  (" << seconds << " s)\n";
     }
     write_orbit_tables_once();
-    if (!met) meet_before_the_ensembles(options);
+    if (!met) (void)meet_before_the_ensembles(options, s);
     // orbits solved one by one outside a family (e.g. beyond where a continuation stopped)
     ctx.counters.orbit_solves += saddle_orbit_memo_misses() - misses_before;
     ctx.summary["counters"] = {{"orbit_solves", ctx.counters.orbit_solves},

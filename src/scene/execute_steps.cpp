@@ -19,6 +19,16 @@ namespace flipflux {
 
 namespace scene_steps {
 
+namespace {
+
+/// How the run was started, as generated files record it: the caller's command and the scene.
+std::string scene_command(const context& ctx) {
+    const std::string& run = ctx.options.words.run_scene;
+    return (run.empty() ? std::string("scene") : run) + " " + ctx.s.file.string();
+}
+
+}  // namespace
+
 // ---- golden data, accuracy, report ----------------------------------------------------------
 
 void run_golden(context& ctx) {
@@ -44,7 +54,7 @@ void run_golden(context& ctx) {
     std::filesystem::create_directories(dir);
     write_file_atomically(dir / "golden.csv", golden_csv(rows));
     write_file_atomically(dir / "provenance.json",
-                          golden_provenance("flipflux run " + ctx.s.file.string(), rows.size(),
+                          golden_provenance(scene_command(ctx), rows.size(),
                                             options.value_precision, ctx.options.words));
     ctx.counters.files.push_back((dir / "golden.csv").string());
     ctx.counters.files.push_back((dir / "provenance.json").string());
@@ -71,9 +81,7 @@ void run_accuracy(context& ctx) {
     options.progress = [&](const std::string& line) { ctx.log << "  " << line << "\n"; };
     const auto entries = measure_accuracy(options);
     const std::string md =
-        accuracy_markdown(entries, options, "flipflux run " + ctx.s.file.string(),
-                          ctx.options.words) +
-        appendix;
+        accuracy_markdown(entries, options, scene_command(ctx), ctx.options.words) + appendix;
     const std::filesystem::path out = a.out;
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     write_file_atomically(out, md);

@@ -13,43 +13,49 @@
 namespace flipflux {
 
 const std::vector<run_setting>& run_settings() {
-    // field, option, scene key, keyword, default, scene default, decides trajectories, help
+    // field, option, scene key, keyword, default, scene default, decides trajectories, help, kind
     static const std::vector<run_setting> table{
         {"energy", "--energy", "energies", "energy", "", "", false,
-         "energy E, a list E1,E2,... or a range FROM:TO:STEP"},
-        {"arm", "--arm", "arm", "arm", "2", "", false, "the arm whose flips are counted"},
+         "energy E, a list E1,E2,... or a range FROM:TO:STEP", setting_kind::text},
+        {"arm", "--arm", "arm", "arm", "2", "", false, "the arm whose flips are counted",
+         setting_kind::text},
         {"criteria", "--criteria", "criteria", "criteria", "(all)", "", false,
-         "comma-separated flip criteria"},
+         "comma-separated flip criteria", setting_kind::text},
         {"replicates", "--replicates", "replicates", "replicates", "1", "", true,
-         "independent replicates of the trajectories"},
+         "independent replicates of the trajectories", setting_kind::integer},
         {"trajectories", "--trajectories", "trajectories", "trajectories", "", "1000", true,
-         "number of trajectories per energy (> 0)"},
+         "number of trajectories per energy (> 0)", setting_kind::integer},
         {"time", "--time", "time", "time", "", "10000", true,
-         "integration time T per trajectory (> 0)"},
-        {"seed", "--seed", "seed", "seed", "0", "1", true, "random seed (non-negative integer)"},
+         "integration time T per trajectory (> 0)", setting_kind::number},
+        {"seed", "--seed", "seed", "seed", "0", "1", true, "random seed (non-negative integer)",
+         setting_kind::integer},
         {"first_index", "--first-index", "", "", "0", "", true,
-         "index of the first trajectory (split runs across processes)"},
+         "index of the first trajectory (split runs across processes)", setting_kind::integer},
         {"rtol", "--rtol", "rtol", "rtol", "1e-10", "", true,
-         "relative (and absolute) tolerance of the integrator"},
-        {"atol", "", "atol", "", "0", "", true, "absolute tolerance (0: equal to rtol)"},
+         "relative (and absolute) tolerance of the integrator", setting_kind::number},
+        {"atol", "", "atol", "", "0", "", true, "absolute tolerance (0: equal to rtol)",
+         setting_kind::number},
         {"method", "--method", "integrator", "method", "auto", "dop853", true,
-         "integrator: dop853, dopri5, taylor or auto"},
-        {"threads", "--threads", "", "threads", "0", "", false,
-         "OpenMP threads (0: all available)"},
+         "integrator: dop853, dopri5, taylor or auto", setting_kind::text},
+        {"threads", "--threads", "", "threads", "0", "", false, "OpenMP threads (0: all available)",
+         setting_kind::integer},
         {"chaos_threshold", "--chaos-threshold", "chaos_threshold", "chaos_threshold", "0.05", "",
-         false, "Lyapunov threshold for 'chaotic', in units of sqrt(alpha/A)"},
+         false, "Lyapunov threshold for 'chaotic', in units of sqrt(alpha/A)",
+         setting_kind::number},
         {"chaos", "--no-chaos", "chaos", "chaos", "true", "false", true,
-         "classify trajectories by their finite-time Lyapunov exponent"},
-        {"bins", "--bins", "", "", "0", "", false, "histogram bins (0: square-root rule)"},
+         "classify trajectories by their finite-time Lyapunov exponent", setting_kind::boolean},
+        {"bins", "--bins", "", "", "0", "", false, "histogram bins (0: square-root rule)",
+         setting_kind::integer},
         {"sample_interval", "--sample-interval", "", "", "0", "", false,
-         "store every trajectory's state at this time interval"},
+         "store every trajectory's state at this time interval", setting_kind::number},
         {"checkpoint_interval", "--checkpoint-interval", "", "", "2", "", false,
-         "seconds between checkpoint appends"},
-        {"estimator", "--estimator", "estimator", "", "long", "", true, "long or short"},
+         "seconds between checkpoint appends", setting_kind::number},
+        {"estimator", "--estimator", "estimator", "", "long", "", true, "long or short",
+         setting_kind::text},
         {"short_time", "--short-time", "", "", "20", "", true,
-         "trajectory length of the short estimator"},
+         "trajectory length of the short estimator", setting_kind::number},
         {"reference_time", "--reference-time", "reference_time", "", "0", "", false,
-         "also estimate the PQI for trajectories of this length"},
+         "also estimate the PQI for trajectories of this length", setting_kind::number},
     };
     return table;
 }
@@ -140,6 +146,10 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     q.criteria = parse_criterion_list(r.text("criteria"), r.name("criteria"));
     ensemble_options& o = q.options;
     o.trajectories = r.count("trajectories", true);
+    if (o.trajectories > max_trajectories)
+        throw input_error::about(r.name("trajectories"),
+                                 "'" + r.text("trajectories") + "' is too many (at most " +
+                                     std::to_string(max_trajectories) + " per energy)");
     q.replicates = r.count("replicates", true);
     if (q.replicates > max_replicates)
         throw input_error::about(r.name("replicates"), "'" + r.text("replicates") +

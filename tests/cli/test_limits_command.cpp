@@ -32,8 +32,10 @@ TEST(LimitsCommand, SimulateBinsBeyondTheLimitAreRefused) {
 }
 
 TEST(LimitsCommand, SimulateTrajectoriesBeyondMemoryAreRefused) {
+    expect_refused("simulate --energy 3 --trajectories 1000000000 --time 1",
+                   {"--trajectories: '1000000000' would need about", "GB"});
     expect_refused("simulate --energy 3 --trajectories 4294967297 --time 1",
-                   {"--trajectories: '4294967297' would need about", "GB"});
+                   {"--trajectories: '4294967297' is too many (at most 1000000000 per energy)"});
     ::setenv("FLIPFLUX_MEMORY_LIMIT", "100000", 1);
     expect_refused("simulate --energy 3 --trajectories 10000 --time 1", {"--trajectories"});
     ::unsetenv("FLIPFLUX_MEMORY_LIMIT");

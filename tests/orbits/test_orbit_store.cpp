@@ -259,6 +259,39 @@ TEST(OrbitStore, MemoReturnsOnlyTheSameOrbit) {
     EXPECT_FALSE(recall_saddle_orbit(model, arm::two, 3.0, orbit_method::periodic).has_value());
 }
 
+// What one process remembers, another recalls bit for bit (an MPI run's rank 0 sends its orbits
+// to the other ranks): only the pendulum's orbits are sent, and a corrupt record is refused.
+TEST(OrbitStore, RememberedRecordsCarryTheOrbitsToAnotherMemo) {
+    forget_saddle_orbits();
+    const double_pendulum<quad> model;
+    physical_parameters<quad> p;
+    p.m2 = 2;
+    const double_pendulum<quad> other(p);
+    const saddle_orbit<quad> solved = find_or_solve_saddle_orbit(model, arm::two, quad(3));
+    remember_saddle_orbit(other, synthetic<quad>(arm::two, quad(9)));
+    saddle_orbit<quad> failed = synthetic<quad>(arm::two, quad(4));
+    failed.status = orbit_status::not_converged;  // a family remembers its failures too
+    remember_saddle_orbit(model, failed);
+    const std::vector<std::string> records = remembered_orbit_records(model);
+    ASSERT_EQ(records.size(), 1u);  // neither the other pendulum's nor the failed one
+    forget_saddle_orbits();         // "another process": an empty memo
+    ASSERT_FALSE(recall_saddle_orbit(model, arm::two, quad(3), solved.method).has_value());
+    remember_orbit_records(model, records, "sent");
+    const auto recalled = recall_saddle_orbit(model, arm::two, quad(3), solved.method);
+    ASSERT_TRUE(recalled.has_value());
+    EXPECT_EQ(orbit_to_json(*recalled), orbit_to_json(solved));  // every field, every bit
+    EXPECT_TRUE(recalled->period == solved.period && recalled->action == solved.action);
+    std::string corrupt = records[0];
+    corrupt[corrupt.find("\"period\"") + 12] ^= 1;
+    try {
+        remember_orbit_records(model, {corrupt}, "sent");
+        ADD_FAILURE() << "a corrupt record was accepted";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("sent (record 1)"), std::string::npos) << e.what();
+    }
+    forget_saddle_orbits();
+}
+
 // Threads asking for the same orbit at once solve it once: the others wait for its result.
 TEST(OrbitStore, ConcurrentRequestsForOneOrbitSolveItOnce) {
     forget_saddle_orbits();

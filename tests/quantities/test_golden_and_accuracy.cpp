@@ -485,7 +485,7 @@ TEST(Accuracy, GeneratedProseNamesOnlyTheCallersCommands) {
               std::string::npos);
     EXPECT_NE(bare.find("measured concurrently, each timed"), std::string::npos);
     EXPECT_FALSE(std::regex_search(bare, std::regex("--[a-z]")));  // no option
-    const command_words words{"list", "params", "prove-all", "prove", {"-j", "run -j"}};
+    const command_words words{"go", "list", "params", "prove-all", "prove", {"-j", "run -j"}};
     const std::string worded = accuracy_markdown({}, options, "a caller", words);
     EXPECT_NE(worded.find("value (`prove`, [certified.md](certified.md))"), std::string::npos);
     EXPECT_NE(worded.find("concurrently (`-j`, `run -j`), each"), std::string::npos);

@@ -21,6 +21,9 @@ inline constexpr std::size_t max_energy_count = 100000;
 /// Independent replicates of one ensemble (study/simulation.hpp): each is summarised on its own
 /// and the quality indices are recomputed without each, so the cost grows as R^2 energies.
 inline constexpr std::uint64_t max_replicates = 1000;
+/// Trajectories per energy (and replicate) of one request, on every surface: 1e9 records already
+/// need ~440 GB (docs/limits.md), and the count stays far from integer overflow in any product.
+inline constexpr std::uint64_t max_trajectories = 1000000000;
 
 /// The most turns the arms of one trajectory may make (an upper bound from the energy and the
 /// integration time, ensemble.hpp's check_trajectory_work): at tens of steps per turn, more than

@@ -17,6 +17,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "flipflux/core/scoped_flag.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
@@ -32,6 +33,19 @@ std::optional<saddle_orbit<Real>> recall_saddle_orbit(
 /// Remembers an orbit (of its arm and energy) for `model`.
 template <class Real>
 void remember_saddle_orbit(const double_pendulum<Real>& model, const saddle_orbit<Real>& orbit);
+
+/// Every remembered orbit of `model` that converged or stalled, as orbit_to_json records in the
+/// memo's order: what another process needs to recall exactly these orbits (an MPI run's rank 0
+/// sends them to the others). An orbit stored under two keys (a periodic request answered by the
+/// symmetric solution) is sent under its own key only.
+template <class Real>
+std::vector<std::string> remembered_orbit_records(const double_pendulum<Real>& model);
+
+/// Remembers the orbits of `records` (remembered_orbit_records of another process) for `model`;
+/// input_error naming `where` for a malformed record.
+template <class Real>
+void remember_orbit_records(const double_pendulum<Real>& model,
+                            const std::vector<std::string>& records, const std::string& where);
 
 /// Forgets every remembered orbit of every precision (tests).
 void forget_saddle_orbits();
@@ -85,6 +99,10 @@ std::string orbit_cache_key(const double_pendulum<Real>& model, const orbit_opti
         const double_pendulum<R>&, arm, const level_arg<R>&, orbit_method, orbit_integrator);   \
     extern template void remember_saddle_orbit<R>(const double_pendulum<R>&,                    \
                                                   const saddle_orbit<R>&);                      \
+    extern template std::vector<std::string> remembered_orbit_records<R>(                       \
+        const double_pendulum<R>&);                                                             \
+    extern template void remember_orbit_records<R>(                                             \
+        const double_pendulum<R>&, const std::vector<std::string>&, const std::string&);        \
     extern template saddle_orbit<R> find_or_solve_saddle_orbit<R>(                              \
         const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&);          \
     extern template std::string orbit_to_json<R>(const saddle_orbit<R>&);                       \

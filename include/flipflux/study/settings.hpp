@@ -24,6 +24,9 @@ namespace flipflux {
 /// Who gives the settings: each names them its own way.
 enum class settings_surface { command_line, scene, python };
 
+/// What a setting's value is (a scene reads it as this TOML type; every surface gives it as text).
+enum class setting_kind { text, integer, number, boolean };
+
 /// One run setting.
 struct run_setting {
     std::string_view field;          ///< the library's name: settings_text keys, input_error
@@ -34,6 +37,7 @@ struct run_setting {
     std::string_view scene_default;  ///< a scene's default where it differs ("" : the same)
     bool decides_trajectories;       ///< part of trajectory_key
     std::string_view help;           ///< one line for help texts
+    setting_kind kind;               ///< its value's type
 };
 
 /// Every run setting, in the command line's order.

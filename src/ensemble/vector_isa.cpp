@@ -1,0 +1,85 @@
+// The ensemble's vector instruction set: what the processor has, the automatic choice, and the
+// caller's or the environment's (FLIPFLUX_VECTOR_ISA) override (see ensemble.hpp).
+#include <cpuid.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <string>
+
+#include "flipflux/core/error.hpp"
+#include "flipflux/core/names.hpp"
+#include "flipflux/ensemble/ensemble.hpp"
+
+namespace flipflux {
+namespace {
+
+bool processor_has_avx512() {
+    static const bool has = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx512f") != 0;
+    }();
+    return has;
+}
+
+bool processor_has_avx2() {
+    static const bool has = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return has;
+}
+
+// AMD family 19h (Zen 3 and Zen 4; of them only Zen 4 has AVX-512): CPUID leaf 1's base family
+// 0xF plus its extended family 0x0A.
+bool processor_is_amd_family_19h() {
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    if (__get_cpuid(0, &a, &b, &c, &d) == 0) return false;
+    const bool amd = b == 0x68747541 && d == 0x69746e65 && c == 0x444d4163;  // "AuthenticAMD"
+    if (!amd || __get_cpuid(1, &a, &b, &c, &d) == 0) return false;
+    const unsigned family = (a >> 8) & 0xF, extended = (a >> 20) & 0xFF;
+    return family == 0xF && family + extended == 0x19;
+}
+
+vector_isa automatic_isa() {
+    if (processor_has_avx512() && processor_has_avx2() && !processor_is_amd_family_19h())
+        return vector_isa::avx512;
+    if (processor_has_avx2()) return vector_isa::avx2;
+    return vector_isa::sse2;
+}
+
+// The choice of set_ensemble_vector_isa (automatic: none made).
+std::atomic<vector_isa> chosen_isa{vector_isa::automatic};
+
+}  // namespace
+
+bool processor_supports(vector_isa isa) {
+    switch (isa) {
+        case vector_isa::avx512:  // its last lanes run in AVX2 vectors
+            return processor_has_avx512() && processor_has_avx2();
+        case vector_isa::avx2:
+            return processor_has_avx2();
+        default:
+            return true;
+    }
+}
+
+void set_ensemble_vector_isa(vector_isa isa) {
+    if (!processor_supports(isa))
+        throw input_error::about("vector_isa",
+                                 "'" + to_string(isa) + "' is not supported by this processor");
+    chosen_isa.store(isa);
+}
+
+vector_isa ensemble_vector_isa() {
+    if (const vector_isa isa = chosen_isa.load(); isa != vector_isa::automatic) return isa;
+    const char* env = std::getenv("FLIPFLUX_VECTOR_ISA");
+    if (env == nullptr || *env == 0) return automatic_isa();
+    const std::string field = "environment variable FLIPFLUX_VECTOR_ISA";
+    const vector_isa isa = parse_name<vector_isa>(env, field);
+    if (!processor_supports(isa))
+        throw input_error::about(field,
+                                 "'" + std::string(env) + "' is not supported by this processor");
+    return isa == vector_isa::automatic ? automatic_isa() : isa;
+}
+
+}  // namespace flipflux
