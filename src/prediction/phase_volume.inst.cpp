@@ -56,6 +56,13 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
     using std::sqrt;
     const Real m = density_parameter(model);
     const Real& y = to_pi < x ? to_pi : x;
+    if constexpr (std::is_same_v<Real, quad>) {
+        // at quad one float128 elliptic integral instead of two (the integrals' cost): the
+        // addition theorem (special/elliptic.hpp); double and mp keep the two, bit for bit
+        if (complete)
+            return two_pi<Real>() * sqrt(model.coefficients().D0) *
+                   elliptic_e_sum(t, y, m, *complete);
+    }
     return two_pi<Real>() * sqrt(model.coefficients().D0) *
            (complete ? elliptic_e(Real(t + y), m, *complete) + elliptic_e(Real(t - y), m, *complete)
                      : elliptic_e(Real(t + y), m) + elliptic_e(Real(t - y), m));

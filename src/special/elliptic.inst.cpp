@@ -417,10 +417,40 @@ Real elliptic_f(const Real& phi, const Real& m) {
     return value;
 }
 
+template <class Real>
+Real elliptic_e_sum(const Real& t, const Real& y, const Real& m, const Real& complete) {
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    if (!(m <= 0))
+        return elliptic_e(Real(t + y), m, complete) + elliptic_e(Real(t - y), m, complete);
+    const Real st = sin(t), ct = cos(t), sy = sin(y), cy = cos(y);
+    const Real su = st * cy + ct * sy, cu = ct * cy - st * sy;          // u = t + y
+    const Real sv = st * cy - ct * sy, cv = ct * cy + st * sy;          // v = t - y
+    const Real du = sqrt(1 - m * su * su), dv = sqrt(1 - m * sv * sv);  // >= 1: m <= 0
+    const Real den = 1 - m * (su * su) * (sv * sv);                     // >= 1
+    const Real ss = (su * cv * dv + sv * cu * du) / den;                // sn, cn of the sum
+    const Real cs = (cu * cv - su * sv * du * dv) / den;
+    // sigma = k pi + x, |x| <= pi/2: F(sigma) = 2 k K + F(x), so k is F(u) + F(v) over 2 K
+    // rounded (in double: only its integer part matters), and (-1)^k cos sigma = cos x >= 0
+    // decides between two neighbours where F(x) is near +-K
+    const double md = static_cast<double>(m);
+    const double q = (elliptic_f<double>(static_cast<double>(t + y), md) +
+                      elliptic_f<double>(static_cast<double>(t - y), md)) /
+                     (2 * elliptic_k_complete<double>(md, 1 - md));
+    long k = std::lround(q);
+    if ((k % 2 == 0) != (cs >= 0)) k += q > static_cast<double>(k) ? 1 : -1;
+    const Real sx = k % 2 == 0 ? ss : Real(-ss), cx = k % 2 == 0 ? cs : Real(-cs);
+    Real e_sigma = elliptic_e_carlson(sx, Real(cx * cx), Real(1 - m * sx * sx), m);
+    if (k != 0) e_sigma += 2 * Real(k) * complete;
+    return e_sigma + m * su * sv * ss;
+}
+
 #define FLIPFLUX_ELLIPTIC_INSTANTIATE(R)                                      \
     template R elliptic_e<R>(const R&, const R&);                             \
     template R elliptic_e<R>(const R&);                                       \
     template R elliptic_e<R>(const R&, const R&, const R&);                   \
+    template R elliptic_e_sum<R>(const R&, const R&, const R&, const R&);     \
     template R elliptic_e_complete<R>(const R&, const R&);                    \
     template R elliptic_k_complete<R>(const R&, const R&);                    \
     template R elliptic_k<R>(const R&);                                       \

@@ -3,10 +3,12 @@
 // ellipk at 70 digits), direct tanh-sinh quadrature of the defining integral in mp:100, and DLMF's
 // imaginary- and reciprocal-modulus transformations evaluated with Boost's ellint_1/ellint_2 (which
 // take the modulus k and apply only for 0 <= k^2 sin^2 phi < 1).
+#include <algorithm>
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/ellint_2.hpp>
 #include <boost/math/special_functions/ellint_rd.hpp>
 #include <boost/math/special_functions/ellint_rf.hpp>
+#include <cstdio>
 #include <stdexcept>
 
 #include "flipflux/core/constants.hpp"
@@ -369,6 +371,40 @@ TYPED_TEST(Elliptic, CarlsonRfRdMatchesBoost) {
     EXPECT_THROW(carlson_rf_rd(Real(1), Real(1), Real(0)), std::domain_error);
     EXPECT_THROW(carlson_rf_rd(Real(-1), Real(1), Real(1)), std::domain_error);
     EXPECT_THROW(carlson_rf_rd(inf, Real(1), Real(1)), std::domain_error);
+}
+
+/// elliptic_e_sum in Real against the two-integral sum E(t + y|m) + E(t - y|m) in mp:60 at the
+/// same (exactly converted) t and y: a grid of t in [0, pi], y in [0, pi/2] dense enough that the
+/// sum's amplitude sigma passes every half period (the neighbours decided by the sign of
+/// cos sigma), m from 0 to the m1 = 0.1 pendulum's -10; error relative to |E(u)| + |E(v)|.
+template <class Real>
+void expect_sum_matches_two_integrals(double tolerance_eps) {
+    double worst = 0;
+    for (const char* m_text : {"0", "-0.0625", "-0.5", "-1", "-4", "-10"}) {
+        const Real m = parse_real<Real>(m_text, "m");
+        const Real complete = elliptic_e_complete(m, Real(1 - m));
+        for (int i = 0; i <= 48; ++i)
+            for (int j = 0; j <= 24; ++j) {
+                const Real t = pi<Real>() * i / 48 + (i % 5 == 1 ? Real(1e-9) : Real(0));
+                const Real y = pi<Real>() / 2 * j / 24 + (j % 7 == 3 ? Real(3e-7) : Real(0));
+                const Real got = elliptic_e_sum(t, y, m, complete);
+                const precision_scope scope(mp_precision(60));
+                const mp mt = convert<mp>(t), my = convert<mp>(y), mm = convert<mp>(m);
+                const mp u = elliptic_e(mp(mt + my), mm), v = elliptic_e(mp(mt - my), mm);
+                const double error = std::abs(static_cast<double>(convert<mp>(got) - (u + v))) /
+                                     static_cast<double>(abs(u) + abs(v) + 1);
+                worst = std::max(worst, error);
+                ASSERT_LE(error, tolerance_eps * static_cast<double>(eps<Real>()))
+                    << "t = " << static_cast<double>(t) << ", y = " << static_cast<double>(y)
+                    << ", m = " << m_text;
+            }
+    }
+    std::printf("elliptic_e_sum: worst error %.2f eps\n", worst / static_cast<double>(eps<Real>()));
+}
+
+TEST(EllipticSum, AdditionTheoremMatchesTwoIntegralsAtDoubleAndQuad) {
+    expect_sum_matches_two_integrals<double>(16);
+    expect_sum_matches_two_integrals<quad>(16);
 }
 
 TEST(EllipticHighPrecision, CarlsonRfRdMatchesBoostAtMp300AndMp1000) {

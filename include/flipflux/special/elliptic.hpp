@@ -45,6 +45,16 @@ Real elliptic_e(const Real& phi, const Real& m);
 template <class Real>
 Real elliptic_e(const Real& phi, const Real& m, const Real& complete);
 
+/// E(t + y|m) + E(t - y|m) for m <= 0, given complete = elliptic_e_complete(m, 1 - m), with one
+/// incomplete integral instead of two: by the addition theorem of Jacobi's epsilon function,
+///     E(u|m) + E(v|m) = E(sigma|m) + m sin u sin v sin sigma,   F(sigma) = F(u) + F(v),
+/// sin and cos of sigma algebraic in those of u and v (DLMF 22.8.1, 22.8.2; 22.16.27), its half
+/// periods counted from a double estimate of F(u) + F(v) and the sign of cos sigma. Agrees with
+/// the two-integral sum to a few ulp of its terms (tests/special/test_elliptic.cpp); for m > 0 it
+/// is that sum.
+template <class Real>
+Real elliptic_e_sum(const Real& t, const Real& y, const Real& m, const Real& complete);
+
 /// Complete E(m) = E(pi/2|m), m <= 1.
 template <class Real>
 Real elliptic_e(const Real& m);
@@ -90,6 +100,7 @@ std::array<Real, 2> carlson_rf_rd(const Real& x, const Real& y, const Real& z);
     extern template R elliptic_e<R>(const R&, const R&);                             \
     extern template R elliptic_e<R>(const R&);                                       \
     extern template R elliptic_e<R>(const R&, const R&, const R&);                   \
+    extern template R elliptic_e_sum<R>(const R&, const R&, const R&, const R&);     \
     extern template R elliptic_e_complete<R>(const R&, const R&);                    \
     extern template R elliptic_k_complete<R>(const R&, const R&);                    \
     extern template R elliptic_k<R>(const R&);                                       \
