@@ -1,6 +1,7 @@
 // One trajectory with its flip events by the reference route, Gauss-Legendre with events polished
 // to full precision, in any precision (include/flipflux/study/trajectory.hpp explains the method).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -64,9 +65,11 @@ struct crossing_value {
     bool inside;
 };
 
+/// The crossing function at x given dx = model.rhs(x) (the samples of a step share it between
+/// curves).
 template <class Real>
-crossing_value<Real> crossing_function(const double_pendulum<Real>& model, const curve_at<Real>& c,
-                                       const phase_point<Real>& x) {
+crossing_value<Real> crossing_function(const curve_at<Real>& c, const phase_point<Real>& x,
+                                       const phase_point<Real>& dx) {
     using boost::multiprecision::round;
     using std::round;
     const Real two_pi = 2 * pi<Real>();
@@ -75,10 +78,15 @@ crossing_value<Real> crossing_function(const double_pendulum<Real>& model, const
     const Real red = sf[0] - two_pi * Real(round((sf[0] - centre) / two_pi));
     const bool inside = red >= c.lo && red <= c.hi;
     const Real s = inside ? red : (red < c.lo ? c.lo : c.hi);
-    const phase_point<Real> dx = model.rhs(x);
     const auto rates = curve_coordinates(c.flip_arm, dx[0], dx[1]);
     return {sf[1] - pi<Real>() - c.offset(s), rates[1] - (inside ? c.slope(s) * rates[0] : Real(0)),
             inside};
+}
+
+template <class Real>
+crossing_value<Real> crossing_function(const double_pendulum<Real>& model, const curve_at<Real>& c,
+                                       const phase_point<Real>& x) {
+    return crossing_function(c, x, model.rhs(x));
 }
 
 /// floor(phi / 2 pi): the level below phi.
@@ -131,14 +139,20 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
         if (theta == 1) return x1;
         return gl.collocation(x0, theta);
     };
+    // the samples' states and right-hand sides, once for every curve
+    std::array<phase_point<Real>, samples + 1> xs, dxs;
+    std::array<Real, samples + 1> theta;
+    for (int k = 0; k <= samples; ++k) {
+        theta[k] = Real(k) / samples;
+        xs[k] = state_at(theta[k]);
+        dxs[k] = model.rhs(xs[k]);
+    }
     for (const curve_at<Real>& c : list) {
-        std::vector<Real> theta, phi, rate;
+        std::array<Real, samples + 1> phi, rate;
         for (int k = 0; k <= samples; ++k) {
-            const Real th = Real(k) / samples;
-            const crossing_value<Real> v = crossing_function(model, c, state_at(th));
-            theta.push_back(th);
-            phi.push_back(v.phi);
-            rate.push_back(v.rate);
+            const crossing_value<Real> v = crossing_function(c, xs[k], dxs[k]);
+            phi[k] = v.phi;
+            rate[k] = v.rate;
         }
         // the cheap exit: no level between the sampled values, phi' of one sign
         // (then phi is monotone and stays between its end values)
