@@ -69,12 +69,12 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
 }
 
 /// The integral over [a, b] of a marginal whose branch points beyond a and b lie at the distances
-/// `near` (0: none), m the density parameter. At quad, where each evaluation costs two float128
-/// elliptic integrals, the nested Clenshaw-Curtis rules in sin^2 (up to 256 intervals: 127 or 255
-/// evaluations) are tried first unless a branch point is close enough to need grading (nearer than
-/// a quarter of the width); tanh-sinh, graded towards a close branch point, everywhere else and
-/// where the pair has not converged. Double keeps tanh-sinh alone (its results bit for bit; 0.2
-/// ms), as does mp, whose pair would need n growing with the digits.
+/// `near` (0: none), m the density parameter. At quad, where each evaluation costs a float128
+/// elliptic integral (one, by elliptic_e_sum), the nested Clenshaw-Curtis rules in sin^2 (up to 256
+/// intervals: 127 or 255 evaluations) are tried first unless a branch point is close enough to need
+/// grading (nearer than a quarter of the width); tanh-sinh, graded towards a close branch point,
+/// everywhere else and where the pair has not converged. Double keeps tanh-sinh alone (its results
+/// bit for bit; 0.2 ms), as does mp, whose pair would need n growing with the digits.
 template <class Real>
 quadrature_result<Real> piece_integral(endpoint_integrand<Real> f, const Real& a, const Real& b,
                                        const std::array<Real, 2>& near, const Real& m) {

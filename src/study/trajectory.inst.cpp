@@ -139,6 +139,7 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
         if (theta == 1) return x1;
         return gl.collocation(x0, theta);
     };
+    if (list.empty()) return;  // every criterion below its threshold: nothing to sample
     // the samples' states and right-hand sides, once for every curve
     std::array<phase_point<Real>, samples + 1> xs, dxs;
     std::array<Real, samples + 1> theta;

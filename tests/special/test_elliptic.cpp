@@ -8,6 +8,7 @@
 #include <boost/math/special_functions/ellint_2.hpp>
 #include <boost/math/special_functions/ellint_rd.hpp>
 #include <boost/math/special_functions/ellint_rf.hpp>
+#include <boost/math/special_functions/next.hpp>
 #include <cstdio>
 #include <stdexcept>
 
@@ -405,6 +406,56 @@ void expect_sum_matches_two_integrals(double tolerance_eps) {
 TEST(EllipticSum, AdditionTheoremMatchesTwoIntegralsAtDoubleAndQuad) {
     expect_sum_matches_two_integrals<double>(16);
     expect_sum_matches_two_integrals<quad>(16);
+}
+
+/// At y = 0 the sum's amplitude is sigma = 2t exactly, so t = (2j + 1) pi/4 puts sigma on the
+/// boundary between the half periods j and j + 1. Within +-40 ulp of it t rounds to one double,
+/// so the double estimate of F(u) + F(v) picks one neighbour for all 81 points, and on the far
+/// side of the boundary only the sign of cos sigma gives the right one (a wrong pick is off by
+/// about 2 E(m)). Negative j: negative half periods. Also at y = 0.3 (sigma then not 2t: the
+/// boundary found by bisection in mp:60 on F(t + y) + F(t - y) = (2j + 1) K).
+template <class Real>
+void expect_boundaries_decided(const char* m_text, double tolerance_eps) {
+    const Real m = parse_real<Real>(m_text, "m");
+    const Real complete = elliptic_e_complete(m, Real(1 - m));
+    for (int j = -3; j <= 3; ++j)
+        for (const char* y_text : {"0", "0.3"}) {
+            const Real y = parse_real<Real>(y_text, "y");
+            Real centre;
+            {
+                const precision_scope scope(mp_precision(60));
+                const mp mm = convert<mp>(m), my = convert<mp>(y);
+                const mp target = (2 * j + 1) * elliptic_k(mm);
+                mp lo = (2 * j + 1) * pi<mp>() / 4 - 1, hi = lo + 2;  // F increases with t
+                for (int it = 0; it < 220; ++it) {
+                    const mp mid = (lo + hi) / 2;
+                    (elliptic_f(mp(mid + my), mm) + elliptic_f(mp(mid - my), mm) < target ? lo
+                                                                                          : hi) =
+                        mid;
+                }
+                centre = convert<Real>(mp((lo + hi) / 2));
+            }
+            Real t = centre;
+            for (int step = 0; step < 40; ++step)
+                t = boost::math::float_prior(t);
+            for (int step = 0; step <= 80; ++step, t = boost::math::float_next(t)) {
+                const Real got = elliptic_e_sum(t, y, m, complete);
+                const precision_scope scope(mp_precision(60));
+                const mp mt = convert<mp>(t), my = convert<mp>(y), mm = convert<mp>(m);
+                const mp u = elliptic_e(mp(mt + my), mm), v = elliptic_e(mp(mt - my), mm);
+                const double error = std::abs(static_cast<double>(convert<mp>(got) - (u + v))) /
+                                     static_cast<double>(abs(u) + abs(v) + 1);
+                ASSERT_LE(error, tolerance_eps * static_cast<double>(eps<Real>()))
+                    << "j = " << j << ", y = " << y_text << ", step " << step << ", m = " << m_text;
+            }
+        }
+}
+
+TEST(EllipticSum, HalfPeriodBoundariesAreDecidedByTheSignOfTheCosine) {
+    for (const char* m : {"0", "-1", "-10"}) {
+        expect_boundaries_decided<double>(m, 16);
+        expect_boundaries_decided<quad>(m, 16);
+    }
 }
 
 TEST(EllipticHighPrecision, CarlsonRfRdMatchesBoostAtMp300AndMp1000) {
