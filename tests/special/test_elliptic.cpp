@@ -374,6 +374,18 @@ TYPED_TEST(Elliptic, CarlsonRfRdMatchesBoost) {
     EXPECT_THROW(carlson_rf_rd(inf, Real(1), Real(1)), std::domain_error);
 }
 
+/// |elliptic_e_sum(t, y) - (E(t + y|m) + E(t - y|m))| / (|E(t + y)| + |E(t - y)| + 1), the
+/// reference in mp:60 at the same (exactly converted) t, y and m.
+template <class Real>
+double sum_error(const Real& t, const Real& y, const Real& m, const Real& complete) {
+    const Real got = elliptic_e_sum(t, y, m, complete);
+    const precision_scope scope(mp_precision(60));
+    const mp mt = convert<mp>(t), my = convert<mp>(y), mm = convert<mp>(m);
+    const mp u = elliptic_e(mp(mt + my), mm), v = elliptic_e(mp(mt - my), mm);
+    return std::abs(static_cast<double>(convert<mp>(got) - (u + v))) /
+           static_cast<double>(abs(u) + abs(v) + 1);
+}
+
 /// elliptic_e_sum in Real against the two-integral sum E(t + y|m) + E(t - y|m) in mp:60 at the
 /// same (exactly converted) t and y: a grid of t in [0, pi], y in [0, pi/2] dense enough that the
 /// sum's amplitude sigma passes every half period (the neighbours decided by the sign of
@@ -388,12 +400,7 @@ void expect_sum_matches_two_integrals(double tolerance_eps) {
             for (int j = 0; j <= 24; ++j) {
                 const Real t = pi<Real>() * i / 48 + (i % 5 == 1 ? Real(1e-9) : Real(0));
                 const Real y = pi<Real>() / 2 * j / 24 + (j % 7 == 3 ? Real(3e-7) : Real(0));
-                const Real got = elliptic_e_sum(t, y, m, complete);
-                const precision_scope scope(mp_precision(60));
-                const mp mt = convert<mp>(t), my = convert<mp>(y), mm = convert<mp>(m);
-                const mp u = elliptic_e(mp(mt + my), mm), v = elliptic_e(mp(mt - my), mm);
-                const double error = std::abs(static_cast<double>(convert<mp>(got) - (u + v))) /
-                                     static_cast<double>(abs(u) + abs(v) + 1);
+                const double error = sum_error(t, y, m, complete);
                 worst = std::max(worst, error);
                 ASSERT_LE(error, tolerance_eps * static_cast<double>(eps<Real>()))
                     << "t = " << static_cast<double>(t) << ", y = " << static_cast<double>(y)
@@ -439,12 +446,7 @@ void expect_boundaries_decided(const char* m_text, double tolerance_eps) {
             for (int step = 0; step < 40; ++step)
                 t = boost::math::float_prior(t);
             for (int step = 0; step <= 80; ++step, t = boost::math::float_next(t)) {
-                const Real got = elliptic_e_sum(t, y, m, complete);
-                const precision_scope scope(mp_precision(60));
-                const mp mt = convert<mp>(t), my = convert<mp>(y), mm = convert<mp>(m);
-                const mp u = elliptic_e(mp(mt + my), mm), v = elliptic_e(mp(mt - my), mm);
-                const double error = std::abs(static_cast<double>(convert<mp>(got) - (u + v))) /
-                                     static_cast<double>(abs(u) + abs(v) + 1);
+                const double error = sum_error(t, y, m, complete);
                 ASSERT_LE(error, tolerance_eps * static_cast<double>(eps<Real>()))
                     << "j = " << j << ", y = " << y_text << ", step " << step << ", m = " << m_text;
             }
