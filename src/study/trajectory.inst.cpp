@@ -224,10 +224,10 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
 /// The Taylor route's step as step_events sees it: the step's Taylor polynomial (accurate to the
 /// tolerance over the whole step) is both the dense output and the exact re-step from its start.
 /// The recurrences are those of the saddle orbits (orbits/saddle_taylor.hpp) in the arm-2 saddle
-/// frame, a shift of theta2 by pi (the action component rides along, unused).
+/// frame, a shift of theta2 by pi, without the orbits' action component.
 template <class Real>
 struct taylor_step {
-    const taylor_integrator<Real, 5>* ti = nullptr;
+    const taylor_integrator<Real, 4>* ti = nullptr;
     Real h{0};
     phase_point<Real> at(const Real& t) const {
         const auto y = ti->evaluate(t);
@@ -286,13 +286,13 @@ trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
     const Real tol = std::numeric_limits<Real>::epsilon();
     const int order = taylor_order_for(tol);
     const saddle_frame<Real> frame(model, arm::two);
-    saddle_taylor_flow<Real, 0> flow(frame, order);
-    taylor_integrator<Real, 5> ti(order);
+    saddle_taylor_flow<Real, 0, false> flow(frame, order);
+    taylor_integrator<Real, 4> ti(order);
     auto f = [&model](const phase_point<Real>& x, phase_point<Real>& dx) { dx = model.rhs(x); };
     using std::abs;
     record_state(model, out, Real(0), q.state);
     long next_sample = 1;
-    std::array<Real, 5> y{q.state[0], q.state[1] - pi<Real>(), q.state[2], q.state[3], Real(0)};
+    std::array<Real, 4> y{q.state[0], q.state[1] - pi<Real>(), q.state[2], q.state[3]};
     phase_point<Real> x = q.state;
     Real t0 = 0;
     constexpr long max_steps = 1000000000;  // as the Gauss-Legendre route's bound
@@ -302,8 +302,8 @@ trajectory_record<Real> taylor_trajectory(const double_pendulum<Real>& model,
         if (!ti.expand(flow, y))
             throw std::runtime_error("trajectory: a Taylor expansion is not finite at t = " +
                                      to_decimal(t0));
-        std::array<Real, 5> scale;
-        for (std::size_t i = 0; i < 5; ++i)
+        std::array<Real, 4> scale;
+        for (std::size_t i = 0; i < 4; ++i)
             scale[i] = 1 + abs(y[i]);
         Real h = ti.step_size(tol, scale);
         const bool last = t0 + h >= q.time;

@@ -3,6 +3,8 @@
 // coefficient 3 from central differences of J f along the flow, the Taylor shot against the
 // Gauss-Legendre shot (state, action, Phi), and the saddle orbit solved with either integrator.
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "flipflux/orbits/saddle_curve.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
@@ -94,6 +96,9 @@ TEST(SaddleTaylorQuad, ThirdCoefficientMatchesDifferencesOfTheJacobian) {
     using Real = quad;
     using std::abs;
     // x_3 = (J' f + J J f) / 6, J' f = d/dh J(x + h f) f at h = 0 (central differences, h^2 error)
+    // (every coefficient at quad: an order-4 expansion graded for its own tolerance computes
+    // coefficients 1..3 in the double tail)
+    const taylor::graded_precision_scope uniform(false);
     const double_pendulum<Real> model;
     const Real h = Real(1) / 10000000000LL;
     for (arm a : {arm::one, arm::two}) {
@@ -117,6 +122,112 @@ TEST(SaddleTaylorQuad, ThirdCoefficientMatchesDifferencesOfTheJacobian) {
             const Real ref = ((Jpf[i] - Jmf[i]) / (2 * h) + JJf[i]) / 6;
             EXPECT_LE(static_cast<double>(abs(ti.jet()[i][3] - ref)), 1e-17) << i;
         }
+    }
+}
+
+/// The coefficients of two order-p expansions of the state at y: the flow as built (graded
+/// precision on: at quad the double tail) and the same flow with every coefficient at quad.
+template <bool Action>
+struct quad_expansions {
+    static constexpr std::size_t N = Action ? 5 : 4;
+    using flow = saddle_taylor_flow<quad, 0, Action>;
+    taylor_integrator<quad, N> tail, uniform;
+    int split = 0, uniform_split = 0;
+    quad_expansions(const saddle_frame<quad>& frame, int p, const std::array<quad, N>& y)
+        : tail(p), uniform(p) {
+        flow f(frame, p);
+        split = f.split();
+        EXPECT_TRUE(tail.expand(f, y));
+        const taylor::graded_precision_scope off(false);
+        flow g(frame, p);
+        uniform_split = g.split();
+        EXPECT_TRUE(uniform.expand(g, y));
+    }
+};
+
+template <bool Action>
+void expect_tail_within_its_share(const saddle_frame<quad>& frame, const std::array<quad, 4>& x,
+                                  const std::string& what) {
+    using std::abs;
+    using std::pow;
+    constexpr std::size_t N = quad_expansions<Action>::N;
+    std::array<quad, N> y{};
+    for (std::size_t i = 0; i < 4; ++i)
+        y[i] = x[i];
+    const quad tol = eps<quad>();
+    const int p = taylor_order_for(tol);
+    const quad_expansions<Action> e(frame, p, y);
+    ASSERT_EQ(e.split, p - 12) << what;  // 2 (p - 1 - k) / ln 2 + 20 <= 53 from k = p - 12 on
+    ASSERT_EQ(e.uniform_split, p + 1) << what;
+    std::array<quad, N> scale;
+    for (std::size_t i = 0; i < N; ++i)
+        scale[i] = 1 + abs(y[i]);
+    const quad h = e.uniform.step_size(tol, scale);
+    for (std::size_t i = 0; i < N; ++i) {
+        const auto& a = e.tail.jet()[i];
+        const auto& b = e.uniform.jet()[i];
+        for (int k = 0; k <= p; ++k) {
+            const auto K = static_cast<std::size_t>(k);
+            if (k < e.split) {
+                ASSERT_EQ(a[K], b[K]) << what << ": component " << i << ", coefficient " << k;
+                continue;
+            }
+            // the tail coefficient's share of the step: at most 2^-12 of the tolerance (design:
+            // ~ 2^-20 and below for a component whose scale fits its coefficients; the action
+            // starting at 0 at momenta 1e4 gives ~ 2^-15.5; an error of 2^-40 relative to
+            // coefficient p - 12 of a state component would exceed it)
+            EXPECT_LE(static_cast<double>(abs(a[K] - b[K]) * pow(h, k) / scale[i]),
+                      static_cast<double>(tol) * 0x1p-12)
+                << what << ": component " << i << ", coefficient " << k;
+        }
+        EXPECT_LE(
+            static_cast<double>(abs(e.tail.evaluate(h)[i] - e.uniform.evaluate(h)[i]) / scale[i]),
+            4 * static_cast<double>(tol))
+            << what << ": component " << i;
+    }
+}
+
+TEST(SaddleTaylorQuad, DoubleTailCoefficientsStayWithinTheirShareOfTheStep) {
+    // the double tail (coefficients k >= p - 12 of a quad expansion in double) against the same
+    // expansion with every coefficient at quad (graded precision off), with and without the
+    // action, for both arms, at ordinary and high energies (momenta up to 1e6: the coefficients
+    // grow like rho^-k past 2^400 before the order, where the tail turns itself off mid-way)
+    physical_parameters<quad> unequal;
+    unequal.m2 = 3;
+    unequal.L2 = unequal.a2 = quad(3) / 4;
+    for (const auto& par : {physical_parameters<quad>{}, unequal}) {
+        const double_pendulum<quad> model(par);
+        for (arm a : {arm::one, arm::two}) {
+            const saddle_frame<quad> frame(model, a);
+            for (const double l : {0.0, 1.0, 7.0, 1e2, 1e4, 1e6}) {
+                const std::array<quad, 4> x{quad(3) / 10, quad(-2) / 5, quad(l) + quad(7) / 10,
+                                            quad(-l) / 2 - quad(1) / 2};
+                const std::string what =
+                    "arm " + std::to_string(static_cast<int>(a)) + ", l = " + std::to_string(l);
+                expect_tail_within_its_share<true>(frame, x, what + " (action)");
+                expect_tail_within_its_share<false>(frame, x, what);
+            }
+        }
+    }
+}
+
+TEST(SaddleTaylorQuad, DoubleTailStandsAsideOutsideDoublesRange) {
+    // masses of 1e150 and of 1e-150 at quad (A B - C^2 ~ 1e+-300, beyond 2^+-400): the expansion
+    // is the uniform one bit for bit
+    for (const char* mass : {"1e150", "1e-150"}) {
+        physical_parameters<quad> par;
+        par.m1 = par.m2 = quad(mass);
+        const double_pendulum<quad> model(par);
+        const saddle_frame<quad> frame(model, arm::two);
+        const quad l = par.m1 / 2;  // angular velocities of order 1
+        const int p = taylor_order_for(eps<quad>());
+        const quad_expansions<false> e(frame, p, {quad(1) / 3, quad(2), l, -l / 5});
+        ASSERT_EQ(e.split, p - 12);
+        for (std::size_t i = 0; i < 4; ++i)
+            for (int k = 0; k <= p; ++k)
+                ASSERT_EQ(e.tail.jet()[i][static_cast<std::size_t>(k)],
+                          e.uniform.jet()[i][static_cast<std::size_t>(k)])
+                    << mass << ": " << i << ", " << k;
     }
 }
 
