@@ -28,7 +28,8 @@
 // shooting methods need. taylor_steps_for_tolerance() chooses the equal steps once, from an
 // adaptive pass.
 //
-// Graded precision (mp only): a term c_k h^k of the step is ~ e^(-2k) of the state (h ~ rho / e^2),
+// Graded precision (mp; at quad the same argument gives the saddle flow's double tail,
+// orbits/saddle_taylor.hpp): a term c_k h^k of the step is ~ e^(-2k) of the state (h ~ rho / e^2),
 // so coefficient k needs only ~ 2 (p - 1 - k) / ln 2 bits relative to itself, plus guard bits,
 // to keep its share of the step's error at the tolerance. Every coefficient k of the jet and of a
 // flow's auxiliary series is rounded to that precision (coefficient_precision::trim; at most the
@@ -190,7 +191,8 @@ inline Real working(const Real& x) {
 }
 
 /// Graded precision on (the default) or off (every coefficient at the working precision: the
-/// baseline of bench_orbit_integrators and the reference of the tests). Process-wide.
+/// baseline of bench_orbit_integrators and the reference of the tests; at quad it also turns the
+/// saddle flow's double tail on or off, orbits/saddle_taylor.hpp). Process-wide.
 inline std::atomic<bool>& graded_precision() {
     static std::atomic<bool> on{true};
     return on;

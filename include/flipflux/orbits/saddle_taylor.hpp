@@ -74,7 +74,10 @@ inline constexpr int double_tail_guard_bits = 20;
 
 /// The first coefficient of an order-p expansion that the double tail computes: the smallest
 /// k >= 1 with 2 (p - 1 - k) / ln 2 + double_tail_guard_bits <= 53 (p + 1: none, when graded
-/// precision is off).
+/// precision is off). Like MPFR's graded precision, this assumes the expansion is used with steps
+/// no longer than its order's Jorba-Zou step (taylor_order_for, step_size,
+/// taylor_steps_for_tolerance): an order-4 expansion at quad (split 1) is accurate only to its own
+/// order's tolerance, e^-6.
 inline int double_tail_split(int order) {
     if (!taylor::graded_precision().load()) return order + 1;
     const int span = static_cast<int>(
@@ -123,9 +126,15 @@ class saddle_taylor_flow {
 
     /// The first coefficient computed in the double tail (order + 1: none).
     int split() const { return split_; }
+    /// How many coefficients of f the last expansion took from the double tail (fewer than
+    /// order - split when it turned itself off: the rest are the working precision's).
+    int tail_coefficients() const { return tail_count_; }
 
     void operator()(const jet_type& x, int k, state& f) {
-        if (k == 0) tail_on_ = split_ <= precision_order_;
+        if (k == 0) {
+            tail_on_ = split_ <= precision_order_;
+            tail_count_ = 0;
+        }
         if (k < split_ || !tail_on_)
             state_coefficient(k_, r_, precision_, x, k, f);
         else
@@ -204,9 +213,11 @@ class saddle_taylor_flow {
 
     /// Coefficient k >= split_ in the double tail: at the split the working series' coefficients
     /// 0..k-1 and the jet's are mirrored in double, then the jet's coefficient k each time. A
-    /// value outside double's comfortable range (|v| in {0} or [2^-400, 2^400]: products and
-    /// sums of ~40 such stay finite and normal) turns the tail off for the rest of the
-    /// expansion: the working series are then brought up to k from the jet and k computed there.
+    /// value outside double's comfortable range (|v| in {0} or [2^-400, 2^400]; checked: the
+    /// inputs, the outputs and the products of several series; an overflow in between shows as
+    /// a non-finite output, an underflow only loses terms far below the others) turns the tail
+    /// off for the rest of the expansion: the working series are then brought up to k from the
+    /// jet and k computed there.
     void tail_coefficient(const jet_type& x, int k, state& f) {
         const auto K = static_cast<std::size_t>(k);
         bool safe = true;
@@ -217,9 +228,9 @@ class saddle_taylor_flow {
         };
         if (k == split_) {
             safe = in_tail_range(tail_k_);
-            const auto mirror = [K, &to_double](const std::vector<Real>& from,
-                                                std::vector<double>& to) {
-                for (std::size_t j = 0; j < K; ++j)
+            const auto mirror = [&to_double](const std::vector<Real>& from, std::vector<double>& to,
+                                             std::size_t n) {
+                for (std::size_t j = 0; j < n; ++j)
                     to[j] = to_double(from[j]);
             };
             for (auto [from, to] : {std::pair{&r_.d, &tail_.d},
@@ -232,22 +243,25 @@ class saddle_taylor_flow {
                                     {&r_.w2, &tail_.w2},
                                     {&r_.ww, &tail_.ww},
                                     {&r_.p, &tail_.p}})
-                mirror(*from, *to);
+                mirror(*from, *to, K);
             for (auto [from, to] :
                  {std::pair{&r_.sd, &tail_.sd}, {&r_.s1, &tail_.s1}, {&r_.s2, &tail_.s2}}) {
-                mirror(from->s, to->s);
-                mirror(from->c, to->c);
-                mirror(from->ju, to->ju);
+                mirror(from->s, to->s, K);
+                mirror(from->c, to->c, K);
+                mirror(from->ju, to->ju, K - 1);  // (ju[K - 1] is next()'s to write)
             }
             for (std::size_t i = 0; i < 4; ++i)
-                mirror(x[i], xd_[i]);
+                mirror(x[i], xd_[i], K);
         }
         for (std::size_t i = 0; i < 4; ++i)
             xd_[i][K] = to_double(x[i][K]);
         std::array<double, state_size> fd;
         if (safe) {
             state_coefficient(tail_k_, tail_, no_precision_, xd_, k, fd);
+            // the outputs and the products of three series (p = -C s w1 w2 and its factors)
             for (const double v : fd)
+                safe = safe && in_tail_range(v);
+            for (const double v : {tail_.w1[K], tail_.w2[K], tail_.ww[K], tail_.p[K]})
                 safe = safe && in_tail_range(v);
         }
         if (!safe) {
@@ -258,6 +272,7 @@ class saddle_taylor_flow {
         }
         for (std::size_t i = 0; i < state_size; ++i)
             f[i] = Real(fd[i]);
+        ++tail_count_;
     }
 
     static bool in_tail_range(double v) {
@@ -290,7 +305,7 @@ class saddle_taylor_flow {
         trim(sc_[K]);
         ddet_[K] = 2 * k_.C2 * sc_[K];
         trim(ddet_[K]);
-        // nd1 = -C s l2 - w1 r_.detd, nd2 = -C s l1 - w2 r_.detd
+        // nd1 = -C s l2 - w1 det_d, nd2 = -C s l1 - w2 det_d
         product(r_.sd.s, x[3], k, nd1_[K]);
         nd1_[K] *= -C;
         for (int j = 0; j <= k; ++j)
@@ -391,6 +406,7 @@ class saddle_taylor_flow {
     int split_;                                      ///< first coefficient of the double tail
     int precision_order_;                            ///< the expansion's order
     bool tail_on_ = false;                           ///< this expansion's tail in double
+    int tail_count_ = 0;                             ///< tail_coefficients()
     detail::saddle_state_series<double> tail_;       ///< the double tail's mirrors
     detail::saddle_constants<double> tail_k_;
     taylor::coefficient_precision<double> no_precision_;
