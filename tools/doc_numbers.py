@@ -20,7 +20,8 @@ KEY    for JSON and CSV a path into it: names separated by dots; [3] a list elem
        whose first group is the number (its first match counts). A KEY (or OP) with spaces
        outside double quotes is written in single quotes as a whole.
 OP     applied in order: *100, /60, +1, -1 (any number), or *@KEY, /@KEY, +@KEY, -@KEY (another
-       value of the same JSON or CSV file); abs; len (the length of a list).
+       value of the same JSON or CSV file); abs; len (the length of a list); for a text file,
+       min or max as the first OP: over every match of the pattern, not the first.
 FORMAT a Python format spec: .2f, .1f, d, ,d (thousands separators), .3g.
 
 The number before the marker may use the typographic minus (−); it is kept on --update. Files
@@ -161,7 +162,18 @@ def source_text(root, spec, cache):
         raise SourceError("a marker needs FILE KEY [OP ...] FORMAT")
     path, key, *ops, spec_format = tokens
     data = read_source(root, path, cache)
-    if isinstance(data, str):
+    if isinstance(data, str) and ops[:1] in (["min"], ["max"]):
+        # min / max first: over every match of the pattern
+        try:
+            found = [m.group(1).replace("−", "-") for m in re.finditer(key, data) if m.groups()]
+        except re.error as error:
+            raise SourceError(f"bad pattern {key!r}: {error}") from None
+        numbers = [as_number(v) for v in found]
+        if not numbers or None in numbers:
+            raise SourceError(f"no numeric match of {key!r}")
+        value = (min if ops[0] == "min" else max)(numbers)
+        ops = ops[1:]
+    elif isinstance(data, str):
         try:
             match = re.search(key, data)
         except re.error as error:

@@ -151,6 +151,8 @@ ensemble_spec read_ensemble(table_reader& r, int index) {
         x.chaos = q.options.chaos;
         // `auto` resolved here: plans, sharing and run.json name the integrator
         x.integrator = to_string(q.options.method);
+        given["method"] = x.integrator;
+        x.settings = std::move(given);
     } catch (const input_error& e) {
         r.fail(r.get(e.field()), e.field(), e.detail());
     }

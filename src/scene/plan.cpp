@@ -451,18 +451,7 @@ bool same_trajectories(const ensemble_spec& a, const ensemble_spec& b) {
 }  // namespace
 
 simulation_request ensemble_settings(const ensemble_spec& x) {
-    const settings_text t{{"trajectories", std::to_string(x.trajectories)},
-                          {"replicates", std::to_string(x.replicates)},
-                          {"time", x.time},
-                          {"seed", std::to_string(x.seed)},
-                          {"rtol", x.rtol},
-                          {"atol", x.atol},
-                          {"method", x.integrator},
-                          {"chaos", x.chaos ? "true" : "false"},
-                          {"chaos_threshold", x.chaos_threshold},
-                          {"estimator", x.estimator},
-                          {"reference_time", x.reference_time}};
-    return make_simulation_request(t, settings_surface::scene);
+    return make_simulation_request(x.settings, settings_surface::scene);
 }
 
 plan make_plan(const scene& s) {

@@ -97,6 +97,10 @@ struct ensemble_spec {
     /// census's seed and chaos threshold, energies among the census's, trajectories (index
     /// blocks from 0) at most the census's; the report pairs trajectories by index.
     std::string classification_check_of;
+    /// The run settings as the scene gave them, by the settings table's field (study/settings.hpp;
+    /// absent: the scene's default), `method` resolved: what the typed fields above were read
+    /// from, and what ensemble_settings() checks into the simulation request.
+    settings_text settings;
     int line = 0;
 };
 
