@@ -58,10 +58,10 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
     const Real& y = to_pi < x ? to_pi : x;
     if constexpr (std::is_same_v<Real, quad>) {
         // at quad one float128 elliptic integral instead of two (the integrals' cost): the
-        // addition theorem (special/elliptic.hpp); double and mp keep the two, bit for bit
-        if (complete)
-            return two_pi<Real>() * sqrt(model.coefficients().D0) *
-                   elliptic_e_sum(t, y, m, *complete);
+        // addition theorem (special/elliptic.hpp), for Omega's nodes and a lone density alike;
+        // double and mp keep the two, bit for bit
+        return two_pi<Real>() * sqrt(model.coefficients().D0) *
+               elliptic_e_sum(t, y, m, complete ? *complete : complete_e(model));
     }
     return two_pi<Real>() * sqrt(model.coefficients().D0) *
            (complete ? elliptic_e(Real(t + y), m, *complete) + elliptic_e(Real(t - y), m, *complete)
