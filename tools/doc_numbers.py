@@ -165,7 +165,8 @@ def source_text(root, spec, cache):
     if isinstance(data, str) and ops[:1] in (["min"], ["max"]):
         # min / max first: over every match of the pattern
         try:
-            found = [m.group(1).replace("−", "-") for m in re.finditer(key, data) if m.groups()]
+            found = [m.group(1).replace("−", "-") for m in re.finditer(key, data)
+                     if m.groups() and m.group(1) is not None]
         except re.error as error:
             raise SourceError(f"bad pattern {key!r}: {error}") from None
         numbers = [as_number(v) for v in found]
@@ -283,17 +284,21 @@ def self_test():
             "2<!-- src: run.json energies len d --> energies,\n"
             "IQI 0.77<!-- src: t.csv [regime=low,energies=7].\"IQI [%]\" .2f --> %,\n"
             "−1.01<!-- src: run.json energies[1].criteria.saddle.z_score /@agreement.saddle.chi2 *100 .2f --> %,\n"
-            "took 96.8<!-- src: docs/r.md 'took \\*\\*([0-9.]+) s' .1f --> s.\n", encoding="utf-8")
-        (root / "docs" / "r.md").write_text("the run took **96.8 s** of wall time\n", encoding="utf-8")
+            "took 96.8<!-- src: docs/r.md 'took \\*\\*([0-9.]+) s' .1f --> s,\n"
+            "between 1.5<!-- src: docs/r.md 'x=([0-9.]+)' min .1f --> and 9.5<!-- src: docs/r.md 'x=([0-9.]+)' max *10 .1f -->.\n",
+            encoding="utf-8")
+        (root / "docs" / "r.md").write_text("the run took **96.8 s** of wall time\nx=3.5 x=0.95 x=1.5\n",
+                                            encoding="utf-8")
         (root / "README.md").write_text("no markers\n", encoding="utf-8")
         checked, problems = run(root, doc_files(root), update=False)
         expected = ["docs/a.md:1: written 34.1, source gives 36.8", "docs/a.md:2: written 57, source gives 10",
-                    "docs/a.md:3: written 1,490,579, source gives 146,583"]
-        if checked != 10 or [p.split(" (")[0] for p in problems] != expected:
+                    "docs/a.md:3: written 1,490,579, source gives 146,583",
+                    "docs/a.md:11: written 1.5, source gives 0.9", "docs/a.md:11: written 9.5, source gives 35.0"]
+        if checked != 12 or [p.split(" (")[0] for p in problems] != expected:
             failures.append(f"check: {checked} checked, problems {problems}")
         run(root, doc_files(root), update=True)
         checked, problems = run(root, doc_files(root), update=False)
-        if checked != 10 or problems or "36.8<!--" not in doc.read_text(encoding="utf-8"):
+        if checked != 12 or problems or "36.8<!--" not in doc.read_text(encoding="utf-8"):
             failures.append(f"after --update: {checked} checked, problems {problems}")
         if "−0.37<!--" not in doc.read_text(encoding="utf-8"):
             failures.append("--update lost the typographic minus")

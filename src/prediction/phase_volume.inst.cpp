@@ -60,8 +60,9 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
         // at quad one float128 elliptic integral instead of two (the integrals' cost): the
         // addition theorem (special/elliptic.hpp), for Omega's nodes and a lone density alike;
         // double and mp keep the two, bit for bit
+        // (E(m) as elliptic_e_sum's contract and Omega's nodes take it: from 1 - m)
         return two_pi<Real>() * sqrt(model.coefficients().D0) *
-               elliptic_e_sum(t, y, m, complete ? *complete : complete_e(model));
+               elliptic_e_sum(t, y, m, complete ? *complete : elliptic_e_complete(m, Real(1 - m)));
     }
     return two_pi<Real>() * sqrt(model.coefficients().D0) *
            (complete ? elliptic_e(Real(t + y), m, *complete) + elliptic_e(Real(t - y), m, *complete)

@@ -29,7 +29,7 @@
 // precision). Where that plus double_tail_guard_bits fits in a double's 53, the coefficient is
 // computed in double: every auxiliary series and the jet's components are mirrored in double at
 // the first such k (the split), and the same recurrences run on the mirrors for k >= split. At
-// quad (p = 40) the split is 28: coefficients 28..39, ~55 % of the convolutions' work, run in
+// quad (p = 40) the split is 28: coefficients 28..39, ~50 % of the convolutions' work, run in
 // hardware arithmetic instead of libgcc's software float128 (docs/theory.md#the-taylor-integrator).
 #pragma once
 
