@@ -188,7 +188,7 @@ double flipflux_bench_rhs_seconds(const pendulum_flow& flow, const std::vector<s
 void ensemble_vs_odeint(benchmark::State& state) {
     const double_pendulum<double> m;
     const double E = 5, T = 100;
-    const std::uint64_t batch = 16;  // the trajectories one thread advances in lockstep (AVX-512)
+    const std::uint64_t batch = 8;  // the trajectories one thread advances in lockstep
     const pendulum_flow flow(m);
     const microcanonical_sampler sampler(m, E);
     std::vector<ensemble_criterion> criteria;

@@ -57,9 +57,12 @@ def main():
     p.add_argument("b")
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--isa", default="auto")
-    p.add_argument("args", nargs=argparse.REMAINDER)
-    o = p.parse_args()
-    args = o.args[1:] if o.args[:1] == ["--"] else o.args
+    argv = sys.argv[1:]
+    if "--" not in argv:
+        sys.exit("ab_binaries: no '--' before the flipflux arguments")
+    cut = argv.index("--")
+    o = p.parse_args(argv[:cut])
+    args = argv[cut + 1:]
     if not args:
         sys.exit("ab_binaries: no flipflux arguments after --")
     if o.rounds < 1:

@@ -25,8 +25,8 @@ namespace flipflux {
 
 namespace {
 
-// The most trajectories a thread advances in lockstep (lanes_per_thread).
-constexpr std::size_t max_lanes = detail::max_lanes_per_thread;
+// The most trajectories a thread advances in lockstep (lanes_per_thread: 8 with AVX-512, else 4).
+constexpr std::size_t max_lanes = 8;
 
 using detail::angle_reduction;
 
@@ -257,34 +257,27 @@ class lane {
     bool done_ = false;
 };
 
-// G groups of the active lanes in lane-major form, W = lanes_of<V> lanes each (a short last
-// group padded with copies of its first lane). The steps' starts, sizes and stages are vectors
-// across the lanes, and the groups' stages are computed together: one group's stages depend on
-// each other, so alone it waits on the latencies of its divisions and sin/cos polynomials; G
-// independent chains per stage give the processor work to overlap (each lane's operations are
-// the same whatever its group or partners: the same bits).
-template <class Lane, class V, int G>
-struct lane_groups {
+// One group of the active lanes in lane-major form: W = lanes_of<V> of them, a short group
+// padded with copies of its first lane. The step's start, size and stages are vectors across
+// the lanes.
+template <class Lane, class V>
+struct lane_group {
     static constexpr int W = lanes_of<V>;
     static constexpr std::size_t N = Lane::N;
     static constexpr int S = Lane::stages;
     using integrator = typename Lane::integrator;
-    Lane* const* lanes[G];
-    std::size_t g[G];  ///< lanes in use, per group
-    V h[G], x0[G][N], k[G][S][N];
+    Lane* const* lanes;
+    std::size_t g;  ///< lanes in use
+    V h, x0[N], k[S][N];
 
-    [[gnu::always_inline]] lane_groups(Lane* const* first, std::size_t count) {
-#pragma GCC unroll 4
-        for (int j = 0; j < G; ++j) {
-            lanes[j] = first + static_cast<std::size_t>(j * W);
-            g[j] = std::min<std::size_t>(W, count - static_cast<std::size_t>(j * W));
-            for (int l = 0; l < W; ++l) {
-                const integrator& rk = lanes[j][static_cast<std::size_t>(l) < g[j] ? l : 0]->rk();
-                h[j][l] = rk.trial_step();
-                for (std::size_t c = 0; c < N; ++c) {
-                    x0[j][c][l] = rk.x()[c];
-                    k[j][0][c][l] = rk.derivative()[c];
-                }
+    [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count)
+        : lanes(first), g(count) {
+        for (int l = 0; l < W; ++l) {
+            const integrator& rk = lanes[static_cast<std::size_t>(l) < g ? l : 0]->rk();
+            h[l] = rk.trial_step();
+            for (std::size_t c = 0; c < N; ++c) {
+                x0[c][l] = rk.x()[c];
+                k[0][c][l] = rk.derivative()[c];
             }
         }
     }
@@ -293,70 +286,51 @@ struct lane_groups {
     // always_inline, so all of it is compiled for the caller's target, AVX-512, AVX2 or SSE2).
     template <int s>
     [[gnu::always_inline]] void stages_from(const pendulum_flow& flow) {
-        V y[G][N];
-#pragma GCC unroll 4
-        for (int j = 0; j < G; ++j)
-            integrator::template stage_sum<s>(h[j], x0[j], k[j], y[j]);
-#pragma GCC unroll 4
-        for (int j = 0; j < G; ++j) {
-            if constexpr (N == 4)
-                flow.lanes(y[j], k[j][s]);
-            else
-                flow.tangent_lanes(y[j], k[j][s]);
+        V y[N];
+        integrator::template stage_sum<s>(h, x0, k, y);
+        if constexpr (N == 4)
+            flow.lanes(y, k[s]);
+        else
+            flow.tangent_lanes(y, k[s]);
+        for (std::size_t l = 0; l < g; ++l) {
+            double* out = lanes[l]->rk().template stage_output<s>();
+            for (std::size_t c = 0; c < N; ++c)
+                out[c] = k[s][c][l];
         }
-#pragma GCC unroll 4
-        for (int j = 0; j < G; ++j)
-            for (std::size_t l = 0; l < g[j]; ++l) {
-                double* out = lanes[j][l]->rk().template stage_output<s>();
-                for (std::size_t c = 0; c < N; ++c)
-                    out[c] = k[j][s][c][l];
-            }
         if constexpr (s == S - 1) {
             // the trial step's end, its energy for the energy check and its error norm
-            V e[G], first[G], second[G];
-            const rk_options& o = lanes[0][0]->rk().options();  // the same for every lane
-#pragma GCC unroll 4
-            for (int j = 0; j < G; ++j)
-                flow.hamiltonian_lanes(y[j], e[j]);
-#pragma GCC unroll 4
-            for (int j = 0; j < G; ++j)
-                integrator::error_sums(h[j], x0[j], y[j], k[j], o, first[j], second[j]);
-#pragma GCC unroll 4
-            for (int j = 0; j < G; ++j)
-                for (std::size_t l = 0; l < g[j]; ++l) {
-                    double end[N];
-                    for (std::size_t c = 0; c < N; ++c)
-                        end[c] = y[j][c][l];
-                    Lane& lane = *lanes[j][l];
-                    lane.rk().set_end_point(end);
-                    lane.set_end_energy(e[j][l]);
-                    lane.set_error_norm(
-                        integrator::error_norm_from(h[j][l], first[j][l], second[j][l], o));
-                }
+            V e;
+            flow.hamiltonian_lanes(y, e);
+            const rk_options& o = lanes[0]->rk().options();  // the same for every lane
+            V first, second;
+            integrator::error_sums(h, x0, y, k, o, first, second);
+            for (std::size_t l = 0; l < g; ++l) {
+                double end[N];
+                for (std::size_t c = 0; c < N; ++c)
+                    end[c] = y[c][l];
+                lanes[l]->rk().set_end_point(end);
+                lanes[l]->set_end_energy(e[l]);
+                lanes[l]->set_error_norm(integrator::error_norm_from(h[l], first[l], second[l], o));
+            }
         }
         if constexpr (s + 1 < S) stages_from<s + 1>(flow);
     }
 };
 
-// Every stage of a trial step of the active lanes, two groups of W = lanes_of<V> at a time
-// (lane_groups; a last group alone): the stage sums (explicit_rk::stage_sum) and the right-hand
-// sides (pendulum_flow::lanes / tangent_lanes) are vector operations, each lane's the same
-// operations as one integrator alone (the same bits). Each stage's f goes to its integrator
-// (stage_output) for the step's end and its dense output; the last stage's point is the trial
-// step's end (set_end_point), its H serves the energy check, and the error norm's sums over
-// components are vector operations too (explicit_rk::error_sums).
+// Every stage of a trial step of the active lanes, a group of W = lanes_of<V> at a time
+// (lane_group): the stage sums (explicit_rk::stage_sum) and the right-hand sides
+// (pendulum_flow::lanes / tangent_lanes) are vector operations, each lane's the same operations
+// as one integrator alone (the same bits). Each stage's f goes to its integrator (stage_output)
+// for the step's end and its dense output; the last stage's point is the trial step's end
+// (set_end_point), its H serves the energy check, and the error norm's sums over components are
+// vector operations too (explicit_rk::error_sums).
 template <class Lane, class V>
 [[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m) {
     constexpr std::size_t W = lanes_of<V>;
     const pendulum_flow& flow = active[0]->flow();
-    std::size_t i = 0;
-    for (; i < m && m - i > W; i += 2 * W) {
-        lane_groups<Lane, V, 2> pair(active + i, std::min(2 * W, m - i));
-        pair.template stages_from<1>(flow);
-    }
-    if (i < m) {
-        lane_groups<Lane, V, 1> one(active + i, m - i);
-        one.template stages_from<1>(flow);
+    for (std::size_t i = 0; i < m; i += W) {
+        lane_group<Lane, V> group(active + i, std::min(W, m - i));
+        group.template stages_from<1>(flow);
     }
 }
 
@@ -383,10 +357,9 @@ __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* cons
     vector_stages<Lane, v8d>(active, m);
 }
 
-// Trajectories per thread in lockstep with `isa`: two vectors' worth (vector_stages computes
-// two groups' stages together).
+// Trajectories per thread in lockstep with `isa`.
 std::size_t lanes_per_thread(vector_isa isa) {
-    return isa == vector_isa::avx512 ? 16 : isa == vector_isa::avx2 ? 8 : 4;
+    return isa == vector_isa::avx512 ? 8 : 4;
 }
 
 // One trial step of every unfinished lane, stage by stage (lanes of one type), the lanes'
@@ -439,7 +412,7 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
         return;
     }
     if (o.method == integration_method::taylor) {
-        detail::run_taylor_lanes(model, o, sampler, detectors, isa, detail::taylor_lanes(isa),
+        detail::run_taylor_lanes(model, o, sampler, detectors, isa, lanes_per_thread(isa),
                                  next_index, deliver);
         return;
     }

@@ -65,12 +65,9 @@ integration_method resolved_method(integration_method method, double rtol);
 /// The vector instructions of the ensemble's lockstep lanes (within a thread, several
 /// trajectories advance stage by stage with their stages computed together in vectors). Every
 /// choice gives the same bits, trajectory by trajectory (tested); only the speed differs.
-///   - avx512: sixteen lanes per thread, eight per AVX-512 vector, two vectors' stages computed
-///     together (AVX2 then SSE2 as lanes finish);
-///   - avx2: eight lanes per thread, four per AVX2 vector, two vectors together (SSE2 for the
-///     last two);
-///   - sse2: four lanes per thread, two per SSE2 vector, two vectors together (any x86-64);
-///   (the Taylor lanes: one vector's worth per thread, detail::taylor_lanes);
+///   - avx512: eight lanes per thread, eight per AVX-512 vector (AVX2 then SSE2 as lanes finish);
+///   - avx2: four lanes per thread, four per AVX2 vector (SSE2 for the last two);
+///   - sse2: four lanes per thread, two per SSE2 vector (any x86-64);
 ///   - automatic: avx512 where the processor has AVX-512F, except AMD family 19h (Zen 4, whose
 ///     512-bit operations are two 256-bit halves: eight lanes measured 6 % slower there,
 ///     docs/scale.md); else avx2 where it has AVX2; else sse2.
@@ -275,7 +272,7 @@ batch_outcome run_trajectories(const double_pendulum<double>& model,
                                std::span<const std::uint64_t> indices,
                                const std::function<void(trajectory_result&&)>& finished);
 
-/// Simulates the ensemble (OpenMP across trajectories; within a thread, 16, 8 or 4 trajectories
+/// Simulates the ensemble (OpenMP across trajectories; within a thread, 8 or 4 trajectories
 /// advance in lockstep, stage by stage -- vector_isa, docs/scale.md -- with the same arithmetic
 /// per trajectory as alone). With options.stop set during the run
 /// it throws std::runtime_error (the ensemble is incomplete).

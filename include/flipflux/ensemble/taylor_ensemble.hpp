@@ -34,21 +34,11 @@ inline constexpr double min_taylor_rtol = std::numeric_limits<double>::epsilon()
 
 namespace detail {
 
-/// The most trajectories one thread of an ensemble advances in lockstep (16: two AVX-512 vectors
-/// of the DOP853/DOPRI5 lanes, ensemble.cpp).
-inline constexpr std::size_t max_lanes_per_thread = 16;
-
 /// One thread's detectors, per lane.
-using lane_detectors = std::array<std::vector<flip_detector_base*>, max_lanes_per_thread>;
+using lane_detectors = std::array<std::vector<flip_detector_base*>, 8>;
 
-/// The Taylor lanes one thread advances in lockstep with `isa`: one vector's worth (8 with
-/// AVX-512, else 4; a Taylor step's recurrences already give the processor independent work).
-inline std::size_t taylor_lanes(vector_isa isa) {
-    return isa == vector_isa::avx512 ? 8 : 4;
-}
-
-/// One thread's share of a Taylor ensemble: `count` (taylor_lanes) trajectories in lockstep, the
-/// next index taken from next_index whenever one finishes; `deliver` gets each finished (or
+/// One thread's share of a Taylor ensemble: `count` (4 or 8) trajectories in lockstep, the next
+/// index taken from next_index whenever one finishes; `deliver` gets each finished (or
 /// abandoned) one.
 void run_taylor_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                       const microcanonical_sampler& sampler, lane_detectors& detectors,
