@@ -5,11 +5,11 @@
 #                         (release, without tests, benchmarks or the Python module), run the
 #                         default scene
 #   bash setup.sh test    install, format check, one instrumented build (ASan+UBSan and coverage at
-#                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %),
-#                         the libFuzzer targets built (clang-14) and run 8 s each (tools/fuzz.sh)
+#                         -O0) running every test, coverage gate (lines of src/ and include/ >= 90 %)
 #   bash setup.sh verify  install, release build, the verification suite with the checks too slow
 #                         for CI (high precisions) and the unit tests (GCC -O2; CI's build is
-#                         clang's); writes docs/verification.md
+#                         clang's), the libFuzzer targets built (clang-14) and run 8 s each
+#                         (tools/fuzz.sh); writes docs/verification.md
 #   bash setup.sh deps    install everything (idempotent: apt-get runs only when a package is
 #                         missing); test and verify install everything too
 set -euo pipefail
@@ -144,7 +144,7 @@ ci_tests() {
   echo "coverage gate passed: lines $pct% >= $COVERAGE_GATE%"
 }
 
-fuzz_check() {  # every reader of outside data under libFuzzer (fuzz/): a crash fails CI
+fuzz_check() {  # every reader of outside data under libFuzzer (fuzz/): a crash fails verify
   echo "== fuzz targets (clang-14, libFuzzer + ASan + UBSan), 8 s each"
   FLIPFLUX_FUZZ_JOBS=$JOBS FLIPFLUX_FUZZ_PRESET=fuzz-ci bash tools/fuzz.sh 8
 }
@@ -160,6 +160,7 @@ run_verify() {
   # the unit tests too, in GCC's optimised build: CI runs them in clang's instrumented one
   run_ctest release build/release -L unit --timeout 1800 \
     --output-junit "$PWD/$dir/unit.xml" || status=1
+  fuzz_check || status=1
   python3 tools/verification_report.py --results "$dir" --out docs/verification.md
   return $status
 }
@@ -175,8 +176,7 @@ case "${1:-}" in
   test)
     install_deps
     format_check
-    ci_tests
-    fuzz_check ;;
+    ci_tests ;;
   verify)
     install_deps
     run_verify ;;
