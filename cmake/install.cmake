@@ -1,4 +1,5 @@
 # cmake --install BUILD --prefix PREFIX: the command-line tool (bin/), the shared library (lib/),
+# its plugins (lib/flipflux/),
 # the public headers (include/flipflux/), the golden data and the report generator
 # (share/flipflux/), a CMake package (lib/cmake/flipflux: find_package(flipflux CONFIG REQUIRED)
 # -> flipflux::flipflux) and a pkg-config file (lib/pkgconfig/flipflux.pc). Everything is
@@ -7,6 +8,8 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 install(TARGETS flipflux_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# the plugins (core/plugin.hpp), found from BINDIR and LIBDIR
+install(TARGETS flipflux_ceres flipflux_mpi LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/flipflux)
 install(TARGETS flipflux_shared flipflux_deps EXPORT flipflux-targets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

@@ -13,6 +13,7 @@
 #include "common.hpp"
 #include "flipflux/certified/enclosure.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/plugin.hpp"
 #include "flipflux/core/version.hpp"
 
 namespace {
@@ -103,6 +104,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "flipflux: error: %s\n", cli::one_line(e.what()).c_str());
         return 1;
     } catch (const output_error& e) {
+        std::fprintf(stderr, "flipflux: error: %s\n", cli::one_line(e.what()).c_str());
+        return 1;
+    } catch (const plugin_error& e) {  // an installation without its plugins (core/plugin.hpp)
         std::fprintf(stderr, "flipflux: error: %s\n", cli::one_line(e.what()).c_str());
         return 1;
     } catch (const std::exception& e) {

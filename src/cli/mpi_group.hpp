@@ -1,15 +1,11 @@
 // MPI for the commands that spread work over processes (simulate, run): when launched by mpirun
 // (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_RANK in the environment) MPI is initialised and
 // MPI_COMM_WORLD serves as the study's process_group (study/simulation.hpp); otherwise MPI is
-// not touched at all.
+// not touched at all. Open MPI lives in a plugin, libflipflux_mpi.so (mpi.plugin.cpp,
+// core/plugin.hpp), loaded only then: a process outside mpirun never maps its libraries.
 #pragma once
 
-#include <mpi.h>
-
-#include <algorithm>
-#include <cstdlib>
-#include <string>
-#include <vector>
+#include <memory>
 
 #include "flipflux/study/simulation.hpp"
 
@@ -18,76 +14,15 @@ namespace flipflux::cli {
 /// Whether the process was started by mpirun (its environment variables).
 bool launched_by_mpirun();
 
-/// MPI_COMM_WORLD as a process_group; MPI is initialised and finalised with it.
-class mpi_group final : public process_group {
+/// MPI_COMM_WORLD as a process_group; MPI is initialised when it is made and finalised when it
+/// is destroyed.
+class mpi_group : public process_group {
   public:
-    mpi_group() {
-        int provided = 0;
-        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-        MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-        MPI_Comm_size(MPI_COMM_WORLD, &size_);
-    }
-    ~mpi_group() override { MPI_Finalize(); }
-    mpi_group(const mpi_group&) = delete;
-    mpi_group& operator=(const mpi_group&) = delete;
-    int rank() const override { return rank_; }
-    int size() const override { return size_; }
-    std::string broadcast(const std::string& text) override {
-        unsigned long long n = text.size();
-        MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
-        std::string out = rank_ == 0 ? text : std::string(n, '\0');
-        for (unsigned long long done = 0; done < n;) {  // in pieces below INT_MAX
-            const int piece = static_cast<int>(std::min<unsigned long long>(n - done, 1u << 30));
-            MPI_Bcast(out.data() + done, piece, MPI_CHAR, 0, MPI_COMM_WORLD);
-            done += static_cast<unsigned long long>(piece);
-        }
-        return out;
-    }
-    std::vector<std::string> gather(const std::string& text) override {
-        std::vector<std::string> out;
-        if (rank_ == 0) {
-            out.resize(static_cast<std::size_t>(size_));
-            out[0] = text;
-            for (int r = 1; r < size_; ++r)
-                out[static_cast<std::size_t>(r)] = receive(r);
-        } else {
-            send(text);
-        }
-        return out;
-    }
-    bool any(bool flag) override {
-        int mine = flag ? 1 : 0, all = 0;
-        MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-        return all != 0;
-    }
-    [[noreturn]] void abort(int status) {
-        MPI_Abort(MPI_COMM_WORLD, status);
-        std::_Exit(status);
-    }
-
-  private:
-    void send(const std::string& text) {
-        unsigned long long n = text.size();
-        MPI_Send(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, 0, MPI_COMM_WORLD);
-        for (unsigned long long done = 0; done < n;) {
-            const int piece = static_cast<int>(std::min<unsigned long long>(n - done, 1u << 30));
-            MPI_Send(text.data() + done, piece, MPI_CHAR, 0, 1, MPI_COMM_WORLD);
-            done += static_cast<unsigned long long>(piece);
-        }
-    }
-    std::string receive(int from) {
-        unsigned long long n = 0;
-        MPI_Recv(&n, 1, MPI_UNSIGNED_LONG_LONG, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        std::string text(n, '\0');
-        for (unsigned long long done = 0; done < n;) {
-            const int piece = static_cast<int>(std::min<unsigned long long>(n - done, 1u << 30));
-            MPI_Recv(text.data() + done, piece, MPI_CHAR, from, 1, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE);
-            done += static_cast<unsigned long long>(piece);
-        }
-        return text;
-    }
-    int rank_ = 0, size_ = 1;
+    /// Ends every rank with `status` (MPI_Abort).
+    [[noreturn]] virtual void abort(int status) = 0;
 };
+
+/// MPI initialised, from the plugin (plugin_error when it cannot be loaded).
+std::unique_ptr<mpi_group> open_mpi_group();
 
 }  // namespace flipflux::cli

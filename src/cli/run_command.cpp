@@ -65,7 +65,7 @@ const register_command registration([](CLI::App& app) {
         // mpirun -np N flipflux run SCENE: the ensembles' trajectories spread over the ranks,
         // everything else computed and written by rank 0 (run_options::group)
         std::unique_ptr<mpi_group> mpi;
-        if (!s->dry_run && launched_by_mpirun()) mpi = std::make_unique<mpi_group>();
+        if (!s->dry_run && launched_by_mpirun()) mpi = open_mpi_group();
         if (mpi && mpi->size() > 1) {
             try {
                 run_scene(*s, mpi.get());

@@ -208,7 +208,7 @@ std::string initial_states_text(const simulate_state& s, const double_pendulum<d
 
 void run(const simulate_state& s) {
     std::unique_ptr<mpi_group> mpi;
-    if (launched_by_mpirun()) mpi = std::make_unique<mpi_group>();
+    if (launched_by_mpirun()) mpi = open_mpi_group();
     const bool root = !mpi || mpi->rank() == 0;
     try {
         const double_pendulum<double> model = make_model<double>(s.model);

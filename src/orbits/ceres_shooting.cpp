@@ -1,52 +1,17 @@
-// The double-precision stage of the saddle-orbit solver (see orbits/ceres_shooting.hpp): Ceres for
-// the paper's periodic shooting, a damped Newton iteration for the symmetric formulation.
+// The double-precision stage of the saddle-orbit solver (see orbits/ceres_shooting.hpp): Ceres
+// (through its plugin, orbits/least_squares.hpp) for the paper's periodic shooting, a damped
+// Newton iteration for the symmetric formulation.
 #include "flipflux/orbits/ceres_shooting.hpp"
-
-#include <ceres/ceres.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
+#include "flipflux/orbits/least_squares.hpp"
 #include "flipflux/orbits/shooting.hpp"
 
 namespace flipflux::detail {
-namespace {
-
-/// r(beta, T) = (x(T) - x(0)) / sqrt(2 (E - E_s)), Jacobian from the variational equations.
-class periodic_cost final : public ceres::SizedCostFunction<4, 2> {
-  public:
-    periodic_cost(const shooting_setup<double>& setup, long steps) : setup_(setup), steps_(steps) {}
-
-    bool Evaluate(double const* const* parameters, double* residuals,
-                  double** jacobians) const override {
-        const double beta = parameters[0][0], period = parameters[0][1];
-        if (!(period > 0) || !std::isfinite(beta)) return false;
-        if (jacobians == nullptr || jacobians[0] == nullptr) {
-            // residual only (trial points of the trust region): no variational equations
-            const auto x0 = setup_.start(beta);
-            const auto end = integrate_state(setup_, x0, period, steps_);
-            if (!end.success) return false;
-            for (int i = 0; i < 4; ++i)
-                residuals[i] = (end.x[i] - x0[i]) / setup_.momentum_scale;
-            return true;
-        }
-        const auto pr = periodic_shooting(setup_, beta, period, steps_);
-        if (!pr.end.success) return false;
-        for (int i = 0; i < 4; ++i) {
-            residuals[i] = pr.r[i];
-            jacobians[0][2 * i] = pr.jacobian[i][0];
-            jacobians[0][2 * i + 1] = pr.jacobian[i][1];
-        }
-        return true;
-    }
-
-  private:
-    const shooting_setup<double>& setup_;
-    long steps_;
-};
-
-}  // namespace
 
 /// Marks a converged result as not converged when its orbit leaves the saddle's strip
 /// |delta| < pi (see quarter_extent): another periodic orbit, not the saddle orbit.
@@ -68,37 +33,49 @@ double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model
                                             double excess, double beta0, double period0, long steps,
                                             int stages) {
     const shooting_setup<double> setup(model, a, excess, stages);
-    double x[2] = {beta0, period0};
-    ceres::Problem::Options problem_options;
-    problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem problem(problem_options);
-    problem.AddResidualBlock(new periodic_cost(setup, steps), nullptr, x);
-    problem.SetParameterLowerBound(x, 1, period0 / 4);
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_QR;
-    options.logging_type = ceres::SILENT;
-    options.minimizer_progress_to_stdout = false;
-    options.max_num_iterations = 40;
+    // r(beta, T) = (x(T) - x(0)) / sqrt(2 (E - E_s)), Jacobian from the variational equations
+    const least_squares_function residual = [&](const double* p, double* r, double* jacobian) {
+        const double beta = p[0], period = p[1];
+        if (!(period > 0) || !std::isfinite(beta)) return false;
+        if (jacobian == nullptr) {
+            // residual only (trial points of the trust region): no variational equations
+            const auto x0 = setup.start(beta);
+            const auto end = integrate_state(setup, x0, period, steps);
+            if (!end.success) return false;
+            for (int i = 0; i < 4; ++i)
+                r[i] = (end.x[i] - x0[i]) / setup.momentum_scale;
+            return true;
+        }
+        const auto pr = periodic_shooting(setup, beta, period, steps);
+        if (!pr.end.success) return false;
+        for (int i = 0; i < 4; ++i) {
+            r[i] = pr.r[i];
+            jacobian[2 * i] = pr.jacobian[i][0];
+            jacobian[2 * i + 1] = pr.jacobian[i][1];
+        }
+        return true;
+    };
+    std::vector<double> x{beta0, period0};
+    least_squares_settings settings;
+    settings.max_iterations = 40;
     // NOTE: the residual is zero at the solution, so only the step-size test is meaningful; the
     // cost and gradient tests are disabled (set far below what double can reach). The Real
     // polish that follows takes the result to the working precision.
-    options.function_tolerance = 1e-30;
-    options.gradient_tolerance = 1e-30;
-    options.parameter_tolerance = 1e-14;
-    options.num_threads = 1;
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
+    settings.function_tolerance = 1e-30;
+    settings.gradient_tolerance = 1e-30;
+    settings.parameter_tolerance = 1e-14;
+    const auto summary = solve_least_squares(residual, x, 4, {-HUGE_VAL, period0 / 4}, settings);
     double_stage_result r;
     r.beta = x[0];
     r.period = x[1];
-    r.iterations = static_cast<int>(summary.iterations.size());
+    r.iterations = summary.iterations;
     r.residual = std::sqrt(2 * summary.final_cost);
     // converged = Ceres found a zero of the residual (the cost is a sum of squares that vanishes
     // at the orbit; a local minimum with a non-zero cost is not an orbit). NOTE: rounding errors
     // of the integration are amplified by the multiplier |mu| over a period, so the residual
     // cannot fall below ~ eps |dr/dbeta| ~ eps |mu|: a residual at that floor is a zero.
     double floor = 0;
-    if (summary.IsSolutionUsable() && r.residual >= 1e-6) {
+    if (summary.usable && r.residual >= 1e-6) {
         const auto pr = periodic_shooting(setup, r.beta, r.period, steps);
         double norm = 0;
         for (int i = 0; i < 4; ++i)
@@ -106,9 +83,8 @@ double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model
         floor = 1e3 * 2.220446049250313e-16 * norm;
     }
     // (a floor of order one or more means double cannot resolve the orbit at all)
-    r.converged =
-        summary.IsSolutionUsable() && (r.residual < 1e-6 || (r.residual <= floor && floor < 1e-3));
-    r.report = summary.BriefReport();
+    r.converged = summary.usable && (r.residual < 1e-6 || (r.residual <= floor && floor < 1e-3));
+    r.report = summary.report;
     if (r.converged) check_family(setup, r, steps / 4);
     return r;
 }

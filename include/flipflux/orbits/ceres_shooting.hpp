@@ -1,7 +1,7 @@
 // The double-precision stage of the saddle-orbit solver: the paper's periodic shooting solved by
 // Ceres (Levenberg-Marquardt, analytic Jacobian from the variational equations), and the
-// symmetric formulation by a plain Newton iteration. Ceres appears only in
-// src/orbits/ceres_shooting.cpp; this header does not include it.
+// symmetric formulation by a plain Newton iteration. Ceres appears only in its plugin
+// (src/orbits/ceres.plugin.cpp, through orbits/least_squares.hpp); this header does not include it.
 #pragma once
 
 #include <string>
