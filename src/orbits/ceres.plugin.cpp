@@ -51,10 +51,10 @@ extern "C" __attribute__((visibility("default"))) int flipflux_least_squares_sol
         options.linear_solver_type = ceres::DENSE_QR;
         options.logging_type = ceres::SILENT;
         options.minimizer_progress_to_stdout = false;
-        options.max_num_iterations = p.max_iterations;
-        options.function_tolerance = p.function_tolerance;
-        options.gradient_tolerance = p.gradient_tolerance;
-        options.parameter_tolerance = p.parameter_tolerance;
+        options.max_num_iterations = p.settings.max_iterations;
+        options.function_tolerance = p.settings.function_tolerance;
+        options.gradient_tolerance = p.settings.gradient_tolerance;
+        options.parameter_tolerance = p.settings.parameter_tolerance;
         options.num_threads = 1;
         ceres::Solver::Summary s;
         ceres::Solve(options, &ceres_problem, &s);

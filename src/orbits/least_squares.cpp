@@ -43,10 +43,7 @@ least_squares_result solve_least_squares(const least_squares_function& f, std::v
     p.lower = lower.empty() ? nullptr : lower.data();
     p.evaluate = &evaluate;
     p.context = &context;
-    p.max_iterations = settings.max_iterations;
-    p.function_tolerance = settings.function_tolerance;
-    p.gradient_tolerance = settings.gradient_tolerance;
-    p.parameter_tolerance = settings.parameter_tolerance;
+    p.settings = settings;
     flipflux_least_squares_summary s;
     const int status = solve(&p, &s);
     if (context.error) std::rethrow_exception(context.error);

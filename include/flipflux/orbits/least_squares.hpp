@@ -10,6 +10,14 @@
 
 extern "C" {
 
+/// How far the solver goes (Ceres' Solver::Options of the same names).
+struct flipflux_least_squares_settings {
+    int max_iterations = 50;
+    double function_tolerance = 1e-6;
+    double gradient_tolerance = 1e-10;
+    double parameter_tolerance = 1e-8;
+};
+
 /// The problem as the plugin sees it. `evaluate` returns 1 on success, 0 where r is undefined
 /// (the solver then shortens its step); `jacobian` is null when only r is wanted, else row-major
 /// residuals x parameters.
@@ -20,10 +28,7 @@ struct flipflux_least_squares_problem {
     const double* lower = nullptr;  ///< per parameter; -HUGE_VAL: unbounded
     int (*evaluate)(void* context, const double* x, double* r, double* jacobian) = nullptr;
     void* context = nullptr;
-    int max_iterations = 50;
-    double function_tolerance = 1e-6;
-    double gradient_tolerance = 1e-10;
-    double parameter_tolerance = 1e-8;
+    flipflux_least_squares_settings settings;
 };
 
 struct flipflux_least_squares_summary {
@@ -44,10 +49,7 @@ namespace flipflux {
 /// r(x) and, when `jacobian` is non-null, dr/dx (row-major); false where r is undefined.
 using least_squares_function = std::function<bool(const double* x, double* r, double* jacobian)>;
 
-struct least_squares_settings {
-    int max_iterations = 50;
-    double function_tolerance = 1e-6, gradient_tolerance = 1e-10, parameter_tolerance = 1e-8;
-};
+using least_squares_settings = flipflux_least_squares_settings;
 
 struct least_squares_result {
     bool usable = false;
