@@ -4,10 +4,11 @@
 at double, the state error there (max over theta1, theta2, l1, l2, angles as integrated) against the
 50-digit reference; prints the median and the maximum over the states, and every state's error.
 
-    accuracy_levels.py FLIPFLUX [--flipflux METHOD:RTOL ...] [--heyoka TOL ...] [--hy-traj PATH]
+    accuracy_levels.py FLIPFLUX [--flipflux METHOD:RTOL[:ORDER] ...] [--heyoka TOL ...]
+                      [--hy-traj PATH]
 
 --flipflux runs `flipflux trajectory --route ensemble --method METHOD --rtol RTOL` (the ensemble's
-integrator, one lane); --heyoka runs the peer's hy_traj (../shared/peers/heyoka, built by its
+integrator, one lane; with ORDER, `--taylor-order ORDER`: the automatic order otherwise); --heyoka runs the peer's hy_traj (../shared/peers/heyoka, built by its
 build.sh into /tmp/heyoka-peer) at tolerance TOL. docs/scale.md ("Against heyoka") matches the
 levels of ../shared/peers/heyoka/bench.sh by these numbers: a flipflux rtol is a level's when
 both its median and its maximum are at most heyoka's at the level's tolerance.
@@ -42,10 +43,11 @@ def reference():
     return out
 
 
-def flipflux_state(exe, state, method, rtol, work):
+def flipflux_state(exe, state, method, rtol, order, work):
     path = os.path.join(work, "states.csv")
     r = subprocess.run([exe, "trajectory", "--state", state, "--time", "10", "--route", "ensemble",
-                        "--method", method, "--rtol", rtol, "--out", path, "--sample-interval", "10"],
+                        "--method", method, "--rtol", rtol, "--out", path, "--sample-interval", "10"]
+                       + (["--taylor-order", order] if order else []),
                        capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"flipflux trajectory --method {method} --rtol {rtol}: {r.stderr.strip()}")
@@ -74,17 +76,18 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("flipflux")
     p.add_argument("--flipflux", dest="settings", action="append", default=[],
-                   help="METHOD:RTOL, e.g. taylor:1e-12")
+                   help="METHOD:RTOL or taylor:RTOL:ORDER, e.g. taylor:1e-12")
     p.add_argument("--heyoka", action="append", default=[], help="hy_traj tolerance")
     p.add_argument("--hy-traj", default="/tmp/heyoka-peer/hy_traj")
     a = p.parse_args()
     ref = reference()
     with tempfile.TemporaryDirectory() as work:
         for setting in a.settings:
-            method, _, rtol = setting.partition(":")
-            errors = {n: max(abs(x - y) for x, y in zip(flipflux_state(a.flipflux, s, method, rtol, work), want))
+            method, _, rest = setting.partition(":")
+            rtol, _, order = rest.partition(":")
+            errors = {n: max(abs(x - y) for x, y in zip(flipflux_state(a.flipflux, s, method, rtol, order, work), want))
                       for n, (s, want) in ref.items()}
-            summary(f"flipflux {method} rtol {rtol}", errors)
+            summary(f"flipflux {method} rtol {rtol}" + (f" order {order}" if order else ""), errors)
         for tol in a.heyoka:
             errors = {n: max(abs(x - y) for x, y in zip(heyoka_state(a.hy_traj, s, tol, work), want))
                       for n, (s, want) in ref.items()}

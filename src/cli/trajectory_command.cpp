@@ -5,6 +5,7 @@
 // time,arm,criterion,direction (on stdout without
 // --events); states CSV (--out): t,theta1,theta2,l1,l2,energy_drift at t = 0, every sample time
 // and t = T, angles unwrapped. Files are written atomically, after the whole computation.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <type_traits>
@@ -24,7 +25,7 @@ namespace {
 struct trajectory_state {
     std::string state, time, criteria = criterion_name_list(","), arms = "both", events, out,
                              sample_interval = "0", rtol = "1e-12", method = "dop853",
-                             route = "default";
+                             route = "default", taylor_order = "0";
     model_options model;
     precision_option precision;
     time_bound_option bound;
@@ -57,6 +58,16 @@ phase_point<Real> parse_state(const std::string& text) {
     return x;
 }
 
+// --taylor-order's text as an order (the study refuses one out of range or without taylor; a
+// huge number stays out of range here)
+int parse_taylor_order(const std::string& text, integration_method method, double rtol) {
+    const int order = static_cast<int>(
+        std::min<std::uint64_t>(parse_unsigned(text, "--taylor-order", false), 1u << 20));
+    if (const std::string p = taylor_order_problem(order, method, rtol, text); !p.empty())
+        throw input_error("--taylor-order: " + p);
+    return order;
+}
+
 std::vector<arm> parse_arms(const std::string& text) {
     if (text == "both") return {arm::one, arm::two};
     return {parse_arm(text, "--arm")};
@@ -77,6 +88,7 @@ void run(const trajectory_state& s) {
     q.sample_interval = parse_real<Real>(s.sample_interval, "--sample-interval");
     q.rtol = parse_real<double>(s.rtol, "--rtol");
     q.method = resolved_method(parse_name<integration_method>(s.method, "--method"), q.rtol);
+    q.taylor_order = parse_taylor_order(s.taylor_order, q.method, q.rtol);
     if (s.route != "default" && s.route != "ensemble" && s.route != "reference" &&
         s.route != "taylor")
         throw input_error("--route: '" + s.route +
@@ -141,6 +153,10 @@ const register_command registration([](CLI::App& app) {
            "--method", s->method,
            "the ensemble route's integrator: dop853, dopri5, taylor (rtol down to eps) or auto "
            "(taylor below rtol 1e-10)")
+        ->capture_default_str();
+    sub->add_option("--taylor-order", s->taylor_order,
+                    "the ensemble route's Taylor order (--method taylor, or auto below rtol "
+                    "1e-10; 0: the order of least modelled cost at --rtol, docs/scale.md)")
         ->capture_default_str();
     add_model_options(*sub, s->model);
     add_precision_option(*sub, s->precision);

@@ -10,7 +10,8 @@
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/limits.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
-#include "flipflux/ensemble/taylor_ensemble.hpp"  // min_taylor_rtol
+#include "flipflux/ensemble/pendulum_taylor.hpp"  // ensemble_taylor_max_order
+#include "flipflux/ensemble/taylor_ensemble.hpp"  // min_taylor_rtol, min_taylor_order
 
 namespace flipflux {
 
@@ -34,6 +35,19 @@ std::string rtol_problem(double rtol, const std::string& text, integration_metho
     return {};
 }
 
+std::string taylor_order_problem(int order, integration_method method, double rtol,
+                                 const std::string& text) {
+    if (order == 0) return {};
+    const std::string shown = text.empty() ? std::to_string(order) : text;
+    if (order < min_taylor_order || order > ensemble_taylor_max_order)
+        return "'" + shown + "' is invalid (0: automatic, or " + std::to_string(min_taylor_order) +
+               " to " + std::to_string(ensemble_taylor_max_order) + ")";
+    if (resolved_method(method, rtol) != integration_method::taylor)
+        return "'" + shown + "' is the taylor integrator's order (the method is " +
+               to_string(resolved_method(method, rtol)) + ")";
+    return {};
+}
+
 void validate(const ensemble_options& o) {
     if (o.trajectories == 0)
         throw input_error::about("trajectories",
@@ -44,6 +58,8 @@ void validate(const ensemble_options& o) {
                                      "' is invalid (the integration time must be finite and > 0)");
     if (const std::string p = rtol_problem(o.rtol, "", o.method); !p.empty())
         throw input_error::about("rtol", p);
+    if (const std::string p = taylor_order_problem(o.taylor_order, o.method, o.rtol); !p.empty())
+        throw input_error::about("taylor_order", p);
     if (o.atol < 0 || !std::isfinite(o.atol))
         throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))

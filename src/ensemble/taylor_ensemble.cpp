@@ -20,9 +20,14 @@
 
 namespace flipflux {
 
-int ensemble_taylor_order(double rtol) {
-    const double r = std::clamp(rtol, min_taylor_rtol, 0.1);
-    return std::min(ensemble_taylor_max_order, static_cast<int>(std::ceil(-std::log(r) / 2)) + 1);
+int ensemble_taylor_order(double rtol, bool tangent) {
+    const double L = -std::log(std::clamp(rtol, min_taylor_rtol, 0.1));
+    const double kappa = tangent ? taylor_step_overhead_tangent : taylor_step_overhead;
+    const auto cost = [&](int p) { return (kappa + p * p) * std::exp(L / p); };
+    int p = min_taylor_order;  // the cost falls, then rises (one minimum): descend to it
+    while (p < ensemble_taylor_max_order && cost(p + 1) < cost(p))
+        ++p;
+    return p;
 }
 
 namespace detail {
@@ -445,7 +450,7 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                std::size_t count, const std::function<bool(std::uint64_t&)>& next_index,
                const std::function<void(trajectory_result&)>& deliver) {
     using lane_type = taylor_lane<Tangent>;
-    const int p = ensemble_taylor_order(o.rtol);
+    const int p = o.taylor_order > 0 ? o.taylor_order : ensemble_taylor_order(o.rtol, Tangent);
     const pendulum_flow k(model);
     jet_buffers<Tangent> buf;
     refill_lanes<lane_type, 8>(
@@ -463,7 +468,7 @@ trajectory_result one_trajectory(const double_pendulum<double>& model,
                                  const phase_point<double>& x0, const ensemble_options& o,
                                  std::uint64_t index,
                                  const std::vector<flip_detector_base*>& detectors) {
-    const int p = ensemble_taylor_order(o.rtol);
+    const int p = o.taylor_order > 0 ? o.taylor_order : ensemble_taylor_order(o.rtol, Tangent);
     const pendulum_flow k(model);
     jet_buffers<Tangent> buf;
     taylor_lane<Tangent> l(model, o, x0, index, detectors, p);

@@ -9,6 +9,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
+#include "flipflux/ensemble/taylor_ensemble.hpp"
 #include "flipflux/study/criteria.hpp"
 #include "trajectory_checks.hpp"
 
@@ -23,11 +24,19 @@ trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& mod
     detail::check_trajectory_request(q);
     if (const std::string p = rtol_problem(q.rtol, "", q.method); !p.empty())
         throw input_error::about("rtol", p);
+    if (const std::string p = taylor_order_problem(q.taylor_order, q.method, q.rtol); !p.empty())
+        throw input_error::about("taylor_order", p);
     trajectory_record<double> out;
     out.energy = model.hamiltonian(q.state);
     check_trajectory_work(model, out.energy, q.time, "time");
-    out.route = "ensemble (" + to_string(resolved_method(q.method, q.rtol)) + ", rtol " +
-                to_decimal(q.rtol) + ")";
+    const integration_method method = resolved_method(q.method, q.rtol);
+    const std::string order =
+        method != integration_method::taylor
+            ? ""
+            : ", order " + std::to_string(q.taylor_order > 0
+                                              ? q.taylor_order
+                                              : ensemble_taylor_order(q.rtol, false));
+    out.route = "ensemble (" + to_string(method) + order + ", rtol " + to_decimal(q.rtol) + ")";
     // the criteria, arm 1 first; those that cannot flip at this energy are skipped
     struct detected {
         arm flip_arm;
@@ -54,6 +63,7 @@ trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& mod
     o.rtol = q.rtol;
     o.atol = q.rtol;
     o.method = q.method;
+    o.taylor_order = q.taylor_order;
     o.chaos = false;
     o.keep_crossings = true;
     o.sample_interval = q.sample_interval > 0 ? q.sample_interval : q.time;

@@ -14,6 +14,7 @@
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/real.hpp"
+#include "flipflux/ensemble/taylor_ensemble.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
 #include "flipflux/study/trajectory.hpp"
 #include "support.hpp"
@@ -343,6 +344,36 @@ TEST(Trajectory, EnsembleRouteAgreesWithTheReferenceRoute) {
     }
 }
 
+// The ensemble route's Taylor order: the automatic one (ensemble_taylor_order) or the one asked
+// for, named in the route; either way the state at T = 2 is the quad reference route's to the
+// tolerance's order (1e-12 asked; 1e-10 allowed over the two time units).
+TEST(Trajectory, EnsembleRouteNamesTheTaylorOrderItUses) {
+    const double_pendulum<double> m;
+    trajectory_request<double> q;
+    q.state = {0.4, 2.8, 0.9, 1.0};
+    q.time = 2;
+    q.criteria = {"upright"};
+    q.arms = {arm::two};
+    q.rtol = 1e-12;
+    q.method = integration_method::taylor;
+    const std::array<quad, 4> exact = quad_state(q.state, 2.0);
+    for (const int order : {0, 8}) {
+        q.taylor_order = order;
+        const trajectory_record<double> r = ensemble_trajectory(m, q);
+        const int used = order > 0 ? order : ensemble_taylor_order(q.rtol, false);
+        EXPECT_EQ(r.route, "ensemble (taylor, order " + std::to_string(used) + ", rtol " +
+                               to_decimal(q.rtol) + ")");
+        for (int k = 0; k < 4; ++k)
+            EXPECT_NEAR(r.states.back()[1 + k], static_cast<double>(exact[k]), 1e-10)
+                << "order " << used << " component " << k;
+    }
+    q.taylor_order = 1;
+    EXPECT_THROW(ensemble_trajectory(m, q), input_error);
+    q.taylor_order = 12;
+    q.method = integration_method::dop853;
+    EXPECT_THROW(ensemble_trajectory(m, q), input_error);
+}
+
 TEST(CliTrajectory, WritesEventsAndStatesAndRefusesBadInput) {
     namespace fs = std::filesystem;
     const fs::path dir = fs::path(::testing::TempDir()) / "flipflux_trajectory_cli";
@@ -373,7 +404,11 @@ TEST(CliTrajectory, WritesEventsAndStatesAndRefusesBadInput) {
           "--state 0.4,2.8,0.9,x --time 10", "--state 0.4,2.8,0.9,1,2 --time 10",
           "--state 0.4,2.8,0.9,1 --time -1", "--state 0.4,2.8,0.9,1 --time 1 --arm 3",
           "--state 0.4,2.8,0.9,1 --time 1 --route ensemble --precision quad",
-          "--state 0.4,2.8,0.9,1 --time 1 --route fast"}) {
+          "--state 0.4,2.8,0.9,1 --time 1 --route fast",
+          "--state 0.4,2.8,0.9,1 --time 1 --method taylor --taylor-order 1",
+          "--state 0.4,2.8,0.9,1 --time 1 --method taylor --taylor-order 99999999999999999999",
+          "--state 0.4,2.8,0.9,1 --time 1 --method taylor --taylor-order -3",
+          "--state 0.4,2.8,0.9,1 --time 1 --method dop853 --taylor-order 12"}) {
         const auto r = run_flipflux("trajectory " + bad + " --events " + (dir / "e.csv").string());
         EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -118,6 +118,13 @@ inline constexpr double min_rtol = 100 * std::numeric_limits<double>::epsilon();
 std::string rtol_problem(double rtol, const std::string& text = "",
                          integration_method method = integration_method::dop853);
 
+/// Why `order` cannot be the Taylor integrator's order (ensemble_options::taylor_order) for
+/// `method` at `rtol`, or "" when it can: 0 (automatic) always can; otherwise it must lie in
+/// [min_taylor_order, ensemble_taylor_max_order] and the method must resolve to taylor. The
+/// message shows `text` (the user's) when given.
+std::string taylor_order_problem(int order, integration_method method, double rtol,
+                                 const std::string& text = "");
+
 struct ensemble_options {
     double energy = 0;
     std::uint64_t trajectories = 0;  ///< how many (> 0)
@@ -127,6 +134,10 @@ struct ensemble_options {
     double rtol = 1e-10;  ///< relative tolerance of the integrator, in (0, 0.1]
     double atol = 0;      ///< absolute tolerance; 0: equal to rtol (states are O(1))
     integration_method method = integration_method::dop853;
+    /// The Taylor integrator's order (method taylor); 0: the order of least modelled cost at rtol,
+    /// ensemble_taylor_order (taylor_ensemble.hpp). Not a run setting: for calibrating that
+    /// model (bench/taylor_order.cpp) and for studies of the integrator itself.
+    int taylor_order = 0;
     bool chaos = true;  ///< integrate the variational equations for the Lyapunov exponent
     /// lambda_T above this (in units of sqrt(alpha / A)) classifies a trajectory as chaotic
     double chaos_threshold = default_chaos_threshold;

@@ -32,8 +32,13 @@
 
 namespace flipflux {
 
-/// The highest order of the ensemble's Taylor integrator (its order at rtol = epsilon is 20).
-inline constexpr int ensemble_taylor_max_order = 24;
+/// The highest order of the ensemble's Taylor integrator, and its automatic order at rtol =
+/// epsilon (ensemble_taylor_order). Above it the cost model's optimum (25 at epsilon) gains
+/// little (1.32 against 1.34 CPU-s at order 24 and 22 on the heyoka bench's workload with T =
+/// 10000) and the double limit is missed on the golden states (median state error at t = 10 of
+/// 5.0e-14 at order 24 and 4.7e-14 at 25, against 2.1e-14 at 22 and heyoka's 4.4e-14:
+/// tools/accuracy_levels.py, docs/scale.md).
+inline constexpr int ensemble_taylor_max_order = 22;
 
 /// The jet of W = lanes_of<V> trajectories: the state's series x[c][k] (c: th1, th2, l1, l2) and,
 /// with Tangent, the tangent vector's v[c][k], up to the order of the last compute().

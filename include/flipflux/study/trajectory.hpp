@@ -44,6 +44,8 @@ struct trajectory_request {
     Real sample_interval{0};            ///< > 0: the state every interval (0: only t = 0, T)
     double rtol = 1e-12;  ///< the ensemble route's tolerance (atol = rtol); ignored by the other
     integration_method method = integration_method::dop853;  ///< the ensemble route's method
+    /// The ensemble route's Taylor order (method taylor); 0: ensemble_taylor_order's choice.
+    int taylor_order = 0;
 };
 
 template <class Real>
@@ -62,7 +64,9 @@ struct trajectory_record {
     std::vector<std::array<Real, 6>> states;
     Real max_energy_drift{0};  ///< over the step ends
     long steps = 0;
-    std::string route;                 ///< "ensemble (dop853, rtol 1e-12)" or "gauss-legendre ..."
+    /// "ensemble (dop853, rtol 1e-12)", "ensemble (taylor, order 20, rtol 3e-11)" or
+    /// "gauss-legendre ..."
+    std::string route;
     std::vector<std::string> skipped;  ///< "arm A criterion C: why" for criteria that cannot flip
 };
 
