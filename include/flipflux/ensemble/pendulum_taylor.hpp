@@ -37,7 +37,7 @@ namespace flipflux {
 /// little (1.32 against 1.34 CPU-s at order 24 and 22 on the heyoka bench's workload with T =
 /// 10000) and the double limit is missed on the golden states (median state error at t = 10 of
 /// 5.0e-14 at order 24 and 4.7e-14 at 25, against 2.1e-14 at 22 and heyoka's 4.4e-14:
-/// tools/accuracy_levels.py, docs/scale.md).
+/// tools/accuracy_levels.py, bench/results/accuracy_levels.txt, docs/scale.md).
 inline constexpr int ensemble_taylor_max_order = 22;
 
 /// The jet of W = lanes_of<V> trajectories: the state's series x[c][k] (c: th1, th2, l1, l2) and,
