@@ -301,6 +301,13 @@ TEST(TaylorEnsemble, AutomaticOrderMinimisesTheModelledCost) {
         }
     }
     EXPECT_EQ(ensemble_taylor_order(1e-30, false), ensemble_taylor_order(eps, false));  // clamped
+    // the orders docs/theory.md and docs/scale.md quote (c(p) minimised outside this code)
+    EXPECT_EQ(ensemble_taylor_order(1e-10, false), 19);
+    EXPECT_EQ(ensemble_taylor_order(1e-10, true), 16);
+    EXPECT_EQ(ensemble_taylor_order(3e-11, false), 20);
+    EXPECT_EQ(ensemble_taylor_order(1e-13, true), 19);
+    EXPECT_EQ(ensemble_taylor_order(eps, false), 22);
+    EXPECT_EQ(ensemble_taylor_order(eps, true), 22);
     ensemble_options o;
     o.energy = 1;
     o.trajectories = 1;
