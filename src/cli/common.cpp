@@ -2,6 +2,7 @@
 // subcommand registry, printing, and the mapping of the library's input fields to option names.
 #include "common.hpp"
 
+#include "flipflux/core/executable.hpp"
 #include "flipflux/study/settings.hpp"
 
 #include <algorithm>
@@ -144,9 +145,9 @@ int& exit_status() {
 }
 
 std::filesystem::path find_share_path(const std::filesystem::path& relative) {
+    const std::filesystem::path exe = executable_path();
+    if (exe.empty()) return {};
     std::error_code ec;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (ec) return {};
     for (const std::filesystem::path& root : {exe.parent_path(), exe.parent_path().parent_path()})
         if (std::filesystem::exists(root / "share/flipflux" / relative, ec))
             return root / "share/flipflux" / relative;

@@ -1,6 +1,8 @@
 // Plugins loaded on first use (core/plugin.hpp).
 #include "flipflux/core/plugin.hpp"
 
+#include "flipflux/core/executable.hpp"
+
 #include <dlfcn.h>
 
 #include <cstdlib>
@@ -28,9 +30,7 @@ fs::path this_object() {
         info.dli_fname[0] == '/')
         return fs::weakly_canonical(info.dli_fname);
     // the main program: dladdr gives its name as invoked, not its path
-    std::error_code ec;
-    const auto exe = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? fs::path() : exe;
+    return executable_path();
 }
 
 /// Whether `p` lies inside folder `dir`.

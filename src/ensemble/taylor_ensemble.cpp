@@ -30,6 +30,10 @@ int ensemble_taylor_order(double rtol, bool tangent) {
     return p;
 }
 
+int ensemble_taylor_order(const ensemble_options& o) {
+    return o.taylor_order > 0 ? o.taylor_order : ensemble_taylor_order(o.rtol, o.chaos);
+}
+
 namespace detail {
 namespace {
 
@@ -450,7 +454,7 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                std::size_t count, const std::function<bool(std::uint64_t&)>& next_index,
                const std::function<void(trajectory_result&)>& deliver) {
     using lane_type = taylor_lane<Tangent>;
-    const int p = o.taylor_order > 0 ? o.taylor_order : ensemble_taylor_order(o.rtol, Tangent);
+    const int p = ensemble_taylor_order(o);  // o.chaos == Tangent
     const pendulum_flow k(model);
     jet_buffers<Tangent> buf;
     refill_lanes<lane_type, 8>(
@@ -468,7 +472,7 @@ trajectory_result one_trajectory(const double_pendulum<double>& model,
                                  const phase_point<double>& x0, const ensemble_options& o,
                                  std::uint64_t index,
                                  const std::vector<flip_detector_base*>& detectors) {
-    const int p = o.taylor_order > 0 ? o.taylor_order : ensemble_taylor_order(o.rtol, Tangent);
+    const int p = ensemble_taylor_order(o);  // o.chaos == Tangent
     const pendulum_flow k(model);
     jet_buffers<Tangent> buf;
     taylor_lane<Tangent> l(model, o, x0, index, detectors, p);

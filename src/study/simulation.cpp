@@ -19,6 +19,7 @@
 #include "flipflux/core/limits.hpp"
 #include "flipflux/core/version.hpp"
 #include "flipflux/ensemble/statistics.hpp"
+#include "flipflux/ensemble/taylor_ensemble.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/io/checksum.hpp"
 #include "flipflux/study/checkpoint.hpp"
@@ -83,6 +84,9 @@ json checkpoint_header(const double_pendulum<double>& model,
                 {"chaos_threshold", one ? thresholds[0] : thresholds},
                 {"bins", one ? bins[0] : bins},
                 {"replicates", q.replicates}};
+    // the Taylor order (its rule changed on 2026-11-29: a checkpoint of another order is not
+    // resumed; DOP853 and DOPRI5 runs keep the header they always had)
+    if (o.method == integration_method::taylor) header["taylor_order"] = ensemble_taylor_order(o);
     // given initial states (simulate --initial-states): which ones, so that a checkpoint of other
     // states is not resumed (sampled runs keep the header they always had)
     std::string states;

@@ -11,6 +11,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/taylor_ensemble.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/io/csv.hpp"
 
@@ -267,6 +268,7 @@ json study_json(const study_result& s) {
              {"time", to_decimal(o.time)},     {"seed", o.seed},
              {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
              {"atol", to_decimal(o.atol)},     {"estimator", to_string(s.estimator)}};
+    if (o.method == integration_method::taylor) out["taylor_order"] = ensemble_taylor_order(o);
     if (s.replicates > 1)
         out["replicates"] =
             json{{"count", s.replicates},

@@ -29,14 +29,6 @@ trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& mod
     trajectory_record<double> out;
     out.energy = model.hamiltonian(q.state);
     check_trajectory_work(model, out.energy, q.time, "time");
-    const integration_method method = resolved_method(q.method, q.rtol);
-    const std::string order =
-        method != integration_method::taylor
-            ? ""
-            : ", order " + std::to_string(q.taylor_order > 0
-                                              ? q.taylor_order
-                                              : ensemble_taylor_order(q.rtol, false));
-    out.route = "ensemble (" + to_string(method) + order + ", rtol " + to_decimal(q.rtol) + ")";
     // the criteria, arm 1 first; those that cannot flip at this energy are skipped
     struct detected {
         arm flip_arm;
@@ -69,6 +61,12 @@ trajectory_record<double> ensemble_trajectory(const double_pendulum<double>& mod
     o.sample_interval = q.sample_interval > 0 ? q.sample_interval : q.time;
     o.unwrapped_angles = true;
     o.trajectories = 1;
+    const integration_method method = resolved_method(q.method, q.rtol);
+    out.route = "ensemble (" + to_string(method) +
+                (method == integration_method::taylor
+                     ? ", order " + std::to_string(ensemble_taylor_order(o))
+                     : std::string()) +
+                ", rtol " + to_decimal(q.rtol) + ")";
     std::vector<std::unique_ptr<flip_detector_base>> owned;
     std::vector<flip_detector_base*> detectors;
     for (const detected& d : list) {

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "support.hpp"
 
@@ -121,6 +123,28 @@ TEST(SimulateCommand, EnergyListsRangesArmOneAndNoChaos) {
     EXPECT_TRUE(s["chaotic_fraction"].is_null());
     EXPECT_EQ(s["rate_histogram"]["counts"].size(), 4u);
     EXPECT_EQ(j["chaos"]["indicator"], "none");
+}
+
+// The Taylor order is named in the output (the run's JSON) when the integrator is taylor: the
+// automatic order at the rtol, with or without the chaos indicator's tangent vector (16 and 20 at
+// 3e-11: the minima of the cost model, worked out outside the code), and not for DOP853.
+TEST(SimulateCommand, TaylorRunsNameTheirOrder) {
+    const std::string base =
+        "simulate --energy 4.3 --criteria upright --trajectories 2 --time 2 --rtol 3e-11 ";
+    for (const auto& [flags, order] :
+         std::vector<std::pair<std::string, int>>{{"--no-chaos", 20}, {"", 16}}) {
+        const auto r = run_flipflux(base + flags);
+        ASSERT_EQ(r.status, 0) << r.err;
+        const json j = json::parse(r.out);
+        EXPECT_EQ(j["method"], "taylor");
+        EXPECT_EQ(j["taylor_order"], order) << flags;
+    }
+    const auto d = run_flipflux(
+        "simulate --energy 4.3 --criteria upright --trajectories 2 --time 2 --rtol 1e-10");
+    ASSERT_EQ(d.status, 0) << d.err;
+    const json j = json::parse(d.out);
+    EXPECT_EQ(j["method"], "dop853");
+    EXPECT_FALSE(j.contains("taylor_order"));
 }
 
 void expect_refused(const std::string& args, const std::string& option) {

@@ -39,6 +39,11 @@ namespace flipflux {
 /// order is higher: 20 rather than 13 at rtol 5e-11, 22 (the cap) rather than 20 at epsilon.
 int ensemble_taylor_order(double rtol, bool tangent);
 
+/// The order the Taylor integrator uses for `o`: o.taylor_order, or when that is 0 the automatic
+/// order at o.rtol, with the tangent vector when o.chaos (outputs name it: simulate's JSON and
+/// checkpoint header, the trajectory route).
+int ensemble_taylor_order(const ensemble_options& o);
+
 /// kappa of ensemble_taylor_order, in units of one term p^2 of the jet's cost: without the
 /// tangent vector, and with it (its jet costs about three times the state's, so its other work
 /// weighs less). Calibrated by bench/taylor_order.cpp's scans of the order at four tolerances
