@@ -55,17 +55,17 @@ struct pendulum_jet {
         const double CC = k.C * k.C;
         fast_sincos_lanes(x[0][0], s1[0], c1[0]);
         fast_sincos_lanes(x[1][0], s2[0], c2[0]);
-        d[0] = x[0][0] - x[1][0];
-        fast_sincos_lanes(d[0], sd[0], cd[0]);
-        V inv_det0 = 0.0 * d[0];
+        const V d0 = x[0][0] - x[1][0];
+        fast_sincos_lanes(d0, sd[0], cd[0]);
+        V inv_det0 = 0.0 * d0;
         for (int n = 0; n < p; ++n) {
             if (n > 0) {
                 const double inv = 1.0 / n;
                 const double dn = n;
-                d[n] = x[0][n] - x[1][n];
+                const V dn_coefficient = x[0][n] - x[1][n];
                 j1[n] = dn * x[0][n];
                 j2[n] = dn * x[1][n];
-                jd[n] = dn * d[n];
+                jd[n] = dn * dn_coefficient;
                 sincos_order(j1, s1, c1, n, inv);
                 sincos_order(j2, s2, c2, n, inv);
                 sincos_order(jd, sd, cd, n, inv);
@@ -80,12 +80,12 @@ struct pendulum_jet {
             w1[n] = (n1 - conv_from1(det, w1, n)) * inv_det0;
             w2[n] = (n2 - conv_from1(det, w2, n)) * inv_det0;
             u[n] = conv(sd, w1, n);
-            P[n] = k.C * conv(u, w2, n);
+            const V Pn = k.C * conv(u, w2, n);
             const double next = 1.0 / (n + 1);
             x[0][n + 1] = w1[n] * next;
             x[1][n + 1] = w2[n] * next;
-            x[2][n + 1] = (-P[n] - k.alpha * s1[n]) * next;
-            x[3][n + 1] = (P[n] - k.beta * s2[n]) * next;
+            x[2][n + 1] = (-Pn - k.alpha * s1[n]) * next;
+            x[3][n + 1] = (Pn - k.beta * s2[n]) * next;
             if constexpr (Tangent) tangent_order(k, n, next, inv_det0);
         }
     }
@@ -148,7 +148,8 @@ struct pendulum_jet {
     }
 
     static constexpr int KT = Tangent ? K : 1;
-    V s1[K], c1[K], s2[K], c2[K], d[K], sd[K], cd[K], det[K], w1[K], w2[K], u[K], P[K];
+    // (d = th1 - th2 and P enter no convolution: only their current coefficient is kept)
+    V s1[K], c1[K], s2[K], c2[K], sd[K], cd[K], det[K], w1[K], w2[K], u[K];
     V j1[K], j2[K], jd[K];  // j u_j of th1, th2, d
     V dd[KT], dsd[KT], dcd[KT], ddet[KT], dw1[KT], dw2[KT], du[KT];
 };
