@@ -89,10 +89,11 @@ template <class V>
 }
 
 /// A group's step ends: per lane the step size h (`last`: 1 when it is the remaining time), the
-/// state x1 at t + h, the right-hand side f1 and H there, and with Tangent the tangent vector.
+/// state x1 at t + h, the right-hand side f1 and H there, with Tangent the tangent vector, and
+/// each angle's range over the step (taylor_angle_range: range[i] = {lo, hi} of th_{i+1}).
 template <class V, bool Tangent>
 struct group_end {
-    V h, last, x1[4], f1[4], e1, v1[Tangent ? 4 : 1];
+    V h, last, x1[4], f1[4], e1, v1[Tangent ? 4 : 1], range[2][2];
 };
 
 template <class V, bool Tangent>
@@ -122,6 +123,23 @@ template <class V, bool Tangent>
             out.v1[c] = horner_lanes(jet.v[c], p, out.h);
     flow.lanes(out.x1, out.f1);
     flow.hamiltonian_lanes(out.x1, out.e1);
+    for (int i = 0; i < 2; ++i)
+        taylor_angle_range(jet.x[i], p, out.h, out.range[i][0], out.range[i][1]);
+}
+
+// The angles' ranges over a step of size h of lane l of a jet<V, Tangent> (scalar
+// taylor_angle_range, the bits of the vector one): after the energy check halved the step.
+template <class V, bool Tangent>
+std::array<std::array<double, 2>, 2> jet_lane_ranges(const void* jet, int l, int p, double h) {
+    const auto& j = *static_cast<const pendulum_jet<V, Tangent>*>(jet);
+    std::array<std::array<double, 2>, 2> out{};
+    for (int i = 0; i < 2; ++i) {
+        std::array<double, ensemble_taylor_max_order + 1> c{};
+        for (int k = 0; k <= p; ++k)
+            c[static_cast<std::size_t>(k)] = j.x[i][k][l];
+        taylor_angle_range(c.data(), p, h, out[i][0], out[i][1]);
+    }
+    return out;
 }
 
 // The dense output of lane l of a jet<V, Tangent>: the state's (or the tangent's) polynomial at
@@ -152,8 +170,6 @@ class taylor_lane final : public step_interpolant {
         r_.initial_state = x0;
         r_.crossing_times.resize(detectors.size());
         if (o.keep_crossings) r_.crossings.resize(detectors.size());
-        for (const flip_detector_base* d : detectors)
-            angle_tested_[d->flip_arm() == arm::two ? 1 : 0] = true;
         for (int i = 0; i < 4; ++i)
             x_[i] = x0[i];
         // the initial angles reduced to [-pi, pi] (by the nearest multiple of 2 pi, then
@@ -220,14 +236,17 @@ class taylor_lane final : public step_interpolant {
         jet_ = &jet;
         lane_ = l;
         value_ = jet_lane_value<V, Tangent>;
+        ranges_of_ = jet_lane_ranges<V, Tangent>;
         std::array<double, 4> x1{}, f1{}, v1{};
         for (int c = 0; c < 4; ++c) {
             x1[c] = g.x1[c][l];
             f1[c] = g.f1[c][l];
             if constexpr (Tangent) v1[c] = g.v1[c][l];
         }
-        f0_ = {jet.x[0][1][l], jet.x[1][1][l], jet.x[2][1][l], jet.x[3][1][l]};
-        step(g.h[l], g.last[l] != 0, x1, f1, g.e1[l], v1);
+        std::array<std::array<double, 2>, 2> ranges{};
+        for (int i = 0; i < 2; ++i)
+            ranges[i] = {g.range[i][0][l], g.range[i][1][l]};
+        step(g.h[l], g.last[l] != 0, x1, f1, g.e1[l], v1, ranges);
     }
     /// The tolerance of the step-size rule (see taylor_ensemble.hpp) and the time left.
     double tolerance() const {
@@ -248,7 +267,7 @@ class taylor_lane final : public step_interpolant {
 
   private:
     void step(double h, bool last, std::array<double, 4> x1, std::array<double, 4> f1, double e,
-              std::array<double, 4> v1) {
+              std::array<double, 4> v1, std::array<std::array<double, 2>, 2> ranges) {
         if (std::isnan(h)) return fail(rk_status::non_finite);
         for (bool first = true;; first = false) {
             if (!first) {  // the energy check refused the step: half of it, scalar
@@ -261,6 +280,7 @@ class taylor_lane final : public step_interpolant {
                 if constexpr (Tangent) v1 = value_(jet_, lane_, p_, h, true);
                 f1 = flow_(0.0, x1);
                 e = flow_.hamiltonian_absolute(x1);
+                ranges = ranges_of_(jet_, lane_, p_, h);
             }
             bool finite = std::isfinite(e);
             for (double y : x1)
@@ -270,9 +290,6 @@ class taylor_lane final : public step_interpolant {
         }
         h_end_ = e;
         const double t0 = t_, t1 = last ? o_.time : t_ + h;
-        std::array<std::array<double, 2>, 2> ranges{};
-        for (int i = 0; i < 2; ++i)
-            if (angle_tested_[i]) ranges[i] = flip_angle_range(i, t1 - t0, x_, f0_, x1, f1);
         const step_view view{t0, t1, x1, f1, *this, &ranges};
         record_samples(t1, x1);
         detect(detectors_, view, o_.keep_crossings, found_, r_);
@@ -346,16 +363,16 @@ class taylor_lane final : public step_interpolant {
     int p_;
     double rtol_ = 0, atol_ = 0, safety_ = 1;
     double t_ = 0;
-    std::array<double, 4> x_{}, v_{}, f0_{};
+    std::array<double, 4> x_{}, v_{};
     // the current step's jet (in its group's buffer) and its dense output
     const void* jet_ = nullptr;
     int lane_ = 0;
     std::array<double, 4> (*value_)(const void*, int, int, double, bool) = nullptr;
+    std::array<std::array<double, 2>, 2> (*ranges_of_)(const void*, int, int, double) = nullptr;
     trajectory_result r_;
     std::vector<crossing> found_;
     std::uint64_t next_sample_ = 0;
     std::array<double, 2> unwrap_{};
-    std::array<bool, 2> angle_tested_{};
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0;
     long steps_ = 0, check_rejections_ = 0;
     bool done_ = false;

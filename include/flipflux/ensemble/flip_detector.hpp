@@ -70,10 +70,12 @@ struct step_view {
     const std::array<double, 4>& x1;  ///< state at t1 (angles continuous with the step's start)
     const std::array<double, 4>& f1;  ///< Hamilton's equations at x1
     const step_interpolant& dense;
-    /// Optional (null: the detector computes it): per angle (th1, th2), the widened range [lo, hi]
-    /// of the cubic Hermite interpolant of the angle over the step, flip_angle_range of (the
-    /// angle, its rate) at the step's start and end -- shared by the detectors of one trajectory
-    /// that test the same flip angle (the same bits as each computing it).
+    /// Optional (null: the detector computes it): per angle (th1, th2), a range [lo, hi] of the
+    /// angle over the step for the prefilter, shared by the detectors of one trajectory that test
+    /// the same flip angle: the RK lanes' is the widened range of the cubic Hermite interpolant,
+    /// flip_angle_range of (the angle, its rate) at the step's start and end (the same bits as
+    /// each detector computing it); the Taylor lanes' a bound of the step's polynomial itself
+    /// (pendulum_taylor.hpp: taylor_angle_range).
     const std::array<std::array<double, 2>, 2>* angle_ranges;
 };
 

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 
 #include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/model/double_pendulum.hpp"
@@ -153,6 +154,36 @@ struct pendulum_jet {
     V j1[K], j2[K], jd[K];  // j u_j of th1, th2, d
     V dd[KT], dsd[KT], dcd[KT], ddet[KT], dw1[KT], dw2[KT], du[KT];
 };
+
+/// The range of an angle over a Taylor step, for the detectors' prefilter (step_view::
+/// angle_ranges): the polynomial th(tau) = sum_k c[k] tau^k on [0, h] lies within its linear
+/// part's range [min, max](c0, c0 + c1 h) widened by R = sum_{k >= 2} |c_k| h^k (Horner on the
+/// |c_k|), and by 128 eps (1 + |c0| + |c0 + c1 h| + R) for the rounding of these sums (at most
+/// 2p + 4 roundings of relative size eps each, p <= ensemble_taylor_max_order). A bound of the
+/// dense output itself, the polynomial the detectors search, so no heuristic margin: tighter than
+/// the cubic Hermite range of the RK lanes (flip_angle_range), and in vectors. T is double or a
+/// vector of lanes (lane by lane the same operations as a double).
+namespace detail {
+/// |x|, lane by lane for a vector.
+template <class T>
+[[gnu::always_inline]] inline T lane_abs(const T& x) {
+    return x < 0 ? -x : x;
+}
+}  // namespace detail
+
+template <class T>
+[[gnu::always_inline]] inline void taylor_angle_range(const T* c, int p, const T& h, T& lo, T& hi) {
+    using detail::lane_abs;
+    T r = lane_abs(c[p]);  // p >= 2 (min_taylor_order)
+    for (int k = p - 1; k >= 2; --k)
+        r = r * h + lane_abs(c[k]);
+    r = r * h * h;
+    const T a = c[0], b = c[0] + c[1] * h;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    const T margin = 128 * eps * (1.0 + lane_abs(a) + lane_abs(b) + r);
+    lo = (a < b ? a : b) - r - margin;
+    hi = (a < b ? b : a) + r + margin;
+}
 
 }  // namespace flipflux
 
