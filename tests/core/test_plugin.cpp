@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 #include "flipflux/core/plugin.hpp"
 #include "support.hpp"
@@ -45,13 +46,26 @@ std::string caught(const std::string& name, const char* symbol) {
     return "";
 }
 
-fs::path empty_dir(const std::string& tag) {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("flipflux_plugins_" + tag + "_" + std::to_string(getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+// An empty folder of its own, removed with everything in it when the test ends.
+class empty_dir {
+  public:
+    explicit empty_dir(const std::string& tag)
+        : path_(fs::path(::testing::TempDir()) /
+                ("flipflux_plugins_" + tag + "_" + std::to_string(getpid()))) {
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~empty_dir() {
+        std::error_code ignored;
+        fs::remove_all(path_, ignored);
+    }
+    empty_dir(const empty_dir&) = delete;
+    empty_dir& operator=(const empty_dir&) = delete;
+    const fs::path& path() const { return path_; }
+
+  private:
+    fs::path path_;
+};
 
 TEST(Plugins, BuildTreeObjectsLookInTheBuildTreesPluginFolder) {
     if (std::getenv("FLIPFLUX_PLUGIN_DIR")) GTEST_SKIP() << "FLIPFLUX_PLUGIN_DIR is set";
@@ -65,7 +79,8 @@ TEST(Plugins, BuildTreeObjectsLookInTheBuildTreesPluginFolder) {
 }
 
 TEST(Plugins, TheEnvironmentVariableIsTheOnlyPlaceWhenSet) {
-    const fs::path d = empty_dir("env");
+    const empty_dir scratch("env");
+    const fs::path& d = scratch.path();
     const plugin_dir_override o(d.string());
     ASSERT_EQ(plugin_directories(), std::vector<std::string>{d.string()});
     const std::string e = caught("nosuch", "anything");
@@ -75,7 +90,8 @@ TEST(Plugins, TheEnvironmentVariableIsTheOnlyPlaceWhenSet) {
 }
 
 TEST(Plugins, ACorruptPluginIsNamedWithTheLoadersReason) {
-    const fs::path d = empty_dir("corrupt");
+    const empty_dir scratch("corrupt");
+    const fs::path& d = scratch.path();
     std::ofstream(d / plugin_file_name("broken")) << "not an ELF object\n";
     const plugin_dir_override o(d.string());
     const std::string e = caught("broken", "anything");
@@ -110,7 +126,8 @@ TEST(Plugins, TheToolLinksNeitherOpenMpiNorCeresStack) {
 }
 
 TEST(Plugins, CommandsThatNeedAMissingPluginSayWhichInOneLine) {
-    const fs::path d = empty_dir("cli");
+    const empty_dir scratch("cli");
+    const fs::path& d = scratch.path();
     const plugin_dir_override o(d.string());
     // the periodic shooting needs Ceres
     const auto r = run_flipflux("orbit --energy 3 --method periodic --precision double");
