@@ -30,38 +30,17 @@ constexpr std::size_t max_lanes = 8;
 
 using detail::angle_reduction;
 
-// The stages of a trial step as computed in a group's vectors (lane_group): where they are and
-// how to copy lane `lane`'s into its integrator (stage_row), which the step's dense output needs.
-template <class Integrator>
-struct stage_source {
-    const void* stages = nullptr;
-    std::size_t lane = 0;
-    void (*copy)(const void*, std::size_t, Integrator&) = nullptr;
-};
-
-// The step's dense output for the detectors and samples: the stages that only it reads are copied
-// from the group's vectors on its first use in the step (most steps never use it).
 template <class Integrator>
 class dense_adapter final : public step_interpolant {
   public:
     explicit dense_adapter(Integrator& rk) : rk_(rk) {}
-    void set_source(const stage_source<Integrator>& s) {
-        source_ = s;
-        loaded_ = false;
-    }
     std::array<double, 4> state(double t) const override {
-        if (!loaded_) {
-            source_.copy(source_.stages, source_.lane, rk_);
-            loaded_ = true;
-        }
         const auto y = rk_.dense(t);
         return {y[0], y[1], y[2], y[3]};
     }
 
   private:
     Integrator& rk_;
-    stage_source<Integrator> source_;
-    mutable bool loaded_ = true;  // (the integrator's own stages until a group's step)
 };
 
 // The right-hand sides as named types (the integrator stores them by value).
@@ -170,8 +149,6 @@ class lane {
     void set_end_energy(double h) { end_energy_ = h; }
     /// The trial step's error norm, from the vector evaluation of the stages (vector_stages).
     void set_error_norm(double err) { error_norm_ = err; }
-    /// Where the trial step's stages are (vector_stages), for its dense output.
-    void set_stage_source(const stage_source<integrator>& s) { dense_.set_source(s); }
     void end() {
         rk_status st = rk_status::ok;
         const int outcome = rk_.end_step(st, error_norm_);
@@ -289,24 +266,12 @@ struct lane_group {
     static constexpr std::size_t N = Lane::N;
     static constexpr int S = Lane::stages;
     using integrator = typename Lane::integrator;
-    using stages_type = V[S][N];
     Lane* const* lanes;
     std::size_t g;  ///< lanes in use
-    V h, x0[N];
-    stages_type& k;  ///< in the thread's stage_store: read by the lanes' dense output
+    V h, x0[N], k[S][N];
 
-    // lane l's stages 1 .. S - 2 (the last one its integrator has already) to its integrator
-    static void copy_stages(const void* stages, std::size_t l, integrator& rk) {
-        const stages_type& ks = *static_cast<const stages_type*>(stages);
-        for (int s = 1; s < S - 1; ++s) {
-            double* row = rk.stage_row(s);
-            for (std::size_t c = 0; c < N; ++c)
-                row[c] = ks[s][c][l];
-        }
-    }
-
-    [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count, stages_type& store)
-        : lanes(first), g(count), k(store) {
+    [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count)
+        : lanes(first), g(count) {
         for (int l = 0; l < W; ++l) {
             const integrator& rk = lanes[static_cast<std::size_t>(l) < g ? l : 0]->rk();
             h[l] = rk.trial_step();
@@ -327,17 +292,12 @@ struct lane_group {
             flow.lanes(y, k[s]);
         else
             flow.tangent_lanes(y, k[s]);
+        for (std::size_t l = 0; l < g; ++l) {
+            double* out = lanes[l]->rk().template stage_output<s>();
+            for (std::size_t c = 0; c < N; ++c)
+                out[c] = k[s][c][l];
+        }
         if constexpr (s == S - 1) {
-            // the trial step's end derivative (FSAL) to each integrator; its other stages stay
-            // here until its dense output needs them (copy_stages)
-            for (std::size_t l = 0; l < g; ++l) {
-                integrator& rk = lanes[l]->rk();
-                double* out = rk.stage_row(s);
-                for (std::size_t c = 0; c < N; ++c)
-                    out[c] = k[s][c][l];
-                rk.add_evaluations(S - 1);
-                lanes[l]->set_stage_source({&k, l, &copy_stages});
-            }
             // the trial step's end, its energy for the energy check and its error norm
             V e;
             flow.hamiltonian_lanes(y, e);
@@ -364,59 +324,37 @@ struct lane_group {
 // for the step's end and its dense output; the last stage's point is the trial step's end
 // (set_end_point), its H serves the energy check, and the error norm's sums over components are
 // vector operations too (explicit_rk::error_sums).
-// A thread's stages of the current trial step, per vector width and group (up to max_lanes
-// lanes): kept after the step's stages for the lanes' dense output (lane_group::copy_stages).
-template <class Lane>
-struct stage_store {
-    static constexpr std::size_t N = Lane::N;
-    static constexpr int S = Lane::stages;
-    v2d k2[max_lanes / 2][S][N];
-    v4d k4[max_lanes / 4][S][N];
-    v8d k8[1][S][N];
-    template <class V>
-    auto& of(std::size_t group) {
-        if constexpr (lanes_of<V> == 2)
-            return k2[group];
-        else if constexpr (lanes_of<V> == 4)
-            return k4[group];
-        else
-            return k8[group];
-    }
-};
-
 template <class Lane, class V>
-[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m,
-                                                 stage_store<Lane>& store) {
+[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m) {
     constexpr std::size_t W = lanes_of<V>;
     const pendulum_flow& flow = active[0]->flow();
     for (std::size_t i = 0; i < m; i += W) {
-        lane_group<Lane, V> group(active + i, std::min(W, m - i), store.template of<V>(i / W));
+        lane_group<Lane, V> group(active + i, std::min(W, m - i));
         group.template stages_from<1>(flow);
     }
 }
 
 // Every stage of a trial step of the active lanes, two lanes per SSE2 vector (any x86-64) ...
 template <class Lane>
-void vector_stages_sse2(Lane* const* active, std::size_t m, stage_store<Lane>& store) {
-    vector_stages<Lane, v2d>(active, m, store);
+void vector_stages_sse2(Lane* const* active, std::size_t m) {
+    vector_stages<Lane, v2d>(active, m);
 }
 
 // ... or four per AVX2 vector (the same bits; used when the processor has AVX2). `flatten'
 // inlines everything called here, so that all of it is compiled for AVX2; no FMA is enabled, so
 // the operations and their rounding are those of the scalar code.
 template <class Lane>
-__attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active, std::size_t m,
-                                                                 stage_store<Lane>& store) {
-    vector_stages<Lane, v4d>(active, m, store);
+__attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active,
+                                                                 std::size_t m) {
+    vector_stages<Lane, v4d>(active, m);
 }
 
 // ... or eight per AVX-512 vector (the same bits again; used for five to eight lanes when the
 // processor has AVX-512F: 1.24x the AVX2 path's throughput on a Zen 5 EPYC, docs/scale.md).
 template <class Lane>
 __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* const* active,
-                                                                      std::size_t m,
-                                                                      stage_store<Lane>& store) {
-    vector_stages<Lane, v8d>(active, m, store);
+                                                                      std::size_t m) {
+    vector_stages<Lane, v8d>(active, m);
 }
 
 // Trajectories per thread in lockstep with `isa`.
@@ -428,18 +366,18 @@ std::size_t lanes_per_thread(vector_isa isa) {
 // stages computed together in vectors (vector_stages) of `isa`'s widest width that the active
 // lanes fill more than half of.
 template <class Lane>
-void lockstep_round(std::span<Lane* const> lanes, vector_isa isa, stage_store<Lane>& store) {
+void lockstep_round(std::span<Lane* const> lanes, vector_isa isa) {
     std::array<Lane*, max_lanes> active{};
     std::size_t m = 0;
     for (Lane* l : lanes)
         if (l != nullptr && l->begin()) active[m++] = l;
     if (m == 0) return;
     if (m > 4 && isa == vector_isa::avx512)
-        vector_stages_avx512<Lane>(active.data(), m, store);
+        vector_stages_avx512<Lane>(active.data(), m);
     else if (m > 2 && isa != vector_isa::sse2)
-        vector_stages_avx2<Lane>(active.data(), m, store);
+        vector_stages_avx2<Lane>(active.data(), m);
     else
-        vector_stages_sse2<Lane>(active.data(), m, store);
+        vector_stages_sse2<Lane>(active.data(), m);
     for (std::size_t i = 0; i < m; ++i)
         active[i]->end();
 }
@@ -452,7 +390,6 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
                Next&& next_index, Deliver&& deliver) {
     using lane_type = lane<Method, Tangent>;
-    const auto store = std::make_unique<stage_store<lane_type>>();
     detail::refill_lanes<lane_type, max_lanes>(
         lanes_per_thread(isa),
         [&](std::uint64_t index, std::size_t l) {
@@ -460,9 +397,7 @@ void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                                                detectors[l]);
         },
         next_index, deliver,
-        [isa, &store](std::span<lane_type* const> view) {
-            lockstep_round<lane_type>(view, isa, *store);
-        });
+        [isa](std::span<lane_type* const> view) { lockstep_round<lane_type>(view, isa); });
 }
 
 template <class Next, class Deliver>
@@ -505,9 +440,8 @@ trajectory_result single_trajectory(const double_pendulum<double>& model, const 
     using lane_type = lane<Method, Tangent>;
     lane_type l(model, o, x0, index, detectors);
     lane_type* const one[1] = {&l};
-    const auto store = std::make_unique<stage_store<lane_type>>();
     while (!l.finished())
-        lockstep_round<lane_type>(one, vector_isa::sse2, *store);
+        lockstep_round<lane_type>(one, vector_isa::sse2);
     return std::move(l.result());
 }
 

@@ -157,14 +157,15 @@ class explicit_rk {
 
     /// The stages evaluated by the caller, several integrators at once, lane-major (vectors whose
     /// lanes are the integrators): stage s's point is stage_sum<s> from x(), derivative() (stage
-    /// 0) and trial_step(), the same operations as stage<s>(), so the same bits; the caller counts
-    /// them (add_evaluations: stages - 1 per trial step), stores the last stage's f(t, y) -- the
-    /// derivative at the trial step's end -- to stage_row(stages - 1) and its point with
-    /// set_end_point, and the other stages' f to stage_row(s) before the step's dense output is
-    /// evaluated (its only reader besides the step itself: the caller computes the error norm).
+    /// 0) and trial_step(), the same operations as stage<s>(), so the same bits; the caller stores
+    /// f(t, y) to stage_output<s>(), and the last stage's point, the trial step's end, with
+    /// set_end_point.
     double trial_step() const { return trial_h_; }
-    double* stage_row(int s) { return k_[s]; }
-    void add_evaluations(long n) { evaluations_ += n; }
+    template <int s>
+    double* stage_output() {
+        ++evaluations_;
+        return k_[s];
+    }
     void set_end_point(const double* y) { copy(y, x_new_.data()); }
 
     /// y = base + h sum_{j < s} a[s][j] k[j] with the tableau row known at compile time (zero
