@@ -155,14 +155,6 @@ struct pendulum_jet {
     V dd[KT], dsd[KT], dcd[KT], ddet[KT], dw1[KT], dw2[KT], du[KT];
 };
 
-/// The range of an angle over a Taylor step, for the detectors' prefilter (step_view::
-/// angle_ranges): the polynomial th(tau) = sum_k c[k] tau^k on [0, h] lies within its linear
-/// part's range [min, max](c0, c0 + c1 h) widened by R = sum_{k >= 2} |c_k| h^k (Horner on the
-/// |c_k|), and by 128 eps (1 + |c0| + |c0 + c1 h| + R) for the rounding of these sums (at most
-/// 2p + 4 roundings of relative size eps each, p <= ensemble_taylor_max_order). A bound of the
-/// dense output itself, the polynomial the detectors search, so no heuristic margin: tighter than
-/// the cubic Hermite range of the RK lanes (flip_angle_range), and in vectors. T is double or a
-/// vector of lanes (lane by lane the same operations as a double).
 namespace detail {
 /// |x|, lane by lane for a vector.
 template <class T>
@@ -171,6 +163,15 @@ template <class T>
 }
 }  // namespace detail
 
+/// The range of an angle over a Taylor step, for the detectors' prefilter (step_view::
+/// angle_ranges): the polynomial th(tau) = sum_k c[k] tau^k on [0, h] lies within its linear
+/// part's range [min, max](c0, c0 + c1 h) widened by R = sum_{k >= 2} |c_k| h^k (Horner on the
+/// |c_k|), and by 128 eps (1 + |c0| + |c0 + c1 h| + R) for the rounding of these sums (at most
+/// 2p + 4 roundings of relative size eps each, p <= ensemble_taylor_max_order). A bound of the
+/// dense output itself, the polynomial the detectors search, so it needs no heuristic margin
+/// (the RK lanes' cubic Hermite range, flip_angle_range, is widened by one), computed in the
+/// group's vectors with the step's end. T is double or a vector of lanes (lane by lane the same
+/// operations as a double).
 template <class T>
 [[gnu::always_inline]] inline void taylor_angle_range(const T* c, int p, const T& h, T& lo, T& hi) {
     using detail::lane_abs;
