@@ -46,6 +46,22 @@ one_jet jet_of(const double_pendulum<double>& m, const std::array<double, 4>& x0
     return out;
 }
 
+// The step rule's h before its safety factor (taylor_ensemble.hpp), from a jet of order p at
+// tolerance tol: the minimum over the last two orders k of (tol max_c |x_c,0| / max_c
+// |x_c,k|)^(1/k).
+double jet_step(const one_jet& j, const std::array<double, 4>& x0, int p, double tol) {
+    double n0 = 0, h = 1e300;
+    for (int c = 0; c < 4; ++c)
+        n0 = std::max(n0, std::abs(x0[c]));
+    for (int k = std::max(1, p - 1); k <= p; ++k) {
+        double nk = 0;
+        for (int c = 0; c < 4; ++c)
+            nk = std::max(nk, std::abs(j.x[c][k]));
+        h = std::min(h, std::pow(tol * n0 / nk, 1.0 / k));
+    }
+    return h;
+}
+
 // The polynomial x(t) of the jet solves x' = f(x) up to its truncation: over the integrator's
 // step h at rtol = eps (at h / 2 and h) P'(t) - f(P(t)) is below 1e-12 relative to |f|, for a
 // rigid-link pendulum with unequal everything at E from the well to far above the saddles.
@@ -63,16 +79,7 @@ TEST(TaylorEnsemble, JetSolvesHamiltonsEquations) {
         for (int c = 0; c < 4; ++c)
             EXPECT_NEAR(j.x[c][1], f0[c], 1e-14 * (1 + std::abs(f0[c]))) << c;
         // the integrator's step at rtol = eps (taylor_ensemble.hpp)
-        double n0 = 0, h = 1e300;
-        for (int c = 0; c < 4; ++c)
-            n0 = std::max(n0, std::abs(x0[c]));
-        for (int jj = p - 1; jj <= p; ++jj) {
-            double nj = 0;
-            for (int c = 0; c < 4; ++c)
-                nj = std::max(nj, std::abs(j.x[c][jj]));
-            h = std::min(h, std::pow(eps * n0 / nj, 1.0 / jj));
-        }
-        h *= std::exp(-0.7 / (p - 1));
+        const double h = jet_step(j, x0, p, eps) * std::exp(-0.7 / (p - 1));
         EXPECT_GT(h, 1e-3);
         for (const double t : {h / 2, h}) {
             std::array<double, 4> y{}, dy{};
@@ -129,15 +136,7 @@ TEST(TaylorEnsemble, AngleRangeBoundsTheStepPolynomial) {
                                                std::array<double, 4>{2.9, -3.1, 1.7, -2.2},
                                                std::array<double, 4>{-1.0, 2.5, -6.0, 4.0}}) {
             const one_jet j = jet_of(m, x0, {1, 0, 0, 0}, p);
-            double n0 = 0, h = 1e300;
-            for (int c = 0; c < 4; ++c)
-                n0 = std::max(n0, std::abs(x0[c]));
-            for (int jj = std::max(1, p - 1); jj <= p; ++jj) {
-                double nj = 0;
-                for (int c = 0; c < 4; ++c)
-                    nj = std::max(nj, std::abs(j.x[c][jj]));
-                h = std::min(h, std::pow(1e-10 * n0 / nj, 1.0 / jj));
-            }
+            const double h = jet_step(j, x0, p, 1e-10);
             for (const double step : {h, 4 * h})
                 for (int i = 0; i < 2; ++i) {
                     const double* c = j.x[i].data();
