@@ -237,7 +237,7 @@ class flip_detector final : public flip_detector_base {
             }
             lo -= offset_bound_ + pi;
             hi += offset_bound_ - pi;
-            const bool skip = std::ceil(lo / two_pi) > std::floor(hi / two_pi);
+            const bool skip = std::ceil(lo * inv_two_pi) > std::floor(hi * inv_two_pi);
             if (!skip && !start_valid_) start_ = evaluate(last_x_, last_w_);
             last_x_ = v.x1;
             last_w_ = {v.f1[0], v.f1[1]};
@@ -252,7 +252,7 @@ class flip_detector final : public flip_detector_base {
         std::array<double, 2> crit{};
         const int ncrit = hermite_range(p0, p1, m0, m1, lo, hi, &crit);
         int found = 0;
-        if (std::ceil(lo / two_pi) <= std::floor(hi / two_pi)) {
+        if (std::ceil(lo * inv_two_pi) <= std::floor(hi * inv_two_pi)) {
             ++examined_;
             found = examine(v, end, crit, ncrit, first, out);
         }
@@ -263,6 +263,9 @@ class flip_detector final : public flip_detector_base {
   private:
     static constexpr double pi = std::numbers::pi;
     static constexpr double two_pi = 2 * std::numbers::pi;
+    // The step tests' levels 2 pi k: lo and hi scaled by 1 / (2 pi) rather than divided (a
+    // rounding's difference; both tests' ranges are widened by far more, so no crossing is lost).
+    static constexpr double inv_two_pi = 1 / two_pi;
 
     struct value {
         double phi = 0, dphi = 0, s = 0;
@@ -283,8 +286,18 @@ class flip_detector final : public flip_detector_base {
         const double s = reduce(q[0]);
         const bool inside = s >= lo_ && s <= hi_;
         const double sc = inside ? s : std::clamp(s, lo_, hi_);
-        const double offset = curve_.offset(sc);
-        const double slope = inside ? double(curve_.slope(sc)) : 0.0;
+        double offset = 0, slope = 0;
+        if constexpr (requires { curve_.from_sincos(sc, sc); }) {
+            // h from sin s and cos s (the sine curve): the inline sin/cos, both at once
+            double sn = 0, cs = 0;
+            fast_sincos(sc, sn, cs);
+            const std::array<double, 2> h = curve_.from_sincos(sn, cs);
+            offset = h[0];
+            slope = inside ? h[1] : 0.0;
+        } else {
+            offset = curve_.offset(sc);
+            slope = inside ? double(curve_.slope(sc)) : 0.0;
+        }
         return {q[1] - pi - offset, qd[1] - slope * qd[0], s};
     }
 

@@ -60,11 +60,16 @@ struct sine_curve {
     arm flip_arm() const { return a; }
     Real offset(const Real& s) const {
         using std::sin;
-        return amplitude * sin(s);
+        return from_sincos(sin(s), Real(0))[0];
     }
     Real slope(const Real& s) const {
         using std::cos;
-        return amplitude * cos(s);
+        return from_sincos(Real(0), cos(s))[1];
+    }
+    /// h(s) and h'(s) from sin s and cos s, for a caller that computes them together (the
+    /// ensemble's flip detector, with its inline sin/cos).
+    std::array<Real, 2> from_sincos(const Real& sin_s, const Real& cos_s) const {
+        return {amplitude * sin_s, amplitude * cos_s};
     }
     std::array<Real, 2> domain() const { return {-pi<Real>(), pi<Real>()}; }
 };
