@@ -197,25 +197,46 @@ void step_events(const double_pendulum<Real>& model, const std::vector<curve_at<
                 Real tau = located;
                 Stepper refine = gl;
                 crossing_value<Real> v{};
-                bool root = true;
+                // Newton on the exact-length steps, kept within the monotone piece and within
+                // 1e-6 h of the polynomial's root (which is right to far better)
+                const Real piece_lo = h * points[p - 1].first, piece_hi = h * points[p].first;
+                bool newton = true;
                 for (int it = 0; it < 12; ++it) {
                     phase_point<Real> y = x0;
-                    if (!refine.restep(f, y, tau))
-                        throw std::runtime_error("trajectory: a refining step did not converge");
-                    v = crossing_function(model, c, y);
-                    const Real delta = (v.phi - target) / v.rate;
-                    tau -= delta;
-                    // the polynomial's root is right to far better than 1e-6 h: Newton moving
-                    // further means no root here (phi jumps where red(s) passes the end of a
-                    // restricted curve's domain, outside it)
-                    if (abs(tau - located) > h / 1000000) {
-                        root = false;
+                    if (!refine.restep(f, y, tau)) {
+                        newton = false;
                         break;
                     }
+                    v = crossing_function(model, c, y);
+                    const Real delta = (v.phi - target) / v.rate;
+                    const Real next = tau - delta;
+                    if (!(abs(next - located) <= h / 1000000 && next >= piece_lo &&
+                          next <= piece_hi)) {
+                        newton = false;
+                        break;
+                    }
+                    tau = next;
                     if (abs(delta) <= 4 * eps * (abs(t0) + abs(tau))) break;
                 }
-                if (root && v.inside)
-                    events.push_back({t0 + tau, c.flip_arm, c.name, v.rate > 0 ? 1 : -1});
+                if (newton) {
+                    if (v.inside)
+                        events.push_back({t0 + tau, c.flip_arm, c.name, v.rate > 0 ? 1 : -1});
+                    continue;
+                }
+                // Newton failed: either a graze (an extremum of phi within rounding of the
+                // level, where phi' vanishes and the crossing time is only determined to about
+                // the square root of the precision: both crossings of the pair are kept, at the
+                // polynomial's roots, so that their count stays even) or no root at all (phi
+                // jumps where red(s) passes the end of a restricted curve's domain, outside it:
+                // phi differs across the polynomial's bracket by far more than rounding).
+                const crossing_value<Real> va = crossing_function(model, c, state_at(a));
+                const crossing_value<Real> vb = crossing_function(model, c, state_at(b));
+                const Real ra = abs(va.rate), rb = abs(vb.rate);
+                const Real rate = ra > rb ? ra : rb;
+                const Real continuous = 1024 * eps * (1 + abs(target)) + 4 * rate * h * (b - a);
+                if (!(abs(vb.phi - va.phi) <= continuous)) continue;
+                if (crossing_function(model, c, state_at((a + b) / 2)).inside)
+                    events.push_back({t0 + located, c.flip_arm, c.name, up ? 1 : -1});
             }
         }
     }

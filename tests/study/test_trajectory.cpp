@@ -195,6 +195,80 @@ TEST(Trajectory, GrazingFlipIsTwoEvents) {
     }
 }
 
+// Grazes closer than the working precision can resolve (found by an independent cross-check,
+// 2026-11-30: the reference route at double threw "a refining step did not converge" or reported
+// one crossing of the pair). The states come from an independent route (a 100-digit Taylor
+// integration in mpmath, backwards from a state where arm 2's angle has its extremum pi + delta,
+// angular velocity 0, at t = 2), for delta = 1e-18, 1e-25, 1e-35. The crossings are then at
+// 2 -+ d with d = sqrt(2 delta / kappa) (kappa the angle's curvature there: a parabola). Checked:
+//   - double, both high-precision routes, T = 2.5, 3, 4: no error, an even number of upright events
+//   (0 or 2:
+//     a graze below the precision may or may not cross), each within 1e-7 (about the square root
+//     of epsilon) of t = 2;
+//   - quad, reference route, delta = 1e-18 and 1e-25: two events, up then down, their midpoint
+//     within delta + 1e-20 of 2 (the time of the extremum by construction; the curve's cubic term
+//     moves the midpoint by O(d^2) = O(delta): measured 0.3 delta);
+//   - mp:40, Taylor route, every delta: two events, midpoint within delta + 1e-30 of 2, and
+//     d / sqrt(delta) the same for the three deltas to 1e-6 (the parabola's law, an independent
+//     check of d).
+TEST(Trajectory, GrazesBelowThePrecisionGiveEvenCounts) {
+    const char* states[3][4] = {{"-1.705058285280586323415314195069738546352723660726364731",
+                                 "0.9791784635827180592550793771130652433290531052105214763",
+                                 "-0.3635552282077075447117598690030461928078397727210428431",
+                                 "0.9643564339157965975695871618300611081595955102024745197"},
+                                {"-1.705058285280586323032757703761515286376030154240826956",
+                                 "0.9791784635827180500099594515981089043428941458364024870",
+                                 "-0.3635552282077075547194778340862319619257396658448506258",
+                                 "0.9643564339157966087751650063150864188563892796580148236"},
+                                {"-1.705058285280586323032757665505862333813969631493779021",
+                                 "0.9791784635827180500099585270860239940899732013870639058",
+                                 "-0.3635552282077075547194788348581284473567845359705907845",
+                                 "0.9643564339157966087751661268729828110927789725470795148"}};
+    const double deltas[3] = {1e-18, 1e-25, 1e-35};
+    auto run = [&]<class Real>(int which, bool taylor, double time = 4) {
+        trajectory_request<Real> q;
+        for (int i = 0; i < 4; ++i)
+            q.state[static_cast<std::size_t>(i)] = parse_real<Real>(states[which][i], "state");
+        q.time = time;
+        q.criteria = {"upright"};
+        q.arms = {arm::two};
+        const double_pendulum<Real> m;
+        return taylor ? taylor_trajectory(m, q) : reference_trajectory(m, q);
+    };
+    for (int which = 0; which < 3; ++which)
+        for (const bool taylor : {false, true})
+            for (const double time : {2.5, 3.0, 4.0}) {  // other steps, other roundings
+                const auto r = run.template operator()<double>(which, taylor, time);
+                EXPECT_EQ(r.events.size() % 2, 0u)
+                    << deltas[which] << (taylor ? " taylor" : "") << ", T = " << time;
+                for (const auto& e : r.events)
+                    EXPECT_LE(std::abs(e.time - 2), 1e-7) << deltas[which];
+            }
+    for (int which = 0; which < 2; ++which) {
+        const auto r = run.template operator()<quad>(which, false);
+        ASSERT_EQ(r.events.size(), 2u) << deltas[which];
+        EXPECT_EQ(r.events[0].direction, 1);
+        EXPECT_EQ(r.events[1].direction, -1);
+        EXPECT_LE(static_cast<double>(abs((r.events[0].time + r.events[1].time) / 2 - 2)),
+                  deltas[which] + 1e-20);
+    }
+    double law = 0;
+    dispatch(parse_precision("mp:40"), [&]<class Real>() {
+        for (int which = 0; which < 3; ++which) {
+            const auto r = run.template operator()<Real>(which, true);
+            ASSERT_EQ(r.events.size(), 2u) << deltas[which];
+            EXPECT_EQ(r.events[0].direction, 1);
+            EXPECT_EQ(r.events[1].direction, -1);
+            EXPECT_LE(static_cast<double>(abs((r.events[0].time + r.events[1].time) / 2 - 2)),
+                      deltas[which] + 1e-30);
+            const double d = static_cast<double>(r.events[1].time - r.events[0].time) / 2;
+            const double ratio = d / std::sqrt(deltas[which]);
+            if (which == 0) law = ratio;
+            EXPECT_NEAR(ratio, law, 1e-6 * law) << deltas[which];
+        }
+    });
+}
+
 // The states: t = 0 is the initial state, t = T is last, angles are unwrapped (continuous), the
 // drift column is small; a criterion that cannot flip at the energy is listed, not an error.
 TEST(Trajectory, StatesAreUnwrappedAndCriteriaBelowTheirThresholdAreSkipped) {

@@ -21,8 +21,12 @@
 //     found where phi' changes sign (so two crossings inside one step, a grazing flip, are
 //     found), every level change bracketed, and each crossing time then polished by Newton's
 //     method on phi with Gauss-Legendre steps of the exact length from the step's start (full
-//     order: the collocation polynomial itself is only of order s + 1). Sample states are taken
-//     the same way. Angles are never reduced, so the states are unwrapped.
+//     order: the collocation polynomial itself is only of order s + 1), kept within the
+//     crossing's monotone piece. Where Newton fails (a graze closer to the level than the
+//     precision resolves: phi' vanishes there), both crossings of the pair are kept at the
+//     polynomial's roots, so that their count stays even; where phi jumps (a restricted curve's
+//     domain end) there is no crossing. Sample states are taken the same way. Angles are never
+//     reduced, so the states are unwrapped.
 #pragma once
 
 #include <array>
