@@ -54,27 +54,28 @@ void validate(const ensemble_options& o) {
                                  "'0' is invalid (the number of trajectories must be > 0)");
     if (!std::isfinite(o.time) || !(o.time > 0))
         throw input_error::about("time",
-                                 "'" + to_decimal(o.time) +
+                                 "'" + to_shortest_decimal(o.time) +
                                      "' is invalid (the integration time must be finite and > 0)");
     if (const std::string p = rtol_problem(o.rtol, "", o.method); !p.empty())
         throw input_error::about("rtol", p);
     if (const std::string p = taylor_order_problem(o.taylor_order, o.method, o.rtol); !p.empty())
         throw input_error::about("taylor_order", p);
     if (o.atol < 0 || !std::isfinite(o.atol))
-        throw input_error::about("atol", "'" + to_decimal(o.atol) + "' is invalid (must be >= 0)");
+        throw input_error::about("atol",
+                                 "'" + to_shortest_decimal(o.atol) + "' is invalid (must be >= 0)");
     if (!std::isfinite(o.energy) || !(o.energy > 0))
-        throw input_error::about("energy",
-                                 "'" + to_decimal(o.energy) + "' is invalid (must be > 0)");
+        throw input_error::about(
+            "energy", "'" + to_shortest_decimal(o.energy) + "' is invalid (must be > 0)");
     if (o.threads < 0)
         throw input_error::about("threads",
                                  "'" + std::to_string(o.threads) + "' is invalid (>= 0)");
     (void)checked_threads(static_cast<std::uint64_t>(o.threads), "threads");
     if (!std::isfinite(o.sample_interval) || o.sample_interval < 0)
-        throw input_error::about(
-            "sample_interval", "'" + to_decimal(o.sample_interval) + "' is invalid (must be >= 0)");
+        throw input_error::about("sample_interval", "'" + to_shortest_decimal(o.sample_interval) +
+                                                        "' is invalid (must be >= 0)");
     if (!std::isfinite(o.chaos_threshold) || !(o.chaos_threshold > 0))
-        throw input_error::about(
-            "chaos_threshold", "'" + to_decimal(o.chaos_threshold) + "' is invalid (must be > 0)");
+        throw input_error::about("chaos_threshold", "'" + to_shortest_decimal(o.chaos_threshold) +
+                                                        "' is invalid (must be > 0)");
     if (o.first_index > std::numeric_limits<std::uint64_t>::max() - o.trajectories)
         throw input_error::about("first_index", "the index range overflows");
 }

@@ -27,7 +27,7 @@ microcanonical_sampler::microcanonical_sampler(const double_pendulum<double>& mo
     : model_(model), energy_(energy) {
     if (!std::isfinite(energy) || !(energy > 0))
         throw input_error::about(
-            "energy", "'" + to_decimal(energy) +
+            "energy", "'" + to_shortest_decimal(energy) +
                           "' is invalid (the microcanonical ensemble needs a finite E > 0)");
     const auto& k = model.coefficients();
     box_ = {half_width(energy, k.alpha), half_width(energy, k.beta)};

@@ -36,7 +36,7 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_a
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
     if (!isfinite(energy.value) || !isfinite(energy.residual) ||
         !(energy.above(model.saddle_level(a)) > 0) || !(energy.below(model.maximum_level()) > 0)) {
-        throw input_error::about("energy", "'" + to_decimal(energy.value) +
+        throw input_error::about("energy", "'" + to_shortest_decimal(energy.value) +
                                                "' is outside the arm-" + to_string(a) +
                                                " saddle-orbit family's range (" + to_decimal(lo) +
                                                ", " + to_decimal(hi) + "), open at both ends");
@@ -52,7 +52,7 @@ void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_
     const Real gap = energy.below(model.maximum_level());  // E_max - E, carried exactly
     if (gap <= (hi - lo) / 1000000)
         throw input_error::about(
-            "energy", "'" + to_decimal(energy.value) +
+            "energy", "'" + to_shortest_decimal(energy.value) +
                           "' is too close to E_max = " + to_decimal(hi) + " for the arm-" +
                           to_string(a) + " saddle orbit in this precision (E_max - E = " +
                           to_decimal(static_cast<double>(gap), 3) +
@@ -246,7 +246,7 @@ saddle_family<Real> continue_saddle_family(const double_pendulum<Real>& model, a
         targets.push_back(static_cast<double>(excess));
         if (i > 0 && !(targets[i] > targets[i - 1]))
             throw input_error::about(
-                "energy", "'" + to_decimal(energies[i].value) +
+                "energy", "'" + to_shortest_decimal(energies[i].value) +
                               "' is not distinguishable from the previous energy at double");
     }
     const orbit_guess<Real> lin = linear_guess(model, a);

@@ -63,7 +63,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
             if (m == phase_volume_method::closed_form &&
                 !(energy.above(model.maximum_level()) >= 0)) {
                 throw input_error::about(
-                    "energy", "'" + to_decimal(energy.value) +
+                    "energy", "'" + to_shortest_decimal(energy.value) +
                                   "' is below the threshold of method closed-form of omega "
                                   "(needs E >= E_max = " +
                                   to_decimal(model.maximum_energy()) + ", the potential maximum)");

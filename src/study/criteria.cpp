@@ -151,7 +151,7 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
     const double threshold = criterion_threshold(model, a, name);
     if (!(energy > threshold))
         throw input_error::about(
-            "energy", "'" + to_decimal(energy) + "' is at or below the threshold " +
+            "energy", "'" + to_shortest_decimal(energy) + "' is at or below the threshold " +
                           to_decimal(threshold) + " of criterion '" + name + "' for arm " +
                           to_string(a) + " (the saddle energy: no flips are possible)");
     return {name, criterion(name).detector(model, a, energy, pendulum_flow(model))};

@@ -179,7 +179,7 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     if (!(q.reference_time >= 0) || std::signbit(q.reference_time))
         throw input_error::about(
             r.name("reference_time"),
-            "'" + to_decimal(q.reference_time) + "' is invalid (must be finite and >= 0)");
+            "'" + to_shortest_decimal(q.reference_time) + "' is invalid (must be finite and >= 0)");
     return q;
 }
 

@@ -54,34 +54,35 @@ ensemble_options checked_options(const simulation_request& request, const proces
     if (o.sample_interval != 0 && request.csv_dir.empty() && !request.sink)
         throw input_error::about(
             "sample_interval",
-            "'" + to_decimal(o.sample_interval) +
+            "'" + to_shortest_decimal(o.sample_interval) +
                 "' needs a CSV directory, csv_dir (the sampled trajectories are written there)");
     if (o.sample_interval != 0 && (!request.checkpoint.empty() || group.size() > 1))
         throw input_error::about(
-            "sample_interval", "'" + to_decimal(o.sample_interval) +
+            "sample_interval", "'" + to_shortest_decimal(o.sample_interval) +
                                    "' cannot be combined with a checkpoint or MPI (samples are not "
                                    "checkpointed or gathered)");
     if (!(request.reference_time >= 0) || !std::isfinite(request.reference_time))
-        throw input_error::about("reference_time", "'" + to_decimal(request.reference_time) +
+        throw input_error::about("reference_time", "'" +
+                                                       to_shortest_decimal(request.reference_time) +
                                                        "' is invalid (must be finite and >= 0)");
     if (!(request.checkpoint_interval >= 0))
         throw input_error::about(
             "checkpoint_interval",
-            "'" + to_decimal(request.checkpoint_interval) + "' is invalid (must be >= 0)");
+            "'" + to_shortest_decimal(request.checkpoint_interval) + "' is invalid (must be >= 0)");
     if (request.estimator == rate_estimator::short_trajectories) {
         if (!std::isfinite(request.short_time) || !(request.short_time > 0))
-            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
+            throw input_error::about("short_time", "'" + to_shortest_decimal(request.short_time) +
                                                        "' is invalid (must be finite and > 0)");
         if (!(o.time > 0) || o.trajectories == 0) validate(o);
         if (request.short_time > o.time)
-            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
+            throw input_error::about("short_time", "'" + to_shortest_decimal(request.short_time) +
                                                        "' is longer than the budget's trajectory "
                                                        "length, time = " +
                                                        to_decimal(o.time));
         const double n = std::ceil(static_cast<double>(o.trajectories) * o.time /
                                    request.short_time * (1 - 1e-15));
         if (!(n <= 1e12))
-            throw input_error::about("short_time", "'" + to_decimal(request.short_time) +
+            throw input_error::about("short_time", "'" + to_shortest_decimal(request.short_time) +
                                                        "' gives too many trajectories");
         o.trajectories = static_cast<std::uint64_t>(std::max(1.0, n));
         o.time = request.short_time;

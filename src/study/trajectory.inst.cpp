@@ -119,7 +119,8 @@ std::pair<int, long> stages_and_steps(const double_pendulum<Real>& model, const 
     while (s < max_gauss_legendre_stages && log_error(s) > -(digits + 3))
         ++s;
     const double n = std::ceil(static_cast<double>(time) * Lambda * 8);
-    if (!(n <= 1e9)) throw input_error::about("time", "'" + to_decimal(time) + "' is too long");
+    if (!(n <= 1e9))
+        throw input_error::about("time", "'" + to_shortest_decimal(time) + "' is too long");
     return {s, std::max(1L, static_cast<long>(n))};
 }
 

@@ -16,18 +16,20 @@ void check_trajectory_request(const trajectory_request<Real>& q) {
     using std::isfinite;
     for (const Real& x : q.state)
         if (!isfinite(x))
-            throw input_error::about("state", "'" + to_decimal(x) + "' is not a finite number");
+            throw input_error::about("state",
+                                     "'" + to_shortest_decimal(x) + "' is not a finite number");
     if (!isfinite(q.time) || !(q.time > 0))
-        throw input_error::about("time", "'" + to_decimal(q.time) + "' is invalid (must be > 0)");
+        throw input_error::about("time",
+                                 "'" + to_shortest_decimal(q.time) + "' is invalid (must be > 0)");
     if (!isfinite(q.sample_interval) || q.sample_interval < 0)
-        throw input_error::about(
-            "sample_interval", "'" + to_decimal(q.sample_interval) + "' is invalid (must be >= 0)");
+        throw input_error::about("sample_interval", "'" + to_shortest_decimal(q.sample_interval) +
+                                                        "' is invalid (must be >= 0)");
     if (q.sample_interval > 0 && q.time / q.sample_interval > 1e8)
-        throw input_error::about("sample_interval", "'" + to_decimal(q.sample_interval) +
+        throw input_error::about("sample_interval", "'" + to_shortest_decimal(q.sample_interval) +
                                                         "' gives more than 1e8 samples");
     if (!(q.rtol > 0) || !(q.rtol <= 0.1))
-        throw input_error::about("rtol",
-                                 "'" + to_decimal(q.rtol) + "' is invalid (must be in (0, 0.1])");
+        throw input_error::about(
+            "rtol", "'" + to_shortest_decimal(q.rtol) + "' is invalid (must be in (0, 0.1])");
     if (q.criteria.empty()) throw input_error::about("criteria", "no criterion given");
     for (std::size_t i = 0; i < q.criteria.size(); ++i) {
         check_criterion_name(q.criteria[i]);

@@ -49,7 +49,7 @@ TEST(LimitsCommand, SimulateTrajectoriesBeyondMemoryAreRefused) {
 TEST(LimitsCommand, SaddleOrbitsTooCloseToTheMaximumAreRefused) {
     const std::string pendulum = " --arm 2 --m1 2 --m2 0.5 --L1 0.7 --L2 1.5";  // E_max = 5
     expect_refused("eval period --energy 4.9999999999999" + pendulum,
-                   {"--energy: '4.99999999999989", "too close to E_max = 5", "arm-2 saddle orbit",
+                   {"--energy: '4.9999999999999'", "too close to E_max = 5", "arm-2 saddle orbit",
                     "E_max - E = 1e-13"});
 }
 

@@ -1,3 +1,5 @@
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <iomanip>
@@ -174,6 +176,59 @@ TEST(Decimal, DoubleTextEqualsTheStreams) {
             ASSERT_EQ(to_decimal(x, digits), stream.str()) << digits << " digits";
         }
     EXPECT_EQ(to_decimal(0.1), "0.10000000000000001");  // all of a double's 17 digits
+}
+
+// A value echoed in a message (to_shortest_decimal) has the fewest significant digits that read
+// back as it: as many as std::to_chars's shortest round-trip form in scientific notation (an
+// independent route: the Ryu-style shortest representation of the standard library) for typed
+// values and random bit patterns, and at quad and mp:30 a typed decimal comes back as typed.
+TEST(Decimal, ShortestDecimalReadsBackAndHasTheFewestDigits) {
+    EXPECT_EQ(to_shortest_decimal(-0.1), "-0.1");
+    EXPECT_EQ(to_shortest_decimal(0.0), "0");
+    EXPECT_EQ(to_shortest_decimal(std::numeric_limits<double>::infinity()),
+              to_decimal(std::numeric_limits<double>::infinity()));
+    auto significant = [](std::string t) {  // significant digits of a decimal text
+        const std::size_t e = t.find_first_of("eE");
+        if (e != std::string::npos) t = t.substr(0, e);
+        std::string d;
+        for (const char c : t)
+            if (c >= '0' && c <= '9') d += c;
+        const std::size_t first = d.find_first_not_of('0');
+        if (first == std::string::npos) return 1;
+        d = d.substr(first);
+        const std::size_t last = d.find_last_not_of('0');
+        return static_cast<int>(last + 1);
+    };
+    std::vector<double> values = {0.1, -2.5e-7, 1.0 / 3, 5.3, 1e300, 123456.789};
+    std::uint64_t bits = 0x9E3779B97F4A7C15ull;
+    for (int i = 0; i < 2000; ++i) {
+        bits ^= bits << 13;
+        bits ^= bits >> 7;
+        bits ^= bits << 17;
+        double x;
+        std::memcpy(&x, &bits, sizeof x);
+        if (std::isfinite(x)) values.push_back(x);
+    }
+    EXPECT_EQ(to_shortest_decimal(std::numeric_limits<double>::denorm_min()),
+              to_decimal(std::numeric_limits<double>::denorm_min()));  // parse_real refuses it
+    for (const double x : values) {
+        if (std::abs(x) < std::numeric_limits<double>::min()) continue;  // as above
+        const std::string t = to_shortest_decimal(x);
+        ASSERT_EQ(parse_real<double>(t, "x"), x) << t;
+        char buffer[64];
+        const auto r =
+            std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific);
+        EXPECT_EQ(significant(t), significant(std::string(buffer, r.ptr))) << t;
+    }
+    EXPECT_EQ(to_shortest_decimal(parse_real<quad>("-0.1", "x")), "-0.1");
+    EXPECT_EQ(to_shortest_decimal(parse_real<quad>("2.000000000000000000000001", "x")),
+              "2.000000000000000000000001");
+    dispatch(parse_precision("mp:30"), [&]<class Real>() {
+        if constexpr (has_variable_precision_v<Real>) {
+            EXPECT_EQ(to_shortest_decimal(parse_real<Real>("5.3", "x")), "5.3");
+            EXPECT_EQ(to_shortest_decimal(parse_real<Real>("-1.25e-40", "x")), "-1.25e-40");
+        }
+    });
 }
 
 // mp:N prints N + 2 significant digits, computes with mp_working_digits(N), and parses its input

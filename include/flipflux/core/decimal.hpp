@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,6 +85,32 @@ requires(!is_supported_real_v<Real>) std::string to_decimal(const Real& x) {
     std::ostringstream out;
     out << std::setprecision(std::numeric_limits<Real>::max_digits10) << x;
     return out.str();
+}
+
+/// The fewest significant digits that parse_real reads back as x: a value echoed in a message
+/// about the caller's input shows as it was typed ("'-0.1' is invalid", not
+/// "'-0.10000000000000001'"), and still names the exact value. Non-finite values, and values that
+/// parse_real does not read (subnormals), as to_decimal.
+template <class Real>
+requires is_supported_real_v<Real> std::string to_shortest_decimal(const Real& x) {
+    using boost::multiprecision::isfinite;
+    using std::isfinite;
+    if (!isfinite(x)) return to_decimal(x);
+    const int most = full_digits(x);
+    try {
+        for (int n = 1; n < most; ++n) {
+            std::string text = to_decimal(x, n);
+            if (parse_real<Real>(text, "value") == x) return text;
+        }
+    } catch (const std::exception&) {  // parse_real refuses it (a subnormal): every digit
+    }
+    return to_decimal(x);
+}
+
+/// (Another floating type: every digit it has.)
+template <class Real>
+requires(!is_supported_real_v<Real>) std::string to_shortest_decimal(const Real& x) {
+    return to_decimal(x);
 }
 
 /// Agreement of two decimal numbers in significant digits: -log10(|a - b| / |b|) (-log10 |a - b|

@@ -197,7 +197,7 @@ void check_magnitude(const Real& x, const std::string& field) {
         const Real hi = magnitude_limit<Real>();
         if (x != 0 && (abs(x) > hi || abs(x) < 1 / hi))
             throw input_error::about(
-                field, "'" + to_decimal(x) + "' is outside the magnitudes " +
+                field, "'" + to_shortest_decimal(x) + "' is outside the magnitudes " +
                            to_decimal(Real(1 / hi), 3) + " .. " + to_decimal(hi, 3) + " that " +
                            precision_name<Real>() +
                            " computes with (docs/limits.md; mp:N has no such limit)");
@@ -211,7 +211,8 @@ lagrangian_coefficients<Real> coefficients_of(const physical_parameters<Real>& p
     using std::isfinite;
     auto require = [](const Real& v, bool ok, const std::string& name, const std::string& rule) {
         if (!isfinite(v) || !ok) {
-            throw input_error::about(name, "'" + to_decimal(v) + "' is invalid (" + rule + ")");
+            throw input_error::about(name,
+                                     "'" + to_shortest_decimal(v) + "' is invalid (" + rule + ")");
         }
         check_magnitude(v, name);
     };
