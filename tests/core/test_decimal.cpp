@@ -140,6 +140,21 @@ TEST(Precision, ParsesNamesAndAnyDigits) {
     EXPECT_THROW(parse_precision_list("double,mp:0", "x"), input_error);
 }
 
+// n doubles of random bit patterns (xorshift64: every kind of value, NaNs and infinities too).
+std::vector<double> random_bit_patterns(int n) {
+    std::vector<double> out;
+    std::uint64_t bits = 0x9E3779B97F4A7C15ull;
+    for (int i = 0; i < n; ++i) {
+        bits ^= bits << 13;
+        bits ^= bits >> 7;
+        bits ^= bits << 17;
+        double x;
+        std::memcpy(&x, &bits, sizeof x);
+        out.push_back(x);
+    }
+    return out;
+}
+
 // A double's decimal text (std::to_chars, the fast path of ensemble CSVs) is the iostream's (the
 // reference: printf's %.*g through the C++ stream, as every other type is printed), for
 // every number of digits and values of every kind: subnormals, powers of ten, halfway cases,
@@ -160,15 +175,8 @@ TEST(Decimal, DoubleTextEqualsTheStreams) {
                                   std::numeric_limits<double>::infinity(),
                                   -std::numeric_limits<double>::infinity(),
                                   std::numeric_limits<double>::quiet_NaN()};
-    std::uint64_t bits = 0x9E3779B97F4A7C15ull;
-    for (int i = 0; i < 2000; ++i) {
-        bits ^= bits << 13;
-        bits ^= bits >> 7;
-        bits ^= bits << 17;
-        double x;
-        std::memcpy(&x, &bits, sizeof x);
+    for (const double x : random_bit_patterns(2000))
         values.push_back(x);
-    }
     for (const double x : values)
         for (int digits = 1; digits <= 40; ++digits) {
             std::ostringstream stream;
@@ -200,15 +208,8 @@ TEST(Decimal, ShortestDecimalReadsBackAndHasTheFewestDigits) {
         return static_cast<int>(last + 1);
     };
     std::vector<double> values = {0.1, -2.5e-7, 1.0 / 3, 5.3, 1e300, 123456.789};
-    std::uint64_t bits = 0x9E3779B97F4A7C15ull;
-    for (int i = 0; i < 2000; ++i) {
-        bits ^= bits << 13;
-        bits ^= bits >> 7;
-        bits ^= bits << 17;
-        double x;
-        std::memcpy(&x, &bits, sizeof x);
+    for (const double x : random_bit_patterns(2000))
         if (std::isfinite(x)) values.push_back(x);
-    }
     EXPECT_EQ(to_shortest_decimal(std::numeric_limits<double>::denorm_min()),
               to_decimal(std::numeric_limits<double>::denorm_min()));  // parse_real refuses it
     for (const double x : values) {
