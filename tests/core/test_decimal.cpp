@@ -5,6 +5,8 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "flipflux/core/constants.hpp"
@@ -193,6 +195,20 @@ TEST(Decimal, DoubleTextEqualsTheStreams) {
 TEST(Decimal, ShortestDecimalReadsBackAndHasTheFewestDigits) {
     EXPECT_EQ(to_shortest_decimal(-0.1), "-0.1");
     EXPECT_EQ(to_shortest_decimal(0.0), "0");
+    // fixed notation as typed from 1e-4 to 1e18 ('50', not '5e+01'), scientific beyond
+    for (const auto& [x, text] :
+         std::vector<std::pair<double, std::string>>{{50.0, "50"},
+                                                     {1500.0, "1500"},
+                                                     {-1500.0, "-1500"},
+                                                     {2050.5, "2050.5"},
+                                                     {1e6, "1000000"},
+                                                     {123456.789, "123456.789"},
+                                                     {1e17, "100000000000000000"},
+                                                     {1.5e18, "1.5e+18"},
+                                                     {0.00025, "0.00025"},
+                                                     {-0.0001, "-0.0001"},
+                                                     {2.5e-5, "2.5e-05"}})
+        EXPECT_EQ(to_shortest_decimal(x), text);
     EXPECT_EQ(to_shortest_decimal(std::numeric_limits<double>::infinity()),
               to_decimal(std::numeric_limits<double>::infinity()));
     auto significant = [](std::string t) {  // significant digits of a decimal text
@@ -222,6 +238,7 @@ TEST(Decimal, ShortestDecimalReadsBackAndHasTheFewestDigits) {
         EXPECT_EQ(significant(t), significant(std::string(buffer, r.ptr))) << t;
     }
     EXPECT_EQ(to_shortest_decimal(parse_real<quad>("-0.1", "x")), "-0.1");
+    EXPECT_EQ(to_shortest_decimal(parse_real<quad>("2050", "x")), "2050");
     EXPECT_EQ(to_shortest_decimal(parse_real<quad>("2.000000000000000000000001", "x")),
               "2.000000000000000000000001");
     dispatch(parse_precision("mp:30"), [&]<class Real>() {

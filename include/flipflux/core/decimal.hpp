@@ -87,10 +87,36 @@ requires(!is_supported_real_v<Real>) std::string to_decimal(const Real& x) {
     return out.str();
 }
 
+namespace detail {
+/// A %g text in scientific notation with an exponent in [-4, 17] written in fixed notation with
+/// the same digits ("1.5e+03" -> "1500", "2.5e-04" -> "0.00025"); any other text as it is.
+inline std::string fixed_if_moderate(const std::string& text) {
+    const std::size_t e = text.find('e');
+    if (e == std::string::npos) return text;
+    const int exponent = std::stoi(text.substr(e + 1));
+    if (exponent < -4 || exponent > 17) return text;
+    const bool negative = text[0] == '-';
+    std::string digits;
+    for (std::size_t i = negative ? 1 : 0; i < e; ++i)
+        if (text[i] != '.') digits += text[i];
+    std::string out = negative ? "-" : "";
+    if (exponent < 0) {
+        out += "0." + std::string(static_cast<std::size_t>(-exponent - 1), '0') + digits;
+    } else if (static_cast<std::size_t>(exponent) + 1 >= digits.size()) {
+        out += digits + std::string(static_cast<std::size_t>(exponent) + 1 - digits.size(), '0');
+    } else {
+        const std::size_t point = static_cast<std::size_t>(exponent) + 1;
+        out += digits.substr(0, point) + "." + digits.substr(point);
+    }
+    return out;
+}
+}  // namespace detail
+
 /// The fewest significant digits that parse_real reads back as x: a value echoed in a message
 /// about the caller's input shows as it was typed ("'-0.1' is invalid", not
-/// "'-0.10000000000000001'"), and still names the exact value. Non-finite values, and values that
-/// parse_real does not read (subnormals), as to_decimal.
+/// "'-0.10000000000000001'"), and still names the exact value; in fixed notation from 1e-4 to
+/// 1e18 ("'1500'", not "'1.5e+03'"). Non-finite values, and values that parse_real does not read
+/// (subnormals), as to_decimal.
 template <class Real>
 requires is_supported_real_v<Real> std::string to_shortest_decimal(const Real& x) {
     using boost::multiprecision::isfinite;
@@ -100,7 +126,7 @@ requires is_supported_real_v<Real> std::string to_shortest_decimal(const Real& x
     try {
         for (int n = 1; n < most; ++n) {
             std::string text = to_decimal(x, n);
-            if (parse_real<Real>(text, "value") == x) return text;
+            if (parse_real<Real>(text, "value") == x) return detail::fixed_if_moderate(text);
         }
     } catch (const std::exception&) {  // parse_real refuses it (a subnormal): every digit
     }
