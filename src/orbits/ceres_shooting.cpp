@@ -223,8 +223,9 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
             return out;
         }
         if (std::getenv("FLIPFLUX_DEBUG_CONTINUATION"))
-            std::fprintf(stderr, "continuation: %.17g -> %.17g (dsigma %.3g)\n", last.excess, next,
-                         dsigma);
+            std::fprintf(stderr,
+                         "continuation: %.17g (beta %.17g, T %.17g) -> %.17g (dsigma %.3g)\n",
+                         last.excess, last.beta, last.period, next, dsigma);
         // secant predictor in sigma
         const double_orbit& prev = known[known.size() - 2];
         const double f =
@@ -233,8 +234,19 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         const double period = last.period + f * (last.period - prev.period);
         const auto r = solve(next, beta, period);
         const double dbeta = std::abs(wrap_angle(r.beta - beta));
-        const bool accepted =
-            r.converged && dbeta < 0.5 && std::abs(r.period - period) < 0.25 * period;
+        // NOTE: the corrector may converge to another periodic orbit inside the saddle's strip
+        // (an arm-2 family of a rigid pendulum, found by an independent cross-check: its period
+        // jumped from 5.457 to 6.013 between E = 11.9 and 11.92 while the family's goes on
+        // smoothly, 5.483 at 12). On the family the corrector lands within the predictor's error,
+        // a fraction of the step's predicted change (the secant's error is of second order in
+        // the step); on another orbit at an O(1) distance. So the corrector's distance from the
+        // predictor (beta, T / T) must stay below half the predicted change, or 1e-3.
+        const double change =
+            std::abs(wrap_angle(beta - last.beta)) + std::abs(period - last.period) / last.period;
+        const double moved = dbeta + std::abs(r.period - period) / period;
+        const bool accepted = r.converged && dbeta < 0.5 &&
+                              std::abs(r.period - period) < 0.25 * period &&
+                              moved <= std::max(0.5 * change, 1e-3);
         continuation_step st{last.excess, next, accepted, r.iterations, ""};
         if (!accepted) {
             st.note = !r.converged ? "corrector failed: " + r.report

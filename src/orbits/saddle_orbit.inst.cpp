@@ -3,6 +3,7 @@
 // (see orbits/saddle_orbit.hpp and docs/theory.md#saddle-orbits).
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -59,6 +60,30 @@ void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_
                           "): its period diverges there and the continuation from the saddle "
                           "stopped short (" +
                           stage + "; docs/theory.md, \"Near E_max\")");
+    // A saddle orbit too unstable for the continuation: near the saddle its Floquet multiplier is
+    // about exp(lambda T_c) (lambda the saddle's growth rate, T_c = 2 pi / omega_c its centre
+    // mode's period), and the continuation's symmetric shooting, which runs in double whatever
+    // the precision, amplifies rounding by about |mu|^(1/4): measured, it finds orbits up to
+    // |mu| ~ 1e39 near the saddle and fails from ~1e45 (docs/limits.md). Named as the cause
+    // where the estimate exceeds 1e30 (a failure below that is not explained by it).
+    const critical_point<Real> cp = flip_saddle(model, a);
+    const double growth = static_cast<double>(cp.modes[1].rate),
+                 centre = static_cast<double>(cp.modes[0].rate);
+    const double log10_mu = growth * 2 * std::numbers::pi / centre / std::numbers::ln10;
+    if (log10_mu > 30) {
+        char mu[96];
+        std::snprintf(mu, sizeof mu,
+                      "1e%.0f (exp of the saddle's growth rate %.4g times its centre period %.4g)",
+                      log10_mu, growth, 2 * std::numbers::pi / centre);
+        throw input_error(what + " at E = " + to_shortest_decimal(energy.value) + " (arm " +
+                          to_string(a) +
+                          "): the pendulum's saddle orbits for this arm are too unstable to be "
+                          "found by shooting: their Floquet multiplier near the saddle is about " +
+                          mu +
+                          ", and the continuation from the saddle (in double at every "
+                          "precision) resolves multipliers up to about 1e39 (docs/limits.md; " +
+                          stage + ")");
+    }
     throw std::runtime_error(what + " at E = " + to_decimal(energy.value) + " (arm " +
                              to_string(a) + "): no convergence (" + stage + ")");
 }

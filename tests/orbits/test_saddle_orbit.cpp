@@ -7,6 +7,7 @@
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/integrators/gauss_legendre.hpp"
+#include "flipflux/model/model_text.hpp"
 #include "flipflux/orbits/saddle_orbit.hpp"
 #include "flipflux/orbits/shooting.hpp"
 #include "pendulums.hpp"
@@ -340,6 +341,70 @@ TEST(SaddleOrbit, NoConvergenceJustBelowTheMaximumIsTheEnergysFault) {
         } catch (const std::runtime_error& x) {
             EXPECT_NE(std::string(x.what()).find("no convergence"), std::string::npos);
         }
+    }
+}
+
+// A pendulum whose arm-2 saddle orbits are far too unstable for shooting (found by an independent
+// cross-check: a light long first link, a heavy short second one): the continuation fails at the
+// first orbit next to the saddle, and the failure names the cause instead of "no convergence".
+// The multiplier's estimate exp(lambda 2 pi / omega_c) is checked against the saddle's modes
+// from the coefficients by hand: M* = [[A, -C], [-C, B]], K* = diag(alpha, -beta) at (0, pi), so
+// x = W^2 solves D0 x^2 + (A beta - alpha B) x - alpha beta = 0.
+TEST(SaddleOrbit, OrbitsTooUnstableForShootingNameTheirMultiplier) {
+    model_text t;
+    t.m1 = "0.1", t.m2 = "10", t.L1 = "5", t.L2 = "0.2", t.a1 = "2.5", t.a2 = "0.1";
+    t.I1 = "0", t.I2 = "0.0003", t.g = "20";
+    const double_pendulum<double> model(parse_parameters<double>(t));
+    const auto& k = model.coefficients();
+    const double b = k.A * k.beta - k.alpha * k.B,
+                 disc = std::sqrt(b * b + 4 * k.D0 * k.alpha * k.beta);
+    const double x_centre = (-b + disc) / (2 * k.D0), x_growth = (-b - disc) / (2 * k.D0);
+    const double log10_mu =
+        std::sqrt(-x_growth) * 2 * pi<double>() / std::sqrt(x_centre) / std::log(10.0);
+    ASSERT_GT(log10_mu, 254);
+    ASSERT_LT(log10_mu, 255);  // printed as 1e255
+    const energy_level<double> level = parse_energy_level<double>("41", "energy");
+    const saddle_orbit<double> orbit = solve_saddle_orbit<double>(model, arm::two, level);
+    ASSERT_EQ(orbit.status, orbit_status::not_converged);
+    try {
+        throw_not_converged(model, arm::two, level, orbit.double_stage, "saddle orbit");
+        FAIL();
+    } catch (const input_error& e) {
+        const std::string w = e.what();
+        EXPECT_EQ(w.find("saddle orbit at E = 41 (arm 2): the pendulum's saddle orbits for this "
+                         "arm are too unstable to be found by shooting"),
+                  0u)
+            << w;
+        EXPECT_NE(w.find("about 1e255"), std::string::npos) << w;
+        EXPECT_NE(w.find(orbit.double_stage), std::string::npos) << w;
+    }
+    // the same pendulum's arm-1 orbits are barely unstable (multiplier ~ 1.07 near the saddle):
+    // found, and a failure there would not be blamed on instability
+    const saddle_orbit<double> one =
+        solve_saddle_orbit<double>(model, arm::one, parse_energy_level<double>("2014", "energy"));
+    EXPECT_NE(one.status, orbit_status::not_converged);
+}
+
+// The continuation must not leave the family for another periodic orbit in the saddle's strip.
+// For this rigid pendulum the arm-2 corrector once converged to another orbit between E = 11.9
+// and 11.92 (T = 5.98 at 12 instead of 5.48, exit 0), and the continuation then failed from
+// 12.82 to E_max. References: an independent continuation from the centre mode (own Hamiltonian,
+// own Taylor integrator in 40-digit gmpy2, 2026-11-30 cross-check), T to every digit shown.
+TEST(SaddleOrbit, TheContinuationStaysOnTheFamilyOfARigidPendulum) {
+    model_text t;
+    t.m1 = "0.7", t.m2 = "1.9", t.L1 = "1.3", t.L2 = "0.8", t.a1 = "0.5", t.a2 = "0.45";
+    t.I1 = "0.11", t.I2 = "0.07", t.g = "2.3";
+    const double_pendulum<double> model(parse_parameters<double>(t));
+    const std::vector<std::pair<const char*, double>> reference{
+        {"12.5", 5.61264684877506347331308639301921559674},
+        {"12.8", 5.68987874965374943731086250084380072066},
+        {"16.888095", 12.9560476918484325686676023891585579623}};
+    for (const auto& [energy, period] : reference) {
+        const saddle_orbit<double> orbit =
+            solve_saddle_orbit<double>(model, arm::two, parse_energy_level<double>(energy, "E"));
+        ASSERT_NE(orbit.status, orbit_status::not_converged) << energy << orbit.double_stage;
+        EXPECT_LE(std::abs(orbit.period - period), orbit.error_estimate_period) << energy;
+        EXPECT_LE(std::abs(orbit.period - period), 1e-12 * period) << energy;
     }
 }
 
