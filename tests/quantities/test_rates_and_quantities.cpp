@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "flipflux/core/error.hpp"
+#include "flipflux/model/model_text.hpp"
 #include "flipflux/prediction/prediction.hpp"
 #include "flipflux/quantities/registry.hpp"
 #include "pendulums.hpp"
@@ -191,6 +192,23 @@ TEST(Quantities, MultiplierErrorEstimateNearTheMaximumIsHonest) {
         // not vacuous: at most 2 eps |mu| relative (periodic) with |mu| = 1.7e8
         EXPECT_LE(mu.error_estimate / mu.value, 1e-6) << method;
     }
+}
+
+// Regression (an independent cross-check of rigid pendulums, 2026-11-30): where the orbit's own
+// error dominates, the multiplier's estimate was 0.47 of the actual error (1.26e-9 against
+// 2.67e-9; 05e4f69 widened it). Reference: the cross-check's own saddle orbit (its Hamiltonian
+// derived from the Lagrangian, Taylor shooting in 50-digit arithmetic), mu = 1297.2089885931435249.
+TEST(Quantities, MultiplierErrorEstimateCoversTheOrbitsErrorOfARigidPendulum) {
+    model_text t;
+    t.m1 = "0.7", t.m2 = "1.9", t.L1 = "1.3", t.L2 = "0.8", t.a1 = "0.5", t.a2 = "0.45";
+    t.I1 = "0.11", t.I2 = "0.07", t.g = "2.3";
+    const double_pendulum<double> model(parse_parameters<double>(t));
+    const double reference = 1297.2089885931435249;
+    const auto mu = find_quantity("multiplier").evaluate(model, arm::one, 16.888095, "");
+    EXPECT_LE(std::abs(mu.value - reference), mu.error_estimate);
+    // not vacuous: within 100 times the actual error and below 1e-10 relative
+    EXPECT_LE(mu.error_estimate, 100 * std::abs(mu.value - reference));
+    EXPECT_LE(mu.error_estimate / reference, 1e-10);
 }
 
 }  // namespace
