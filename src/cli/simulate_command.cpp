@@ -19,6 +19,7 @@
 #include <limits>
 
 #include "common.hpp"
+#include "flipflux/ensemble/replicate_check.hpp"
 #include "flipflux/ensemble/sampler.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/study/criteria.hpp"
@@ -278,15 +279,23 @@ void run(const simulate_state& s) {
                 for (const criterion_result& c : e.criteria) {
                     const criterion_statistics& st = c.statistics;
                     if (st.replicate_rates.empty()) continue;
+                    const std::size_t R = st.replicate_rates.size();
                     const double ratio =
                         replicate_standard_error(st.replicate_rates) / st.rates.standard_error;
-                    if (ratio > 2 || ratio < 0.5)
-                        std::fprintf(stderr,
-                                     "flipflux: warning: E = %s, %s: the replicate error is %.2fx "
-                                     "the per-trajectory standard error (heavy tails or rare "
-                                     "islands): trust the replicate error "
-                                     "(\"replicates\" in the report)\n",
-                                     e.label.c_str(), st.criterion.c_str(), ratio);
+                    if (!replicate_error_ratio_flagged(ratio, R)) continue;
+                    const std::array<double, 2> range = replicate_error_ratio_range(R);
+                    std::fprintf(stderr,
+                                 "flipflux: warning: E = %s, %s: the replicate error is %.3gx the "
+                                 "per-trajectory standard error, outside [%.2g, %.3g], where "
+                                 "%.4g %% of the ratios of %zu replicates fall when that error is "
+                                 "right: %s (\"replicates\" in the report)\n",
+                                 e.label.c_str(), st.criterion.c_str(), ratio, range[0], range[1],
+                                 100 * (1 - replicate_check_false_alarm), R,
+                                 ratio > range[1]
+                                     ? "heavy tails or rare islands; trust the replicate error"
+                                     : "the replicates agree more closely than their trajectories' "
+                                       "spread allows; take the per-trajectory error as the "
+                                       "floor");
                 }
         if (result && !s.write_initial_states.empty())
             write_file_atomically(s.write_initial_states, initial_states_text(s, model, q));

@@ -1,11 +1,16 @@
 // Ensemble statistics and quality indices; definitions in include/flipflux/ensemble/statistics.hpp.
 #include "flipflux/ensemble/statistics.hpp"
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <string>
+
+#include "flipflux/ensemble/replicate_check.hpp"
 
 namespace flipflux {
 
@@ -95,6 +100,23 @@ double replicate_standard_error(std::span<const summary_statistics> replicates) 
     }
     if (loo.size() < 2) return nan;
     return jackknife_error(loo);
+}
+
+std::array<double, 2> replicate_error_ratio_range(std::size_t replicates) {
+    if (replicates < 2)
+        throw std::invalid_argument("replicate_error_ratio_range: " + std::to_string(replicates) +
+                                    " replicates (at least 2)");
+    const double dof = static_cast<double>(replicates - 1);
+    const boost::math::chi_squared_distribution<double> chi2(dof);
+    const double tail = replicate_check_false_alarm / 2;
+    return {std::sqrt(boost::math::quantile(chi2, tail) / dof),
+            std::sqrt(boost::math::quantile(boost::math::complement(chi2, tail)) / dof)};
+}
+
+bool replicate_error_ratio_flagged(double ratio, std::size_t replicates) {
+    if (!std::isfinite(ratio) || replicates < 2) return false;
+    const std::array<double, 2> range = replicate_error_ratio_range(replicates);
+    return ratio < range[0] || ratio > range[1];
 }
 
 std::uint64_t histogram::total() const {

@@ -11,6 +11,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/ensemble/replicate_check.hpp"
 #include "flipflux/ensemble/taylor_ensemble.hpp"
 #include "flipflux/io/atomic_file.hpp"
 #include "flipflux/io/csv.hpp"
@@ -322,6 +323,13 @@ json study_json(const study_result& s) {
                                    {"max_error_ratio", number(v.max_error_ratio)},
                                    {"min_error_ratio", number(v.min_error_ratio)},
                                    {"error_mismatches", v.error_mismatches}};
+            if (v.chi2_of_replicates.size() >= 2) {
+                const std::array<double, 2> range =
+                    replicate_error_ratio_range(v.chi2_of_replicates.size());
+                j["replicates"]["error_ratio_range"] =
+                    json::array({number(range[0]), number(range[1])});
+                j["replicates"]["degrees_of_freedom"] = v.chi2_of_replicates.size() - 1;
+            }
         }
         return j;
     };

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "flipflux/ensemble/replicate_check.hpp"
 #include "flipflux/ensemble/statistics.hpp"
 
 namespace flipflux::detail {
@@ -165,7 +166,7 @@ criterion_agreement::replicate_verdict replicate_agreement(
         if (std::isfinite(ratio)) {
             if (!(ratio <= v.max_error_ratio)) v.max_error_ratio = ratio;
             if (!(ratio >= v.min_error_ratio)) v.min_error_ratio = ratio;
-            v.error_mismatches += ratio > 2 || ratio < 0.5;
+            v.error_mismatches += replicate_error_ratio_flagged(ratio, R);
         }
         ++v.energies;
     }

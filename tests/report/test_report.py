@@ -151,12 +151,18 @@ def ensemble_json(arm, energies, criteria, deviation, n, t, seed=1, method="dop8
                                                      "max_relative_deviation": "0"}}
                         for c in criteria}
     if replicates:
+        assert replicates == 5, "the synthetic error_ratio_range below is R = 5's"
         for c in criteria:
             out["agreement"][c]["all_trajectories"]["replicates"] = {
                 "energies": len(energies), "chi2": repr(len(energies) * (z / 1.25) ** 2),
                 "expected_chi2": repr(len(energies) * (replicates - 1) / (replicates - 3)),
                 "worst_z": repr(z / 1.25), "chi2_of_replicates": ["1"] * replicates,
-                "max_error_ratio": "1.25", "min_error_ratio": "1.25", "error_mismatches": 0}
+                "max_error_ratio": "1.25", "min_error_ratio": "1.25", "error_mismatches": 0,
+                # chi^2 quantiles of R - 1 = 4 degrees of freedom (mpmath), the run's for R = 5
+                "error_ratio_range": ["0.12641404640299837", "2.2359201123501488"],
+                "degrees_of_freedom": replicates - 1}
+            out["agreement"][c]["chaotic_trajectories"]["replicates"] = dict(
+                out["agreement"][c]["all_trajectories"]["replicates"])
     out["prediction_differences"] = [
         {"criteria": [c, d], "energies": len(energies),
          "rms_relative": repr(math.sqrt(sum((rates(e)[c] / rates(e)[d] - 1) ** 2

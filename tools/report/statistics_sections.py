@@ -100,8 +100,18 @@ def replicate_agreement_rows(ens, criteria, label):
                          "%.1f – %.1f" % (min(each), max(each)) if each else "—",
                          "%.2f – %.2f" % (K.num(r.get("min_error_ratio")),
                                           K.num(r.get("max_error_ratio"))),
-                         r.get("error_mismatches")])
+                         "%.2g – %.3g" % tuple(ratio_range(r)), r.get("error_mismatches")])
     return rows
+
+
+def ratio_range(verdict):
+    """The heavy-tail check's range of the replicate error over the per-trajectory one, as the run
+    computed it (a verdict's error_ratio_range: chi^2 quantiles for its R replicates)."""
+    rg = (verdict or {}).get("error_ratio_range")
+    if not isinstance(rg, list) or len(rg) != 2:
+        raise K.InputError("the run's replicate verdicts have no error_ratio_range: run it again "
+                            "with this flipflux")
+    return [K.num(rg[0]), K.num(rg[1])]
 
 
 def replicate_section(data, out, mains):
@@ -123,7 +133,12 @@ def replicate_section(data, out, mains):
                 for chaotic in (False, True):
                     r = replicate_entry(en["criteria"][c], chaotic)
                     ratio = K.num((r or {}).get("error_ratio"))
-                    if math.isfinite(ratio) and (ratio > 2 or ratio < 0.5):
+                    if not math.isfinite(ratio):
+                        continue
+                    subset = "chaotic_trajectories" if chaotic else "all_trajectories"
+                    lo, hi = ratio_range(((ens.get("agreement") or {}).get(c) or {})
+                                         .get(subset, {}).get("replicates"))
+                    if ratio > hi or ratio < lo:
                         warnings.append("%s %s%s at E = %s: replicate error %.2f× the "
                                         "per-trajectory one" %
                                         (ens["name"], c, " (chaotic)" if chaotic else "",
@@ -133,7 +148,8 @@ def replicate_section(data, out, mains):
     R = replicates_of(mains[2]) if 2 in mains else replicates_of(next(iter(mains.values())))
     header = ["ensemble", "criterion", "trajectories", "energies", "Σz² (per-trajectory SE)",
               "Σz² (replicate SE)", "expected (correct prediction)", "Σz² of each replicate",
-              "replicate SE / per-trajectory SE", "energies with ratio > 2 or < 1/2"]
+              "replicate SE / per-trajectory SE", "its range (99.9 %, correct per-trajectory SE)",
+              "energies outside the range"]
     table = K.write_table(out, "replicate-agreement", header, rows)
     md.append("Each main ensemble is R = %d independent replicates: trajectory i's initial state "
               "and tangent vector are a function of (seed, E, i) only, and replicate k holds the "
@@ -145,8 +161,11 @@ def replicate_section(data, out, mains):
               "trajectory-to-trajectory spread. A z from it is Student-t with R − 1 = %d degrees "
               "of freedom, so Σz² over n energies is expected near n (R − 1)/(R − 3) for a correct "
               "prediction. [CSV](%s)\n\n%s\n" % (R, R - 1, table, K.markdown_table(header, rows)))
-    md.append("The heavy-tail check: where the replicate error and the per-trajectory standard "
-              "error disagree by more than 2×, the per-trajectory error is not to be trusted. %s\n"
+    md.append("The heavy-tail check: the replicate error over the per-trajectory standard error "
+              "is the square root of a χ² with R − 1 degrees of freedom over R − 1 when the "
+              "per-trajectory error is right; an energy is flagged where it falls outside that "
+              "distribution's central 99.9 %% (the table's range), and there the per-trajectory "
+              "error is not to be trusted. %s\n"
               % ("No energy is flagged." if not warnings else
                  "Flagged: " + "; ".join(warnings[:40]) +
                  (" (and %d more)" % (len(warnings) - 40) if len(warnings) > 40 else "") + "."))

@@ -90,7 +90,9 @@ struct criterion_agreement {
         std::vector<double> chi2_of_replicates;
         /// The heavy-tail check: per energy, replicate error / per-trajectory standard error of
         /// the pooled mean (about 1 when the per-trajectory error is trustworthy): its largest
-        /// and smallest value, and the energies where it is above 2 or below 1/2.
+        /// and smallest value, and the energies where it lies outside
+        /// replicate_error_ratio_range(R) (ensemble/replicate_check.hpp: a false alarm at 0.1 %
+        /// of the energies when the per-trajectory error is right, whatever R).
         double max_error_ratio = 0, min_error_ratio = 0;
         std::size_t error_mismatches = 0;
     };
