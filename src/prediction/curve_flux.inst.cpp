@@ -2,6 +2,7 @@
 // and the zeros of K along the curve. See include/flipflux/prediction/curve_flux.hpp and
 // docs/theory.md#phase-volume-and-fluxes.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -28,6 +29,7 @@ struct curve_frame {
     Real above_max;      ///< E - E_max
     Real w_s, w_f;       ///< weights of s and of the flip angle in V
     Real M_ss, M_ff, C;  ///< diagonal entries of M for s and for the flip angle; C
+    Real D0;             ///< M_ss M_ff - C^2 (the model's, without cancellation)
 
     curve_frame(const double_pendulum<Real>& m, const energy_level<Real>& energy,
                 const curve_view<Real>& c)
@@ -45,6 +47,7 @@ struct curve_frame {
         M_ss = two ? k.A : k.B;
         M_ff = two ? k.B : k.A;
         C = k.C;
+        D0 = k.D0;
     }
 
     /// K = (E - E_s) - 2 w_s sin^2(s/2) + 2 w_f sin^2(h/2): E - V at (s, pi + h); for
@@ -68,12 +71,24 @@ struct curve_frame {
         using std::sin;
         return -w_s * sin(s) + w_f * sin(curve.offset(s)) * curve.slope(s);
     }
-    /// Q = n^T adj(M) n = M_ss + 2 C c h' + M_ff h'^2, c = cos(th1 - th2) = -cos(s - h).
+    /// Q = n^T adj(M) n = M_ss + 2 C c h' + M_ff h'^2, c = cos(th1 - th2) = -cos(s - h), in a
+    /// form without cancellation: for a nearly singular M its terms, ~ max M, cancel to ~ D0 / M_ff
+    /// where h' ~ -+C / M_ff and c ~ -+1 (quad lost 5 digits just above a saddle with C^2 / D0 =
+    /// 2e6). With u = s - h: Q = M_ff (h' - C/M_ff)^2 + D0/M_ff + 4 C h' sin^2(u/2) where cos u >=
+    /// 0, and M_ff (h' + C/M_ff)^2 + D0/M_ff - 4 C h' cos^2(u/2) where it is negative (each the
+    /// expression above: 2 sin^2(u/2) = 1 - cos u, 2 cos^2(u/2) = 1 + cos u).
     Real normal_weight(const Real& s) const {
         using std::cos;
+        using std::sin;
         const Real h = curve.offset(s), hp = curve.slope(s);
-        const Real c = -cos(s - h);
-        return M_ss + 2 * C * c * hp + M_ff * hp * hp;
+        const Real u = s - h;
+        const Real r = C / M_ff, floor = D0 / M_ff;
+        if (cos(u) >= 0) {
+            const Real d = hp - r, su = sin(u / 2);
+            return M_ff * d * d + floor + 4 * C * hp * su * su;
+        }
+        const Real d = hp + r, cu = cos(u / 2);
+        return M_ff * d * d + floor - 4 * C * hp * cu * cu;
     }
     /// (th1, th2) at s.
     std::array<Real, 2> angles(const Real& s) const {
@@ -423,6 +438,59 @@ std::vector<std::array<Real, 2>> accessible_intervals(const double_pendulum<Real
     return intervals_of(curve_frame<Real>(model, energy, curve)).pieces;
 }
 
+/// Where Q = n^T adj(M) n nearly vanishes inside [a, b] (a nearly singular mass matrix: Q is a
+/// sum of terms ~ |M| that cancel to its smallest eigenvalue), sqrt(Q) has a pair of complex
+/// branch points at distance r ~ sqrt(2 Q_min / Q'') from the real axis, and tanh-sinh across
+/// the dip converges slowly while its error estimate does not see why (an independent
+/// cross-check: m2 = 2^20 m1, Q from 2.8e5 down to 0.125, double 3x beyond its estimate, quad
+/// and mp:40 16 digits). Returns {m, r} with the dip's minimum m where min Q < 1e-4 max Q over
+/// 65 samples (golden-section refined), else r = -1: the integral is split at m and graded
+/// towards it.
+template <class Real>
+std::array<Real, 2> q_dip(const curve_frame<Real>& frame, const Real& a, const Real& b) {
+    using std::sqrt;
+    constexpr int n = 64;
+    const Real step = (b - a) / n;
+    int at = 0;
+    Real q_min = 0, q_max = 0;
+    for (int i = 1; i < n; ++i) {
+        const Real q = frame.normal_weight(Real(a + step * i));
+        if (i == 1 || q < q_min) {
+            q_min = q;
+            at = i;
+        }
+        if (i == 1 || q > q_max) q_max = q;
+    }
+    if (!(q_min < Real(1e-4) * q_max)) return {Real(0), Real(-1)};
+    // golden section on the samples' neighbours (Q is smooth and convex near its dip)
+    Real lo = a + step * (at - 1), hi = a + step * (at + 1);
+    const Real g = (sqrt(Real(5)) - 1) / 2;
+    Real x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    Real f1 = frame.normal_weight(x1), f2 = frame.normal_weight(x2);
+    for (int it = 0; it < 200 && hi - lo > 4 * sqrt(epsilon<Real>()) * (b - a); ++it) {
+        if (f1 < f2) {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = frame.normal_weight(x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = frame.normal_weight(x2);
+        }
+    }
+    const Real m = (lo + hi) / 2, qm = frame.normal_weight(m);
+    // Q'' from a symmetric difference over the golden-section bracket's scale
+    const Real d = std::max(Real(hi - lo), Real(step / 64));
+    const Real q2 =
+        (frame.normal_weight(Real(m + d)) - 2 * qm + frame.normal_weight(Real(m - d))) / (d * d);
+    const Real r = q2 > 0 && qm > 0 ? sqrt(2 * qm / q2) : Real(0);
+    return {m, r};
+}
+
 template <class Real>
 curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model,
                                    const level_arg<Real>& energy, const curve_view<Real>& curve,
@@ -441,7 +509,13 @@ curve_flux_result<Real> curve_flux(const double_pendulum<Real>& model,
                 const Real K = frame.kinetic(s);
                 return K > 0 ? 4 * sqrt(2 * K * frame.normal_weight(s)) : Real(0);
             };
-            total += tanh_sinh_integrate_graded<Real>(f, piece[0], piece[1], near[0], near[1]);
+            const std::array<Real, 2> dip = q_dip(frame, piece[0], piece[1]);
+            if (dip[1] < 0) {
+                total += tanh_sinh_integrate_graded<Real>(f, piece[0], piece[1], near[0], near[1]);
+            } else {  // split at Q's dip, graded towards it from both sides
+                total += tanh_sinh_integrate_graded<Real>(f, piece[0], dip[0], near[0], dip[1]);
+                total += tanh_sinh_integrate_graded<Real>(f, dip[0], piece[1], dip[1], near[1]);
+            }
         } else {
             auto inner = [&frame](const Real& s, const Real&, const Real&) {
                 return momentum_integral(frame, s);

@@ -314,6 +314,32 @@ TEST(Fluxes, MomentumRouteKeepsItsDigitsForANearlySingularMassMatrix) {
     }
 }
 
+// Regression (an independent cross-check, 2026-11-30): a lower link 2^20 times heavier makes Q =
+// n^T adj(M) n along the approximate curve cancel from 2.8e5 to 0.125 near s = 0; tanh-sinh across
+// that dip was 3x beyond its estimate at double and stopped at 16 digits at quad and mp:40. The
+// quadrature is now split at the dip. Reference: the cross-check's own derivation (its Lagrangian,
+// the curve's slope from the centre mode, mpmath at 30 digits, stable to 30 digits with 200 to 4000
+// sub-intervals): 2500854.10600338396553738087.
+TEST(Fluxes, KineticRouteKeepsItsDigitsWhereTheNormalWeightDips) {
+    model_text t;
+    t.m1 = "1", t.m2 = "1048576", t.L1 = "0.5", t.a1 = "0.25", t.I1 = "0.0625", t.L2 = "2";
+    t.g = "0.0009765625";
+    const double_pendulum<double> model(parse_parameters<double>(t));
+    const double_pendulum<quad> exact(parse_parameters<quad>(t));
+    const quad reference("2500854.10600338396553738087");
+    const curve_flux_result<double> d =
+        curve_flux(model, parse_energy_level<double>("51200.0048828125", "E"),
+                   approximate_saddle_curve(model, arm::two));
+    EXPECT_LE(std::abs(d.value - convert<double>(reference)), d.error_estimate);
+    EXPECT_LE(relative_error(d.value, convert<double>(reference)), tolerance<double>(16));
+    const curve_flux_result<quad> q =
+        curve_flux(exact, parse_energy_level<quad>("51200.0048828125", "E"),
+                   approximate_saddle_curve(exact, arm::two));
+    // to the reference's 27 printed digits (quad's own estimate is below them; the old code's
+    // relative error was 4.4e-17)
+    EXPECT_LE(relative_error(q.value, reference), quad("1e-26"));
+}
+
 // At E_max the upright flux switches from the incomplete to the complete closed form.
 TYPED_TEST(Fluxes, SwitchOfClosedFormAtTheMaximum) {
     using Real = TypeParam;
