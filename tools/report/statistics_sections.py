@@ -104,19 +104,36 @@ def replicate_agreement_rows(ens, criteria, label):
     return rows
 
 
+# The heavy-tail check's fixed range before 2026-11-30, for runs written by a flipflux that did
+# not yet record error_ratio_range (the committed runs of docs/reproduction*): the report on such
+# a run applies the rule that run's own error_mismatches counted.
+LEGACY_RATIO_RANGE = (0.5, 2.0)
+
+
 def ratio_range(verdict):
     """The heavy-tail check's range of the replicate error over the per-trajectory one, as the run
-    computed it (a verdict's error_ratio_range: chi^2 quantiles for its R replicates)."""
+    computed it (a verdict's error_ratio_range: chi^2 quantiles for its R replicates), or the
+    legacy fixed range for an older run."""
     rg = (verdict or {}).get("error_ratio_range")
     if not isinstance(rg, list) or len(rg) != 2:
-        raise K.InputError("the run's replicate verdicts have no error_ratio_range: run it again "
-                            "with this flipflux")
+        return list(LEGACY_RATIO_RANGE)
     return [K.num(rg[0]), K.num(rg[1])]
+
+
+def legacy_run(mains):
+    """Whether a main ensemble's replicate verdicts lack error_ratio_range (an older run)."""
+    for ens in mains.values():
+        for ag in (ens.get("agreement") or {}).values():
+            r = ((ag or {}).get("all_trajectories") or {}).get("replicates")
+            if isinstance(r, dict) and "error_ratio_range" not in r:
+                return True
+    return False
 
 
 def replicate_section(data, out, mains):
     """The errors the verdicts rest on: for each main ensemble, Σz² with the replicates' errors
-    beside the per-trajectory one, and the energies where the two errors disagree by > 2x."""
+    beside the per-trajectory one, and the energies where the two errors disagree beyond chance
+    (the heavy-tail check)."""
     md = ["## The errors every verdict rests on: independent replicates\n"]
     rows, warnings = [], []
     for a, ens in sorted(mains.items(), reverse=True):
@@ -165,8 +182,10 @@ def replicate_section(data, out, mains):
               "is the square root of a χ² with R − 1 degrees of freedom over R − 1 when the "
               "per-trajectory error is right; an energy is flagged where it falls outside that "
               "distribution's central 99.9 %% (the table's range), and there the per-trajectory "
-              "error is not to be trusted. %s\n"
-              % ("No energy is flagged." if not warnings else
+              "error is not to be trusted.%s %s\n"
+              % (" This run predates that rule: its flipflux flagged outside a fixed [½, 2] "
+                 "(the table's range), as the report does for it." if legacy_run(mains) else "",
+                 "No energy is flagged." if not warnings else
                  "Flagged: " + "; ".join(warnings[:40]) +
                  (" (and %d more)" % (len(warnings) - 40) if len(warnings) > 40 else "") + "."))
     return "\n".join(md)
