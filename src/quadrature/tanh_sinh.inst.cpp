@@ -3,6 +3,7 @@
 // NOTE: Boost 1.74 declares tanh_sinh::integrate "-> decltype(...) const", which makes the return
 // type const, not the member function: the integrator must be non-const.
 #include <boost/math/quadrature/tanh_sinh.hpp>
+#include <boost/version.hpp>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -79,6 +80,15 @@ quadrature_result<Real> tanh_sinh_integrate(endpoint_integrand<Real> f, const Re
     const Real tolerance =
         opt.relative_tolerance > 0 ? opt.relative_tolerance : default_quadrature_tolerance<Real>();
     r.value = thread_integrator<Real>().integrate(g, a, b, tolerance, &error, &l1, &levels);
+    // NOTE: Boost 1.74 maps [a, b] to [-1, 1] and scales the integral and L1 back by (b - a) / 2,
+    // but not the level difference `error` (boostorg/math issue 449, fixed after 1.74): unscaled,
+    // it made the estimate of a piece of width w wrong by about (w / 2)^(3/2) -- 1e11 times too
+    // large on the tiny pieces of a graded integral or a tiny allowed region (Omega at E = 1e-15:
+    // a relative estimate of 1.2e-4 for a value good to 2e-16), and too small beyond a width of 2,
+    // where the convergence test below also compared it with a scaled L1.
+#if BOOST_VERSION <= 107400
+    error *= width / 2;
+#endif
     // Converged: the last two levels agree to the tolerance. Boost also stops, before that, when
     // the level differences have grown twice after level 4 and returns the level before the last
     // growth with its difference d. Measured (Omega, E = 2.05 at double: d = 5e-11 L1, the

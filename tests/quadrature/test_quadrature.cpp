@@ -50,6 +50,40 @@ TYPED_TEST(Quadrature, TanhSinhIntegratesEndpointSingularitiesToRounding) {
               tol);
 }
 
+// The estimate does not depend on the interval's size: int_0^w sqrt((w - x)(w + x)) dx = pi w^2 / 4
+// with w = 2^k is the same integral for every k, every abscissa and value scaled by a power of two
+// (exactly), so the relative estimate is the same to the bit at every width. Boost 1.74 returns
+// its level difference in the units of [-1, 1] (not scaled back by w / 2 as the integral and L1
+// are): its estimate then grew as w^(-3/2) towards small widths (a relative 3.8 at w = 1e-12 for a
+// value good to 2e-16) and shrank below the actual error beyond w = 2.
+TYPED_TEST(Quadrature, TanhSinhEstimateDoesNotDependOnTheIntervalsSize) {
+    using Real = TypeParam;
+    using std::ldexp;
+    using std::sqrt;
+    auto relative_estimate = [](int k, Real& actual) {
+        const Real w = ldexp(Real(1), k);
+        auto f = [&](const Real& x, const Real&, const Real& to_b) -> Real {
+            return sqrt(to_b * (x + w));
+        };
+        // a loose tolerance: the rule stops after a few levels, with a level difference well
+        // above the rounding floor eps L1, so that the difference's scaling is what is tested
+        quadrature_options<Real> o;
+        o.relative_tolerance = sqrt(sqrt(eps<Real>()));
+        const quadrature_result<Real> r = tanh_sinh_integrate<Real>(f, Real(0), w, o);
+        const Real exact = pi<Real>() * w * w / 4;
+        actual = abs(r.value - exact) / exact;
+        return Real(r.error_estimate / r.value);
+    };
+    Real actual_one = 0;
+    const Real at_one = relative_estimate(0, actual_one);
+    EXPECT_GT(at_one, 16 * eps<Real>());  // not the rounding floor alone
+    EXPECT_GE(at_one, actual_one);        // covers the actual error
+    for (const int k : {-60, -40, -20, -3, 1, 2, 3, 10, 40}) {
+        Real actual = 0;
+        EXPECT_EQ(relative_estimate(k, actual), at_one) << "width 2^" << k;
+        EXPECT_EQ(actual, actual_one) << "width 2^" << k;
+    }
+}
 TYPED_TEST(Quadrature, SineSquaredClenshawCurtisConvergesOrDeclines) {
     using Real = TypeParam;
     using std::exp;
