@@ -3,6 +3,7 @@
 // docs/theory.md#phase-volume-and-fluxes.
 #include <algorithm>
 #include <array>
+#include <boost/math/tools/minima.hpp>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -444,8 +445,8 @@ std::vector<std::array<Real, 2>> accessible_intervals(const double_pendulum<Real
 /// the dip converges slowly while its error estimate does not see why (an independent
 /// cross-check: m2 = 2^20 m1, Q from 2.8e5 down to 0.125, double 3x beyond its estimate, quad
 /// and mp:40 16 digits). Returns {m, r} with the dip's minimum m where min Q < 1e-4 max Q over
-/// 65 samples (golden-section refined), else r = -1: the integral is split at m and graded
-/// towards it.
+/// 63 interior samples (refined by Brent's method), else r = -1: the integral is split at m and
+/// graded towards it.
 template <class Real>
 std::array<Real, 2> q_dip(const curve_frame<Real>& frame, const Real& a, const Real& b) {
     using std::sqrt;
@@ -462,31 +463,18 @@ std::array<Real, 2> q_dip(const curve_frame<Real>& frame, const Real& a, const R
         if (i == 1 || q > q_max) q_max = q;
     }
     if (!(q_min < Real(1e-4) * q_max)) return {Real(0), Real(-1)};
-    // golden section on the samples' neighbours (Q is smooth and convex near its dip)
-    Real lo = a + step * (at - 1), hi = a + step * (at + 1);
-    const Real g = (sqrt(Real(5)) - 1) / 2;
-    Real x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-    Real f1 = frame.normal_weight(x1), f2 = frame.normal_weight(x2);
-    for (int it = 0; it < 200 && hi - lo > 4 * sqrt(epsilon<Real>()) * (b - a); ++it) {
-        if (f1 < f2) {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - g * (hi - lo);
-            f1 = frame.normal_weight(x1);
-        } else {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + g * (hi - lo);
-            f2 = frame.normal_weight(x2);
-        }
-    }
-    const Real m = (lo + hi) / 2, qm = frame.normal_weight(m);
-    // Q'' from a symmetric difference over the golden-section bracket's scale
-    const Real d = std::max(Real(hi - lo), Real(step / 64));
-    const Real q2 =
-        (frame.normal_weight(Real(m + d)) - 2 * qm + frame.normal_weight(Real(m - d))) / (d * d);
+    // Brent's minimisation between the lowest sample's neighbours (Q is smooth and convex near its
+    // dip), to half the working digits (all a minimum's abscissa has)
+    const auto q = [&frame](const Real& s) { return frame.normal_weight(s); };
+    std::uintmax_t iterations = 200;
+    const Real m = boost::math::tools::brent_find_minima(q, Real(a + step * (at - 1)),
+                                                         Real(a + step * (at + 1)),
+                                                         binary_digits<Real>() / 2, iterations)
+                       .first;
+    const Real qm = q(m);
+    // Q'' from a symmetric difference over 1/64 of a sample step (Q is quadratic there)
+    const Real d = step / 64;
+    const Real q2 = (q(Real(m + d)) - 2 * qm + q(Real(m - d))) / (d * d);
     const Real r = q2 > 0 && qm > 0 ? sqrt(2 * qm / q2) : Real(0);
     return {m, r};
 }
