@@ -73,7 +73,9 @@ json counts_json(const flip_count_statistics& x) {
                 {"inter_flip_survival", tail}};
 }
 
-json criterion_json(const criterion_result& c, double max_energy_drift) {
+// `classified`: the chaos indicator ran (ensemble_options::chaos); without it no trajectory is
+// classified, and the chaotic fraction and the chaotic subset's block are null, not zeros.
+json criterion_json(const criterion_result& c, double max_energy_drift, bool classified) {
     const criterion_statistics& st = c.statistics;
     const auto& p = c.prediction;
     json j{{"predicted_rate", number(st.predicted_rate)},
@@ -85,15 +87,16 @@ json criterion_json(const criterion_result& c, double max_energy_drift) {
            {"kurtosis", number(st.rates.kurtosis)},
            {"z_score", number(st.z_score)},
            {"flips", st.flips},
-           {"chaotic_fraction", number(st.chaotic_fraction)},
+           {"chaotic_fraction", classified ? number(st.chaotic_fraction) : json(nullptr)},
            {"max_energy_drift", to_decimal(max_energy_drift)}};
-    j["chaotic"] = json{{"trajectories", st.chaotic_rates.count},
-                        {"mean_rate", number(st.chaotic_rates.mean)},
-                        {"std", number(st.chaotic_rates.standard_deviation)},
-                        {"standard_error", number(st.chaotic_rates.standard_error)},
-                        {"skewness", number(st.chaotic_rates.skewness)},
-                        {"kurtosis", number(st.chaotic_rates.kurtosis)},
-                        {"z_score", number(st.chaotic_z_score)}};
+    j["chaotic"] = !classified ? json(nullptr)
+                               : json{{"trajectories", st.chaotic_rates.count},
+                                      {"mean_rate", number(st.chaotic_rates.mean)},
+                                      {"std", number(st.chaotic_rates.standard_deviation)},
+                                      {"standard_error", number(st.chaotic_rates.standard_error)},
+                                      {"skewness", number(st.chaotic_rates.skewness)},
+                                      {"kurtosis", number(st.chaotic_rates.kurtosis)},
+                                      {"z_score", number(st.chaotic_z_score)}};
     const residence_statistics& r = st.residence;
     j["residence_times"] = json{{"count", r.summary.count},   {"min", number(r.summary.minimum)},
                                 {"q0.001", number(r.q001)},   {"q0.01", number(r.q01)},
@@ -105,7 +108,8 @@ json criterion_json(const criterion_result& c, double max_energy_drift) {
     return j;
 }
 
-json energy_json(const energy_result& e, const std::vector<std::string>& names, bool timing) {
+json energy_json(const energy_result& e, const std::vector<std::string>& names, bool timing,
+                 bool classified) {
     json j{{"energy", e.label}};
     if (timing) {
         j["seconds"] = e.seconds;
@@ -119,7 +123,7 @@ json energy_json(const energy_result& e, const std::vector<std::string>& names, 
     j["max_energy_drift"] = to_decimal(e.max_energy_drift);
     json per_criterion = json::object();
     for (const criterion_result& c : e.criteria)
-        per_criterion[c.statistics.criterion] = criterion_json(c, e.max_energy_drift);
+        per_criterion[c.statistics.criterion] = criterion_json(c, e.max_energy_drift, classified);
     j["criteria"] = per_criterion;
     json paired = json::array();
     for (const paired_difference& d : e.paired)
@@ -288,14 +292,15 @@ json study_json(const study_result& s) {
              {"classification_reliable", s.classification_reliable}};
     json energies = json::array();
     for (const energy_result& e : s.energies)
-        energies.push_back(energy_json(e, s.criteria, s.timing));
+        energies.push_back(energy_json(e, s.criteria, s.timing, o.chaos));
     out["energies"] = energies;
     json quality = json::object();
     for (std::size_t c = 0; c < s.criteria.size() && c < s.quality.size(); ++c)
         quality[s.criteria[c]] = json{
             {"all_trajectories", quality_table(s.quality[c].all_trajectories, s.reference_time)},
             {"chaotic_trajectories",
-             quality_table(s.quality[c].chaotic_trajectories, s.reference_time)}};
+             o.chaos ? quality_table(s.quality[c].chaotic_trajectories, s.reference_time)
+                     : json(nullptr)}};
     out["quality"] = quality;
     json regimes = json::array();
     for (const energy_regime& g : s.regimes)

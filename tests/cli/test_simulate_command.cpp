@@ -121,6 +121,10 @@ TEST(SimulateCommand, EnergyListsRangesArmOneAndNoChaos) {
     EXPECT_EQ(j["model"]["m1"], "1.2");
     const json& s = j["energies"][0]["criteria"]["approx"];
     EXPECT_TRUE(s["chaotic_fraction"].is_null());
+    // no classification: no chaotic subset (not a block of zero trajectories)
+    EXPECT_TRUE(s["chaotic"].is_null());
+    EXPECT_TRUE(j["quality"]["approx"]["chaotic_trajectories"].is_null());
+    EXPECT_FALSE(j["quality"]["approx"]["all_trajectories"].is_null());
     EXPECT_EQ(s["rate_histogram"]["counts"].size(), 4u);
     EXPECT_EQ(j["chaos"]["indicator"], "none");
 }
