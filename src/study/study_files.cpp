@@ -11,6 +11,7 @@
 
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
+#include "flipflux/core/version.hpp"
 #include "flipflux/ensemble/replicate_check.hpp"
 #include "flipflux/ensemble/taylor_ensemble.hpp"
 #include "flipflux/io/atomic_file.hpp"
@@ -273,6 +274,9 @@ json study_json(const study_result& s) {
              {"time", to_decimal(o.time)},     {"seed", o.seed},
              {"method", to_string(o.method)},  {"rtol", to_decimal(o.rtol)},
              {"atol", to_decimal(o.atol)},     {"estimator", to_string(s.estimator)}};
+    // the binary that computed it (its version and commit: --version's, with "-dirty" when built
+    // from a modified tree)
+    out["flipflux"] = json{{"version", version_string()}, {"git_commit", git_commit()}};
     if (o.method == integration_method::taylor) out["taylor_order"] = ensemble_taylor_order(o);
     if (s.replicates > 1)
         out["replicates"] =

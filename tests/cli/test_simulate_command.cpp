@@ -127,6 +127,13 @@ TEST(SimulateCommand, EnergyListsRangesArmOneAndNoChaos) {
     EXPECT_FALSE(j["quality"]["approx"]["all_trajectories"].is_null());
     EXPECT_EQ(s["rate_histogram"]["counts"].size(), 4u);
     EXPECT_EQ(j["chaos"]["indicator"], "none");
+    // the binary that computed it, as --version names it
+    const auto v = run_flipflux("--version");
+    ASSERT_EQ(v.status, 0) << v.err;
+    EXPECT_NE(v.out.find("flipflux " + j["flipflux"]["version"].get<std::string>() + " (git " +
+                         j["flipflux"]["git_commit"].get<std::string>() + ")"),
+              std::string::npos)
+        << v.out;
 }
 
 // The Taylor order is named in the output (the run's JSON) when the integrator is taylor: the
