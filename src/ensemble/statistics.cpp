@@ -46,7 +46,10 @@ summary_statistics summarize(std::span<const double> v) {
         s.maximum = std::max(s.maximum, x);
     }
     const double n = static_cast<double>(v.size());
-    s.mean = sum / n;
+    // identical values: their mean is the value itself (sum / n can be an ulp off, which left a
+    // spread of ~1e-17 where there is none, e.g. a bootstrap IQI sd of 2e-15 for zero-spread
+    // energies); otherwise the rounded quotient, kept within [min, max]
+    s.mean = s.minimum == s.maximum ? s.minimum : std::clamp(sum / n, s.minimum, s.maximum);
     double ss = 0, s3 = 0, s4 = 0;
     for (double x : v) {
         const double d = x - s.mean, d2 = d * d;
