@@ -101,5 +101,50 @@ TYPED_TEST(ErrorEstimates, UprightFluxWithin100xOfTheActualError) {
         });
 }
 
+// The independent route, quadrature_2d, at double on two nearly singular pendulums of an
+// independent cross-check: a lower link 2^20 times heavier (the inner integrand's near-zeros
+// reach the inner interval's ends: 7.8e-6 off against an estimate of 4.2e-8 before the outer
+// integral was split there) and 2^20 times lighter (the inner interval's width rounded with th2:
+// 1e-14 relative off, 10x its estimate, before the inner integral ran over th1), in the well,
+// between the saddles and just below arm 2's (30 eps off there). References: the cross-check's
+// own derivation in mpmath (its Lagrangian, ellipe; bench/results/crosscheck_2026-11-30/cmp_D.jsonl
+// and cmp_E2.jsonl, omega rows), not flipflux's routes (whose 40-digit elliptic route takes
+// minutes on the heavy link, |m| = 2e6).
+TEST(ErrorEstimates, TwoDimensionalOmegaCoversItsErrorOnNearlySingularPendulums) {
+    using std::abs;
+    struct point {
+        const char *energy, *omega;
+    };
+    const std::vector<std::pair<test::model_spec, std::vector<point>>> cases{
+        {{"heavy-lower-link", "1", "1048576", "0.5", "2", "0.25", "2", "0.0625", "0",
+          "0.0009765625"},
+         {{"512.000244140625", "13465167.945065301487404054986292499680942245998088"},
+          {"1025.02448876953121725819073617458343505859375",
+           "36888807.834332557105060020991709000406647319758639"},
+          {"2560.000244140625", "82792423.332620088338911120565841758558957267185987"},
+          {"4095.9999995903999661095440387725830078125",
+           "128747794.91559842335768219328840095364220509866216"}}},
+        {{"light-lower-link", "1", "9.5367431640625e-07", "1", "0.5", "1", "0.25", "0",
+          "5.960464477539063e-08", "4096"},
+         {{"0.0009765625", "0.00000717939009764899752382448165857677797592473914"},
+          {"0.001955078124999999784894288978875920292921364307403564453125",
+           "0.0000169935009149413332800270090013325160901811435"},
+          {"4.00000190734817806514911353588104248046875",
+           "0.00120473678644314195717886951131908343484708292"},
+          {"8192.007811680799932219088077545166015625",
+           "0.085626610680771012351295533070819394594318112"}}}};
+    for (const auto& [spec, points] : cases) {
+        const double_pendulum<double> model = test::make_model<double>(spec);
+        for (const point& p : points) {
+            SCOPED_TRACE(spec.name + ", E = " + p.energy);
+            const prediction_result<double> r = phase_volume(
+                model, parse_real<double>(p.energy, "E"), phase_volume_method::quadrature_2d);
+            const double actual = abs(r.value - parse_real<double>(p.omega, "reference"));
+            EXPECT_GE(r.error_estimate, actual);
+            EXPECT_LE(r.error_estimate, 100 * std::max(actual, test::eps<double>() * r.value));
+        }
+    }
+}
+
 }  // namespace
 }  // namespace flipflux
