@@ -88,22 +88,29 @@ split_points<Real> outer_cuts(const angle_support<Real>& sup, const Real& a, con
     r.radius.push_back(Real(0));
     constexpr int n = 64;
     const Real step = (b - a) / n;
+    // strip / |du/dth2| at a crossing m, du/dth2 = t1' + sign (t1' from a symmetric difference
+    // over 1/64 of a sample step)
+    const auto radius_at = [&](const Real& m, int sign) {
+        const Real d = step / 64;
+        const Real lo = m - d > a ? Real(m - d) : a, hi = m + d < b ? Real(m + d) : b;
+        const Real slope = (t1(hi) - t1(lo)) / (hi - lo) + sign;
+        return Real(strip / std::max(Real(abs(slope)), Real(1)));
+    };
     std::vector<std::pair<Real, Real>> found;  // (th2, radius)
     for (int c = 0; c < 2; ++c) {
+        const int sign = c == 0 ? -1 : 1;
         Real x0 = a, g0 = crossing[c](a);
         for (int i = 1; i <= n; ++i) {
             const Real x1 = i == n ? b : Real(a + step * i), g1 = crossing[c](x1);
-            if ((g0 < 0 && g1 > 0) || (g0 > 0 && g1 < 0)) {
+            if (g1 == 0 && i < n) {  // a sample on the crossing itself
+                found.emplace_back(x1, radius_at(x1, sign));
+            } else if ((g0 < 0 && g1 > 0) || (g0 > 0 && g1 < 0)) {
                 std::uintmax_t iterations = 200;
                 const auto root = boost::math::tools::toms748_solve(
                     crossing[c], x0, x1, g0, g1,
                     boost::math::tools::eps_tolerance<Real>(binary_digits<Real>() - 2), iterations);
                 const Real m = (root.first + root.second) / 2;
-                // du/dth2 = t1' -/+ 1 from a symmetric difference of t1 over 1/64 of a sample step
-                const Real d = step / 64;
-                const Real lo = m - d > a ? Real(m - d) : a, hi = m + d < b ? Real(m + d) : b;
-                const Real slope = (t1(hi) - t1(lo)) / (hi - lo) + (c == 0 ? -1 : 1);
-                if (m > a && m < b) found.emplace_back(m, strip / std::max(abs(slope), Real(1)));
+                if (m > a && m < b) found.emplace_back(m, radius_at(m, sign));
             }
             x0 = x1;
             g0 = g1;
