@@ -1,7 +1,9 @@
 // The saddle curve: the dividing-curve concept, interpolation against the orbit's own points,
 // oddness, slopes against the velocity ratio, the domain against the turning points, the double
 // copy, the paper's bound pi < theta2 < pi + theta1 (an erratum near E_max) and bad orbits.
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "flipflux/model/dividing_curve.hpp"
 #include "flipflux/orbits/saddle_curve.hpp"
@@ -63,6 +65,22 @@ void check_curve(const double_pendulum<Real>& model, arm a, const Real& E) {
         const double s = static_cast<double>(sb) * (2.0 * k / 10 - 1);
         EXPECT_NEAR(cd.offset(s), static_cast<double>(curve.offset(Real(s))), 1e-15);
         EXPECT_NEAR(cd.slope(s), static_cast<double>(curve.slope(Real(s))), 1e-13);
+    }
+    // offset_and_slope (the flip detector's one pass) is offset and slope, bit for bit: at the
+    // panels' breaks and between them, both signs, zero, the ends and beyond them (clamped)
+    std::vector<Real> points{Real(0), sb, 2 * sb};
+    for (const Real& b : curve.breaks())
+        points.push_back(b);
+    for (int k = 1; k < 40; ++k)
+        points.push_back(sb * k / 40 + sb / 997);
+    for (const Real& s : std::vector<Real>(points)) {
+        points.push_back(-s);
+        points.push_back(s * (1 + eps<Real>()));
+    }
+    for (const Real& s : points) {
+        const std::array<Real, 2> both = curve.offset_and_slope(s);
+        EXPECT_EQ(both[0], curve.offset(s)) << static_cast<double>(s);
+        EXPECT_EQ(both[1], curve.slope(s)) << static_cast<double>(s);
     }
     EXPECT_EQ(cd.panels(), curve.panels());
     EXPECT_EQ(cd.degree(), curve.degree());

@@ -294,6 +294,11 @@ class flip_detector final : public flip_detector_base {
             const std::array<double, 2> h = curve_.from_sincos(sn, cs);
             offset = h[0];
             slope = inside ? h[1] : 0.0;
+        } else if constexpr (requires { curve_.offset_and_slope(sc); }) {
+            // h and h' in one pass (the saddle curve: two Chebyshev sums side by side)
+            const std::array<double, 2> h = curve_.offset_and_slope(sc);
+            offset = h[0];
+            slope = inside ? h[1] : 0.0;
         } else {
             offset = curve_.offset(sc);
             slope = inside ? double(curve_.slope(sc)) : 0.0;

@@ -76,6 +76,17 @@ class saddle_curve {
     }
     /// h'(s); s is clamped to the domain.
     Real slope(const Real& s) const { return eval(slopes_, s < 0 ? Real(-s) : s); }
+    /// {offset(s), slope(s)}, the same bits, in one panel lookup and two interleaved Clenshaw
+    /// sums (the flip detector needs both; each sum is a chain of dependent operations).
+    std::array<Real, 2> offset_and_slope(const Real& s) const {
+        const bool negative = s < 0;
+        std::array<Real, 2> r = eval2(negative ? Real(-s) : s);
+        if (s == 0)
+            r[0] = Real(0);
+        else if (negative)
+            r[0] = -r[0];
+        return r;
+    }
 
     int degree() const { return degree_; }
     int panels() const { return static_cast<int>(mid_.size()); }
@@ -96,15 +107,41 @@ class saddle_curve {
     }
 
   private:
-    Real eval(const std::vector<Real>& c, const Real& u) const {
-        if (mid_.empty()) return Real(0);
+    // The panel of u (clamped to [0, s_max]) and the local variable x in it.
+    std::size_t locate(const Real& u, Real& x) const {
         const Real v = u < s_max_ ? u : s_max_;
         long b = static_cast<long>(v * bucket_scale_);
         if (b > static_cast<long>(bucket_.size()) - 1) b = static_cast<long>(bucket_.size()) - 1;
         std::size_t p = static_cast<std::size_t>(bucket_[static_cast<std::size_t>(b)]);
         while (p + 1 < mid_.size() && v > breaks_[p + 1])
             ++p;
-        const Real x = (v - mid_[p]) * inv_half_[p];
+        x = (v - mid_[p]) * inv_half_[p];
+        return p;
+    }
+
+    std::array<Real, 2> eval2(const Real& u) const {
+        if (mid_.empty()) return {Real(0), Real(0)};
+        Real x;
+        const std::size_t p = locate(u, x);
+        const Real* a = values_.data() + p * static_cast<std::size_t>(degree_ + 1);
+        const Real* d = slopes_.data() + p * static_cast<std::size_t>(degree_ + 1);
+        Real b1 = 0, b2 = 0, c1 = 0, c2 = 0;
+        const Real x2 = 2 * x;
+        for (int k = degree_; k >= 1; --k) {
+            const Real b0 = a[k] + x2 * b1 - b2;
+            const Real c0 = d[k] + x2 * c1 - c2;
+            b2 = b1;
+            b1 = b0;
+            c2 = c1;
+            c1 = c0;
+        }
+        return {a[0] + x * b1 - b2, d[0] + x * c1 - c2};
+    }
+
+    Real eval(const std::vector<Real>& c, const Real& u) const {
+        if (mid_.empty()) return Real(0);
+        Real x;
+        const std::size_t p = locate(u, x);
         const Real* a = c.data() + p * static_cast<std::size_t>(degree_ + 1);
         // Clenshaw
         Real b1 = 0, b2 = 0;
