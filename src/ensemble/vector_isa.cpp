@@ -1,7 +1,5 @@
 // The ensemble's vector instruction set: what the processor has, the automatic choice, and the
 // caller's or the environment's (FLIPFLUX_VECTOR_ISA) override (see ensemble.hpp).
-#include <cpuid.h>
-
 #include <atomic>
 #include <cstdlib>
 #include <string>
@@ -29,20 +27,9 @@ bool processor_has_avx2() {
     return has;
 }
 
-// AMD family 19h (Zen 3 and Zen 4; of them only Zen 4 has AVX-512): CPUID leaf 1's base family
-// 0xF plus its extended family 0x0A.
-bool processor_is_amd_family_19h() {
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    if (__get_cpuid(0, &a, &b, &c, &d) == 0) return false;
-    const bool amd = b == 0x68747541 && d == 0x69746e65 && c == 0x444d4163;  // "AuthenticAMD"
-    if (!amd || __get_cpuid(1, &a, &b, &c, &d) == 0) return false;
-    const unsigned family = (a >> 8) & 0xF, extended = (a >> 20) & 0xFF;
-    return family == 0xF && family + extended == 0x19;
-}
-
 vector_isa automatic_isa() {
-    if (processor_has_avx512() && processor_has_avx2() && !processor_is_amd_family_19h())
-        return vector_isa::avx512;
+    // every processor with AVX-512F, Zen 4 included (bench/results/vector_isa_zen4_2026-11-30.txt)
+    if (processor_has_avx512() && processor_has_avx2()) return vector_isa::avx512;
     if (processor_has_avx2()) return vector_isa::avx2;
     return vector_isa::sse2;
 }
