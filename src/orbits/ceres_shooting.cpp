@@ -33,7 +33,8 @@ double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model
                                             double excess, double beta0, double period0, long steps,
                                             int stages) {
     const shooting_setup<double> setup(model, a, excess, stages);
-    // r(beta, T) = (x(T) - x(0)) / sqrt(2 (E - E_s)), Jacobian from the variational equations
+    // r(beta, T) = (x(T) - x(0)) / sqrt(2 (E - E_s)) (rows weighted by row_weight), Jacobian from
+    // the variational equations
     const least_squares_function residual = [&](const double* p, double* r, double* jacobian) {
         const double beta = p[0], period = p[1];
         if (!(period > 0) || !std::isfinite(beta)) return false;
@@ -43,7 +44,7 @@ double_stage_result ceres_periodic_shooting(const double_pendulum<double>& model
             const auto end = integrate_state(setup, x0, period, steps);
             if (!end.success) return false;
             for (int i = 0; i < 4; ++i)
-                r[i] = (end.x[i] - x0[i]) / setup.momentum_scale;
+                r[i] = setup.row_weight(i, (end.x[i] - x0[i]) / setup.momentum_scale);
             return true;
         }
         const auto pr = periodic_shooting(setup, beta, period, steps);

@@ -191,9 +191,10 @@ struct polish {
         std::array<Real, 4> f, r;
         setup.frame.rhs(rest.x, f);
         const auto dl = setup.momentum_derivative(beta);
-        const Real inv = 1 / setup.momentum_scale;
+        const Real inv_common = 1 / setup.momentum_scale;
         Real rn = 0;
         for (int i = 0; i < 4; ++i) {
+            const Real inv = setup.row_weight(i, inv_common);
             r[i] = (rest.x[i] - x0[i]) * inv;
             rn += r[i] * r[i];
             Real v = m[i][2] * dl[0] + m[i][3] * dl[1];  // (M - I) dx0/dbeta
@@ -235,13 +236,14 @@ struct polish {
             std::array<Real, 4> r;
             Real rn = 0;
             for (int i = 0; i < 4; ++i) {
-                r[i] = (e.x[i] - x0[i]) * inv;
+                r[i] = (e.x[i] - x0[i]) * setup.row_weight(i, inv);
                 rn += r[i] * r[i];
             }
             orbit.residual = sqrt(rn);
             return detail::least_squares_4x2(jac4, r);
         }
-        const std::array<Real, 2> r{e.x[2] * inv, e.x[3] * inv};
+        const Real inv_l = setup.row_weight(2, inv);
+        const std::array<Real, 2> r{e.x[2] * inv_l, e.x[3] * inv_l};
         orbit.residual = sqrt(r[0] * r[0] + r[1] * r[1]);
         auto d = detail::solve_2x2(jac2, r);
         d[1] *= 4;  // tau -> T
@@ -512,13 +514,13 @@ Real period_derivative(const detail::shooting_setup<Real>& setup, const polish<R
         for (int i = 0; i < 4; ++i) {
             Real v = p.phi[i][2] * dl[0] + p.phi[i][3] * dl[1];
             if (i >= 2) v -= dl[i - 2];
-            dr[i] = -v;
+            dr[i] = -setup.row_weight(i, v);  // the rows' powers of two (v already carries inv)
         }
         return detail::least_squares_4x2(p.jac4, dr)[1];
     }
     std::array<Real, 2> dr;
     for (int i = 0; i < 2; ++i)
-        dr[i] = -(p.phi[2 + i][2] * dl[0] + p.phi[2 + i][3] * dl[1]);
+        dr[i] = -setup.row_weight(2, Real(p.phi[2 + i][2] * dl[0] + p.phi[2 + i][3] * dl[1]));
     return 4 * detail::solve_2x2(p.jac2, dr)[1];
 }
 

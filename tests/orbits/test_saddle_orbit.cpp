@@ -262,6 +262,36 @@ TEST(SaddleOrbit, PeriodDerivativeMatchesFiniteDifferences) {
     }
 }
 
+// Scaling every mass by lambda scales E, E_s, the momenta and the action by lambda and leaves
+// the angles and the period unchanged (torques and inertias scale alike). The reference is the
+// unscaled pendulum. With lambda = 4^20 every operation scales by a power of two, exactly, so the
+// period is the same bits; with lambda = 1e9 and 1e12 (not powers of two) within 1e-13. Before
+// the residual rows were weighted (shooting_setup::row_weight) the momentum rows' rounding floor
+// grew as eps lambda^1/2 and the double period at lambda = 2^40 was 1.7e-9 off.
+TEST(SaddleOrbit, HeavyPendulumsKeepTheirDigits) {
+    const double E = 4;  // E_s = 2 for arm 2 of the egalitarian pendulum
+    const double_pendulum<double> model;
+    for (orbit_method m : {orbit_method::periodic, orbit_method::symmetric}) {
+        const saddle_orbit<double> o = solve_saddle_orbit(model, arm::two, E, {m});
+        ASSERT_NE(o.status, orbit_status::not_converged);
+        for (double lambda : {0x1p40, 1e9, 1e12}) {
+            physical_parameters<double> p;
+            p.m1 = lambda;
+            p.m2 = lambda;
+            const double_pendulum<double> heavy(p);
+            const saddle_orbit<double> h = solve_saddle_orbit(heavy, arm::two, E * lambda, {m});
+            ASSERT_NE(h.status, orbit_status::not_converged) << lambda << h.double_stage;
+            if (lambda == 0x1p40) {
+                EXPECT_EQ(h.period, o.period);
+                EXPECT_LE(std::abs(h.action / lambda - o.action), 4 * eps<double>() * o.action);
+            }
+            EXPECT_LE(std::abs(h.period - o.period), 1e-13 * o.period) << lambda;
+            EXPECT_LE(std::abs(h.action / lambda - o.action), 1e-13 * o.action) << lambda;
+            EXPECT_LE(h.error_estimate_period, 1e-12 * o.period) << lambda;
+        }
+    }
+}
+
 TEST(SaddleOrbit, ContinuationReachesBothFamiliesAndRecordsItsSteps) {
     const double_pendulum<double> model;
     const auto fam2 = continue_saddle_family(

@@ -9,7 +9,9 @@
 // Jacobian [(Phi(T) - I) dx0/dbeta, f(x(T))] from the variational equations.
 // Symmetric shooting (time reversal): unknowns (beta, tau), residual l(tau) = 0 (the brake point
 // at a quarter period, T = 4 tau), Jacobian [Phi_ll(tau) dl0/dbeta, l'(tau)].
-// Residuals are divided by sqrt(2 (E - E_s)), which makes the problem O(1) at every energy.
+// Residuals are divided by sqrt(2 (E - E_s)), which makes the problem O(1) at every energy, and
+// the rows of heavy pendulums weighted by exact powers of two (shooting_setup::row_weight) so
+// that the residual is invariant when every mass is scaled by a power of 4.
 //
 // Both integrate with equal steps h = duration / steps of one integrator (Gauss-Legendre, or
 // Taylor series of a fixed order: setup.integrator), so the residual is a smooth function of the
@@ -31,8 +33,11 @@ namespace flipflux::detail {
 template <class Real>
 struct shooting_setup {
     saddle_frame<Real> frame;
-    Real excess;           ///< E - E_s > 0
-    Real momentum_scale;   ///< sqrt(2 (E - E_s))
+    Real excess;          ///< E - E_s > 0
+    Real momentum_scale;  ///< sqrt(2 (E - E_s))
+    /// The residual rows' exponent k >= 0 (row_weight): with D0 = det M* in [2^(e-1), 2^e),
+    /// k = max(0, e / 4) (integer division), so 2^k ~ D0^(1/4), the square root of a mass scale.
+    int row_shift = 0;
     sym2<Real> root_mass;  ///< S = M*^{1/2}
     int stages;            ///< Gauss-Legendre stages
     orbit_integrator integrator;
@@ -44,6 +49,20 @@ struct shooting_setup {
         using std::sqrt;
         momentum_scale = sqrt(2 * excess);
         const auto& k = frame.coefficients();
+        {
+            // NOTE: angles are invariant and momenta scale with the masses (by lambda: E - E_s
+            // and D0^(1/2) by lambda too), so (x(T) - x(0)) / sqrt(2 (E - E_s)) has angle rows
+            // ~ lambda^-1/2 and momentum rows ~ lambda^1/2: a heavy pendulum's momentum rows
+            // had a rounding floor of eps lambda^1/2 (masses x 2^40 lost 8 digits of the period
+            // at double, bench/results/orbit_mass_scaling.txt). Angle rows times 2^k and
+            // momentum rows times 2^-k make the residual exactly invariant under lambda = 4^j;
+            // k = 0 (the rows as before, the same bits) for D0 < 16, light pendulums included,
+            // whose rows' floors are below eps already.
+            using std::frexp;
+            int e = 0;
+            frexp(k.D0, &e);
+            row_shift = e > 0 ? e / 4 : 0;
+        }
         const Real r = sqrt(k.D0);
         const Real n = sqrt(k.A + k.B + 2 * r);
         root_mass = {(k.A + r) / n, -k.C / n, (k.B + r) / n};
@@ -72,6 +91,13 @@ struct shooting_setup {
         const Real y1 = root_mass.yy * l[0] - root_mass.xy * l[1];
         const Real y2 = -root_mass.xy * l[0] + root_mass.xx * l[1];
         return atan2(y2, y1);
+    }
+    /// Residual row i's weight from the common factor `inv` (1 / sqrt(2 (E - E_s)), or a
+    /// multiple of it): inv 2^k for the angles (i = 0, 1), inv 2^-k for the momenta (i = 2, 3);
+    /// exact scalings.
+    Real row_weight(int i, const Real& inv) const {
+        using std::ldexp;
+        return ldexp(inv, i < 2 ? row_shift : -row_shift);
     }
     std::array<Real, 4> start(const Real& beta) const {
         const auto l = momentum(beta);
@@ -220,7 +246,7 @@ struct periodic_residual {
 
 /// What both shooting residuals need from one shot of duration `duration` from the saddle at
 /// beta: the start x0, the end state with its monodromy, the vector field f there, dl/dbeta of the
-/// start's momenta, and the residual scale 1 / momentum_scale.
+/// start's momenta, and the residual scale 1 / momentum_scale (times row_weight's powers of two).
 template <class Real>
 struct shot {
     std::array<Real, 4> x0, f;
@@ -250,8 +276,8 @@ periodic_residual<Real> periodic_shooting(const shooting_setup<Real>& setup, con
     const auto& x0 = s.x0;
     const auto& f = s.f;
     const auto& dl = s.dl;
-    const Real& inv = s.inv;
     for (int i = 0; i < 4; ++i) {
+        const Real inv = setup.row_weight(i, s.inv);
         out.r[i] = (e.x[i] - x0[i]) * inv;
         // (Phi - I) dx0/dbeta with dx0/dbeta = (0, 0, dl)
         Real v = e.phi[i][2] * dl[0] + e.phi[i][3] * dl[1];
@@ -277,10 +303,11 @@ symmetric_residual<Real> symmetric_shooting(const shooting_setup<Real>& setup, c
     symmetric_residual<Real> out;
     shot<Real> s = shoot(setup, beta, quarter, steps, columns);
     const auto& e = s.end;
+    const Real inv = setup.row_weight(2, s.inv);
     for (int i = 0; i < 2; ++i) {
-        out.r[i] = e.x[2 + i] * s.inv;
-        out.jacobian[i][0] = (e.phi[2 + i][2] * s.dl[0] + e.phi[2 + i][3] * s.dl[1]) * s.inv;
-        out.jacobian[i][1] = s.f[2 + i] * s.inv;
+        out.r[i] = e.x[2 + i] * inv;
+        out.jacobian[i][0] = (e.phi[2 + i][2] * s.dl[0] + e.phi[2 + i][3] * s.dl[1]) * inv;
+        out.jacobian[i][1] = s.f[2 + i] * inv;
     }
     out.end = std::move(s.end);
     return out;
