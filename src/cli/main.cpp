@@ -103,6 +103,9 @@ int main(int argc, char** argv) {
     } catch (const certification_error& e) {
         std::fprintf(stderr, "flipflux: error: %s\n", cli::one_line(e.what()).c_str());
         return 1;
+    } catch (const convergence_error& e) {
+        std::fprintf(stderr, "flipflux: error: %s\n", cli::one_line(e.what()).c_str());
+        return 1;
     } catch (const output_error& e) {
         std::fprintf(stderr, "flipflux: error: %s\n", cli::one_line(e.what()).c_str());
         return 1;

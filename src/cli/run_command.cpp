@@ -73,7 +73,8 @@ const register_command registration([](CLI::App& app) {
                 // another rank may wait in a collective: report (rank 0, or any rank's internal
                 // error) and end the whole job
                 const auto* bad_input = dynamic_cast<const input_error*>(&e);
-                const bool io = dynamic_cast<const output_error*>(&e) != nullptr;
+                const bool io = dynamic_cast<const output_error*>(&e) != nullptr ||
+                                dynamic_cast<const convergence_error*>(&e) != nullptr;
                 if (mpi->rank() == 0 || bad_input == nullptr)
                     std::fprintf(
                         stderr, "flipflux: %s%s\n",

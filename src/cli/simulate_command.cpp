@@ -314,7 +314,8 @@ void run(const simulate_state& s) {
         if (!mpi || mpi->size() == 1) throw;
         // another rank may wait in a collective: report and end the whole job
         const auto* bad_input = dynamic_cast<const input_error*>(&e);
-        const bool io = dynamic_cast<const output_error*>(&e) != nullptr;
+        const bool io = dynamic_cast<const output_error*>(&e) != nullptr ||
+                        dynamic_cast<const convergence_error*>(&e) != nullptr;
         if (root || bad_input == nullptr)
             std::fprintf(stderr, "flipflux: %s%s\n",
                          bad_input || io ? "error: " : "internal error: ",

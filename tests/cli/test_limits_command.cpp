@@ -2,6 +2,7 @@
 // tolerances and budgets that could not finish, values that overflow the working precision and
 // mistyped subcommands are refused up front with one line naming the option and exit status 2
 // (docs/limits.md). Each case exits before any computation: cheap at -O0.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -39,6 +40,46 @@ TEST(LimitsCommand, SimulateTrajectoriesBeyondMemoryAreRefused) {
     ::setenv("FLIPFLUX_MEMORY_LIMIT", "100000", 1);
     expect_refused("simulate --energy 3 --trajectories 10000 --time 1", {"--trajectories"});
     ::unsetenv("FLIPFLUX_MEMORY_LIMIT");
+}
+
+// A saddle orbit the continuation from the saddle does not reach, on a valid pendulum (a lower
+// link 2^20 times heavier, whose arm-2 saddle has a centre frequency 2.2e3 times its growth
+// rate; docs/limits.md): one line, an error with the ratio as context and exit status 1, no
+// output, not "internal error" (as it was).
+TEST(LimitsCommand, SaddleOrbitsTheContinuationDoesNotReachAreErrorsNotInternalErrors) {
+    const command_result r = run_flipflux(
+        "eval period --arm 2 --energy 4500 --m1 1 --m2 1048576 --L1 0.5 --a1 0.25 --I1 0.0625 "
+        "--L2 2 --g 0.0009765625");
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("flipflux: error: saddle orbit at E = 4500 (arm 2): no convergence"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("times its growth rate"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+// The same pendulum's arm 1: its saddle's growth rate is 2.2e3 times its centre frequency, so
+// the multiplier near the saddle is about 1e5927, far beyond what a quarter-period shot in double
+// resolves (1e62.6): refused at once naming the cause (exit 2), where the continuation used to
+// run for minutes without a result.
+TEST(LimitsCommand, SaddleOrbitsFarTooUnstableAreRefusedWithoutTrying) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const command_result r = run_flipflux(
+        "eval period --arm 1 --energy 1030 --m1 1 --m2 1048576 --L1 0.5 --a1 0.25 --I1 0.0625 "
+        "--L2 2 --g 0.0009765625");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("flipflux: error: saddle orbit at E = 1030 (arm 1): the pendulum's saddle "
+                         "orbits for this arm are too unstable to be found by shooting"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("not attempted"), std::string::npos) << r.err;
+    EXPECT_LT(seconds, 60) << "the continuation was attempted";  // it ran for minutes before
+    EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
 // Within 1e-13 of E_max the saddle orbit's period diverges and double's continuation from the

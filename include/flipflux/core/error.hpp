@@ -1,5 +1,6 @@
 // Errors: contract violations by the caller (bad input) are exceptions; numerical outcomes that
-// can fail (convergence) are returned as data, see result.hpp.
+// can fail (convergence) are returned as data, see result.hpp, except where a caller asked for a
+// value that cannot be computed (convergence_error).
 #pragma once
 
 #include <cstddef>
@@ -53,6 +54,15 @@ inline std::string field_as_named(std::string_view field) {
 /// an I/O failure of the environment, not bad input. The message is one line naming the path.
 /// The CLI maps it to exit status 1.
 class output_error : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A numerical method that did not converge on valid input, where the caller asked for the value
+/// (a saddle orbit the continuation from the saddle does not reach): a limitation of the method
+/// (docs/limits.md), not a defect of the program, named with what is known of its cause. The
+/// CLI prints it as an error with exit status 1.
+class convergence_error : public std::runtime_error {
   public:
     using std::runtime_error::runtime_error;
 };
