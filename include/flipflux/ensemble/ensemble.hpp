@@ -69,8 +69,8 @@ integration_method resolved_method(integration_method method, double rtol);
 ///   - avx2: four lanes per thread, four per AVX2 vector (SSE2 for the last two);
 ///   - sse2: four lanes per thread, two per SSE2 vector (any x86-64);
 ///   - automatic: avx512 where the processor has AVX-512F (on AMD's Zen 4 too, whose 512-bit
-///     operations are two 256-bit halves: 0.82-0.86 of AVX2's CPU time for DOP853 lanes there and
-///     0.54-0.60 for Taylor lanes, docs/scale.md); else avx2 where it has AVX2; else sse2.
+///     operations are two 256-bit halves: 0.82-0.88 of AVX2's CPU time for DOP853 lanes there and
+///     0.44-0.75 for Taylor lanes, docs/scale.md); else avx2 where it has AVX2; else sse2.
 enum class vector_isa { automatic, sse2, avx2, avx512 };
 template <>
 struct enum_table<vector_isa> {

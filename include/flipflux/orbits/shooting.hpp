@@ -56,7 +56,7 @@ struct shooting_setup {
             // had a rounding floor of eps lambda^1/2 (masses x 2^40 lost 8 digits of the period
             // at double, bench/results/orbit_mass_scaling.txt). Angle rows times 2^k and
             // momentum rows times 2^-k make the residual exactly invariant under lambda = 4^j;
-            // k = 0 (the rows as before, the same bits) for D0 < 16, light pendulums included,
+            // k = 0 (the rows as before, the same bits) for D0 < 8, light pendulums included,
             // whose rows' floors are below eps already.
             using std::frexp;
             int e = 0;
