@@ -272,15 +272,17 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     const orbit_guess<Real> lin = linear_guess(model, a);
     const double_pendulum<double> md = to_double(model);
     const double target = static_cast<double>(energy.above(model.saddle_level(a)));
-    if (const std::string hopeless = continuation_hopeless(model, a); !hopeless.empty()) {
-        saddle_orbit<Real> failed;
-        failed.flip_arm = a;
-        failed.energy = energy.value;
-        failed.excess = energy.above(model.saddle_level(a));
-        failed.status = orbit_status::not_converged;
-        failed.double_stage = "continuation from the centre mode failed: " + hopeless;
-        return failed;
-    }
+    auto failed = [&](const std::string& reason) {
+        saddle_orbit<Real> f;
+        f.flip_arm = a;
+        f.energy = energy.value;
+        f.excess = energy.above(model.saddle_level(a));
+        f.status = orbit_status::not_converged;
+        f.double_stage = "continuation from the centre mode failed: " + reason;
+        return f;
+    };
+    if (const std::string hopeless = continuation_hopeless(model, a); !hopeless.empty())
+        return failed(hopeless);
     // NOTE: the continuation's corrector is the symmetric Newton iteration whatever the method:
     // its basin is that of a quarter period, about sqrt(|mu|) times wider than the periodic
     // shooting's (Ceres' continuation stalls near E_max, see docs/theory.md); the orbit itself
@@ -288,15 +290,7 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     const auto c = detail::continue_double(md, a, false, default_stages<double>(), 1e-12,
                                            static_cast<double>(lin.beta),
                                            static_cast<double>(lin.period), {target});
-    if (!c.success) {
-        saddle_orbit<Real> failed;
-        failed.flip_arm = a;
-        failed.energy = energy.value;
-        failed.excess = energy.above(model.saddle_level(a));
-        failed.status = orbit_status::not_converged;
-        failed.double_stage = "continuation from the centre mode failed: " + c.stop_reason;
-        return failed;
-    }
+    if (!c.success) return failed(c.stop_reason);
     const detail::double_orbit& o = c.orbits.back();
     return refine_saddle_orbit(model, a, energy, orbit_guess<Real>{Real(o.beta), Real(o.period)},
                                options);
