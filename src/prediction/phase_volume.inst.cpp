@@ -1,9 +1,11 @@
 // Omega(E) by the 1-D elliptic reduction and the closed form above the maximum; the
 // configuration-space density and its marginals (paper Sec. 4.1, App. C; see
 // include/flipflux/prediction/phase_volume.hpp and docs/theory.md#phase-volume-and-fluxes).
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 #include "allowed_region.hpp"
 #include "flipflux/core/constants.hpp"
@@ -69,23 +71,25 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
                      : elliptic_e(Real(t + y), m) + elliptic_e(Real(t - y), m));
 }
 
-/// The integral over [a, b] of a marginal whose branch points beyond a and b lie at the distances
-/// `near` (0: none), m the density parameter. At quad, where each evaluation costs a float128
-/// elliptic integral (one, by elliptic_e_sum), the nested Clenshaw-Curtis rules in sin^2 (up to 256
-/// intervals: 127 or 255 evaluations) are tried first unless a branch point is close enough to need
-/// grading (nearer than a quarter of the width); tanh-sinh, graded towards a close branch point,
-/// everywhere else and where the pair has not converged. Double keeps tanh-sinh alone (its results
-/// bit for bit; 0.2 ms), as does mp, whose pair would need n growing with the digits.
+/// The integral over [a, b] of a marginal whose nearest singularities at the ends lie at the
+/// distances `near` (0: none): branch points beyond a or b, or a kink's complex pair at a or b
+/// (kink_points). At quad, where each evaluation costs a float128 elliptic integral (one, by
+/// elliptic_e_sum), the nested Clenshaw-Curtis rules in sin^2 (up to 256 intervals: 127 or 255
+/// evaluations) are tried first unless a singularity is within a sixteenth of the width of an
+/// end; tanh-sinh, graded towards a close singularity, everywhere else and where the pair has not
+/// converged. NOTE: closer to an end the rules' agreement can mislead: a kink 5e-5 off a piece of
+/// width 0.14 (|m| = 3e7) gave two rules agreeing to the tolerance and a value 1.6e4 eps off,
+/// where graded tanh-sinh is good to 2 eps. A sixteenth keeps the rules well inside their
+/// convergence (n ~ 130 needed, 256 available); a quarter, the bound before the kinks were split
+/// off, cost 3x the time at m2/m1 = 4 to 10 for the same digits. Double keeps tanh-sinh alone
+/// (0.2 ms), as does mp, whose pair would need n growing with the digits.
 template <class Real>
 quadrature_result<Real> piece_integral(endpoint_integrand<Real> f, const Real& a, const Real& b,
-                                       const std::array<Real, 2>& near, const Real& m) {
+                                       const std::array<Real, 2>& near) {
     if constexpr (std::is_same_v<Real, quad>) {
-        const Real quarter = (b - a) / 4;
-        const auto far = [&](const Real& r) { return !(r > 0) || r >= quarter; };
-        // sqrt(1 - m sin^2) has branch points asinh(1/sqrt|m|) off the real axis: at |m| = 10
-        // (m1 = 0.1) the rules never converged on the paper's energies (255 evaluations lost
-        // before tanh-sinh); at |m| = 1 they converge at 127 or 255
-        if (far(near[0]) && far(near[1]) && -m <= 4) {
+        const Real least = (b - a) / 16;
+        const auto far = [&](const Real& r) { return !(r > 0) || r >= least; };
+        if (far(near[0]) && far(near[1])) {
             if (auto r = sine_squared_clenshaw_curtis<Real>(f, a, b, 256)) return *r;
             // not converged: every node of the 256-interval rule was evaluated
             quadrature_result<Real> r = tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
@@ -94,6 +98,74 @@ quadrature_result<Real> piece_integral(endpoint_integrand<Real> f, const Real& a
         }
     }
     return tanh_sinh_integrate_graded<Real>(f, a, b, near[0], near[1]);
+}
+
+/// A kink of the marginal inside its middle piece and the distance of its complex branch points
+/// from the real axis.
+template <class Real>
+struct kink {
+    Real at, distance;
+};
+
+/// The marginal's kinks in (a, b), the middle piece of marginal_integral (b - th = edge_gap +
+/// the distance to b). The marginal 2 pi sqrt(D0) [E(th + t|m) - E(th - t|m)] (t the other
+/// angle's half-width) has, besides the support's edges, branch points where 1 - m sin^2 phi = 0
+/// for phi = th - t or th + t: at phi = k pi +- i asinh(1/sqrt|m|) (m < 0). Near a th where
+/// th - t(th) = 0 or th + t(th) = pi (in the middle piece t falls from pi to 0, so th - t = 0 once
+/// and th + t - pi changes sign an odd number of times, or an even one) they lie at
+/// +- i asinh(1/sqrt|m|) / |phi'(th)| off the real axis: for a heavy second arm (|m| = m2 / m1
+/// for point masses: 2^21 for the cross-check's pendulum E) within 1e-3 of the path, where the
+/// marginal has a near-corner that no rule on the whole piece resolves (pendulum E at quad: ~5 s
+/// and an error estimate of 1e-10 for a value good to 1e-27; m2/m1 = 4: 2530 evaluations where
+/// 255 do at m2/m1 = 1). Splitting the piece there leaves the near-singularity at an end, where
+/// the graded rules concentrate their nodes. The kinks are found in double's accuracy (a sign
+/// change on a 32-point grid refined by 60 bisections): where the split falls does not change
+/// the integral, only how fast the rules converge. None for m = 0.
+template <class Real>
+std::vector<kink<Real>> kink_points(const detail::angle_support<Real>& sup, const Real& a,
+                                    const Real& b, const Real& edge_gap, const Real& m) {
+    using std::abs;
+    using std::asinh;
+    using std::sqrt;
+    std::vector<kink<Real>> out;
+    if (!(m < 0) || !(b > a)) return out;
+    const Real s = asinh(1 / sqrt(-m));
+    const Real w = b - a;
+    auto t = [&](const Real& th) {
+        return sup.half_width(th, Real(edge_gap + (b - th)), Real(th - a));
+    };
+    // phi(th) - k pi for the two kinds: th - t(th), th + t(th) - pi
+    auto phi = [&](int kind, const Real& th) {
+        return kind == 0 ? Real(th - t(th)) : Real(th + t(th) - pi<Real>());
+    };
+    constexpr int grid = 32;
+    for (int kind = 0; kind < 2; ++kind) {
+        Real lo = a, f_lo = phi(kind, a);
+        for (int j = 1; j <= grid; ++j) {
+            const Real hi = j == grid ? b : Real(a + w * j / grid);
+            const Real f_hi = phi(kind, hi);
+            if ((f_lo < 0 && f_hi > 0) || (f_lo > 0 && f_hi < 0)) {
+                Real x0 = lo, x1 = hi;
+                const bool rising = f_lo < 0;
+                for (int it = 0; it < 60; ++it) {
+                    const Real mid = (x0 + x1) / 2;
+                    ((phi(kind, mid) < 0) == rising ? x0 : x1) = mid;
+                }
+                const Real c = (x0 + x1) / 2;
+                // |phi'(c)| by a central difference (it only sets the grading)
+                const Real e = w * Real(1e-6);
+                const Real slope = abs(phi(kind, Real(c + e)) - phi(kind, Real(c - e))) / (2 * e);
+                const Real distance = s / (slope > Real(1e-300) ? slope : Real(1e-300));
+                // a kink within 1e-9 of the piece's width of an end is left to that end
+                if (c - a > w * Real(1e-9) && b - c > w * Real(1e-9)) out.push_back({c, distance});
+            }
+            lo = hi;
+            f_lo = f_hi;
+        }
+    }
+    std::sort(out.begin(), out.end(),
+              [](const kink<Real>& x, const kink<Real>& y) { return x.at < y.at; });
+    return out;
 }
 
 /// The integral of the marginal rho_which over [0, x], 0 <= x <= pi.
@@ -123,7 +195,21 @@ quadrature_result<Real> marginal_integral(const double_pendulum<Real>& model,
             return marginal_from_half_width(model, th, t, Real(b_to_pi + to_b), &complete);
         };
         const std::array<Real, 2> near = detail::singularity_distances(sup, b);
-        r += piece_integral<Real>(f, a, b, near, density_parameter(model));
+        // the marginal's kinks (kink_points): pieces between them, each graded towards a kink
+        // at its end as towards a branch point beyond it
+        const std::vector<kink<Real>> kinks = kink_points(sup, a, b, edge_gap, m);
+        Real p = a, near_p = near[0];
+        for (std::size_t i = 0; i <= kinks.size(); ++i) {
+            const Real q = i < kinks.size() ? kinks[i].at : b;
+            const Real near_q = i < kinks.size() ? kinks[i].distance : near[1];
+            const Real before = p - a, after = b - q;  // the piece's distances to a and b
+            auto piece = [&](const Real& th, const Real& to_p, const Real& to_q) -> Real {
+                return f(th, Real(before + to_p), Real(after + to_q));
+            };
+            r += piece_integral<Real>(piece, p, q, {near_p, near_q});
+            p = q;
+            near_p = near_q;
+        }
     }
     return r;
 }
@@ -207,13 +293,12 @@ prediction_result<Real> phase_volume(const double_pendulum<Real>& model,
         marginal_integral(model, energy, configuration_angle::theta1, pi<Real>());
     r.value = 2 * half.value;
     // the quadrature's estimate (with its rounding floor eps L1) and the rounding of the
-    // marginal's evaluation, which grows with the elliptic parameter |m| = C^2 / D0 (a light
-    // first link, |m| = 14: measured 5 eps at quad; m1 = 0.01, |m| = 100: 3 eps at double;
-    // m1 = 0.05, L2 = 3 near E_max: 14 eps at double): 4 eps (1 + sqrt|m|) of the value
-    // (tests/prediction/test_error_estimates.cpp)
-    using std::sqrt;
-    r.error_estimate = 2 * half.error_estimate +
-                       4 * epsilon<Real>() * (1 + sqrt(Real(-density_parameter(model)))) * r.value;
+    // marginal's evaluation: 8 eps of the value. (It had grown with the elliptic parameter,
+    // 4 eps (1 + sqrt|m|), |m| = C^2 / D0, while the kinks were inside the pieces: what it
+    // covered was their truncation. With the kinks split off, 65 random pendulums with |m| from
+    // 0.3 to 5e7 at energies from the well to above the maximum were within 5.4 eps at double and
+    // quad of 45-digit values: docs/theory.md, tests/prediction/test_error_estimates.cpp.)
+    r.error_estimate = 2 * half.error_estimate + 8 * epsilon<Real>() * r.value;
     r.evaluations = half.evaluations;
     return r;
 }

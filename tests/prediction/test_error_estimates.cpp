@@ -40,10 +40,13 @@ std::vector<double> energies_of(const double_pendulum<double>& m) {
     return e;
 }
 
-// The prediction pendulums and a light first link under a long second arm (|m| = 21).
+// The prediction pendulums, a light first link under a long second arm (|m| = 21) and a second
+// arm 100 times heavier (|m| = 100: its marginal's kinks, split off since 2026-11-30, had been
+// inside the integrals).
 std::vector<test::model_spec> specs() {
     std::vector<test::model_spec> all = test::model_specs();
     all.push_back({"light-link-long-arm", "0.0625", "1", "1", "3", "1", "3", "0", "0", "1"});
+    all.push_back({"heavy-second-arm", "1", "100", "1", "1", "1", "1", "0", "0", "1"});
     return all;
 }
 
@@ -101,21 +104,15 @@ TYPED_TEST(ErrorEstimates, UprightFluxWithin100xOfTheActualError) {
         });
 }
 
-// The independent route, quadrature_2d, at double on two nearly singular pendulums of an
-// independent cross-check: a lower link 2^20 times heavier (the inner integrand's near-zeros
-// reach the inner interval's ends: 7.8e-6 off against an estimate of 4.2e-8 before the outer
-// integral was split there) and 2^20 times lighter (the inner interval's width rounded with th2:
-// 1e-14 relative off, 10x its estimate, before the inner integral ran over th1), in the well,
-// between the saddles and just below arm 2's (30 eps off there). References: the cross-check's
-// own derivation in mpmath (its Lagrangian, ellipe; bench/results/crosscheck_2026-11-30/cmp_D.jsonl
-// and cmp_E2.jsonl, omega rows), not flipflux's routes (whose 40-digit elliptic route takes
-// minutes on the heavy link, |m| = 2e6).
-TEST(ErrorEstimates, TwoDimensionalOmegaCoversItsErrorOnNearlySingularPendulums) {
-    using std::abs;
-    struct point {
-        const char *energy, *omega;
-    };
-    const std::vector<std::pair<test::model_spec, std::vector<point>>> cases{
+// Two nearly singular pendulums of an independent cross-check, with its own derivation's Omega
+// in mpmath (its Lagrangian, ellipe; bench/results/crosscheck_2026-11-30/cmp_D.jsonl and
+// cmp_E2.jsonl, omega rows), not flipflux's routes: a lower link 2^20 times heavier (|m| = 2^21)
+// and 2^20 times lighter, in the well, between the saddles and just below arm 2's.
+struct singular_point {
+    const char *energy, *omega;
+};
+const std::vector<std::pair<test::model_spec, std::vector<singular_point>>>& singular_cases() {
+    static const std::vector<std::pair<test::model_spec, std::vector<singular_point>>> cases{
         {{"heavy-lower-link", "1", "1048576", "0.5", "2", "0.25", "2", "0.0625", "0",
           "0.0009765625"},
          {{"512.000244140625", "13465167.945065301487404054986292499680942245998088"},
@@ -133,15 +130,74 @@ TEST(ErrorEstimates, TwoDimensionalOmegaCoversItsErrorOnNearlySingularPendulums)
            "0.00120473678644314195717886951131908343484708292"},
           {"8192.007811680799932219088077545166015625",
            "0.085626610680771012351295533070819394594318112"}}}};
-    for (const auto& [spec, points] : cases) {
+    return cases;
+}
+
+// The independent route, quadrature_2d, at double on the nearly singular pendulums (the heavy
+// link: the inner integrand's near-zeros reach the inner interval's ends: 7.8e-6 off against an
+// estimate of 4.2e-8 before the outer integral was split there; the light link: the inner
+// interval's width rounded with th2: 1e-14 relative off, 10x its estimate, before the inner
+// integral ran over th1; 30 eps off just below arm 2's saddle).
+TEST(ErrorEstimates, TwoDimensionalOmegaCoversItsErrorOnNearlySingularPendulums) {
+    using std::abs;
+    for (const auto& [spec, points] : singular_cases()) {
         const double_pendulum<double> model = test::make_model<double>(spec);
-        for (const point& p : points) {
+        for (const singular_point& p : points) {
             SCOPED_TRACE(spec.name + ", E = " + p.energy);
             const prediction_result<double> r = phase_volume(
                 model, parse_real<double>(p.energy, "E"), phase_volume_method::quadrature_2d);
             const double actual = abs(r.value - parse_real<double>(p.omega, "reference"));
             EXPECT_GE(r.error_estimate, actual);
             EXPECT_LE(r.error_estimate, 100 * std::max(actual, test::eps<double>() * r.value));
+        }
+    }
+}
+
+// The default route, elliptic, on the same pendulums at double and quad, and its cost at quad.
+// The heavy link's marginal nearly kinks where th1 -+ t(th1) meets 0 or pi (branch points
+// 1e-3 off the path): before the integral was split there, quad took ~5 s (1e5 evaluations) with
+// an estimate of 1.3e-10 for a value good to 1e-26, and mp:40 was 2e-22 relative off
+// (docs/theory.md).
+TYPED_TEST(ErrorEstimates, EllipticOmegaCoversItsErrorOnNearlySingularPendulums) {
+    using Real = TypeParam;
+    using std::abs;
+    for (const auto& [spec, points] : singular_cases()) {
+        const double_pendulum<Real> model = test::make_model<Real>(spec);
+        for (const singular_point& p : points) {
+            SCOPED_TRACE(spec.name + ", E = " + p.energy);
+            const prediction_result<Real> r = phase_volume(model, parse_real<Real>(p.energy, "E"));
+            const Real actual = abs(r.value - parse_real<Real>(p.omega, "reference"));
+            const Real floor = test::eps<Real>() * r.value;
+            EXPECT_GE(r.error_estimate, actual);
+            EXPECT_LE(r.error_estimate, 100 * (actual > floor ? actual : floor));
+            // the heavy link at quad: measured 3420-6839 evaluations (graded tanh-sinh next to
+            // the kinks); the unsplit integral took ~1e5
+            if constexpr (std::is_same_v<Real, quad>) {
+                if (spec.name == "heavy-lower-link") {
+                    EXPECT_LE(r.evaluations, 10000u);
+                }
+            }
+        }
+    }
+}
+
+// The cost at quad of pendulums with a heavier second arm (|m| = m2/m1 for point masses): the
+// kinks split off, every piece is one nested Clenshaw-Curtis run or a graded tanh-sinh next to a
+// kink. Measured 190-382 evaluations up to m2/m1 = 10 and 382-2564 at 100 and 1e3 (before, at 0.3
+// and 0.6 E_max: 255, 2530, 4549, 9099, 36397 at m2/m1 = 1, 4, 10, 100, 1e3);
+// PhaseVolumeWithin100xOfTheActualError checks the values and estimates of such a pendulum
+// (m2/m1 = 100).
+TEST(ErrorEstimates, HeavierSecondArmsCostLittleMoreThanEqualOnesAtQuad) {
+    for (const char* m2 : {"1", "4", "10", "100", "1000"}) {
+        const test::model_spec spec{
+            "heavier-second-arm", "1", m2, "1", "1", "1", "1", "0", "0", "1"};
+        const double_pendulum<quad> model = test::make_model<quad>(spec);
+        const quad e_max = model.maximum_energy();
+        for (const double fraction : {0.3, 0.6, 0.9}) {
+            SCOPED_TRACE(std::string("m2 = ") + m2 + ", E = " + std::to_string(fraction) +
+                         " E_max");
+            const prediction_result<quad> r = phase_volume(model, quad(fraction * e_max));
+            EXPECT_LE(r.evaluations, std::string(m2).size() <= 2 ? 600u : 4000u);
         }
     }
 }
