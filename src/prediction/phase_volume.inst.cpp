@@ -108,19 +108,23 @@ struct kink {
 };
 
 /// The marginal's kinks in (a, b), the middle piece of marginal_integral (b - th = edge_gap +
-/// the distance to b). The marginal 2 pi sqrt(D0) [E(th + t|m) - E(th - t|m)] (t the other
-/// angle's half-width) has, besides the support's edges, branch points where 1 - m sin^2 phi = 0
-/// for phi = th - t or th + t: at phi = k pi +- i asinh(1/sqrt|m|) (m < 0). Near a th where
-/// th - t(th) = 0 or th + t(th) = pi (in the middle piece t falls from pi to 0, so th - t = 0 once
-/// and th + t - pi changes sign an odd number of times, or an even one) they lie at
-/// +- i asinh(1/sqrt|m|) / |phi'(th)| off the real axis: for a heavy second arm (|m| = m2 / m1
-/// for point masses: 2^21 for the cross-check's pendulum E) within 1e-3 of the path, where the
-/// marginal has a near-corner that no rule on the whole piece resolves (pendulum E at quad: ~5 s
-/// and an error estimate of 1e-10 for a value good to 1e-27; m2/m1 = 4: 2530 evaluations where
-/// 255 do at m2/m1 = 1). Splitting the piece there leaves the near-singularity at an end, where
-/// the graded rules concentrate their nodes. The kinks are found in double's accuracy (a sign
-/// change on a 32-point grid refined by 60 bisections): where the split falls does not change
-/// the integral, only how fast the rules converge. None for m = 0.
+/// the distance to b), close enough to the path to need a split. The marginal
+/// 2 pi sqrt(D0) [E(th + t|m) - E(th - t|m)] (t the other angle's half-width) has, besides the
+/// support's edges, branch points where 1 - m sin^2 phi = 0 for phi = th - t or th + t: at
+/// phi = k pi +- i asinh(1/sqrt|m|) (m < 0). Near a th where th - t(th) = 0 or th + t(th) = pi (in
+/// the middle piece t falls from pi to 0, so th - t = 0 once and th + t - pi changes sign an odd
+/// number of times, or an even one) they lie at +- i asinh(1/sqrt|m|) / |phi'(th)| off the real
+/// axis: for a heavy second arm (|m| = m2 / m1 for point masses: 2^21 for the cross-check's
+/// pendulum E) within 1e-3 of the path, where the marginal has a near-corner that no rule on the
+/// whole piece resolves (pendulum E at quad: ~5 s and an error estimate of 1e-10 for a value good
+/// to 1e-27; m2/m1 = 4: 2530 evaluations where 255 do at m2/m1 = 1). Splitting the piece there
+/// leaves the near-singularity at an end, where the graded rules concentrate their nodes. Kinks
+/// whose pair lies a quarter of the piece's width or more off the path are left inside: the rules
+/// converge across them as fast as with the split, which would double the nodes (the paper's
+/// pendulum, |m| = 1, keeps 11 of its 13 timed integrals bit for bit,
+/// bench/results/omega_quad.txt). A sign change on a 16-point grid (t once per point) gives the
+/// kink's bracket and |phi'| there; a kink that needs the split is refined by 60 bisections (where
+/// the split falls does not change the integral, only how fast the rules converge). None for m = 0.
 template <class Real>
 std::vector<kink<Real>> kink_points(const detail::angle_support<Real>& sup, const Real& a,
                                     const Real& b, const Real& edge_gap, const Real& m) {
@@ -134,37 +138,37 @@ std::vector<kink<Real>> kink_points(const detail::angle_support<Real>& sup, cons
     auto t = [&](const Real& th) {
         return sup.half_width(th, Real(edge_gap + (b - th)), Real(th - a));
     };
-    // phi(th) - k pi for the two kinds: th - t(th), th + t(th) - pi
-    auto phi = [&](int kind, const Real& th) {
-        return kind == 0 ? Real(th - t(th)) : Real(th + t(th) - pi<Real>());
+    // phi(th) - k pi of the two kinds, from t(th): th - t, th + t - pi
+    auto phi = [](int kind, const Real& th, const Real& t_th) {
+        return kind == 0 ? Real(th - t_th) : Real(th + t_th - pi<Real>());
     };
-    constexpr int grid = 32;
+    constexpr int grid = 16;
+    std::array<Real, grid + 1> x, tx;
+    for (int j = 0; j <= grid; ++j) {
+        x[j] = j == grid ? b : Real(a + w * j / grid);
+        tx[j] = t(x[j]);
+    }
     for (int kind = 0; kind < 2; ++kind) {
-        Real lo = a, f_lo = phi(kind, a);
         for (int j = 1; j <= grid; ++j) {
-            const Real hi = j == grid ? b : Real(a + w * j / grid);
-            const Real f_hi = phi(kind, hi);
-            if ((f_lo < 0 && f_hi > 0) || (f_lo > 0 && f_hi < 0)) {
-                Real x0 = lo, x1 = hi;
-                const bool rising = f_lo < 0;
-                for (int it = 0; it < 60; ++it) {
-                    const Real mid = (x0 + x1) / 2;
-                    ((phi(kind, mid) < 0) == rising ? x0 : x1) = mid;
-                }
-                const Real c = (x0 + x1) / 2;
-                // |phi'(c)| by a central difference (it only sets the grading)
-                const Real e = w * Real(1e-6);
-                const Real slope = abs(phi(kind, Real(c + e)) - phi(kind, Real(c - e))) / (2 * e);
-                const Real distance = s / (slope > Real(1e-300) ? slope : Real(1e-300));
-                // a kink within 1e-9 of the piece's width of an end is left to that end
-                if (c - a > w * Real(1e-9) && b - c > w * Real(1e-9)) out.push_back({c, distance});
+            const Real f_lo = phi(kind, x[j - 1], tx[j - 1]), f_hi = phi(kind, x[j], tx[j]);
+            if (!((f_lo < 0 && f_hi > 0) || (f_lo > 0 && f_hi < 0))) continue;
+            // |phi'| from the bracket (the kink's pair lies asinh(1/sqrt|m|) / |phi'| off)
+            const Real slope = abs(f_hi - f_lo) / (x[j] - x[j - 1]);
+            const Real distance = s / slope;
+            if (!(distance < w / 4)) continue;
+            Real x0 = x[j - 1], x1 = x[j];
+            const bool rising = f_lo < 0;
+            for (int it = 0; it < 60; ++it) {
+                const Real mid = (x0 + x1) / 2;
+                ((phi(kind, mid, t(mid)) < 0) == rising ? x0 : x1) = mid;
             }
-            lo = hi;
-            f_lo = f_hi;
+            const Real c = (x0 + x1) / 2;
+            // a kink within 1e-9 of the piece's width of an end is left to that end
+            if (c - a > w * Real(1e-9) && b - c > w * Real(1e-9)) out.push_back({c, distance});
         }
     }
     std::sort(out.begin(), out.end(),
-              [](const kink<Real>& x, const kink<Real>& y) { return x.at < y.at; });
+              [](const kink<Real>& p, const kink<Real>& q) { return p.at < q.at; });
     return out;
 }
 
