@@ -121,10 +121,11 @@ struct kink {
 /// leaves the near-singularity at an end, where the graded rules concentrate their nodes. Kinks
 /// whose pair lies a quarter of the piece's width or more off the path are left inside: the rules
 /// converge across them as fast as with the split, which would double the nodes (the paper's
-/// pendulum, |m| = 1, keeps 11 of its 13 timed integrals bit for bit,
-/// bench/results/omega_quad.txt). A sign change on a 16-point grid (t once per point) gives the
-/// kink's bracket and |phi'| there; a kink that needs the split is refined by 60 bisections (where
-/// the split falls does not change the integral, only how fast the rules converge). None for m = 0.
+/// pendulum, |m| = 1: its Omega unchanged bit for bit at double at the 13 energies of
+/// bench/results/omega_quad_kinks.txt, and at 8 of them at quad). A sign change on a 16-point grid
+/// (t once per point) gives the kink's bracket and |phi'| there; a kink that needs the split is
+/// refined by 60 bisections (where the split falls does not change the integral, only how fast the
+/// rules converge). None for m = 0.
 template <class Real>
 std::vector<kink<Real>> kink_points(const detail::angle_support<Real>& sup, const Real& a,
                                     const Real& b, const Real& edge_gap, const Real& m) {
