@@ -300,9 +300,10 @@ prediction_result<Real> phase_volume(const double_pendulum<Real>& model,
     // the quadrature's estimate (with its rounding floor eps L1) and the rounding of the
     // marginal's evaluation: 8 eps of the value. (It had grown with the elliptic parameter,
     // 4 eps (1 + sqrt|m|), |m| = C^2 / D0, while the kinks were inside the pieces: what it
-    // covered was their truncation. With the kinks split off, 65 random pendulums with |m| from
-    // 0.3 to 5e7 at energies from the well to above the maximum were within 5.4 eps at double and
-    // quad of 45-digit values: docs/theory.md, tests/prediction/test_error_estimates.cpp.)
+    // covered was their truncation. With the kinks split off, 80 random pendulums with |m| from
+    // 0.3 to 5e7 at energies from the well to above the maximum are within 5.3 eps at double and
+    // quad of 45-digit values: bench/results/omega_kinks_sweep.txt,
+    // tests/prediction/test_error_estimates.cpp.)
     r.error_estimate = 2 * half.error_estimate + 8 * epsilon<Real>() * r.value;
     r.evaluations = half.evaluations;
     return r;

@@ -156,7 +156,7 @@ TEST(ErrorEstimates, TwoDimensionalOmegaCoversItsErrorOnNearlySingularPendulums)
 // The default route, elliptic, on the same pendulums at double and quad, and its cost at quad.
 // The heavy link's marginal nearly kinks where th1 -+ t(th1) meets 0 or pi (branch points
 // 1e-3 off the path): before the integral was split there, quad took ~5 s (1e5 evaluations) with
-// an estimate of 1.3e-10 for a value good to 1e-26, and mp:40 was 2e-22 relative off
+// an estimate of 1.3e-10 for a value good to 1e-26, and mp:40 was 5e-24 relative off
 // (docs/theory.md).
 TYPED_TEST(ErrorEstimates, EllipticOmegaCoversItsErrorOnNearlySingularPendulums) {
     using Real = TypeParam;
