@@ -102,6 +102,8 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
         const auto sr = symmetric_shooting(setup, beta, tau, quarter_steps);
         if (!sr.end.success) break;
         out.residual = std::hypot(sr.r[0], sr.r[1]);
+        // F of this iterate (at convergence the update is below 1e-7 relative)
+        out.action = 4 * sr.end.action;
         auto d = solve_2x2(sr.jacobian, sr.r);
         if (!std::isfinite(d[0]) || !std::isfinite(d[1])) break;
         // damping: at most 0.3 rad in beta and 30 % of tau per step
@@ -202,7 +204,7 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
                 "no orbit near the centre mode at E - E_s = " + g(e0) + ": " + r.report;
             return out;
         }
-        known.push_back({e0, wrap_angle(r.beta), r.period, false});
+        known.push_back({e0, wrap_angle(r.beta), r.period, false, r.action});
         record(e0, known.back().beta, known.back().period);
         out.highest_excess = e0;
     }
@@ -245,12 +247,52 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         const double change =
             std::abs(wrap_angle(beta - last.beta)) + std::abs(period - last.period) / last.period;
         const double moved = dbeta + std::abs(r.period - period) / period;
-        const bool accepted = r.converged && dbeta < 0.5 &&
-                              std::abs(r.period - period) < 0.25 * period &&
-                              moved <= std::max(0.5 * change, 1e-3);
+        bool accepted = r.converged && dbeta < 0.5 && std::abs(r.period - period) < 0.25 * period &&
+                        moved <= std::max(0.5 * change, 1e-3);
+        // NOTE: the action identity dF/dE = T. The predictor test above cannot tell the family
+        // from another orbit near it when a step is long: arm 2 of m1 = 0.5124, m2 = 2.05,
+        // L1 = 1.66, L2 = 0.486 (g = 9.81) stepped from T = 2.824 at E - E_s = 38.8 to T = 3.277
+        // at 52.1 (E = 71.6) where the family's T is 3.103, within half the predicted change, and
+        // every energy from 71.6 to 72.9 reported that other orbit, with estimates of 1e-9
+        // (test SaddleOrbit.ContinuationStaysOnItsFamilyWhereAnotherOrbitIsNear). Along one
+        // family, where T is monotone over a step, F(next) - F(last) lies within dE |dT| / 2 of
+        // the trapezoid dE (T_last + T_next) / 2; a jump to another orbit moves F by O(F). The
+        // steps are kept small enough for that bound (dE |dT| / 2 <= 3e-3 F) to see a jump of more
+        // than 0.6 % of F, and for the predictor test to see the jump in T (5.6 % there). Cost:
+        // more steps (the paper's arm 1 to E = 5.5: 31 instead of 4; to E_max - 1e-5: 48 instead
+        // of 19). F comes with the symmetric Newton's last iterate (solve_saddle_orbit continues
+        // in the symmetric formulation for either method); the periodic one has no F: no check.
+        const double denergy = next - last.excess;
+        const bool identity = std::isfinite(last.action) && std::isfinite(r.action);
+        const double bound = identity ? 0.5 * denergy * std::abs(r.period - last.period) : 0;
+        const double gap =
+            identity ? std::abs(r.action - last.action - 0.5 * denergy * (r.period + last.period))
+                     : 0;
+        const double scale = identity ? std::max(std::abs(r.action), std::abs(last.action)) : 0;
+        const bool off_family = accepted && identity && gap > bound + 1e-7 * scale;
+        const bool too_coarse = accepted && identity && !off_family && bound > 3e-3 * scale;
+        if (off_family || too_coarse) accepted = false;
         continuation_step st{last.excess, next, accepted, r.iterations, ""};
+        if (too_coarse) {
+            // not a failure: a smaller step, not counted towards the consecutive failures
+            st.note = "step too coarse for the action identity (dE |dT| / 2 = " + g(bound) +
+                      " for F = " + g(scale) + ")";
+            out.steps.push_back(st);
+            ++out.halvings;
+            dsigma /= 2;
+            if (dsigma < min_dsigma) {
+                out.stop_reason = "step size fell below " + g(min_dsigma) +
+                                  " in -log(E_max - E) at E - E_s = " + g(last.excess) + ": " +
+                                  st.note;
+                return out;
+            }
+            continue;
+        }
         if (!accepted) {
             st.note = !r.converged ? "corrector failed: " + r.report
+                      : off_family ? "corrector left the family (F " + g(r.action) + " for " +
+                                         g(last.action + 0.5 * denergy * (r.period + last.period)) +
+                                         " +- " + g(bound) + " by dF/dE = T; T " + g(r.period) + ")"
                                    : "corrector left the family (beta moved " + g(dbeta) + ", T " +
                                          g(r.period) + " for predicted " + g(period) + ")";
             out.steps.push_back(st);
@@ -272,7 +314,7 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         }
         out.steps.push_back(st);
         failures = 0;
-        known.push_back({next, wrap_angle(r.beta), r.period, false});
+        known.push_back({next, wrap_angle(r.beta), r.period, false, r.action});
         if (known.size() > 2) known.erase(known.begin());
         record(next, known.back().beta, known.back().period);
         out.highest_excess = next;

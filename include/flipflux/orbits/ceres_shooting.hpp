@@ -4,6 +4,7 @@
 // (src/orbits/ceres.plugin.cpp, through orbits/least_squares.hpp); this header does not include it.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,9 @@ struct double_stage_result {
     bool converged = false;
     int iterations = 0;
     double residual = 0;  ///< scaled residual norm at the end
-    std::string report;   ///< Ceres' BriefReport, or the Newton iteration's summary
+    /// The action F = 4 x the quarter orbit's (symmetric formulation; NaN for the periodic one)
+    double action = std::numeric_limits<double>::quiet_NaN();
+    std::string report;  ///< Ceres' BriefReport, or the Newton iteration's summary
 };
 
 /// Periodic shooting with Ceres: minimise |x(T) - x(0)|^2 / (2 (E - E_s)) over (beta, T) with
@@ -36,6 +39,7 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
 struct double_orbit {
     double excess = 0, beta = 0, period = 0;
     bool requested = false;  ///< one of the targets (else an intermediate step)
+    double action = std::numeric_limits<double>::quiet_NaN();  ///< F; NaN: not known
 };
 
 struct double_continuation {
