@@ -81,8 +81,8 @@ Real marginal_from_half_width(const double_pendulum<Real>& model, const Real& x,
 /// width 0.14 (|m| = 3e7) gave two rules agreeing to the tolerance and a value 1.6e4 eps off,
 /// where graded tanh-sinh is good to 2 eps. A sixteenth keeps the rules well inside their
 /// convergence (n ~ 130 needed, 256 available); a quarter, the bound before the kinks were split
-/// off, cost 3x the time at m2/m1 = 4 to 10 for the same digits. Double keeps tanh-sinh alone
-/// (0.2 ms), as does mp, whose pair would need n growing with the digits.
+/// off, kept the rules off most parts next to a kink, at more nodes for the same digits. Double
+/// keeps tanh-sinh alone (0.2 ms), as does mp, whose pair would need n growing with the digits.
 template <class Real>
 quadrature_result<Real> piece_integral(endpoint_integrand<Real> f, const Real& a, const Real& b,
                                        const std::array<Real, 2>& near) {
