@@ -276,24 +276,12 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         const bool too_coarse = accepted && identity && !off_family && bound > 3e-3 * scale;
         if (off_family || too_coarse) accepted = false;
         continuation_step st{last.excess, next, accepted, r.iterations, ""};
-        if (too_coarse) {
-            // not a failure: a smaller step, not counted towards the consecutive failures
-            st.note = "step too coarse for the action identity (dE |dT| / 2 = " + g(bound) +
-                      " for F = " + g(scale) + ")";
-            out.steps.push_back(st);
-            ++out.halvings;
-            dsigma /= 2;
-            if (dsigma < min_dsigma) {
-                out.stop_reason = "step size fell below " + g(min_dsigma) +
-                                  " in -log(E_max - E) at E - E_s = " + g(last.excess) + ": " +
-                                  st.note;
-                return out;
-            }
-            continue;
-        }
         if (!accepted) {
-            st.note = !r.converged ? "corrector failed: " + r.report
-                      : off_family ? "corrector left the family (F " + g(r.action) + " for " +
+            st.note = too_coarse
+                          ? "step too coarse for the action identity (dE |dT| / 2 = " + g(bound) +
+                                " for F = " + g(scale) + ")"
+                      : !r.converged ? "corrector failed: " + r.report
+                      : off_family   ? "corrector left the family (F " + g(r.action) + " for " +
                                          g(last.action + 0.5 * denergy * (r.period + last.period)) +
                                          " +- " + g(bound) + " by dF/dE = T; T " + g(r.period) + ")"
                                    : "corrector left the family (beta moved " + g(dbeta) + ", T " +
@@ -301,7 +289,8 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
             out.steps.push_back(st);
             ++out.halvings;
             dsigma /= 2;
-            if (++failures >= max_consecutive_failures) {
+            // a step too coarse is not a failure: not counted towards the consecutive ones
+            if (!too_coarse && ++failures >= max_consecutive_failures) {
                 out.stop_reason = std::to_string(failures) +
                                   " consecutive corrector failures at E - E_s = " + g(last.excess) +
                                   " (E_max - E = " + g(range - last.excess) + "): " + st.note;
