@@ -160,7 +160,7 @@ py::dict saddle_orbit_text(const std::string& energy_text, const std::string& ar
             check_orbit_energy(model, a, level);
             const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
             if (orbit.status == orbit_status::not_converged)
-                throw_not_converged(model, a, level, orbit.double_stage, "orbit");
+                throw_not_converged(model, a, level, orbit, "orbit");
             orbit_text t{precision_name<Real>(),
                          to_decimal(energy),
                          to_decimal(orbit.period),

@@ -48,7 +48,7 @@ std::string orbit_csv(const orbit_state_options& o) {
     check_orbit_energy(model, a, level);
     const saddle_orbit<Real> orbit = solve_saddle_orbit(model, a, level, options);
     if (orbit.status == orbit_status::not_converged)
-        throw_not_converged(model, a, level, orbit.double_stage, "orbit");
+        throw_not_converged(model, a, level, orbit, "orbit");
     std::string csv = "t,theta1,theta2,l1,l2\n";
     for (long k = 0; k < samples; ++k) {
         const Real t = orbit.period * k / (samples - 1);

@@ -14,16 +14,19 @@
 namespace flipflux::detail {
 
 /// Marks a converged result as not converged when its orbit leaves the saddle's strip
-/// |delta| < pi (see quarter_extent): another periodic orbit, not the saddle orbit.
+/// |delta| < pi (see quarter_extent): another periodic orbit, or the family's own beyond its end
+/// (continue_double), not a saddle orbit.
 static void check_family(const shooting_setup<double>& setup, double_stage_result& r,
                          long quarter_steps) {
     const auto m = quarter_extent(setup, r.beta, r.period / 4, quarter_steps);
+    r.extent = m;
     if (m[0] >= M_PI || m[1] >= M_PI) {
         r.converged = false;
+        r.left_strip = true;
         char buf[160];
         std::snprintf(buf, sizeof buf,
-                      "; the solution left the saddle's strip (max |delta| = %.4g, %.4g): another "
-                      "periodic orbit",
+                      "; the solution left the saddle's strip (max |delta| = %.4g, %.4g): not a "
+                      "saddle orbit",
                       m[0], m[1]);
         r.report += buf;
     }
@@ -126,12 +129,13 @@ double_stage_result newton_symmetric_shooting(const double_pendulum<double>& mod
     out.beta = beta;
     out.period = 4 * tau;
     out.iterations = it;
-    if (out.converged) check_family(setup, out, quarter_steps);
     char buf[160];
     std::snprintf(buf, sizeof buf,
                   "Newton (symmetric): %d iterations, |l(tau)|/sqrt(2 dE) = %.3e, %s", it,
                   out.residual, out.converged ? "converged" : "not converged");
     out.report = buf;
+    // (after the report: check_family appends why a converged solution is not the orbit)
+    if (out.converged) check_family(setup, out, quarter_steps);
     return out;
 }
 
@@ -183,6 +187,8 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
     auto solve = [&](double excess, double beta, double period) {
         const shooting_setup<double> setup(model, a, excess, stages);
         const long n = shooting_steps(setup, beta, period, tolerance, periodic);
+        if (std::getenv("FLIPFLUX_DEBUG_CONTINUATION"))
+            std::fprintf(stderr, "continuation: %ld integration steps\n", n);
         return periodic ? ceres_periodic_shooting(model, a, excess, beta, period, n, stages)
                         : newton_symmetric_shooting(model, a, excess, beta, period, n, stages);
     };
@@ -194,6 +200,32 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
     };
     // the centre mode itself (E - E_s = 0) is the secant's first point
     std::vector<double_orbit> known{{0.0, beta_lin, period_lin, false}};
+    // the largest |delta1|, |delta2| of the last accepted orbit's quarter, and whether the last
+    // refused step's corrector followed the family out of the saddle's strip
+    std::array<double, 2> last_extent{};
+    bool left_strip_on_family = false;
+    // NOTE: the family's end as saddle orbits. Where a family's swing grows until one angle
+    // reaches the vertical opposite its saddle's (|delta| = pi: arm 2 of m1 = 0.1792,
+    // m2 = 0.101, L1 = 1.98, L2 = 0.586, a rigid first link a1 = 0.991, I1 = 0.05868, at
+    // E - E_s = 5.2529), the corrector's solutions beyond it are the family's orbits outside the
+    // strip (check_family), which are not saddle orbits; the halving then brackets the end.
+    auto stop_at = [&](const std::string& reason) {
+        const int k = last_extent[1] >= last_extent[0] ? 2 : 1;
+        if (left_strip_on_family && last_extent[k - 1] >= M_PI - 1e-2) {
+            out.strip_end = known.back().excess;
+            out.strip_angle = k;
+            char buf[200];
+            std::snprintf(buf, sizeof buf,
+                          "the family leaves its saddle's strip at E - E_s = %.6g: there its "
+                          "orbit swings theta%d to the vertical opposite the saddle's (max "
+                          "|delta%d| = %.6g, pi beyond); ",
+                          out.strip_end, k, k, last_extent[k - 1]);
+            out.stop_reason = buf + reason;
+        } else {
+            out.stop_reason = reason;
+        }
+        return out;
+    };
     {
         // the first orbit at a small excess, where the linear guess is O(excess) off
         const double e0 = std::min(targets.front(), 1e-4 * range);
@@ -207,6 +239,7 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         known.push_back({e0, wrap_angle(r.beta), r.period, false, r.action});
         record(e0, known.back().beta, known.back().period);
         out.highest_excess = e0;
+        last_extent = r.extent;
     }
     double dsigma = 0.25;
     const double min_dsigma = 1e-7;
@@ -289,23 +322,24 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
             out.steps.push_back(st);
             ++out.halvings;
             dsigma /= 2;
+            // (the predictor test of a solution outside the strip: on the family's path)
+            left_strip_on_family = r.left_strip && dbeta < 0.5 &&
+                                   std::abs(r.period - period) < 0.25 * period &&
+                                   moved <= std::max(0.5 * change, 1e-3);
             // a step too coarse is not a failure: not counted towards the consecutive ones
-            if (!too_coarse && ++failures >= max_consecutive_failures) {
-                out.stop_reason = std::to_string(failures) +
-                                  " consecutive corrector failures at E - E_s = " + g(last.excess) +
-                                  " (E_max - E = " + g(range - last.excess) + "): " + st.note;
-                return out;
-            }
-            if (dsigma < min_dsigma) {
-                out.stop_reason = "step size fell below " + g(min_dsigma) +
-                                  " in -log(E_max - E) at E - E_s = " + g(last.excess) + ": " +
-                                  st.note;
-                return out;
-            }
+            if (!too_coarse && ++failures >= max_consecutive_failures)
+                return stop_at(std::to_string(failures) +
+                               " consecutive corrector failures at E - E_s = " + g(last.excess) +
+                               " (E_max - E = " + g(range - last.excess) + "): " + st.note);
+            if (dsigma < min_dsigma)
+                return stop_at("step size fell below " + g(min_dsigma) +
+                               " in -log(E_max - E) at E - E_s = " + g(last.excess) + ": " +
+                               st.note);
             continue;
         }
         out.steps.push_back(st);
         failures = 0;
+        last_extent = r.extent;
         known.push_back({next, wrap_angle(r.beta), r.period, false, r.action});
         if (known.size() > 2) known.erase(known.begin());
         record(next, known.back().beta, known.back().period);

@@ -80,8 +80,23 @@ std::string continuation_hopeless(const double_pendulum<Real>& model, arm a) {
 
 template <class Real>
 void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_arg<Real>& energy,
-                         const std::string& stage, const std::string& what) {
+                         const saddle_orbit<Real>& orbit, const std::string& what) {
+    const std::string& stage = orbit.double_stage;
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
+    if (std::isfinite(orbit.family_end)) {
+        // the family ends as saddle orbits below E (continue_double's strip_end)
+        const double end = static_cast<double>(lo) + orbit.family_end;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.6g (E - E_s = %.6g)", end, orbit.family_end);
+        throw input_error::about(
+            "energy", "'" + to_shortest_decimal(energy.value) +
+                          "' lies beyond the end of the arm-" + to_string(a) +
+                          " saddle-orbit family at E = " + buf + ": there the orbit swings theta" +
+                          std::to_string(orbit.family_end_angle) +
+                          " to the vertical opposite the saddle's, and beyond it the family's "
+                          "orbits leave the saddle's strip |delta| < pi, so they are no dividing "
+                          "curve of this saddle (docs/limits.md)");
+    }
     const Real gap = energy.below(model.maximum_level());  // E_max - E, carried exactly
     if (gap <= (hi - lo) / 1000000)
         throw input_error::about(
@@ -272,13 +287,15 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     const orbit_guess<Real> lin = linear_guess(model, a);
     const double_pendulum<double> md = to_double(model);
     const double target = static_cast<double>(energy.above(model.saddle_level(a)));
-    auto failed = [&](const std::string& reason) {
+    auto failed = [&](const std::string& reason, double family_end = NAN, int angle = 0) {
         saddle_orbit<Real> f;
         f.flip_arm = a;
         f.energy = energy.value;
         f.excess = energy.above(model.saddle_level(a));
         f.status = orbit_status::not_converged;
         f.double_stage = "continuation from the centre mode failed: " + reason;
+        f.family_end = family_end;
+        f.family_end_angle = angle;
         return f;
     };
     if (const std::string hopeless = continuation_hopeless(model, a); !hopeless.empty())
@@ -290,7 +307,7 @@ saddle_orbit<Real> solve_saddle_orbit(const double_pendulum<Real>& model, arm a,
     const auto c = detail::continue_double(md, a, false, default_stages<double>(), 1e-12,
                                            static_cast<double>(lin.beta),
                                            static_cast<double>(lin.period), {target});
-    if (!c.success) return failed(c.stop_reason);
+    if (!c.success) return failed(c.stop_reason, c.strip_end, c.strip_angle);
     const detail::double_orbit& o = c.orbits.back();
     return refine_saddle_orbit(model, a, energy, orbit_guess<Real>{Real(o.beta), Real(o.period)},
                                options);
@@ -390,8 +407,8 @@ template int default_stages<inst_real>();
 template void check_orbit_energy<inst_real>(const double_pendulum<inst_real>&, arm,
                                             const level_arg<inst_real>&);
 template void throw_not_converged<inst_real>(const double_pendulum<inst_real>&, arm,
-                                             const level_arg<inst_real>&, const std::string&,
-                                             const std::string&);
+                                             const level_arg<inst_real>&,
+                                             const saddle_orbit<inst_real>&, const std::string&);
 template orbit_guess<inst_real> linear_guess<inst_real>(const double_pendulum<inst_real>&, arm);
 template saddle_orbit<inst_real> refine_saddle_orbit<inst_real>(const double_pendulum<inst_real>&,
                                                                 arm, const level_arg<inst_real>&,

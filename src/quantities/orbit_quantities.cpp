@@ -34,7 +34,7 @@ saddle_orbit<Real> orbit_for(const double_pendulum<Real>& model, arm a,
     check_orbit_energy(model, a, energy);
     saddle_orbit<Real> orbit = find_or_solve_saddle_orbit(model, a, energy, options);
     if (orbit.status == orbit_status::not_converged)
-        throw_not_converged(model, a, energy, orbit.double_stage, "saddle orbit");
+        throw_not_converged(model, a, energy, orbit, "saddle orbit");
     return orbit;
 }
 

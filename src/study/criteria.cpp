@@ -47,8 +47,7 @@ struct make_saddle {
         }
         const saddle_orbit<Real> orbit = find_or_solve_saddle_orbit<Real>(model, a, energy);
         if (orbit.status == orbit_status::not_converged)
-            throw_not_converged(model, a, energy, orbit.double_stage,
-                                "saddle criterion: saddle orbit");
+            throw_not_converged(model, a, energy, orbit, "saddle criterion: saddle orbit");
         return make_saddle_curve<Real>(model, orbit);
     }
 };

@@ -30,6 +30,18 @@ physical_parameters<Real> random_parameters(random_reals& rnd, bool rigid) {
     return p;
 }
 
+/// Point masses m1, m2 on massless links L1, L2 under gravity g.
+inline physical_parameters<double> point_mass_parameters(double m1, double m2, double L1, double L2,
+                                                         double g) {
+    physical_parameters<double> p;
+    p.m1 = m1;
+    p.m2 = m2;
+    p.L1 = p.a1 = L1;
+    p.L2 = p.a2 = L2;
+    p.g = g;
+    return p;
+}
+
 /// Two uniform rods of lengths 1 and 0.7 (masses 1 and 0.7, centres of mass at the middles,
 /// moments of inertia m L^2 / 12) under gravity g: the rigid-link pendulum of the orbit tests.
 inline physical_parameters<double> uniform_rods_parameters(double g = 9.81) {

@@ -304,13 +304,7 @@ TEST(SaddleOrbit, HeavyPendulumsKeepTheirDigits) {
 // orbits at 71.5 and 71.6 obey the identity (F's difference within |dT| dE / 2 of the trapezoid,
 // T being monotone between them), both methods, and T has no jump.
 TEST(SaddleOrbit, ContinuationStaysOnItsFamilyWhereAnotherOrbitIsNear) {
-    physical_parameters<double> p;
-    p.m1 = 0.5124;
-    p.m2 = 2.05;
-    p.L1 = p.a1 = 1.66;
-    p.L2 = p.a2 = 0.486;
-    p.g = 9.81;
-    const double_pendulum<double> model(p);
+    const double_pendulum<double> model(point_mass_parameters(0.5124, 2.05, 1.66, 0.486, 9.81));
     for (orbit_method m : {orbit_method::symmetric, orbit_method::periodic}) {
         const saddle_orbit<double> lo = solve_saddle_orbit(model, arm::two, 71.5, {m});
         const saddle_orbit<double> hi = solve_saddle_orbit(model, arm::two, 71.6, {m});
@@ -320,6 +314,131 @@ TEST(SaddleOrbit, ContinuationStaysOnItsFamilyWhereAnotherOrbitIsNear) {
         EXPECT_LE(std::abs(hi.action - lo.action - trapezoid),
                   dE * std::abs(hi.period - lo.period) / 2 + 1e-9 * hi.action);
         EXPECT_LE(std::abs(hi.period - lo.period), 0.01 * lo.period);
+    }
+}
+
+// A pendulum whose arm-2 family stopped at E - E_s = 190.494 (E = 728.65) with "step size fell
+// below 1e-07": there steps_for_tolerance chose 8 steps per quarter orbit instead of ~1000. With
+// 4, 8 and 16 steps the Gauss-Legendre stages converge to another solution of their implicit
+// equations, the same for all three, so the three runs agreed to 1e-9 at an observed order of 2
+// (the "rounding floor" verdict) while all of them were ~0.3 off; the Newton iteration on those
+// steps could not converge. Each verdict now stands only when the next triple (2n, 4n, 8n) gives
+// one too. In pendulum E's geometry with m2 = 1024 (arm 2, E - E_s = 55.7586) the other solution
+// held for 4 to 32 steps (4, 8 and 16 splitting a step whose stage iteration failed) and the
+// confirmation alone did not see it: a run that splits a step gives no verdict.
+physical_parameters<double> heavy_second_arm_family_params() {
+    return point_mass_parameters(0.1793, 31.6, 0.44, 0.868, 9.81);
+}
+
+TEST(SaddleOrbit, StepCountIsNotFooledByCoarseRunsThatAgreeWithEachOther) {
+    physical_parameters<double> pendulum_e_geometry;
+    pendulum_e_geometry.m1 = 1;
+    pendulum_e_geometry.m2 = 1024;
+    pendulum_e_geometry.L1 = 0.5;
+    pendulum_e_geometry.a1 = 0.25;
+    pendulum_e_geometry.I1 = 0.0625;
+    pendulum_e_geometry.L2 = pendulum_e_geometry.a2 = 2;
+    pendulum_e_geometry.g = 1;
+    struct shot_case {
+        physical_parameters<double> p;
+        double excess, beta, period;
+    };
+    for (const shot_case& c : {shot_case{heavy_second_arm_family_params(), 190.4940213680882,
+                                         0.38618825969963883, 1.4203250802756493},
+                               shot_case{pendulum_e_geometry, 55.758568954737598,
+                                         0.23640741766989562, 1.3286492257761193}}) {
+        const double_pendulum<double> model(c.p);
+        const detail::shooting_setup<double> setup(model, arm::two, c.excess, 6);
+        const double quarter = c.period / 4;
+        const auto x0 = setup.start(c.beta);
+        const std::array<double, 5> y0{x0[0], x0[1], x0[2], x0[3], 0.0};
+        const double lscale = std::max(std::abs(x0[2]), std::abs(x0[3]));
+        const std::array<double, 5> scale{lscale, lscale, lscale, lscale, c.excess};
+        const auto est = steps_for_tolerance<double, 5>(orbit_flow<double>{&setup.frame}, y0,
+                                                        quarter, 1e-12, 6, scale, 4);
+        // the reference: 4096 steps (the method's error there is at rounding, ~1e-14)
+        gauss_legendre<double, 5> gl(6);
+        auto run = [&](long n) {
+            std::array<double, 5> y = y0;
+            EXPECT_TRUE(gl.integrate(orbit_flow<double>{&setup.frame}, y, quarter / n, n).success);
+            return y;
+        };
+        const auto ref = run(4096), got = run(est.steps);
+        double err = 0;
+        for (std::size_t k = 0; k < 5; ++k)
+            err = std::max(err, std::abs(got[k] - ref[k]) / scale[k]);
+        EXPECT_GE(est.steps, 64) << c.excess << ": coarse runs taken for converged";
+        EXPECT_LE(err, 1e-10) << c.excess << ": " << est.steps << " steps";
+    }
+}
+
+TEST(SaddleOrbit, FamilyOfAHeavySecondArmPassesWhereCoarsePilotRunsAgreed) {
+    const double_pendulum<double> model(heavy_second_arm_family_params());
+    // E = 730 lies beyond the old stop; the reference is the quad solve's period
+    // (1.42531863364656566099282113857810871, error estimate 9.2e-27), 2026-11-30
+    const saddle_orbit<double> o = solve_saddle_orbit(model, arm::two, 730.0);
+    ASSERT_NE(o.status, orbit_status::not_converged) << o.double_stage;
+    EXPECT_NEAR(o.period, 1.42531863364656566099282113857810871, 1e-13);
+    EXPECT_LE(std::abs(o.period - 1.42531863364656566099282113857810871), o.error_estimate_period);
+}
+
+// A light long first link, a heavy short second one (docs/limits.md): with the step counts of the
+// coarse runs that agreed with each other, the arm-1 continuation of the build of 19fb772
+// converged to the family's orbit traversed several times (T, F exactly 3x and the multiplier
+// cubed at E = 2016, 0.68655753476589909, exit 0 with an estimate of 3e-15; 5x at 2035), and the
+// build of 805a25e (the action check) failed at 2035 (bench/results/orbit_step_count_fix.txt).
+// The references are the quad solves' periods, 2026-11-30.
+TEST(SaddleOrbit, ArmOneOfALightLongFirstLinkIsTheFundamentalOrbit) {
+    model_text t;
+    t.m1 = "0.1", t.m2 = "10", t.L1 = "5", t.L2 = "1", t.a1 = "2.5", t.a2 = "0.5";
+    t.I1 = "0", t.I2 = "0.0003", t.g = "20";
+    const double_pendulum<double> model(parse_parameters<double>(t));
+    for (const auto& [energy, quad] : {std::pair{2016.0, 0.22885251158863303870113414282637327},
+                                       std::pair{2035.0, 0.452681557110620144544428278512551111}}) {
+        const saddle_orbit<double> o = solve_saddle_orbit(model, arm::one, energy);
+        ASSERT_NE(o.status, orbit_status::not_converged) << energy << ": " << o.double_stage;
+        EXPECT_NEAR(o.period, quad, 1e-13) << energy;
+        EXPECT_LE(std::abs(o.period - quad), o.error_estimate_period) << energy;
+    }
+}
+
+// A light second arm (a rigid first link): the arm-2 family's swing of theta2 grows with E until
+// it reaches the vertical opposite the saddle's (|delta2| = pi) at E - E_s = 5.2529; beyond it
+// the family's orbits leave the saddle's strip and are no saddle orbits. The continuation used to
+// end in "no convergence" there (a scan of random pendulums, bench/results/orbit_family_scan_*);
+// it now names the family's end, and the end is checked on the orbit solved there: its quarter's
+// largest |delta2| (at the turning point, a sample of the stored quarter) is pi.
+TEST(SaddleOrbit, AFamilyThatLeavesItsStripNamesItsEnd) {
+    model_text t;
+    t.m1 = "0.1792", t.m2 = "0.101", t.L1 = "1.98", t.a1 = "0.991", t.I1 = "0.05868";
+    t.L2 = t.a2 = "0.586", t.I2 = "0", t.g = "9.81";
+    const double_pendulum<double> model(parse_parameters<double>(t));
+    const double es = model.saddle_energy(arm::two);
+    const saddle_orbit<double> beyond = solve_saddle_orbit(model, arm::two, 6.55);
+    ASSERT_EQ(beyond.status, orbit_status::not_converged);
+    ASSERT_TRUE(std::isfinite(beyond.family_end)) << beyond.double_stage;
+    EXPECT_EQ(beyond.family_end_angle, 2);
+    auto swing = [&](double excess) {
+        const saddle_orbit<double> o = solve_saddle_orbit(model, arm::two, es + excess);
+        EXPECT_NE(o.status, orbit_status::not_converged) << excess << ": " << o.double_stage;
+        double m = 0;
+        for (const auto& q : o.quarter)
+            m = std::max(m, std::abs(q[1]));
+        return m;
+    };
+    EXPECT_NEAR(swing(beyond.family_end), pi<double>(), 1e-6);
+    EXPECT_LT(swing(0.99 * beyond.family_end), pi<double>() - 1e-3);
+    try {
+        throw_not_converged(model, arm::two, parse_energy_level<double>("6.55", "energy"), beyond,
+                            "saddle orbit");
+        FAIL();
+    } catch (const input_error& e) {
+        EXPECT_EQ(e.field(), "energy");
+        const std::string w = e.what();
+        EXPECT_NE(w.find("'6.55' lies beyond the end of the arm-2 saddle-orbit family"),
+                  std::string::npos)
+            << w;
+        EXPECT_NE(w.find("theta2"), std::string::npos) << w;
     }
 }
 
@@ -375,6 +494,14 @@ TEST(SaddleOrbit, BadEnergiesAreInputErrors) {
     EXPECT_EQ(to_string(orbit_status::converged), "converged");
 }
 
+// A not-converged orbit whose double stage reported `stage`.
+saddle_orbit<double> failed_with(const std::string& stage) {
+    saddle_orbit<double> o;
+    o.status = orbit_status::not_converged;
+    o.double_stage = stage;
+    return o;
+}
+
 // An orbit that did not converge is the user's energy's fault within 1e-6 (E_max - E_s) of E_max
 // (the period diverges there; each precision's continuation stops short): an input_error naming
 // the energy, E_max and E_max - E, carried from the decimal. Elsewhere it stays a runtime error.
@@ -383,7 +510,7 @@ TEST(SaddleOrbit, NoConvergenceJustBelowTheMaximumIsTheEnergysFault) {
     const double_pendulum<double> model;
     try {
         throw_not_converged(model, arm::two, parse_energy_level<double>("5.9999999999", "energy"),
-                            "the stage", "saddle orbit");
+                            failed_with("the stage"), "saddle orbit");
         FAIL();
     } catch (const input_error& e) {
         EXPECT_EQ(e.field(), "energy") << e.what();
@@ -395,7 +522,8 @@ TEST(SaddleOrbit, NoConvergenceJustBelowTheMaximumIsTheEnergysFault) {
     // 4e-6 below E_max is 1e-6 of (E_max - E_s) = 4: beyond it the failure is not the energy's
     for (const char* e : {"5.99999", "4"}) {
         try {
-            throw_not_converged(model, arm::two, parse_energy_level<double>(e, "energy"), "s", "w");
+            throw_not_converged(model, arm::two, parse_energy_level<double>(e, "energy"),
+                                failed_with("s"), "w");
             FAIL();
         } catch (const input_error& x) {
             ADD_FAILURE() << e << ": " << x.what();
@@ -429,7 +557,7 @@ TEST(SaddleOrbit, OrbitsTooUnstableForShootingNameTheirMultiplier) {
     // the failure's report, from the stage text it would carry
     const energy_level<double> level = parse_energy_level<double>("41", "energy");
     try {
-        throw_not_converged(model, arm::two, level, "the stage", "saddle orbit");
+        throw_not_converged(model, arm::two, level, failed_with("the stage"), "saddle orbit");
         FAIL();
     } catch (const input_error& e) {
         const std::string w = e.what();
@@ -444,7 +572,7 @@ TEST(SaddleOrbit, OrbitsTooUnstableForShootingNameTheirMultiplier) {
     // there is not blamed on instability
     try {
         throw_not_converged(model, arm::one, parse_energy_level<double>("2014", "energy"),
-                            "the stage", "saddle orbit");
+                            failed_with("the stage"), "saddle orbit");
         FAIL();
     } catch (const input_error& e) {
         ADD_FAILURE() << e.what();

@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -332,7 +333,11 @@ struct step_count_estimate {
 /// componentwise by 1/scale_k, is about `tolerance`. Pilot runs with n, 2n and 4n steps
 /// (n doubled until the observed order is near 2s or the differences reach rounding) fix the
 /// error constant; the recommendation is n_needed = 4n (e(4n) / tolerance)^(1/2s), times a safety
-/// factor 1.15, never fewer than `min_steps`.
+/// factor 1.15, never fewer than `min_steps`. With steps far too long the implicit stages can
+/// converge to another solution of their equations, the same for n, 2n and 4n steps (and 8n),
+/// and such runs agree with each other at any order while all of them are wrong: a run that had
+/// to split a step gives no verdict, and a triple's verdict stands only when the next one
+/// (2n, 4n, 8n) gives a verdict too.
 template <class Real, std::size_t N, class F>
 step_count_estimate<Real> steps_for_tolerance(const F& f, const std::array<Real, N>& x0,
                                               const Real& duration, const Real& tolerance,
@@ -343,11 +348,22 @@ step_count_estimate<Real> steps_for_tolerance(const F& f, const std::array<Real,
     using std::pow;
     gauss_legendre<Real, N> gl(stages);
     const int order = gl.order();
-    auto run = [&](long n, std::array<Real, N>& x) {
-        x = x0;
-        return gl.integrate(f, x, duration / n, n).success;
+    using state = std::array<Real, N>;
+    // the runs so far, by step count (each run once)
+    std::vector<std::pair<long, std::optional<state>>> runs;
+    auto run = [&](long n) -> const std::optional<state>& {
+        for (const auto& r : runs)
+            if (r.first == n) return r.second;
+        state x = x0;
+        std::optional<state> out;
+        // (a run whose stage iteration failed somewhere and split that step is not one of n
+        // equal steps, and its steps are too long for the implicit stages: no verdict from it)
+        const integration_result r = gl.integrate(f, x, duration / n, n);
+        if (r.success && r.statistics.split_steps == 0) out = x;
+        runs.emplace_back(n, std::move(out));
+        return runs.back().second;
     };
-    auto distance = [&](const std::array<Real, N>& a, const std::array<Real, N>& b) {
+    auto distance = [&](const state& a, const state& b) {
         Real d = 0;
         for (std::size_t k = 0; k < N; ++k) {
             const Real v = abs(a[k] - b[k]) / scale[k];
@@ -356,19 +372,13 @@ step_count_estimate<Real> steps_for_tolerance(const F& f, const std::array<Real,
         return d;
     };
     const Real eps = std::numeric_limits<Real>::epsilon();
-    step_count_estimate<Real> est;
-    long n = min_steps > 0 ? min_steps : 1;
-    std::array<Real, N> x1, x2, x4;
-    using boost::multiprecision::isfinite;
-    using std::isfinite;
-    bool finite = isfinite(duration);
-    for (const Real& v : x0)
-        finite = finite && isfinite(v);
-    // NOTE: at most 2^20 times the first pilot's steps: beyond that the problem is not one of
-    // step size (the estimate is then reported as not asymptotic)
-    for (int attempt = 0; finite && attempt < 20; ++attempt, n *= 2) {
-        if (!run(n, x1) || !run(2 * n, x2) || !run(4 * n, x4)) continue;
-        const Real e1 = distance(x1, x4), e2 = distance(x2, x4);
+    // The verdict of the runs with n, 2n and 4n steps (nullopt: none yet).
+    auto verdict = [&](long n) -> std::optional<step_count_estimate<Real>> {
+        // (copies: run() may reallocate `runs`)
+        const std::optional<state> x1 = run(n), x2 = run(2 * n), x4 = run(4 * n);
+        if (!x1 || !x2 || !x4) return std::nullopt;
+        step_count_estimate<Real> est;
+        const Real e1 = distance(*x1, *x4), e2 = distance(*x2, *x4);
         const Real roundoff = 64 * eps * std::sqrt(static_cast<double>(4 * n));
         if (e2 <= roundoff) {  // 2n already at the rounding floor
             est.asymptotic = true;
@@ -404,6 +414,21 @@ step_count_estimate<Real> steps_for_tolerance(const F& f, const std::array<Real,
             est.error_estimate = e4 * pow(Real(4 * n) / m, order);
             return est;
         }
+        return std::nullopt;
+    };
+    step_count_estimate<Real> est;
+    long n = min_steps > 0 ? min_steps : 1;
+    using boost::multiprecision::isfinite;
+    using std::isfinite;
+    bool finite = isfinite(duration);
+    for (const Real& v : x0)
+        finite = finite && isfinite(v);
+    // NOTE: at most 2^20 times the first pilot's steps: beyond that the problem is not one of
+    // step size (the estimate is then reported as not asymptotic)
+    for (int attempt = 0; finite && attempt < 20; ++attempt, n *= 2) {
+        if (runs.size() > 4) runs.erase(runs.begin(), runs.end() - 3);  // only 2n, 4n, 8n again
+        const auto v = verdict(n);
+        if (v && verdict(2 * n)) return *v;
     }
     est.steps = 4 * (n / 2);
     est.asymptotic = false;

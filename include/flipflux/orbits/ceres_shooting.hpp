@@ -4,6 +4,7 @@
 // (src/orbits/ceres.plugin.cpp, through orbits/least_squares.hpp); this header does not include it.
 #pragma once
 
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -21,6 +22,11 @@ struct double_stage_result {
     double residual = 0;  ///< scaled residual norm at the end
     /// The action F = 4 x the quarter orbit's (symmetric formulation; NaN for the periodic one)
     double action = std::numeric_limits<double>::quiet_NaN();
+    /// For a solution that converged: the largest |delta1|, |delta2| along its quarter orbit
+    /// (quarter_extent); it is not the saddle orbit when either reaches pi (converged is then
+    /// false and left_strip true)
+    std::array<double, 2> extent{};
+    bool left_strip = false;
     std::string report;  ///< Ceres' BriefReport, or the Newton iteration's summary
 };
 
@@ -49,6 +55,11 @@ struct double_continuation {
     int halvings = 0;
     double highest_excess = 0;
     std::string stop_reason;
+    /// Where the family leaves its saddle's strip (E - E_s; NaN: not seen): the corrector's
+    /// solutions on the family's path left it beyond highest_excess while the last accepted
+    /// orbit's swing was within 1e-2 of pi (the family's end as saddle orbits, docs/limits.md)
+    double strip_end = std::numeric_limits<double>::quiet_NaN();
+    int strip_angle = 0;  ///< which angle's swing reaches pi there (1 or 2)
 };
 
 /// Continues the family at double from the centre mode (beta_lin, T_lin) through every excess

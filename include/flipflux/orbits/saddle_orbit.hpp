@@ -23,6 +23,7 @@
 
 #include <array>
 #include <complex>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -153,6 +154,11 @@ struct saddle_orbit {
     Real error_estimate_period{0};
     Real error_estimate_action{0};
     std::string double_stage;  ///< report of the double-precision stage (Ceres' brief report)
+    /// Not converged because E lies beyond the family's end as saddle orbits: the E - E_s (at
+    /// double) where the continuation found the family's orbit to swing angle
+    /// family_end_angle (1 or 2) to the vertical opposite its saddle's; NaN otherwise
+    double family_end = std::numeric_limits<double>::quiet_NaN();
+    int family_end_angle = 0;
     /// The quarter orbit from the saddle to the first turning point in frame coordinates
     /// (theta - q*, l), at t_k = k * quarter_step, k = 0..n.
     std::vector<std::array<Real, 4>> quarter;
@@ -239,30 +245,30 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_a
 /// std::runtime_error (`what` names the caller).
 template <class Real>
 [[noreturn]] void throw_not_converged(const double_pendulum<Real>& model, arm a,
-                                      const level_arg<Real>& energy, const std::string& stage,
-                                      const std::string& what);
+                                      const level_arg<Real>& energy,
+                                      const saddle_orbit<Real>& orbit, const std::string& what);
 
-#define FLIPFLUX_ORBIT_EXTERN(R)                                                         \
-    extern template int default_stages<R>();                                             \
-    extern template floquet_multipliers<R> floquet_analysis<R>(                          \
-        const std::array<std::array<R, 4>, 4>&);                                         \
-    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);      \
-    extern template saddle_orbit<R> solve_saddle_orbit<R>(                               \
-        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&);   \
-    extern template saddle_orbit<R> refine_saddle_orbit<R>(                              \
-        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_guess<R>&,      \
-        const orbit_options<R>&);                                                        \
-    extern template saddle_family<R> continue_saddle_family<R>(                          \
-        const double_pendulum<R>&, arm, const std::vector<energy_level<R>>&,             \
-        const orbit_options<R>&);                                                        \
-    extern template std::string orbit_replica_problem<R>(const double_pendulum<R>&,      \
-                                                         const saddle_orbit<R>&);        \
-    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,             \
-                                                  const saddle_orbit<R>&, const R&);     \
-    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm,           \
-                                               const level_arg<R>&);                     \
-    extern template void throw_not_converged<R>(const double_pendulum<R>&, arm,          \
-                                                const level_arg<R>&, const std::string&, \
+#define FLIPFLUX_ORBIT_EXTERN(R)                                                             \
+    extern template int default_stages<R>();                                                 \
+    extern template floquet_multipliers<R> floquet_analysis<R>(                              \
+        const std::array<std::array<R, 4>, 4>&);                                             \
+    extern template orbit_guess<R> linear_guess<R>(const double_pendulum<R>&, arm);          \
+    extern template saddle_orbit<R> solve_saddle_orbit<R>(                                   \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_options<R>&);       \
+    extern template saddle_orbit<R> refine_saddle_orbit<R>(                                  \
+        const double_pendulum<R>&, arm, const level_arg<R>&, const orbit_guess<R>&,          \
+        const orbit_options<R>&);                                                            \
+    extern template saddle_family<R> continue_saddle_family<R>(                              \
+        const double_pendulum<R>&, arm, const std::vector<energy_level<R>>&,                 \
+        const orbit_options<R>&);                                                            \
+    extern template std::string orbit_replica_problem<R>(const double_pendulum<R>&,          \
+                                                         const saddle_orbit<R>&);            \
+    extern template phase_point<R> orbit_state<R>(const double_pendulum<R>&,                 \
+                                                  const saddle_orbit<R>&, const R&);         \
+    extern template void check_orbit_energy<R>(const double_pendulum<R>&, arm,               \
+                                               const level_arg<R>&);                         \
+    extern template void throw_not_converged<R>(const double_pendulum<R>&, arm,              \
+                                                const level_arg<R>&, const saddle_orbit<R>&, \
                                                 const std::string&);
 FLIPFLUX_FOR_EACH_REAL(FLIPFLUX_ORBIT_EXTERN)
 #undef FLIPFLUX_ORBIT_EXTERN
