@@ -172,6 +172,69 @@ long shooting_steps(const shooting_setup<double>& setup, double beta, double per
     return periodic ? 4 * est.steps : est.steps;
 }
 
+/// The action identity's test of a step from `last` to the corrector's solution `r` at excess
+/// `next`: the gap between F's change and the trapezoid, its bound dE |dT| / 2, and F's scale.
+struct action_gap {
+    bool known = false;  ///< both actions known (the symmetric formulation's)
+    double gap = 0, bound = 0, scale = 0;
+    double expected = 0;  ///< F(last) + the trapezoid (for the report)
+};
+
+/// NOTE: the action identity dF/dE = T. The continuation's predictor test cannot tell the family
+/// from another orbit near it when a step is long: arm 2 of m1 = 0.5124, m2 = 2.05,
+/// L1 = 1.66, L2 = 0.486 (g = 9.81) stepped from T = 2.824 at E - E_s = 38.8 to T = 3.277
+/// at 52.1 (E = 71.6) where the family's T is 3.103, within half the predicted change, and
+/// every energy from 71.6 to 72.9 reported that other orbit, with estimates of 1e-9
+/// (test SaddleOrbit.ContinuationStaysOnItsFamilyWhereAnotherOrbitIsNear). Along one
+/// family, where T is monotone over a step, F(next) - F(last) lies within dE |dT| / 2 of
+/// the trapezoid dE (T_last + T_next) / 2; a jump to another orbit moves F by O(F). The
+/// steps are kept small enough for that bound (dE |dT| / 2 <= 3e-3 F) to see a jump of more
+/// than 0.6 % of F, and for the predictor test to see the jump in T (5.6 % there). Cost:
+/// more steps (the paper's arm 1 to E = 5.5: 31 instead of 4; to E_max - 1e-5: 48 instead
+/// of 19). The gap may exceed the bound by 1e-4 F: near E_max the Newton stops at ~1e-7 of
+/// its iterates and F is no better (arm 2 of m1 3.931, m2 14.1, rigid first link: 6e-5 F
+/// at E_max - 11 with 1e-7). F comes with the symmetric Newton's last iterate
+/// (solve_saddle_orbit continues in the symmetric formulation for either method); the
+/// periodic one has no F: no check.
+action_gap action_identity(const double_orbit& last, double next, const double_stage_result& r) {
+    action_gap out;
+    out.known = std::isfinite(last.action) && std::isfinite(r.action);
+    if (!out.known) return out;
+    const double denergy = next - last.excess;
+    out.bound = 0.5 * denergy * std::abs(r.period - last.period);
+    out.gap = std::abs(r.action - last.action - 0.5 * denergy * (r.period + last.period));
+    out.scale = std::max(std::abs(r.action), std::abs(last.action));
+    out.expected = last.action + 0.5 * denergy * (r.period + last.period);
+    return out;
+}
+
+/// Ends a continuation that stopped short with `reason`. NOTE: the family's end as saddle orbits.
+/// Where a family's swing grows until one angle reaches the vertical opposite its saddle's
+/// (|delta| = pi: arm 2 of m1 = 0.1792, m2 = 0.101, L1 = 1.98, L2 = 0.586, a rigid first link
+/// a1 = 0.991, I1 = 0.05868, at E - E_s = 5.2529), the corrector's solutions beyond it are the
+/// family's orbits outside the strip (check_family), which are not saddle orbits, and the halving
+/// brackets the end: where the last refusal followed the family out of the strip and the last
+/// accepted orbit (at `excess`, its swings `extent`) reached within 1e-2 of pi, that is the end.
+double_continuation& stopped(double_continuation& out, double excess,
+                             const std::array<double, 2>& extent, bool left_strip_on_family,
+                             const std::string& reason) {
+    const int k = extent[1] >= extent[0] ? 2 : 1;
+    if (left_strip_on_family && extent[k - 1] >= M_PI - 1e-2) {
+        out.strip_end = excess;
+        out.strip_angle = k;
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "the family leaves its saddle's strip at E - E_s = %.6g: there its orbit "
+                      "swings theta%d to the vertical opposite the saddle's (max |delta%d| = "
+                      "%.6g, pi beyond); ",
+                      excess, k, k, extent[k - 1]);
+        out.stop_reason = buf + reason;
+    } else {
+        out.stop_reason = reason;
+    }
+    return out;
+}
+
 }  // namespace
 
 double_continuation continue_double(const double_pendulum<double>& model, arm a, bool periodic,
@@ -204,27 +267,8 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
     // refused step's corrector followed the family out of the saddle's strip
     std::array<double, 2> last_extent{};
     bool left_strip_on_family = false;
-    // NOTE: the family's end as saddle orbits. Where a family's swing grows until one angle
-    // reaches the vertical opposite its saddle's (|delta| = pi: arm 2 of m1 = 0.1792,
-    // m2 = 0.101, L1 = 1.98, L2 = 0.586, a rigid first link a1 = 0.991, I1 = 0.05868, at
-    // E - E_s = 5.2529), the corrector's solutions beyond it are the family's orbits outside the
-    // strip (check_family), which are not saddle orbits; the halving then brackets the end.
     auto stop_at = [&](const std::string& reason) {
-        const int k = last_extent[1] >= last_extent[0] ? 2 : 1;
-        if (left_strip_on_family && last_extent[k - 1] >= M_PI - 1e-2) {
-            out.strip_end = known.back().excess;
-            out.strip_angle = k;
-            char buf[200];
-            std::snprintf(buf, sizeof buf,
-                          "the family leaves its saddle's strip at E - E_s = %.6g: there its "
-                          "orbit swings theta%d to the vertical opposite the saddle's (max "
-                          "|delta%d| = %.6g, pi beyond); ",
-                          out.strip_end, k, k, last_extent[k - 1]);
-            out.stop_reason = buf + reason;
-        } else {
-            out.stop_reason = reason;
-        }
-        return out;
+        return stopped(out, known.back().excess, last_extent, left_strip_on_family, reason);
     };
     {
         // the first orbit at a small excess, where the linear guess is O(excess) off
@@ -282,31 +326,11 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
         const double moved = dbeta + std::abs(r.period - period) / period;
         bool accepted = r.converged && dbeta < 0.5 && std::abs(r.period - period) < 0.25 * period &&
                         moved <= std::max(0.5 * change, 1e-3);
-        // NOTE: the action identity dF/dE = T. The predictor test above cannot tell the family
-        // from another orbit near it when a step is long: arm 2 of m1 = 0.5124, m2 = 2.05,
-        // L1 = 1.66, L2 = 0.486 (g = 9.81) stepped from T = 2.824 at E - E_s = 38.8 to T = 3.277
-        // at 52.1 (E = 71.6) where the family's T is 3.103, within half the predicted change, and
-        // every energy from 71.6 to 72.9 reported that other orbit, with estimates of 1e-9
-        // (test SaddleOrbit.ContinuationStaysOnItsFamilyWhereAnotherOrbitIsNear). Along one
-        // family, where T is monotone over a step, F(next) - F(last) lies within dE |dT| / 2 of
-        // the trapezoid dE (T_last + T_next) / 2; a jump to another orbit moves F by O(F). The
-        // steps are kept small enough for that bound (dE |dT| / 2 <= 3e-3 F) to see a jump of more
-        // than 0.6 % of F, and for the predictor test to see the jump in T (5.6 % there). Cost:
-        // more steps (the paper's arm 1 to E = 5.5: 31 instead of 4; to E_max - 1e-5: 48 instead
-        // of 19). The gap may exceed the bound by 1e-4 F: near E_max the Newton stops at ~1e-7 of
-        // its iterates and F is no better (arm 2 of m1 3.931, m2 14.1, rigid first link: 6e-5 F
-        // at E_max - 11 with 1e-7). F comes with the symmetric Newton's last iterate
-        // (solve_saddle_orbit continues in the symmetric formulation for either method); the
-        // periodic one has no F: no check.
-        const double denergy = next - last.excess;
-        const bool identity = std::isfinite(last.action) && std::isfinite(r.action);
-        const double bound = identity ? 0.5 * denergy * std::abs(r.period - last.period) : 0;
-        const double gap =
-            identity ? std::abs(r.action - last.action - 0.5 * denergy * (r.period + last.period))
-                     : 0;
-        const double scale = identity ? std::max(std::abs(r.action), std::abs(last.action)) : 0;
-        const bool off_family = accepted && identity && gap > bound + 1e-4 * scale;
-        const bool too_coarse = accepted && identity && !off_family && bound > 3e-3 * scale;
+        // the action identity dF/dE = T (action_identity)
+        const action_gap ag = action_identity(last, next, r);
+        const double bound = ag.bound, scale = ag.scale;
+        const bool off_family = accepted && ag.known && ag.gap > bound + 1e-4 * scale;
+        const bool too_coarse = accepted && ag.known && !off_family && bound > 3e-3 * scale;
         if (off_family || too_coarse) accepted = false;
         continuation_step st{last.excess, next, accepted, r.iterations, ""};
         if (!accepted) {
@@ -315,8 +339,8 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
                                 " for F = " + g(scale) + ")"
                       : !r.converged ? "corrector failed: " + r.report
                       : off_family   ? "corrector left the family (F " + g(r.action) + " for " +
-                                         g(last.action + 0.5 * denergy * (r.period + last.period)) +
-                                         " +- " + g(bound) + " by dF/dE = T; T " + g(r.period) + ")"
+                                         g(ag.expected) + " +- " + g(bound) + " by dF/dE = T; T " +
+                                         g(r.period) + ")"
                                    : "corrector left the family (beta moved " + g(dbeta) + ", T " +
                                          g(r.period) + " for predicted " + g(period) + ")";
             out.steps.push_back(st);
