@@ -331,14 +331,10 @@ physical_parameters<double> heavy_second_arm_family_params() {
 }
 
 TEST(SaddleOrbit, StepCountIsNotFooledByCoarseRunsThatAgreeWithEachOther) {
-    physical_parameters<double> pendulum_e_geometry;
-    pendulum_e_geometry.m1 = 1;
-    pendulum_e_geometry.m2 = 1024;
-    pendulum_e_geometry.L1 = 0.5;
-    pendulum_e_geometry.a1 = 0.25;
-    pendulum_e_geometry.I1 = 0.0625;
-    pendulum_e_geometry.L2 = pendulum_e_geometry.a2 = 2;
-    pendulum_e_geometry.g = 1;
+    model_text t;  // pendulum E's geometry with m2 = 1024 (every parameter exact in binary)
+    t.m1 = "1", t.m2 = "1024", t.L1 = "0.5", t.a1 = "0.25", t.I1 = "0.0625";
+    t.L2 = t.a2 = "2", t.I2 = "0", t.g = "1";
+    const physical_parameters<double> pendulum_e_geometry = parse_parameters<double>(t);
     struct shot_case {
         physical_parameters<double> p;
         double excess, beta, period;
