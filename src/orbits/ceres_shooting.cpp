@@ -20,9 +20,8 @@ static void check_family(const shooting_setup<double>& setup, double_stage_resul
                          long quarter_steps) {
     const auto m = quarter_extent(setup, r.beta, r.period / 4, quarter_steps);
     r.extent = m;
-    if (m[0] >= M_PI || m[1] >= M_PI) {
+    if (r.left_strip()) {
         r.converged = false;
-        r.left_strip = true;
         char buf[160];
         std::snprintf(buf, sizeof buf,
                       "; the solution left the saddle's strip (max |delta| = %.4g, %.4g): not a "
@@ -201,10 +200,11 @@ action_gap action_identity(const double_orbit& last, double next, const double_s
     out.known = std::isfinite(last.action) && std::isfinite(r.action);
     if (!out.known) return out;
     const double denergy = next - last.excess;
+    const double trapezoid = 0.5 * denergy * (r.period + last.period);
     out.bound = 0.5 * denergy * std::abs(r.period - last.period);
-    out.gap = std::abs(r.action - last.action - 0.5 * denergy * (r.period + last.period));
+    out.gap = std::abs(r.action - last.action - trapezoid);
     out.scale = std::max(std::abs(r.action), std::abs(last.action));
-    out.expected = last.action + 0.5 * denergy * (r.period + last.period);
+    out.expected = last.action + trapezoid;
     return out;
 }
 
@@ -347,7 +347,7 @@ double_continuation continue_double(const double_pendulum<double>& model, arm a,
             ++out.halvings;
             dsigma /= 2;
             // (the predictor test of a solution outside the strip: on the family's path)
-            left_strip_on_family = r.left_strip && dbeta < 0.5 &&
+            left_strip_on_family = r.left_strip() && dbeta < 0.5 &&
                                    std::abs(r.period - period) < 0.25 * period &&
                                    moved <= std::max(0.5 * change, 1e-3);
             // a step too coarse is not a failure: not counted towards the consecutive ones

@@ -426,7 +426,6 @@ step_count_estimate<Real> steps_for_tolerance(const F& f, const std::array<Real,
     // NOTE: at most 2^20 times the first pilot's steps: beyond that the problem is not one of
     // step size (the estimate is then reported as not asymptotic)
     for (int attempt = 0; finite && attempt < 20; ++attempt, n *= 2) {
-        if (runs.size() > 4) runs.erase(runs.begin(), runs.end() - 3);  // only 2n, 4n, 8n again
         const auto v = verdict(n);
         if (v && verdict(2 * n)) return *v;
     }

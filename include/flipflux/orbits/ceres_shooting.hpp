@@ -6,6 +6,7 @@
 
 #include <array>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -23,10 +24,12 @@ struct double_stage_result {
     /// The action F = 4 x the quarter orbit's (symmetric formulation; NaN for the periodic one)
     double action = std::numeric_limits<double>::quiet_NaN();
     /// For a solution that converged: the largest |delta1|, |delta2| along its quarter orbit
-    /// (quarter_extent); it is not the saddle orbit when either reaches pi (converged is then
-    /// false and left_strip true)
+    /// (quarter_extent; zero when not computed); it is not the saddle orbit when either reaches
+    /// pi (converged is then false)
     std::array<double, 2> extent{};
-    bool left_strip = false;
+    bool left_strip() const {
+        return extent[0] >= std::numbers::pi || extent[1] >= std::numbers::pi;
+    }
     std::string report;  ///< Ceres' BriefReport, or the Newton iteration's summary
 };
 
