@@ -119,40 +119,30 @@ class saddle_curve {
         return p;
     }
 
-    std::array<Real, 2> eval2(const Real& u) const {
-        if (mid_.empty()) return {Real(0), Real(0)};
+    // Clenshaw sums of the Chebyshev series `c[j]` (K of them, side by side: each a chain of
+    // dependent operations) at u's panel.
+    template <std::size_t K>
+    std::array<Real, K> clenshaw(const std::array<const std::vector<Real>*, K>& c,
+                                 const Real& u) const {
+        std::array<Real, K> r{};
+        if (mid_.empty()) return r;
         Real x;
         const std::size_t p = locate(u, x);
-        const Real* a = values_.data() + p * static_cast<std::size_t>(degree_ + 1);
-        const Real* d = slopes_.data() + p * static_cast<std::size_t>(degree_ + 1);
-        Real b1 = 0, b2 = 0, c1 = 0, c2 = 0;
+        const std::size_t first = p * static_cast<std::size_t>(degree_ + 1);
+        std::array<Real, K> b1{}, b2{};
         const Real x2 = 2 * x;
-        for (int k = degree_; k >= 1; --k) {
-            const Real b0 = a[k] + x2 * b1 - b2;
-            const Real c0 = d[k] + x2 * c1 - c2;
-            b2 = b1;
-            b1 = b0;
-            c2 = c1;
-            c1 = c0;
-        }
-        return {a[0] + x * b1 - b2, d[0] + x * c1 - c2};
+        for (int k = degree_; k >= 1; --k)
+            for (std::size_t j = 0; j < K; ++j) {
+                const Real b0 = (*c[j])[first + static_cast<std::size_t>(k)] + x2 * b1[j] - b2[j];
+                b2[j] = b1[j];
+                b1[j] = b0;
+            }
+        for (std::size_t j = 0; j < K; ++j)
+            r[j] = (*c[j])[first] + x * b1[j] - b2[j];
+        return r;
     }
-
-    Real eval(const std::vector<Real>& c, const Real& u) const {
-        if (mid_.empty()) return Real(0);
-        Real x;
-        const std::size_t p = locate(u, x);
-        const Real* a = c.data() + p * static_cast<std::size_t>(degree_ + 1);
-        // Clenshaw
-        Real b1 = 0, b2 = 0;
-        const Real x2 = 2 * x;
-        for (int k = degree_; k >= 1; --k) {
-            const Real b0 = a[k] + x2 * b1 - b2;
-            b2 = b1;
-            b1 = b0;
-        }
-        return a[0] + x * b1 - b2;
-    }
+    std::array<Real, 2> eval2(const Real& u) const { return clenshaw<2>({&values_, &slopes_}, u); }
+    Real eval(const std::vector<Real>& c, const Real& u) const { return clenshaw<1>({&c}, u)[0]; }
 
     arm arm_ = arm::two;
     int degree_ = 0;
