@@ -7,10 +7,12 @@
 //     ~1e-4 apart inside one step) or before it (none); a crossing in the first step and one
 //     at the very end; counts at high energy (many turns, angles reduced every step) against a
 //     brute-force count on an unreduced integration; crossing times against an independent
-//     integration landing on them, and DOP853 against DOPRI5.
+//     integration landing on them, and DOP853 against DOPRI5;
+//   - the lanes' quiet test against the detectors: no step it lets pass is one they examine.
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "ensemble_support.hpp"
@@ -314,6 +316,54 @@ TEST(FlipDetector, ManyTurnsAreCountedModuloTwoPi) {
             EXPECT_LE(std::abs(net), count[c]);
         }
     }
+}
+
+// step_is_quiet (the lanes' test that lets a step pass without calling the detectors) against
+// the detectors themselves: on random cubic paths whose flip angle comes near pi, 0 and 2 pi
+// plus or minus the curve's bound, every step it calls quiet is one the detector neither
+// examines nor finds a crossing in (so the outputs are those of calling it); and it is not
+// vacuous: it calls most steps quiet, and the detector examines some of the others.
+TEST(FlipDetector, QuietStepsAreOnesNoDetectorExamines) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    std::mt19937_64 rng(20261130);
+    std::uniform_real_distribution<double> u(-1, 1);
+    long quiet = 0, loud = 0, examined_loud = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double h = 0.01 + 0.3 * (u(rng) + 1) / 2;
+        const double amplitude = trial % 3 == 0 ? 0.0 : 0.5 * (u(rng) + 1);
+        const int level = static_cast<int>(std::floor(3 * (u(rng) + 1) / 2)) - 1;  // -1, 0, 1
+        // th2 = c0 + c1 t + c2 t^2 + c3 t^3 passing within a few tenths of pi + 2 pi level +- A
+        const double c0 =
+            pi + 2 * pi * level + (1.1 * amplitude + 0.05 + 0.6 * u(rng)) * (u(rng) < 0 ? -1 : 1);
+        const double c1 = 3 * u(rng), c2 = 4 * u(rng), c3 = 6 * u(rng);
+        const double a0 = 2 * u(rng), a1 = 2 * u(rng);
+        path p{[=](double t) {
+            return std::array<double, 4>{a0 + a1 * t, c0 + t * (c1 + t * (c2 + t * c3)), a1,
+                                         c1 + t * (2 * c2 + t * 3 * c3)};
+        }};
+        const path_interpolant interp(m, p);
+        const auto x0 = interp.state(0), x1 = interp.state(h);
+        const auto f0 = flow(0, x0), f1 = flow(0, x1);
+        std::shared_ptr<flip_detector_base> d =
+            amplitude == 0 ? make_flip_detector(upright_curve<double>{arm::two}, flow)
+                           : make_flip_detector(sine_curve<double>{arm::two, amplitude}, flow);
+        const bool is_quiet = step_is_quiet({-1.0, d->prefilter_bound()}, h, x0, f0, x1, f1);
+        d->start(x0, f0);
+        std::vector<crossing> out;
+        d->step({0, h, x1, f1, interp, nullptr}, out);
+        if (is_quiet) {
+            ++quiet;
+            EXPECT_EQ(d->examined_steps(), 0) << trial;
+            EXPECT_TRUE(out.empty()) << trial;
+        } else {
+            ++loud;
+            examined_loud += d->examined_steps();
+        }
+    }
+    EXPECT_GT(quiet, 5000);
+    EXPECT_GT(loud, 2000);
+    EXPECT_GT(examined_loud, 500);
 }
 
 TEST(FlipDetector, CrossingTimesAreAccurate) {

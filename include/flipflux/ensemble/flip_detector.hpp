@@ -14,6 +14,10 @@
 // [s_lo, s_hi]: beyond the turning points the curve is energetically inaccessible.
 //
 // Per step, in order of cost:
+//   0. the RK lanes' quiet test (step_is_quiet), once for all detectors of a trajectory: a wider
+//      form of the prefilter of step 1 with the largest bound of the detectors, from the angles
+//      and their rates at the step's ends; a quiet step is not shown to the detectors at all
+//      (skip_step): most steps for curves with |h| < pi;
 //   1. the cheap test: phi and phi' = f' - h'(s) s' at the step's end (from the state and the
 //      right-hand side, which the integrator has already evaluated), the cubic Hermite
 //      interpolant of (phi, phi') at both ends and its interior extrema give the range of phi;
@@ -77,6 +81,11 @@ struct step_view {
     /// each detector computing it); the Taylor lanes' a bound of the step's polynomial itself
     /// (pendulum_taylor.hpp: taylor_angle_range).
     const std::array<std::array<double, 2>, 2>* angle_ranges;
+    /// Optional (null: the detector keeps the last step's end itself): the state at t0 and
+    /// Hamilton's equations there, angles continuous with x1. Lanes that skip detectors on quiet
+    /// steps (flip_detector_base::skip_step) must give them.
+    const std::array<double, 4>* x0 = nullptr;
+    const std::array<double, 4>* f0 = nullptr;
 };
 
 namespace detail {
@@ -151,6 +160,37 @@ inline std::array<double, 2> flip_angle_range(int i, double h, const std::array<
     return r;
 }
 
+/// Whether a step is quiet: every detector whose flip angle is i and whose prefilter bound is at
+/// most bound[i] (flip_detector_base::prefilter_bound; negative: angle i is not tested) would
+/// skip it at its prefilter, so that none need see it (flip_detector_base::skip_step). A wider,
+/// cheaper form of the detectors' own prefilter, from the same data (the angle and its rate at
+/// the step's start and end): the cubic Hermite interpolant's Bezier hull (which contains its
+/// range) widened by hermite_range's margin (its rounding term taken over the hull) and 1e-9 rad,
+/// against the widest bound. Every step called quiet is one each detector's prefilter skips.
+inline bool step_is_quiet(const std::array<double, 2>& bound, double h,
+                          const std::array<double, 4>& x0, const std::array<double, 4>& w0,
+                          const std::array<double, 4>& x1, const std::array<double, 4>& w1) {
+    constexpr double pi = std::numbers::pi, inv_two_pi = 1 / (2 * std::numbers::pi);
+    constexpr double slack = 1e-9;
+    for (int i = 0; i < 2; ++i) {
+        if (bound[static_cast<std::size_t>(i)] < 0) continue;
+        const auto k = static_cast<std::size_t>(i);
+        const double p0 = x0[k], p1 = x1[k], m0 = h * w0[k], m1 = h * w1[k];
+        const double b1 = p0 + m0 / 3, b2 = p1 - m1 / 3;
+        const double lo = std::min(std::min(p0, p1), std::min(b1, b2));
+        const double hi = std::max(std::max(p0, p1), std::max(b1, b2));
+        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
+        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
+        const double margin =
+            0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) + 0.125 * std::max(d2a, d2b) +
+            64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(lo) + std::abs(hi)) + slack;
+        const double low = (lo - margin - bound[k] - pi) * inv_two_pi;
+        const double high = (hi + margin + bound[k] - pi) * inv_two_pi;
+        if (!(std::ceil(low) > std::floor(high))) return false;  // a level 2 pi n within reach
+    }
+    return true;
+}
+
 /// Type-erased detector interface: the ensemble runs any set of criteria chosen at run time.
 class flip_detector_base {
   public:
@@ -166,6 +206,19 @@ class flip_detector_base {
     virtual void shift(double d1, double d2) = 0;
     /// Number of steps that needed the dense-output examination (a cost diagnostic).
     virtual long examined_steps() const = 0;
+    /// The prefilter's bound on |h|: a crossing needs the flip angle within it of pi (mod 2 pi)
+    /// somewhere in the step (step_is_quiet).
+    virtual double prefilter_bound() const = 0;
+    /// A step the lane found quiet (step_is_quiet) passed without step(): the same outcome as
+    /// step() (which would skip it), provided the next step's view gives x0 and f0.
+    void skip_step() {
+        start_valid_ = false;
+        at_start_ = false;
+    }
+
+  protected:
+    bool start_valid_ = false;  ///< start_ (the derived detector's phi at t0) is current
+    bool at_start_ = false;     ///< no step since start(): the next one begins the trajectory
 };
 
 template <class Curve>
@@ -200,6 +253,7 @@ class flip_detector final : public flip_detector_base {
     arm flip_arm() const override { return arm_; }
     const Curve& curve() const { return curve_; }
     long examined_steps() const override { return examined_; }
+    double prefilter_bound() const override { return offset_bound_; }
 
     void start(const std::array<double, 4>& x0, const std::array<double, 4>& f0) override {
         last_x_ = x0;
@@ -219,6 +273,10 @@ class flip_detector final : public flip_detector_base {
     int step(const step_view& v, std::vector<crossing>& out) override {
         const bool first = at_start_;
         at_start_ = false;
+        // the step's start: the view's, or the last step's end as kept here
+        const std::array<double, 4>& xs = v.x0 != nullptr ? *v.x0 : last_x_;
+        const std::array<double, 2> ws =
+            v.x0 != nullptr ? std::array<double, 2>{(*v.f0)[0], (*v.f0)[1]} : last_w_;
         // the prefilter: a crossing needs the flip angle f within offset_bound_ of pi (mod 2 pi)
         // somewhere in the step; the cubic Hermite range of f (from f, f' at both ends), widened
         // by the margin of the main test below, is checked first, and the curve is not even
@@ -231,16 +289,18 @@ class flip_detector final : public flip_detector_base {
                 hi = (*v.angle_ranges)[fi][1];
             } else {
                 const double h = v.t1 - v.t0;
-                const double p0 = last_x_[fi], p1 = v.x1[fi];
-                const double m0 = h * last_w_[fi], m1 = h * v.f1[fi];
+                const double p0 = xs[fi], p1 = v.x1[fi];
+                const double m0 = h * ws[fi], m1 = h * v.f1[fi];
                 hermite_range(p0, p1, m0, m1, lo, hi);
             }
             lo -= offset_bound_ + pi;
             hi += offset_bound_ - pi;
             const bool skip = std::ceil(lo * inv_two_pi) > std::floor(hi * inv_two_pi);
-            if (!skip && !start_valid_) start_ = evaluate(last_x_, last_w_);
-            last_x_ = v.x1;
-            last_w_ = {v.f1[0], v.f1[1]};
+            if (!skip && !start_valid_) start_ = evaluate(xs, ws);
+            if (v.x0 == nullptr) {
+                last_x_ = v.x1;
+                last_w_ = {v.f1[0], v.f1[1]};
+            }
             start_valid_ = !skip;  // when examined, start_ = end below
             if (skip) return 0;
         }
@@ -403,8 +463,6 @@ class flip_detector final : public flip_detector_base {
     double lo_ = 0, hi_ = 0, centre_ = 0;
     bool full_ = true;
     value start_{};
-    bool start_valid_ = false;
-    bool at_start_ = false;           ///< no step since start(): the next one begins the trajectory
     std::array<double, 4> last_x_{};  ///< state at the last step's end (shifted with the angles)
     std::array<double, 2> last_w_{};  ///< its angular velocities
     double offset_bound_ = 0;         ///< the prefilter's bound on |h|
