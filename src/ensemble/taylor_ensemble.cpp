@@ -190,9 +190,12 @@ class taylor_lane final : public step_interpolant {
         rtol_ = o.rtol;
         atol_ = effective_atol(o);
         safety_ = std::exp(-0.7 / (p_ - 1));
-        const std::array<double, 4> f = flow_(0.0, x_);
-        for (flip_detector_base* d : detectors_)
-            d->start(x_, f);
+        f_ = flow_(0.0, x_);
+        for (flip_detector_base* d : detectors_) {
+            d->start(x_, f_);
+            const std::size_t i = d->flip_arm() == arm::two ? 1 : 0;
+            quiet_bound_[i] = std::max(quiet_bound_[i], d->prefilter_bound());
+        }
         if (o.sample_interval > 0) {
             r_.samples.push_back({0.0, x0[0], x0[1], x0[2], x0[3]});
             next_sample_ = 1;
@@ -290,15 +293,22 @@ class taylor_lane final : public step_interpolant {
         }
         h_end_ = e;
         const double t0 = t_, t1 = last ? o_.time : t_ + h;
-        const step_view view{t0, t1, x1, f1, *this, &ranges};
         record_samples(t1, x1);
-        detect(detectors_, view, o_.keep_crossings, found_, r_);
+        if (ranges_are_quiet(quiet_bound_, ranges)) {
+            // no detector's prefilter would pass: each only notes the step
+            for (flip_detector_base* d : detectors_)
+                d->skip_step();
+        } else {
+            const step_view view{t0, t1, x1, f1, *this, &ranges, &x_, &f_};
+            detect(detectors_, view, o_.keep_crossings, found_, r_);
+        }
         ++steps_;
         r_.max_energy_drift = std::max(r_.max_energy_drift, std::abs(h_end_ - energy_));
         h_start_ = h_end_;
         if constexpr (Tangent) v_ = v1;
         t_ = t1;
         x_ = x1;
+        f_ = f1;
         const double d1 = angle_reduction(x_[0]), d2 = angle_reduction(x_[1]);
         if (d1 != 0 || d2 != 0) {
             if (o_.unwrapped_angles) {
@@ -364,6 +374,9 @@ class taylor_lane final : public step_interpolant {
     double rtol_ = 0, atol_ = 0, safety_ = 1;
     double t_ = 0;
     std::array<double, 4> x_{}, v_{};
+    std::array<double, 4> f_{};  ///< Hamilton's equations at x_ (the detectors' step start)
+    /// per angle, the widest prefilter bound of the detectors (-1: none; ranges_are_quiet)
+    std::array<double, 2> quiet_bound_{-1, -1};
     // the current step's jet (in its group's buffer) and its dense output
     const void* jet_ = nullptr;
     int lane_ = 0;

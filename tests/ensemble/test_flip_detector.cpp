@@ -8,7 +8,9 @@
 //     at the very end; counts at high energy (many turns, angles reduced every step) against a
 //     brute-force count on an unreduced integration; crossing times against an independent
 //     integration landing on them, and DOP853 against DOPRI5;
-//   - the lanes' quiet test against the detectors: no step it lets pass is one they examine.
+//   - the lanes' quiet tests against the detectors: no step the RK lanes' lets pass is one they
+//     examine; the prefilter's reach, on which both rest, is the levels within the bound and
+//     monotone in the range and the bound.
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -364,6 +366,49 @@ TEST(FlipDetector, QuietStepsAreOnesNoDetectorExamines) {
     EXPECT_GT(quiet, 5000);
     EXPECT_GT(loud, 2000);
     EXPECT_GT(examined_loud, 500);
+}
+
+// The prefilter's reach (detail::within_reach), on which both lanes' quiet tests rest: levels
+// pi + 2 pi n are reached exactly when the range widened by the bound holds one, and a wider
+// range or a larger bound never reaches fewer (what makes a test with the widest bound of a
+// trajectory's detectors, ranges_are_quiet, safe for each of them).
+TEST(FlipDetector, PrefilterReachIsTheLevelsWithinTheBoundAndMonotone) {
+    using detail::within_reach;
+    EXPECT_FALSE(within_reach(pi - 0.1, pi - 0.05, 0));
+    EXPECT_TRUE(within_reach(pi - 0.1, pi + 0.01, 0));
+    EXPECT_TRUE(within_reach(pi - 0.3, pi - 0.25, 0.3));
+    EXPECT_FALSE(within_reach(pi - 0.3, pi - 0.25, 0.2));
+    EXPECT_TRUE(within_reach(-pi - 0.05, -pi + 0.05, 0));  // the level -pi
+    EXPECT_FALSE(within_reach(-pi + 0.2, -pi + 0.3, 0.1));
+    EXPECT_TRUE(within_reach(5 * pi + 0.15, 5 * pi + 0.2, 0.2));  // the level 5 pi
+    std::mt19937_64 rng(20261201);
+    std::uniform_real_distribution<double> u(0, 1);
+    long reached = 0, not_reached = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const double lo = -8 + 16 * u(rng), hi = lo + 0.3 * u(rng), b = 0.6 * u(rng);
+        // a slightly wider range and bound (down to a rounding's difference)
+        const double wider = i % 2 == 0 ? 1e-3 * u(rng) : std::ldexp(u(rng), -50);
+        const bool r = within_reach(lo, hi, b);
+        (r ? reached : not_reached)++;
+        if (r) {
+            EXPECT_TRUE(within_reach(lo - wider, hi, b)) << lo << " " << hi << " " << b;
+            EXPECT_TRUE(within_reach(lo, hi + wider, b)) << lo << " " << hi << " " << b;
+            EXPECT_TRUE(within_reach(lo, hi, b + wider)) << lo << " " << hi << " " << b;
+        }
+        // exactly: some level pi + 2 pi n within [lo - b, hi + b] (checked away from its ends)
+        const double n_lo = std::ceil((lo - b - pi) / (2 * pi)),
+                     n_hi = std::floor((hi + b - pi) / (2 * pi));
+        const double edge =
+            std::min(std::abs(lo - b - pi - 2 * pi * std::round((lo - b - pi) / (2 * pi))),
+                     std::abs(hi + b - pi - 2 * pi * std::round((hi + b - pi) / (2 * pi))));
+        if (edge > 1e-12) {
+            EXPECT_EQ(r, n_lo <= n_hi) << lo << " " << hi << " " << b;
+        }
+        const std::array<std::array<double, 2>, 2> ranges{{{0.0, 0.0}, {lo, hi}}};
+        EXPECT_EQ(ranges_are_quiet({-1.0, b}, ranges), !r);
+    }
+    EXPECT_GT(reached, 10000);
+    EXPECT_GT(not_reached, 20000);
 }
 
 TEST(FlipDetector, CrossingTimesAreAccurate) {

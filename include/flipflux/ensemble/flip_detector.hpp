@@ -14,9 +14,10 @@
 // [s_lo, s_hi]: beyond the turning points the curve is energetically inaccessible.
 //
 // Per step, in order of cost:
-//   0. the RK lanes' quiet test (step_is_quiet), once for all detectors of a trajectory: a wider
-//      form of the prefilter of step 1 with the largest bound of the detectors, from the angles
-//      and their rates at the step's ends; a quiet step is not shown to the detectors at all
+//   0. the lanes' quiet test, once for all detectors of a trajectory: the prefilter of step 1
+//      with the largest bound of the detectors, on a wider range (the RK lanes': step_is_quiet,
+//      from the angles and their rates at the step's ends; the Taylor lanes': ranges_are_quiet,
+//      on their polynomial ranges); a quiet step is not shown to the detectors at all
 //      (skip_step): most steps for curves with |h| < pi;
 //   1. the cheap test: phi and phi' = f' - h'(s) s' at the step's end (from the state and the
 //      right-hand side, which the integrator has already evaluated), the cubic Hermite
@@ -147,6 +148,18 @@ inline int hermite_range(double p0, double p1, double m0, double m1, double& lo,
     return ncrit;
 }
 
+/// The prefilter's test: whether a flip angle ranging over [lo, hi] in a step comes within
+/// `bound` of pi (mod 2 pi), i.e. [lo - (bound + pi), hi + (bound - pi)] holds a level 2 pi n (the
+/// ends scaled by 1 / (2 pi) rather than divided: a rounding's difference, far inside the ranges'
+/// widening). Monotone in lo, hi and bound, rounding included: a wider range or a larger bound
+/// never reaches fewer levels.
+inline bool within_reach(double lo, double hi, double bound) {
+    constexpr double pi = std::numbers::pi, inv_two_pi = 1 / (2 * std::numbers::pi);
+    lo -= bound + pi;
+    hi += bound - pi;
+    return !(std::ceil(lo * inv_two_pi) > std::floor(hi * inv_two_pi));
+}
+
 }  // namespace detail
 
 /// The prefilter's range of angle i (0: th1, 1: th2) over a step of length h from (x0, w0) to
@@ -170,7 +183,6 @@ inline std::array<double, 2> flip_angle_range(int i, double h, const std::array<
 inline bool step_is_quiet(const std::array<double, 2>& bound, double h,
                           const std::array<double, 4>& x0, const std::array<double, 4>& w0,
                           const std::array<double, 4>& x1, const std::array<double, 4>& w1) {
-    constexpr double pi = std::numbers::pi, inv_two_pi = 1 / (2 * std::numbers::pi);
     constexpr double slack = 1e-9;
     for (int i = 0; i < 2; ++i) {
         if (bound[static_cast<std::size_t>(i)] < 0) continue;
@@ -184,10 +196,19 @@ inline bool step_is_quiet(const std::array<double, 2>& bound, double h,
         const double margin =
             0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) + 0.125 * std::max(d2a, d2b) +
             64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(lo) + std::abs(hi)) + slack;
-        const double low = (lo - margin - bound[k] - pi) * inv_two_pi;
-        const double high = (hi + margin + bound[k] - pi) * inv_two_pi;
-        if (!(std::ceil(low) > std::floor(high))) return false;  // a level 2 pi n within reach
+        if (detail::within_reach(lo - margin, hi + margin, bound[k])) return false;
     }
+    return true;
+}
+
+/// step_is_quiet for lanes that have each flip angle's range over the step already (the Taylor
+/// lanes' taylor_angle_range, step_view::angle_ranges): the detectors' own test with the widest
+/// bound, so every step called quiet is one each detector's prefilter skips.
+inline bool ranges_are_quiet(const std::array<double, 2>& bound,
+                             const std::array<std::array<double, 2>, 2>& ranges) {
+    for (std::size_t i = 0; i < 2; ++i)
+        if (bound[i] >= 0 && detail::within_reach(ranges[i][0], ranges[i][1], bound[i]))
+            return false;
     return true;
 }
 
@@ -293,9 +314,7 @@ class flip_detector final : public flip_detector_base {
                 const double m0 = h * ws[fi], m1 = h * v.f1[fi];
                 hermite_range(p0, p1, m0, m1, lo, hi);
             }
-            lo -= offset_bound_ + pi;
-            hi += offset_bound_ - pi;
-            const bool skip = std::ceil(lo * inv_two_pi) > std::floor(hi * inv_two_pi);
+            const bool skip = !detail::within_reach(lo, hi, offset_bound_);
             if (!skip && !start_valid_) start_ = evaluate(xs, ws);
             if (v.x0 == nullptr) {
                 last_x_ = v.x1;
