@@ -366,6 +366,17 @@ TEST(FlipDetector, QuietStepsAreOnesNoDetectorExamines) {
     EXPECT_GT(quiet, 5000);
     EXPECT_GT(loud, 2000);
     EXPECT_GT(examined_loud, 500);
+    // after a skipped step the detector has no start of its own: a view without x0 is refused
+    path p{[](double t) { return std::array<double, 4>{0.1, 1.0 + t, 0.0, 1.0}; }};
+    const path_interpolant interp(m, p);
+    const auto x0 = interp.state(0), x1 = interp.state(0.1), x2 = interp.state(0.2);
+    const auto f0 = flow(0, x0), f1 = flow(0, x1), f2 = flow(0, x2);
+    auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
+    d->start(x0, f0);
+    d->skip_step();
+    std::vector<crossing> out;
+    EXPECT_THROW(d->step({0.1, 0.2, x2, f2, interp, nullptr}, out), std::logic_error);
+    EXPECT_NO_THROW(d->step({0.1, 0.2, x2, f2, interp, nullptr, &x1, &f1}, out));
 }
 
 // The prefilter's reach (detail::within_reach), on which both lanes' quiet tests rest: levels

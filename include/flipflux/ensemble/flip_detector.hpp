@@ -235,11 +235,15 @@ class flip_detector_base {
     void skip_step() {
         start_valid_ = false;
         at_start_ = false;
+        own_start_ = false;
     }
 
   protected:
     bool start_valid_ = false;  ///< start_ (the derived detector's phi at t0) is current
     bool at_start_ = false;     ///< no step since start(): the next one begins the trajectory
+    /// the detector's own copy of the step start (last_x_) is current: set by start(), kept by
+    /// steps whose view has no x0, lost by skip_step and by views that give x0
+    bool own_start_ = false;
 };
 
 template <class Curve>
@@ -282,6 +286,7 @@ class flip_detector final : public flip_detector_base {
         start_ = evaluate(x0, last_w_);
         start_valid_ = true;
         at_start_ = true;
+        own_start_ = true;
     }
 
     void shift(double d1, double d2) override {
@@ -295,6 +300,9 @@ class flip_detector final : public flip_detector_base {
         const bool first = at_start_;
         at_start_ = false;
         // the step's start: the view's, or the last step's end as kept here
+        if (v.x0 == nullptr && !own_start_)
+            throw std::logic_error(
+                "flip_detector: after skip_step() or a view with x0, every view must give x0, f0");
         const std::array<double, 4>& xs = v.x0 != nullptr ? *v.x0 : last_x_;
         const std::array<double, 2> ws =
             v.x0 != nullptr ? std::array<double, 2>{(*v.f0)[0], (*v.f0)[1]} : last_w_;
@@ -319,6 +327,8 @@ class flip_detector final : public flip_detector_base {
             if (v.x0 == nullptr) {
                 last_x_ = v.x1;
                 last_w_ = {v.f1[0], v.f1[1]};
+            } else {
+                own_start_ = false;
             }
             start_valid_ = !skip;  // when examined, start_ = end below
             if (skip) return 0;
