@@ -78,15 +78,11 @@ class lane {
           rk_(rhs{flow_}, rk_opts(o)),
           detectors_(detectors),
           dense_(rk_),
-          model_(model) {
+          model_(model),
+          quiet_bound_(detail::quiet_bounds(detectors)) {
         r_.index = index;
         r_.initial_state = x0;
         r_.crossing_times.resize(detectors.size());
-        for (const flip_detector_base* d : detectors) {
-            const std::size_t i = d->flip_arm() == arm::two ? 1 : 0;
-            angle_tested_[i] = true;
-            quiet_bound_[i] = std::max(quiet_bound_[i], d->prefilter_bound());
-        }
         if (o.keep_crossings) r_.crossings.resize(detectors.size());
         state y{};
         for (int i = 0; i < 4; ++i)
@@ -196,12 +192,11 @@ class lane {
                                     f0 = first4(rk_.derivative_previous());
         record_samples(rk_.t());
         if (step_is_quiet(quiet_bound_, h, x0, f0, x1, f1)) {
-            // no detector's prefilter would pass: each only notes the step
-            for (flip_detector_base* d : detectors_)
-                d->skip_step();
+            detail::skip_detectors(detectors_);
         } else {
             for (int i = 0; i < 2; ++i)
-                if (angle_tested_[i]) ranges[i] = flip_angle_range(i, h, x0, f0, x1, f1);
+                if (quiet_bound_[static_cast<std::size_t>(i)] >= 0)  // some detector tests angle i
+                    ranges[i] = flip_angle_range(i, h, x0, f0, x1, f1);
             const step_view view{rk_.t_previous(), rk_.t(), x1, f1, dense_, &ranges, &x0, &f0};
             detail::detect(detectors_, view, o_.keep_crossings, found_, r_);
         }
@@ -262,9 +257,8 @@ class lane {
     std::array<double, 2> unwrap_{};  ///< the reductions applied so far (unwrapped_angles)
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0, end_energy_ = 0;
     double error_norm_ = 0;
-    std::array<bool, 2> angle_tested_{};  ///< th1, th2: the flip angle of some detector
-    /// per angle, the widest prefilter bound of its detectors (-1: none; step_is_quiet)
-    std::array<double, 2> quiet_bound_{-1, -1};
+    /// per angle (th1, th2), the widest prefilter bound of its detectors (-1: none tests it)
+    const std::array<double, 2> quiet_bound_;
     bool done_ = false;
 };
 

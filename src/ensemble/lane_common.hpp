@@ -3,6 +3,7 @@
 // indicator's random tangent vector and its renormalisation, and the detectors' bookkeeping.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -54,6 +55,17 @@ inline int tangent_rescaling(double norm2, double& log_growth) {
     return e;
 }
 
+/// Per flip angle (th1, th2), the widest prefilter bound of the detectors testing it (-1: none
+/// does): what the lanes' quiet tests (step_is_quiet, ranges_are_quiet) compare against.
+inline std::array<double, 2> quiet_bounds(const std::vector<flip_detector_base*>& detectors) {
+    std::array<double, 2> bound{-1, -1};
+    for (const flip_detector_base* d : detectors) {
+        const std::size_t i = d->flip_arm() == arm::two ? 1 : 0;
+        bound[i] = std::max(bound[i], d->prefilter_bound());
+    }
+    return bound;
+}
+
 /// Runs each detector on the step and records its crossings in r (and, with keep_crossings, the
 /// crossings themselves); `found` is scratch.
 inline void detect(const std::vector<flip_detector_base*>& detectors, const step_view& view,
@@ -67,6 +79,12 @@ inline void detect(const std::vector<flip_detector_base*>& detectors, const step
                 r.crossings[c].insert(r.crossings[c].end(), found.begin(), found.end());
         }
     }
+}
+
+/// A quiet step (the lane's quiet test passed): no detector is run, each only notes the step.
+inline void skip_detectors(const std::vector<flip_detector_base*>& detectors) {
+    for (flip_detector_base* d : detectors)
+        d->skip_step();
 }
 
 /// One thread's share of an ensemble, for either runner (DOP853/DOPRI5 lanes, Taylor lanes):

@@ -165,7 +165,12 @@ class taylor_lane final : public step_interpolant {
     taylor_lane(const double_pendulum<double>& model, const ensemble_options& o,
                 const phase_point<double>& x0, std::uint64_t index,
                 const std::vector<flip_detector_base*>& detectors, int order)
-        : o_(o), flow_(model), model_(model), detectors_(detectors), p_(order) {
+        : o_(o),
+          flow_(model),
+          model_(model),
+          detectors_(detectors),
+          p_(order),
+          quiet_bound_(quiet_bounds(detectors)) {
         r_.index = index;
         r_.initial_state = x0;
         r_.crossing_times.resize(detectors.size());
@@ -191,11 +196,8 @@ class taylor_lane final : public step_interpolant {
         atol_ = effective_atol(o);
         safety_ = std::exp(-0.7 / (p_ - 1));
         f_ = flow_(0.0, x_);
-        for (flip_detector_base* d : detectors_) {
+        for (flip_detector_base* d : detectors_)
             d->start(x_, f_);
-            const std::size_t i = d->flip_arm() == arm::two ? 1 : 0;
-            quiet_bound_[i] = std::max(quiet_bound_[i], d->prefilter_bound());
-        }
         if (o.sample_interval > 0) {
             r_.samples.push_back({0.0, x0[0], x0[1], x0[2], x0[3]});
             next_sample_ = 1;
@@ -295,9 +297,7 @@ class taylor_lane final : public step_interpolant {
         const double t0 = t_, t1 = last ? o_.time : t_ + h;
         record_samples(t1, x1);
         if (ranges_are_quiet(quiet_bound_, ranges)) {
-            // no detector's prefilter would pass: each only notes the step
-            for (flip_detector_base* d : detectors_)
-                d->skip_step();
+            skip_detectors(detectors_);
         } else {
             const step_view view{t0, t1, x1, f1, *this, &ranges, &x_, &f_};
             detect(detectors_, view, o_.keep_crossings, found_, r_);
@@ -375,8 +375,8 @@ class taylor_lane final : public step_interpolant {
     double t_ = 0;
     std::array<double, 4> x_{}, v_{};
     std::array<double, 4> f_{};  ///< Hamilton's equations at x_ (the detectors' step start)
-    /// per angle, the widest prefilter bound of the detectors (-1: none; ranges_are_quiet)
-    std::array<double, 2> quiet_bound_{-1, -1};
+    /// per angle (th1, th2), the widest prefilter bound of its detectors (-1: none tests it)
+    const std::array<double, 2> quiet_bound_;
     // the current step's jet (in its group's buffer) and its dense output
     const void* jet_ = nullptr;
     int lane_ = 0;
