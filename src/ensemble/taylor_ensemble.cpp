@@ -299,7 +299,7 @@ class taylor_lane final : public step_interpolant {
         if (ranges_are_quiet(quiet_bound_, ranges)) {
             skip_detectors(detectors_);
         } else {
-            const step_view view{t0, t1, x1, f1, *this, &ranges, &x_, &f_};
+            const step_view view{t0, t1, x_, f_, x1, f1, *this, &ranges};
             detect(detectors_, view, o_.keep_crossings, found_, r_);
         }
         ++steps_;

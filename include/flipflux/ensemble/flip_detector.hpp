@@ -72,7 +72,9 @@ class step_interpolant {
 /// What a detector is told about one accepted step.
 struct step_view {
     double t0, t1;
-    const std::array<double, 4>& x1;  ///< state at t1 (angles continuous with the step's start)
+    const std::array<double, 4>& x0;  ///< state at t0
+    const std::array<double, 4>& f0;  ///< Hamilton's equations at x0
+    const std::array<double, 4>& x1;  ///< state at t1 (angles continuous with x0)
     const std::array<double, 4>& f1;  ///< Hamilton's equations at x1
     const step_interpolant& dense;
     /// Optional (null: the detector computes it): per angle (th1, th2), a range [lo, hi] of the
@@ -81,12 +83,7 @@ struct step_view {
     /// flip_angle_range of (the angle, its rate) at the step's start and end (the same bits as
     /// each detector computing it); the Taylor lanes' a bound of the step's polynomial itself
     /// (pendulum_taylor.hpp: taylor_angle_range).
-    const std::array<std::array<double, 2>, 2>* angle_ranges;
-    /// Optional (null: the detector keeps the last step's end itself): the state at t0 and
-    /// Hamilton's equations there, angles continuous with x1. Lanes that skip detectors on quiet
-    /// steps (flip_detector_base::skip_step) must give them.
-    const std::array<double, 4>* x0 = nullptr;
-    const std::array<double, 4>* f0 = nullptr;
+    const std::array<std::array<double, 2>, 2>* angle_ranges = nullptr;
 };
 
 namespace detail {
@@ -231,19 +228,15 @@ class flip_detector_base {
     /// somewhere in the step (step_is_quiet).
     virtual double prefilter_bound() const = 0;
     /// A step the lane found quiet (step_is_quiet) passed without step(): the same outcome as
-    /// step() (which would skip it), provided the next step's view gives x0 and f0.
+    /// step() (which would skip it).
     void skip_step() {
         start_valid_ = false;
         at_start_ = false;
-        own_start_ = false;
     }
 
   protected:
     bool start_valid_ = false;  ///< start_ (the derived detector's phi at t0) is current
     bool at_start_ = false;     ///< no step since start(): the next one begins the trajectory
-    /// the detector's own copy of the step start (last_x_) is current: set by start(), kept by
-    /// steps whose view has no x0, lost by skip_step and by views that give x0
-    bool own_start_ = false;
 };
 
 template <class Curve>
@@ -281,31 +274,19 @@ class flip_detector final : public flip_detector_base {
     double prefilter_bound() const override { return offset_bound_; }
 
     void start(const std::array<double, 4>& x0, const std::array<double, 4>& f0) override {
-        last_x_ = x0;
-        last_w_ = {f0[0], f0[1]};
-        start_ = evaluate(x0, last_w_);
+        start_ = evaluate(x0, {f0[0], f0[1]});
         start_valid_ = true;
         at_start_ = true;
-        own_start_ = true;
     }
 
     void shift(double d1, double d2) override {
         // phi shifts with the flip angle; h(red(s)) is unchanged (red removes the s shift)
         start_.phi += arm_ == arm::two ? d2 : d1;
-        last_x_[0] += d1;
-        last_x_[1] += d2;
     }
 
     int step(const step_view& v, std::vector<crossing>& out) override {
         const bool first = at_start_;
         at_start_ = false;
-        // the step's start: the view's, or the last step's end as kept here
-        if (v.x0 == nullptr && !own_start_)
-            throw std::logic_error(
-                "flip_detector: after skip_step() or a view with x0, every view must give x0, f0");
-        const std::array<double, 4>& xs = v.x0 != nullptr ? *v.x0 : last_x_;
-        const std::array<double, 2> ws =
-            v.x0 != nullptr ? std::array<double, 2>{(*v.f0)[0], (*v.f0)[1]} : last_w_;
         // the prefilter: a crossing needs the flip angle f within offset_bound_ of pi (mod 2 pi)
         // somewhere in the step; the cubic Hermite range of f (from f, f' at both ends), widened
         // by the margin of the main test below, is checked first, and the curve is not even
@@ -318,18 +299,12 @@ class flip_detector final : public flip_detector_base {
                 hi = (*v.angle_ranges)[fi][1];
             } else {
                 const double h = v.t1 - v.t0;
-                const double p0 = xs[fi], p1 = v.x1[fi];
-                const double m0 = h * ws[fi], m1 = h * v.f1[fi];
+                const double p0 = v.x0[fi], p1 = v.x1[fi];
+                const double m0 = h * v.f0[fi], m1 = h * v.f1[fi];
                 hermite_range(p0, p1, m0, m1, lo, hi);
             }
             const bool skip = !detail::within_reach(lo, hi, offset_bound_);
-            if (!skip && !start_valid_) start_ = evaluate(xs, ws);
-            if (v.x0 == nullptr) {
-                last_x_ = v.x1;
-                last_w_ = {v.f1[0], v.f1[1]};
-            } else {
-                own_start_ = false;
-            }
+            if (!skip && !start_valid_) start_ = evaluate(v.x0, {v.f0[0], v.f0[1]});
             start_valid_ = !skip;  // when examined, start_ = end below
             if (skip) return 0;
         }
@@ -363,10 +338,12 @@ class flip_detector final : public flip_detector_base {
         double t, phi, dphi;
     };
 
+    // red(s). Within 3.14 of the centre round() is 0 (its argument below 0.4998 in magnitude)
+    // and s - 2 pi * 0 is s: the same value without the call.
     double reduce(double s) const {
-        return full_ && std::abs(s - centre_) <= pi
-                   ? s
-                   : s - two_pi * std::round((s - centre_) / two_pi);
+        const double d = std::abs(s - centre_);
+        if (full_ ? d <= pi : d < 3.14) return s;
+        return s - two_pi * std::round((s - centre_) / two_pi);
     }
 
     value evaluate(const std::array<double, 4>& x, const std::array<double, 2>& w) const {
@@ -491,10 +468,8 @@ class flip_detector final : public flip_detector_base {
     arm arm_;
     double lo_ = 0, hi_ = 0, centre_ = 0;
     bool full_ = true;
-    value start_{};
-    std::array<double, 4> last_x_{};  ///< state at the last step's end (shifted with the angles)
-    std::array<double, 2> last_w_{};  ///< its angular velocities
-    double offset_bound_ = 0;         ///< the prefilter's bound on |h|
+    value start_{};            ///< phi, phi' and s at the step's start (start_valid_)
+    double offset_bound_ = 0;  ///< the prefilter's bound on |h|
     long examined_ = 0;
 };
 

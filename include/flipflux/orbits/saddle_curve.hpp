@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "flipflux/model/double_pendulum.hpp"
@@ -46,6 +47,11 @@ class saddle_curve {
           error_(error_estimate) {
         const std::size_t panels = breaks_.size() - 1;
         s_max_ = breaks_.back();
+        pairs_.resize(2 * values_.size());
+        for (std::size_t i = 0; i < values_.size(); ++i) {
+            pairs_[2 * i] = values_[i];
+            pairs_[2 * i + 1] = slopes_[i];
+        }
         mid_.resize(panels);
         inv_half_.resize(panels);
         for (std::size_t i = 0; i < panels; ++i) {
@@ -141,12 +147,48 @@ class saddle_curve {
             r[j] = (*c[j])[first] + x * b1[j] - b2[j];
         return r;
     }
-    std::array<Real, 2> eval2(const Real& u) const { return clenshaw<2>({&values_, &slopes_}, u); }
+    // clenshaw<2> of (values_, slopes_) from pairs_ (the two series' coefficients side by side):
+    // at double the two sums run in the lanes of one SSE2 vector, each lane the same operations
+    // in the same order as clenshaw's, so the same bits.
+    std::array<Real, 2> eval2(const Real& u) const {
+        if constexpr (std::is_same_v<Real, double>) {
+            using v2 = double __attribute__((vector_size(16)));
+            if (mid_.empty()) return {};
+            double x;
+            const std::size_t p = locate(u, x);
+            const double* c = pairs_.data() + 2 * p * static_cast<std::size_t>(degree_ + 1);
+            auto load = [](const double* a) {
+                v2 v;
+                __builtin_memcpy(&v, a, sizeof v);
+                return v;
+            };
+            v2 b1{0, 0}, b2{0, 0};
+            const v2 x2{2 * x, 2 * x};
+            // two of clenshaw's iterations per pass, the roles of b1 and b2 swapped in between
+            // (no register copies)
+            int k = degree_;
+            for (; k >= 2; k -= 2) {
+                b2 = load(c + 2 * k) + x2 * b1 - b2;
+                b1 = load(c + 2 * (k - 1)) + x2 * b2 - b1;
+            }
+            if (k == 1) {
+                const v2 b0 = load(c + 2) + x2 * b1 - b2;
+                b2 = b1;
+                b1 = b0;
+            }
+            const v2 xv{x, x};
+            const v2 r = load(c) + xv * b1 - b2;
+            return {r[0], r[1]};
+        } else {
+            return clenshaw<2>({&values_, &slopes_}, u);
+        }
+    }
     Real eval(const std::vector<Real>& c, const Real& u) const { return clenshaw<1>({&c}, u)[0]; }
 
     arm arm_ = arm::two;
     int degree_ = 0;
     std::vector<Real> breaks_, values_, slopes_;
+    std::vector<Real> pairs_;  ///< values_ and slopes_ interleaved (eval2)
     Real error_{0};
     Real s_max_{0};
     std::vector<Real> mid_, inv_half_;
