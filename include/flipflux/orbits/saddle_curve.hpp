@@ -39,18 +39,13 @@ class saddle_curve {
     /// [-1, 1] the panel's local variable.
     saddle_curve(arm a, int degree, std::vector<Real> breaks, std::vector<Real> values,
                  std::vector<Real> slopes, const Real& error_estimate)
-        : arm_(a),
-          degree_(degree),
-          breaks_(std::move(breaks)),
-          values_(std::move(values)),
-          slopes_(std::move(slopes)),
-          error_(error_estimate) {
+        : arm_(a), degree_(degree), breaks_(std::move(breaks)), error_(error_estimate) {
         const std::size_t panels = breaks_.size() - 1;
         s_max_ = breaks_.back();
-        pairs_.resize(2 * values_.size());
-        for (std::size_t i = 0; i < values_.size(); ++i) {
-            pairs_[2 * i] = values_[i];
-            pairs_[2 * i + 1] = slopes_[i];
+        coefficients_.resize(2 * values.size());
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            coefficients_[2 * i] = values[i];
+            coefficients_[2 * i + 1] = slopes[i];
         }
         mid_.resize(panels);
         inv_half_.resize(panels);
@@ -77,11 +72,11 @@ class saddle_curve {
     Real offset(const Real& s) const {
         if (s == 0) return Real(0);  // the saddle itself (h is odd)
         const bool negative = s < 0;
-        const Real v = eval(values_, negative ? Real(-s) : s);
+        const Real v = clenshaw<1>({0}, negative ? Real(-s) : s)[0];
         return negative ? Real(-v) : v;
     }
     /// h'(s); s is clamped to the domain.
-    Real slope(const Real& s) const { return eval(slopes_, s < 0 ? Real(-s) : s); }
+    Real slope(const Real& s) const { return clenshaw<1>({1}, s < 0 ? Real(-s) : s)[0]; }
     /// {offset(s), slope(s)}, the same bits, in one panel lookup and two interleaved Clenshaw
     /// sums (the flip detector needs both; each sum is a chain of dependent operations).
     std::array<Real, 2> offset_and_slope(const Real& s) const {
@@ -102,14 +97,16 @@ class saddle_curve {
 
     /// The same curve at double (for the Monte Carlo flip detector).
     saddle_curve<double> to_double() const {
-        auto conv = [](const std::vector<Real>& x) {
-            std::vector<double> y(x.size());
-            for (std::size_t i = 0; i < x.size(); ++i)
-                y[i] = static_cast<double>(x[i]);
-            return y;
-        };
-        return saddle_curve<double>(arm_, degree_, conv(breaks_), conv(values_), conv(slopes_),
-                                    static_cast<double>(error_));
+        std::vector<double> breaks(breaks_.size()), values(coefficients_.size() / 2),
+            slopes(coefficients_.size() / 2);
+        for (std::size_t i = 0; i < breaks_.size(); ++i)
+            breaks[i] = static_cast<double>(breaks_[i]);
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            values[i] = static_cast<double>(coefficients_[2 * i]);
+            slopes[i] = static_cast<double>(coefficients_[2 * i + 1]);
+        }
+        return saddle_curve<double>(arm_, degree_, std::move(breaks), std::move(values),
+                                    std::move(slopes), static_cast<double>(error_));
     }
 
   private:
@@ -125,38 +122,37 @@ class saddle_curve {
         return p;
     }
 
-    // Clenshaw sums of the Chebyshev series `c[j]` (K of them, side by side: each a chain of
-    // dependent operations) at u's panel.
+    // Clenshaw sums of the Chebyshev series `series[j]` (0: h, 1: h'; K of them, side by side:
+    // each a chain of dependent operations) at u's panel.
     template <std::size_t K>
-    std::array<Real, K> clenshaw(const std::array<const std::vector<Real>*, K>& c,
-                                 const Real& u) const {
+    std::array<Real, K> clenshaw(const std::array<std::size_t, K>& series, const Real& u) const {
         std::array<Real, K> r{};
         if (mid_.empty()) return r;
         Real x;
         const std::size_t p = locate(u, x);
-        const std::size_t first = p * static_cast<std::size_t>(degree_ + 1);
+        const Real* c = coefficients_.data() + 2 * p * static_cast<std::size_t>(degree_ + 1);
         std::array<Real, K> b1{}, b2{};
         const Real x2 = 2 * x;
         for (int k = degree_; k >= 1; --k)
             for (std::size_t j = 0; j < K; ++j) {
-                const Real b0 = (*c[j])[first + static_cast<std::size_t>(k)] + x2 * b1[j] - b2[j];
+                const Real b0 = c[2 * static_cast<std::size_t>(k) + series[j]] + x2 * b1[j] - b2[j];
                 b2[j] = b1[j];
                 b1[j] = b0;
             }
         for (std::size_t j = 0; j < K; ++j)
-            r[j] = (*c[j])[first] + x * b1[j] - b2[j];
+            r[j] = c[series[j]] + x * b1[j] - b2[j];
         return r;
     }
-    // clenshaw<2> of (values_, slopes_) from pairs_ (the two series' coefficients side by side):
-    // at double the two sums run in the lanes of one SSE2 vector, each lane the same operations
-    // in the same order as clenshaw's, so the same bits.
+    // clenshaw<2> of h and h': at double the two sums run in the lanes of one SSE2 vector (their
+    // coefficients side by side), each lane the same operations in the same order as clenshaw's,
+    // so the same bits.
     std::array<Real, 2> eval2(const Real& u) const {
         if constexpr (std::is_same_v<Real, double>) {
             using v2 = double __attribute__((vector_size(16)));
             if (mid_.empty()) return {};
             double x;
             const std::size_t p = locate(u, x);
-            const double* c = pairs_.data() + 2 * p * static_cast<std::size_t>(degree_ + 1);
+            const double* c = coefficients_.data() + 2 * p * static_cast<std::size_t>(degree_ + 1);
             auto load = [](const double* a) {
                 v2 v;
                 __builtin_memcpy(&v, a, sizeof v);
@@ -180,15 +176,15 @@ class saddle_curve {
             const v2 r = load(c) + xv * b1 - b2;
             return {r[0], r[1]};
         } else {
-            return clenshaw<2>({&values_, &slopes_}, u);
+            return clenshaw<2>({0, 1}, u);
         }
     }
-    Real eval(const std::vector<Real>& c, const Real& u) const { return clenshaw<1>({&c}, u)[0]; }
 
     arm arm_ = arm::two;
     int degree_ = 0;
-    std::vector<Real> breaks_, values_, slopes_;
-    std::vector<Real> pairs_;  ///< values_ and slopes_ interleaved (eval2)
+    std::vector<Real> breaks_;
+    /// per panel p and degree k: h's coefficient at [2 (p (degree + 1) + k)], h''s next to it
+    std::vector<Real> coefficients_;
     Real error_{0};
     Real s_max_{0};
     std::vector<Real> mid_, inv_half_;
