@@ -120,9 +120,17 @@ inline int cubic_critical_points(double p0, double p1, double m0, double m1,
     return n;
 }
 
-// The range of the cubic Hermite interpolant of (p, m) on the step, widened by the margin (a
-// quarter of the variation of the data plus an eighth of the cubic's largest
-// second-derivative term); returns its interior critical points.
+// The prefilter's margin of the cubic Hermite interpolant of (p, m) on the step, before its
+// rounding term: a quarter of the variation of the data plus an eighth of the cubic's largest
+// second-derivative term (hermite_range's and step_is_quiet's, one formula).
+inline double hermite_margin(double p0, double p1, double m0, double m1) {
+    const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
+    const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
+    return 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) + 0.125 * std::max(d2a, d2b);
+}
+
+// The range of the cubic Hermite interpolant of (p, m) on the step, widened by hermite_margin
+// and a rounding term; returns its interior critical points.
 inline int hermite_range(double p0, double p1, double m0, double m1, double& lo, double& hi,
                          std::array<double, 2>* critical = nullptr) {
     lo = std::min(p0, p1);
@@ -134,10 +142,7 @@ inline int hermite_range(double p0, double p1, double m0, double m1, double& lo,
         lo = std::min(lo, c);
         hi = std::max(hi, c);
     }
-    const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
-    const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
-    const double margin = 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) +
-                          0.125 * std::max(d2a, d2b) +
+    const double margin = hermite_margin(p0, p1, m0, m1) +
                           64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
     lo -= margin;
     hi += margin;
@@ -188,10 +193,8 @@ inline bool step_is_quiet(const std::array<double, 2>& bound, double h,
         const double b1 = p0 + m0 / 3, b2 = p1 - m1 / 3;
         const double lo = std::min(std::min(p0, p1), std::min(b1, b2));
         const double hi = std::max(std::max(p0, p1), std::max(b1, b2));
-        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
-        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
         const double margin =
-            0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) + 0.125 * std::max(d2a, d2b) +
+            detail::hermite_margin(p0, p1, m0, m1) +
             64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(lo) + std::abs(hi)) + slack;
         if (detail::within_reach(lo - margin, hi + margin, bound[k])) return false;
     }
