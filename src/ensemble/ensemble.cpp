@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -30,17 +31,20 @@ constexpr std::size_t max_lanes = 8;
 
 using detail::angle_reduction;
 
-template <class Integrator>
+// A lane's dense output of its last accepted step, as the detectors see it: the lane loads the
+// step's stages into its integrator on first use (lane::load_stages).
+template <class Lane>
 class dense_adapter final : public step_interpolant {
   public:
-    explicit dense_adapter(Integrator& rk) : rk_(rk) {}
+    explicit dense_adapter(Lane& lane) : lane_(lane) {}
     std::array<double, 4> state(double t) const override {
-        const auto y = rk_.dense(t);
+        lane_.load_stages();
+        const auto y = lane_.rk().dense(t);
         return {y[0], y[1], y[2], y[3]};
     }
 
   private:
-    Integrator& rk_;
+    Lane& lane_;
 };
 
 // The right-hand sides as named types (the integrator stores them by value).
@@ -77,7 +81,7 @@ class lane {
           flow_(model),
           rk_(rhs{flow_}, rk_opts(o)),
           detectors_(detectors),
-          dense_(rk_),
+          dense_(*this),
           model_(model),
           quiet_bound_(detail::quiet_bounds(detectors)) {
         r_.index = index;
@@ -146,19 +150,44 @@ class lane {
     /// H (hamiltonian_absolute) at the trial step's end, from the vector evaluation of its last
     /// stage (vector_stages).
     void set_end_energy(double h) { end_energy_ = h; }
-    /// The trial step's error norm, from the vector evaluation of the stages (vector_stages).
-    void set_error_norm(double err) { error_norm_ = err; }
+    /// The trial step's error norm and step-size factor (explicit_rk::step_factor), from the
+    /// vector evaluation of the stages (vector_stages).
+    void set_error_norm(double err, double factor) {
+        error_norm_ = err;
+        step_factor_ = factor;
+    }
+    /// Where the trial step's stages are (round_stages: vectors of `width` lanes, group after
+    /// group; this lane's at `index`), until end() returns.
+    void set_stage_source(const std::byte* storage, int width, int index) {
+        stages_ = storage;
+        width_ = static_cast<std::size_t>(width);
+        slot_ = static_cast<std::size_t>(index);
+    }
+    /// Hands the trial step's stages 1 ... stages - 2 to the integrator (once per step, for its
+    /// dense output; the first and last it has).
+    void load_stages() {
+        if (stages_ == nullptr) return;
+        for (int s = 1; s < stages - 1; ++s) {
+            double f[N];
+            for (std::size_t c = 0; c < N; ++c) {
+                const std::size_t at = ((static_cast<std::size_t>(s) * N + c) * width_ + slot_);
+                std::memcpy(&f[c], stages_ + at * sizeof(double), sizeof(double));
+            }
+            rk_.set_stage(s, f);
+        }
+        stages_ = nullptr;
+    }
     void end() {
         rk_status st = rk_status::ok;
-        const int outcome = rk_.end_step(st, error_norm_);
+        const int outcome = rk_.end_step(st, error_norm_, step_factor_);
         if (outcome < 0) {
             r_.status = st;
             finish();
-            return;
-        }
-        if (outcome == 0) return;  // rejected: retried at the next begin()
-        after_step();
-        if (!(rk_.t() < o_.time)) finish();
+        } else if (outcome > 0) {
+            after_step();
+            if (!(rk_.t() < o_.time)) finish();
+        }  // else rejected: retried at the next begin()
+        stages_ = nullptr;
     }
     bool finished() const { return done_; }
     trajectory_result& result() { return r_; }
@@ -249,22 +278,33 @@ class lane {
     pendulum_flow flow_;
     integrator rk_;
     std::vector<flip_detector_base*> detectors_;
-    dense_adapter<integrator> dense_;
+    dense_adapter<lane> dense_;
     const double_pendulum<double>& model_;
     trajectory_result r_;
     std::vector<crossing> found_;
     std::uint64_t next_sample_ = 0;
     std::array<double, 2> unwrap_{};  ///< the reductions applied so far (unwrapped_angles)
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0, end_energy_ = 0;
-    double error_norm_ = 0;
+    double error_norm_ = 0, step_factor_ = 0;
+    const std::byte* stages_ = nullptr;  ///< the trial step's stages (set_stage_source)
+    std::size_t width_ = 0, slot_ = 0;
     /// per angle (th1, th2), the widest prefilter bound of its detectors (-1: none tests it)
     const std::array<double, 2> quiet_bound_;
     bool done_ = false;
 };
 
+// Where a round's stages are kept, lane-major: the groups' vectors (V k[S][N] each, group after
+// group), alive until every lane of the round has ended its step. A lane reads its own stages
+// from them only when its dense output is used (stage_source).
+template <class Lane>
+struct round_stages {
+    static constexpr std::size_t bytes = max_lanes * Lane::stages * Lane::N * sizeof(double);
+    alignas(64) std::array<std::byte, bytes> storage;
+};
+
 // One group of the active lanes in lane-major form: W = lanes_of<V> of them, a short group
 // padded with copies of its first lane. The step's start, size and stages are vectors across
-// the lanes.
+// the lanes; the stages live in the round's storage (round_stages).
 template <class Lane, class V>
 struct lane_group {
     static constexpr int W = lanes_of<V>;
@@ -273,10 +313,11 @@ struct lane_group {
     using integrator = typename Lane::integrator;
     Lane* const* lanes;
     std::size_t g;  ///< lanes in use
-    V h, x0[N], k[S][N];
+    V (*k)[N];      ///< k[s][c]: stage s, component c
+    V h, x0[N];
 
-    [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count)
-        : lanes(first), g(count) {
+    [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count, std::byte* storage)
+        : lanes(first), g(count), k(reinterpret_cast<V (*)[N]>(storage)) {
         for (int l = 0; l < W; ++l) {
             const integrator& rk = lanes[static_cast<std::size_t>(l) < g ? l : 0]->rk();
             h[l] = rk.trial_step();
@@ -285,6 +326,8 @@ struct lane_group {
                 k[0][c][l] = rk.derivative()[c];
             }
         }
+        for (std::size_t l = 0; l < g; ++l)
+            lanes[l]->set_stage_source(storage, W, static_cast<int>(l));
     }
 
     // Stage s and the ones after it (recursion rather than a lambda: every function here is
@@ -297,25 +340,24 @@ struct lane_group {
             flow.lanes(y, k[s]);
         else
             flow.tangent_lanes(y, k[s]);
-        for (std::size_t l = 0; l < g; ++l) {
-            double* out = lanes[l]->rk().template stage_output<s>();
-            for (std::size_t c = 0; c < N; ++c)
-                out[c] = k[s][c][l];
-        }
         if constexpr (s == S - 1) {
-            // the trial step's end, its energy for the energy check and its error norm
+            // the trial step's end and f there, its energy for the energy check, its error norm
+            // and step-size factor (each lane's chain of square roots independent of the others)
             V e;
             flow.hamiltonian_lanes(y, e);
             const rk_options& o = lanes[0]->rk().options();  // the same for every lane
             V first, second;
             integrator::error_sums(h, x0, y, k, o, first, second);
             for (std::size_t l = 0; l < g; ++l) {
-                double end[N];
-                for (std::size_t c = 0; c < N; ++c)
+                double end[N], f[N];
+                for (std::size_t c = 0; c < N; ++c) {
                     end[c] = y[c][l];
-                lanes[l]->rk().set_end_point(end);
+                    f[c] = k[s][c][l];
+                }
+                lanes[l]->rk().set_trial_end(end, f);
                 lanes[l]->set_end_energy(e[l]);
-                lanes[l]->set_error_norm(integrator::error_norm_from(h[l], first[l], second[l], o));
+                const double err = integrator::error_norm_from(h[l], first[l], second[l], o);
+                lanes[l]->set_error_norm(err, integrator::step_factor(err));
             }
         }
         if constexpr (s + 1 < S) stages_from<s + 1>(flow);
@@ -325,41 +367,44 @@ struct lane_group {
 // Every stage of a trial step of the active lanes, a group of W = lanes_of<V> at a time
 // (lane_group): the stage sums (explicit_rk::stage_sum) and the right-hand sides
 // (pendulum_flow::lanes / tangent_lanes) are vector operations, each lane's the same operations
-// as one integrator alone (the same bits). Each stage's f goes to its integrator (stage_output)
-// for the step's end and its dense output; the last stage's point is the trial step's end
-// (set_end_point), its H serves the energy check, and the error norm's sums over components are
-// vector operations too (explicit_rk::error_sums).
+// as one integrator alone (the same bits). The stages stay in the round's storage; each
+// integrator gets its trial step's end and f there (set_trial_end), H there serves the energy
+// check, and the error norm's sums over components are vector operations too
+// (explicit_rk::error_sums).
 template <class Lane, class V>
-[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m) {
+[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m,
+                                                 std::byte* storage) {
     constexpr std::size_t W = lanes_of<V>;
     const pendulum_flow& flow = active[0]->flow();
     for (std::size_t i = 0; i < m; i += W) {
-        lane_group<Lane, V> group(active + i, std::min(W, m - i));
+        lane_group<Lane, V> group(active + i, std::min(W, m - i),
+                                  storage + (i / W) * sizeof(V) * Lane::stages * Lane::N);
         group.template stages_from<1>(flow);
     }
 }
 
 // Every stage of a trial step of the active lanes, two lanes per SSE2 vector (any x86-64) ...
 template <class Lane>
-void vector_stages_sse2(Lane* const* active, std::size_t m) {
-    vector_stages<Lane, v2d>(active, m);
+void vector_stages_sse2(Lane* const* active, std::size_t m, std::byte* storage) {
+    vector_stages<Lane, v2d>(active, m, storage);
 }
 
 // ... or four per AVX2 vector (the same bits; used when the processor has AVX2). `flatten'
 // inlines everything called here, so that all of it is compiled for AVX2; no FMA is enabled, so
 // the operations and their rounding are those of the scalar code.
 template <class Lane>
-__attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active,
-                                                                 std::size_t m) {
-    vector_stages<Lane, v4d>(active, m);
+__attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active, std::size_t m,
+                                                                 std::byte* storage) {
+    vector_stages<Lane, v4d>(active, m, storage);
 }
 
 // ... or eight per AVX-512 vector (the same bits again; used for five to eight lanes when the
 // processor has AVX-512F: 1.24x the AVX2 path's throughput on a Zen 5 EPYC, docs/scale.md).
 template <class Lane>
 __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* const* active,
-                                                                      std::size_t m) {
-    vector_stages<Lane, v8d>(active, m);
+                                                                      std::size_t m,
+                                                                      std::byte* storage) {
+    vector_stages<Lane, v8d>(active, m, storage);
 }
 
 // Trajectories per thread in lockstep with `isa`.
@@ -377,12 +422,14 @@ void lockstep_round(std::span<Lane* const> lanes, vector_isa isa) {
     for (Lane* l : lanes)
         if (l != nullptr && l->begin()) active[m++] = l;
     if (m == 0) return;
+    round_stages<Lane> stages;
+    std::byte* storage = stages.storage.data();
     if (m > 4 && isa == vector_isa::avx512)
-        vector_stages_avx512<Lane>(active.data(), m);
+        vector_stages_avx512<Lane>(active.data(), m, storage);
     else if (m > 2 && isa != vector_isa::sse2)
-        vector_stages_avx2<Lane>(active.data(), m);
+        vector_stages_avx2<Lane>(active.data(), m, storage);
     else
-        vector_stages_sse2<Lane>(active.data(), m);
+        vector_stages_sse2<Lane>(active.data(), m, storage);
     for (std::size_t i = 0; i < m; ++i)
         active[i]->end();
 }

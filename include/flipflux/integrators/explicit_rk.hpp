@@ -157,16 +157,18 @@ class explicit_rk {
 
     /// The stages evaluated by the caller, several integrators at once, lane-major (vectors whose
     /// lanes are the integrators): stage s's point is stage_sum<s> from x(), derivative() (stage
-    /// 0) and trial_step(), the same operations as stage<s>(), so the same bits; the caller stores
-    /// f(t, y) to stage_output<s>(), and the last stage's point, the trial step's end, with
-    /// set_end_point.
+    /// 0) and trial_step(), the same operations as stage<s>(), so the same bits. The caller hands
+    /// over the trial step's end (the last stage's point) and f there with set_trial_end, which
+    /// counts the stages' evaluations, and the stages in between with set_stage only where the
+    /// dense output is used (after an accepted step, before dense()); the error norm and the
+    /// step-size factor come with end_step (error_sums, error_norm_from, step_factor).
     double trial_step() const { return trial_h_; }
-    template <int s>
-    double* stage_output() {
-        ++evaluations_;
-        return k_[s];
+    void set_trial_end(const double* y, const double* f) {
+        copy(y, x_new_.data());
+        copy(f, k_[S - 1]);
+        evaluations_ += S - 1;
     }
-    void set_end_point(const double* y) { copy(y, x_new_.data()); }
+    void set_stage(int s, const double* f) { copy(f, k_[s]); }
 
     /// y = base + h sum_{j < s} a[s][j] k[j] with the tableau row known at compile time (zero
     /// terms dropped), in the order of stage<s>(), for T double or a vector of lanes (each lane
@@ -193,17 +195,18 @@ class explicit_rk {
     /// Ends the trial step: 1 accepted, 0 rejected (retry with the new step size), -1 failed
     /// (`status` says why).
     int end_step(rk_status& status) {
-        return end_step(status, error_norm(trial_h_, x_.data(), x_new_.data(), k_, opt_));
+        const double err = error_norm(trial_h_, x_.data(), x_new_.data(), k_, opt_);
+        return end_step(status, err, step_factor(err));
     }
-    /// end_step with the error norm computed by the caller (error_sums on vectors whose lanes are
-    /// several integrators, from their start, end point and stages, then error_norm_from per
-    /// lane: the same bits).
-    int end_step(rk_status& status, double err) {
+    /// end_step with the error norm and its step-size factor computed by the caller (error_sums
+    /// on vectors whose lanes are several integrators, from their start, end point and stages,
+    /// then error_norm_from and step_factor per lane: the same bits).
+    int end_step(rk_status& status, double err, double factor) {
         const double h = trial_h_;
         const double tiny = 16 * std::numeric_limits<double>::epsilon() * std::abs(t_);
         if (opt_.fixed_step > 0 || err <= 1) {
             if (opt_.fixed_step > 0 || !check_ || check_(x_, x_new_)) {
-                accept(h, err, trial_last_ ? trial_end_ : t_ + h);
+                accept(h, err, factor, trial_last_ ? trial_end_ : t_ + h);
                 return 1;
             }
             // the error estimate passed but the step check failed: halve and retry
@@ -227,7 +230,8 @@ class explicit_rk {
             }
             return 0;
         }
-        h_ = h * std::max(Method::fac_min, Method::safety * error_power(err));
+        // err > 1 here, so factor = safety * error_power(err)
+        h_ = h * std::max(Method::fac_min, factor);
         if (!(h_ > tiny)) {
             status = rk_status::step_size_underflow;
             return -1;
@@ -445,6 +449,11 @@ class explicit_rk {
             }
         }
     }
+    /// The step-size update's factor before the PI term and the clamp: safety * err^(-1/q + 0.75
+    /// beta) at max(err, 1e-300) (the factor of a rejected step too, whose err exceeds 1).
+    static double step_factor(double err) {
+        return Method::safety * error_power(std::max(err, 1e-300));
+    }
     static double error_norm_from(double h, double first, double second, const rk_options& o) {
         const auto m = static_cast<double>(o.controlled_components);
         if constexpr (Method::order == 5) {
@@ -475,15 +484,14 @@ class explicit_rk {
             return std::pow(err, -1.0 / Method::order + 0.75 * Method::beta);
     }
 
-    void accept(double h, double err, double t_new) {
+    void accept(double h, double err, double factor, double t_new) {
         ++accepted_;
         double fac = 1;
         if (opt_.fixed_step > 0) {
             h_ = opt_.fixed_step;
         } else {
-            const double e = std::max(err, 1e-300);
             // PI control: h_new = h * safety * err^-(1/q - 0.75 beta) * err_old^beta
-            fac = Method::safety * error_power(e);
+            fac = factor;
             if constexpr (Method::beta != 0) fac *= std::pow(facold_, Method::beta);
             fac = std::clamp(fac, Method::fac_min, Method::fac_max);
             facold_ = std::max(err, 1e-4);
