@@ -116,13 +116,6 @@ class lane {
         const rk_options& ro = rk_.options();
         jump_ = energy_jump_factor * (ro.atol + ro.rtol * std::abs(energy_));
         h_start_ = h_end_ = energy_;
-        // H at the trial step's end comes with its last stage (set_end_energy)
-        rk_.set_step_check([this](const state&, const state&) {
-            const double e = end_energy_;
-            if (!(std::abs(e - h_start_) <= jump_)) return false;
-            h_end_ = e;
-            return true;
-        });
         r_.status = rk_status::ok;
         if (!(rk_.t() < o_.time)) finish();
     }
@@ -179,7 +172,13 @@ class lane {
     }
     void end() {
         rk_status st = rk_status::ok;
-        const int outcome = rk_.end_step(st, error_norm_, step_factor_);
+        // the energy check: H at the trial step's end comes with its last stage (set_end_energy)
+        const int outcome = rk_.end_step(st, error_norm_, step_factor_, [this] {
+            const double e = end_energy_;
+            if (!(std::abs(e - h_start_) <= jump_)) return false;
+            h_end_ = e;
+            return true;
+        });
         if (outcome < 0) {
             r_.status = st;
             finish();
@@ -221,8 +220,9 @@ class lane {
                                     f0 = first4(rk_.derivative_previous());
         record_samples(rk_.t());
         if (step_is_quiet(quiet_bound_, h, x0, f0, x1, f1)) {
-            detail::skip_detectors(detectors_);
+            detail::skip_detectors(detectors_, skipped_);
         } else {
+            skipped_ = false;
             for (int i = 0; i < 2; ++i)
                 if (quiet_bound_[static_cast<std::size_t>(i)] >= 0)  // some detector tests angle i
                     ranges[i] = flip_angle_range(i, h, x0, f0, x1, f1);
@@ -291,6 +291,8 @@ class lane {
     /// per angle (th1, th2), the widest prefilter bound of its detectors (-1: none tests it)
     const std::array<double, 2> quiet_bound_;
     bool done_ = false;
+    bool skipped_ =
+        false;  ///< the detectors have been told of a quiet step since they last saw one
 };
 
 // Where a round's stages are kept, lane-major: the groups' vectors (V k[S][N] each, group after
@@ -336,18 +338,22 @@ struct lane_group {
     [[gnu::always_inline]] void stages_from(const pendulum_flow& flow) {
         V y[N];
         integrator::template stage_sum<s>(h, x0, k, y);
-        if constexpr (N == 4)
-            flow.lanes(y, k[s]);
-        else
-            flow.tangent_lanes(y, k[s]);
-        if constexpr (s == S - 1) {
-            // the trial step's end and f there, its energy for the energy check, its error norm
-            // and step-size factor (each lane's chain of square roots independent of the others)
+        if constexpr (s < S - 1) {
+            if constexpr (N == 4)
+                flow.lanes(y, k[s]);
+            else
+                flow.tangent_lanes(y, k[s]);
+        } else {
+            // the trial step's end: f and H there (for the energy check) from the same sines and
+            // cosines, the error norm and step-size factor
             V e;
-            flow.hamiltonian_lanes(y, e);
+            flow.template lanes_and_energy<N>(y, k[s], e);
             const rk_options& o = lanes[0]->rk().options();  // the same for every lane
             V first, second;
             integrator::error_sums(h, x0, y, k, o, first, second);
+            V err, factor;
+            integrator::error_norms(h, first, second, o, err);
+            integrator::step_factors(err, factor);
             for (std::size_t l = 0; l < g; ++l) {
                 double end[N], f[N];
                 for (std::size_t c = 0; c < N; ++c) {
@@ -356,8 +362,7 @@ struct lane_group {
                 }
                 lanes[l]->rk().set_trial_end(end, f);
                 lanes[l]->set_end_energy(e[l]);
-                const double err = integrator::error_norm_from(h[l], first[l], second[l], o);
-                lanes[l]->set_error_norm(err, integrator::step_factor(err));
+                lanes[l]->set_error_norm(err[l], factor[l]);
             }
         }
         if constexpr (s + 1 < S) stages_from<s + 1>(flow);

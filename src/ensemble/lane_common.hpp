@@ -81,10 +81,14 @@ inline void detect(const std::vector<flip_detector_base*>& detectors, const step
     }
 }
 
-/// A quiet step (the lane's quiet test passed): no detector is run, each only notes the step.
-inline void skip_detectors(const std::vector<flip_detector_base*>& detectors) {
+/// A quiet step (the lane's quiet test passed): no detector is run, each only notes the step
+/// (flip_detector_base::skip_step). Noting it again changes nothing, so after one quiet step
+/// (`skipped`, which the lane clears when the detectors see a step) the next ones cost nothing.
+inline void skip_detectors(const std::vector<flip_detector_base*>& detectors, bool& skipped) {
+    if (skipped) return;
     for (flip_detector_base* d : detectors)
         d->skip_step();
+    skipped = true;
 }
 
 /// One thread's share of an ensemble, for either runner (DOP853/DOPRI5 lanes, Taylor lanes):

@@ -297,8 +297,9 @@ class taylor_lane final : public step_interpolant {
         const double t0 = t_, t1 = last ? o_.time : t_ + h;
         record_samples(t1, x1);
         if (ranges_are_quiet(quiet_bound_, ranges)) {
-            skip_detectors(detectors_);
+            skip_detectors(detectors_, skipped_);
         } else {
+            skipped_ = false;
             const step_view view{t0, t1, x_, f_, x1, f1, *this, &ranges};
             detect(detectors_, view, o_.keep_crossings, found_, r_);
         }
@@ -389,6 +390,8 @@ class taylor_lane final : public step_interpolant {
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0;
     long steps_ = 0, check_rejections_ = 0;
     bool done_ = false;
+    bool skipped_ =
+        false;  ///< the detectors have been told of a quiet step since they last saw one
 };
 
 // The jets of a group of lanes, in the widest vectors of the instruction set (`flatten`

@@ -10,6 +10,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "flipflux/ensemble/fast_trig.hpp"
@@ -381,15 +382,52 @@ void expect_vector_lanes_equal_doubles() {
         });
         V first_v, second_v;
         rk::error_sums(hv, x0v, x1v, kv, o, first_v, second_v);
+        // the norms and step-size factors of the lanes: besides the random sums, both sums 0 (lane
+        // 0, every fourth trial), a NaN (lane 1) and sums making err tiny or huge
+        if (trial % 4 == 0) first_v[0] = second_v[0] = 0;
+        if (trial % 4 == 1) first_v[1] = std::numeric_limits<double>::quiet_NaN();
+        if (trial % 4 == 2) first_v[W - 1] *= 1e-290;
+        if (trial % 4 == 3) first_v[W - 1] *= 1e250;
+        V err_v, factor_v;
+        rk::error_norms(hv, first_v, second_v, o, err_v);
+        rk::step_factors(err_v, factor_v);
         for (int l = 0; l < W; ++l) {
             double first, second;
             rk::error_sums(h[l], x0[l], x1[l], k[l], o, first, second);
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(first_v[l]),
-                      std::bit_cast<std::uint64_t>(first));
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(second_v[l]),
-                      std::bit_cast<std::uint64_t>(second));
+            const bool edited =
+                std::bit_cast<std::uint64_t>(first_v[l]) != std::bit_cast<std::uint64_t>(first) ||
+                std::bit_cast<std::uint64_t>(second_v[l]) != std::bit_cast<std::uint64_t>(second);
+            if (!edited) {
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(first_v[l]),
+                          std::bit_cast<std::uint64_t>(first));
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(second_v[l]),
+                          std::bit_cast<std::uint64_t>(second));
+            }
+            first = first_v[l];
+            second = second_v[l];
             const double err = rk::error_norm_from(h[l], first, second, o);
-            ASSERT_TRUE(std::isfinite(err) && err > 0) << err;
+            const double factor = rk::step_factor(err);
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(err_v[l]), std::bit_cast<std::uint64_t>(err))
+                << "lane " << l << " err " << err;
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(factor_v[l]),
+                      std::bit_cast<std::uint64_t>(factor))
+                << "lane " << l << " err " << err;
+            // and both against the formulas written out: Hairer's norms, safety * err^(-1/q +
+            // 0.75 beta) at max(err, 1e-300) by pow, to a few ulp
+            const double m = 4;
+            double expected = 0;
+            if constexpr (Method::order == 5)
+                expected = std::sqrt(first / m);
+            else if (first != 0 || second != 0)
+                expected = h[l] * first / std::sqrt(m * (first + 0.01 * second));
+            if (std::isnan(first)) {
+                ASSERT_TRUE(std::isnan(err)) << err;
+                continue;
+            }
+            ASSERT_NEAR(err, expected, 4e-16 * expected) << "lane " << l;
+            const double q = -1.0 / Method::order + 0.75 * Method::beta;
+            const double expected_factor = Method::safety * std::pow(std::max(err, 1e-300), q);
+            ASSERT_NEAR(factor, expected_factor, 1e-15 * expected_factor) << "err " << err;
         }
     }
 }

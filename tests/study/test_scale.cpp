@@ -417,9 +417,11 @@ TEST(FastTrig, VectorTangentAndFourLaneRightHandSidesEqualTheSingleOnes) {
 // AVX-512): the right-hand side, its tangent equations and H of eight states at once, per lane
 // the bits of one state at a time. The tests above run the same templates in generic code; here
 // the compiler emits the wide instructions (masked blends, 512-bit divisions) the ensemble runs.
+// (lanes_and_energy: the right-hand side or its tangent form and H from one set of sines and
+// cosines, the last stage's evaluation: the bits of the three apart.)
 template <class V>
 struct flow_lanes_out {
-    V f[4], g[8], h;
+    V f[4], g[8], h, fe[4], he, ge[8], hg;
 };
 template <class V>
 [[gnu::always_inline]] inline void flow_lanes_at(const pendulum_flow& flow, const V (&t)[8],
@@ -427,6 +429,8 @@ template <class V>
     flow.lanes(t, out.f);
     flow.tangent_lanes(t, out.g);
     flow.hamiltonian_lanes(t, out.h);
+    flow.template lanes_and_energy<4>(t, out.fe, out.he);
+    flow.template lanes_and_energy<8>(t, out.ge, out.hg);
 }
 __attribute__((target("avx512f"), flatten)) void flow_lanes_avx512(const pendulum_flow& flow,
                                                                    const v8d (&t)[8],
@@ -485,9 +489,25 @@ TEST(FastTrig, WideInstructionSetsGiveTheBitsOfOneStateAtATime) {
             }
             if (avx512) {
                 EXPECT_TRUE(same_bits(o8.h[l], h)) << k << " " << l;
+                EXPECT_TRUE(same_bits(o8.he[l], h)) << k << " " << l;
+                EXPECT_TRUE(same_bits(o8.hg[l], h)) << k << " " << l;
+                for (int i = 0; i < 8; ++i) {
+                    if (i < 4) {
+                        EXPECT_TRUE(same_bits(o8.fe[i][l], f[i])) << k << " " << l << " " << i;
+                    }
+                    EXPECT_TRUE(same_bits(o8.ge[i][l], g[i])) << k << " " << l << " " << i;
+                }
             }
             if (l < 4) {
                 EXPECT_TRUE(same_bits(o4.h[l], h)) << k << " " << l;
+                EXPECT_TRUE(same_bits(o4.he[l], h)) << k << " " << l;
+                EXPECT_TRUE(same_bits(o4.hg[l], h)) << k << " " << l;
+                for (int i = 0; i < 8; ++i) {
+                    if (i < 4) {
+                        EXPECT_TRUE(same_bits(o4.fe[i][l], f[i])) << k << " " << l << " " << i;
+                    }
+                    EXPECT_TRUE(same_bits(o4.ge[i][l], g[i])) << k << " " << l << " " << i;
+                }
             }
         }
     }

@@ -54,16 +54,7 @@ class pendulum_flow {
                         [this](const std::array<double, 4>& one) { return (*this)(0.0, one); });
             return;
         }
-        const trig_lanes<V> g(x);
-        const double CC = k_.C * k_.C;
-        const V det = k_.D0 + CC * g.sd * g.sd;
-        const V w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
-        const V w2 = (k_.A * x[3] - k_.C * g.cd * x[2]) / det;
-        const V P = k_.C * g.sd * w1 * w2;
-        f[0] = w1;
-        f[1] = w2;
-        f[2] = -P - k_.alpha * g.s1;
-        f[3] = P - k_.beta * g.s2;
+        lanes_from(trig_lanes<V>(x), x, f);
     }
 
     /// tangent() at lanes_of<V> states at once, y[i] = (component i of each state): per lane
@@ -74,28 +65,7 @@ class pendulum_flow {
             per_lane<8>(y, f, [this](const std::array<double, 8>& one) { return tangent(one); });
             return;
         }
-        const trig_lanes<V> g(y);
-        const double C = k_.C;
-        const V det = k_.D0 + C * C * g.sd * g.sd;
-        const V n1 = k_.B * y[2] - C * g.cd * y[3];
-        const V n2 = k_.A * y[3] - C * g.cd * y[2];
-        const V w1 = n1 / det, w2 = n2 / det;
-        const V P = C * g.sd * w1 * w2;
-        const V dd = y[4] - y[5];
-        const V dsd = g.cd * dd, dcd = -g.sd * dd;
-        const V ddet = 2 * C * C * g.sd * dsd;
-        const V dn1 = k_.B * y[6] - C * (dcd * y[3] + g.cd * y[7]);
-        const V dn2 = k_.A * y[7] - C * (dcd * y[2] + g.cd * y[6]);
-        const V dw1 = (dn1 - w1 * ddet) / det, dw2 = (dn2 - w2 * ddet) / det;
-        const V dP = C * (dsd * w1 * w2 + g.sd * (dw1 * w2 + w1 * dw2));
-        f[0] = w1;
-        f[1] = w2;
-        f[2] = -P - k_.alpha * g.s1;
-        f[3] = P - k_.beta * g.s2;
-        f[4] = dw1;
-        f[5] = dw2;
-        f[6] = -dP - k_.alpha * g.c1 * y[4];
-        f[7] = dP - k_.beta * g.c2 * y[5];
+        tangent_lanes_from(trig_lanes<V>(y), y, f);
     }
 
     /// hamiltonian_absolute() at lanes_of<V> states at once, x[i] = (component i of each state):
@@ -108,11 +78,28 @@ class pendulum_flow {
                 h[lane] = hamiltonian_absolute({x[0][lane], x[1][lane], x[2][lane], x[3][lane]});
             return;
         }
+        energy_from(trig_lanes<V>(x), x, h);
+    }
+
+    /// lanes() or tangent_lanes() (N = 4 or 8) and hamiltonian_lanes() at the same states, their
+    /// sines and cosines computed once: the same bits as the three apart.
+    template <std::size_t N, class V>
+    [[gnu::always_inline]] void lanes_and_energy(const V x[N], V f[N], V& h) const {
+        static_assert(N == 4 || N == 8);
+        if (!fast_sincos_in_range(x[0]) || !fast_sincos_in_range(x[1])) {
+            if constexpr (N == 4)
+                lanes(x, f);
+            else
+                tangent_lanes(x, f);
+            hamiltonian_lanes(x, h);
+            return;
+        }
         const trig_lanes<V> g(x);
-        const V det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
-        const V kin =
-            (k_.B * x[2] * x[2] - 2 * k_.C * g.cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
-        h = kin + (k_.alpha * (1 - g.c1) + k_.beta * (1 - g.c2));
+        if constexpr (N == 4)
+            lanes_from(g, x, f);
+        else
+            tangent_lanes_from(g, x, f);
+        energy_from(g, x, h);
     }
 
     /// Angular velocities th' = M^-1 l.
@@ -203,6 +190,53 @@ class pendulum_flow {
             cd = c1 * c2 + s1 * s2;
         }
     };
+    // The bodies of lanes(), tangent_lanes() and hamiltonian_lanes() from the states' sines and
+    // cosines.
+    template <class V>
+    [[gnu::always_inline]] void lanes_from(const trig_lanes<V>& g, const V x[4], V f[4]) const {
+        const double CC = k_.C * k_.C;
+        const V det = k_.D0 + CC * g.sd * g.sd;
+        const V w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
+        const V w2 = (k_.A * x[3] - k_.C * g.cd * x[2]) / det;
+        const V P = k_.C * g.sd * w1 * w2;
+        f[0] = w1;
+        f[1] = w2;
+        f[2] = -P - k_.alpha * g.s1;
+        f[3] = P - k_.beta * g.s2;
+    }
+    template <class V>
+    [[gnu::always_inline]] void tangent_lanes_from(const trig_lanes<V>& g, const V y[8],
+                                                   V f[8]) const {
+        const double C = k_.C;
+        const V det = k_.D0 + C * C * g.sd * g.sd;
+        const V n1 = k_.B * y[2] - C * g.cd * y[3];
+        const V n2 = k_.A * y[3] - C * g.cd * y[2];
+        const V w1 = n1 / det, w2 = n2 / det;
+        const V P = C * g.sd * w1 * w2;
+        const V dd = y[4] - y[5];
+        const V dsd = g.cd * dd, dcd = -g.sd * dd;
+        const V ddet = 2 * C * C * g.sd * dsd;
+        const V dn1 = k_.B * y[6] - C * (dcd * y[3] + g.cd * y[7]);
+        const V dn2 = k_.A * y[7] - C * (dcd * y[2] + g.cd * y[6]);
+        const V dw1 = (dn1 - w1 * ddet) / det, dw2 = (dn2 - w2 * ddet) / det;
+        const V dP = C * (dsd * w1 * w2 + g.sd * (dw1 * w2 + w1 * dw2));
+        f[0] = w1;
+        f[1] = w2;
+        f[2] = -P - k_.alpha * g.s1;
+        f[3] = P - k_.beta * g.s2;
+        f[4] = dw1;
+        f[5] = dw2;
+        f[6] = -dP - k_.alpha * g.c1 * y[4];
+        f[7] = dP - k_.beta * g.c2 * y[5];
+    }
+    template <class V>
+    [[gnu::always_inline]] void energy_from(const trig_lanes<V>& g, const V x[4], V& h) const {
+        const V det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
+        const V kin =
+            (k_.B * x[2] * x[2] - 2 * k_.C * g.cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
+        h = kin + (k_.alpha * (1 - g.c1) + k_.beta * (1 - g.c2));
+    }
+
     lagrangian_coefficients<double> k_;
 };
 

@@ -39,6 +39,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "flipflux/core/names.hpp"
@@ -202,10 +203,16 @@ class explicit_rk {
     /// on vectors whose lanes are several integrators, from their start, end point and stages,
     /// then error_norm_from and step_factor per lane: the same bits).
     int end_step(rk_status& status, double err, double factor) {
+        return end_step(status, err, factor, [this] { return !check_ || check_(x_, x_new_); });
+    }
+    /// ... and with the step check given by the caller (check(): true passes; called only where
+    /// set_step_check's would be), in place of set_step_check's.
+    template <class Check>
+    int end_step(rk_status& status, double err, double factor, Check&& check) {
         const double h = trial_h_;
         const double tiny = 16 * std::numeric_limits<double>::epsilon() * std::abs(t_);
         if (opt_.fixed_step > 0 || err <= 1) {
-            if (opt_.fixed_step > 0 || !check_ || check_(x_, x_new_)) {
+            if (opt_.fixed_step > 0 || check()) {
                 accept(h, err, factor, trial_last_ ? trial_end_ : t_ + h);
                 return 1;
             }
@@ -331,6 +338,23 @@ class explicit_rk {
     static constexpr int S = Method::stages;
     static constexpr int SD = Method::stages + Method::dense_stages;
 
+    // The square root, of a double or lane by lane of a vector of doubles (SSE2's, two lanes at
+    // a time: correctly rounded, the same bits as std::sqrt).
+    template <class T>
+    [[gnu::always_inline]] static void sqrt_of(const T& x, T& r) {
+        if constexpr (std::is_floating_point_v<T>) {
+            r = std::sqrt(x);
+        } else {
+            using pair = double __attribute__((vector_size(16)));
+            for (std::size_t l = 0; l < sizeof(T) / sizeof(double); l += 2) {
+                const pair p = {x[l], x[l + 1]};
+                const pair q = __builtin_ia32_sqrtpd(p);
+                r[l] = q[0];
+                r[l + 1] = q[1];
+            }
+        }
+    }
+
     static void copy(const double* from, double* to) {
         for (std::size_t i = 0; i < N; ++i)
             to[i] = from[i];
@@ -450,20 +474,47 @@ class explicit_rk {
         }
     }
     /// The step-size update's factor before the PI term and the clamp: safety * err^(-1/q + 0.75
-    /// beta) at max(err, 1e-300) (the factor of a rejected step too, whose err exceeds 1).
-    static double step_factor(double err) {
-        return Method::safety * error_power(std::max(err, 1e-300));
+    /// beta) at max(err, 1e-300) (the factor of a rejected step too, whose err exceeds 1), for T
+    /// double or a vector whose lanes are several integrators (each lane's the same as a double's:
+    /// correctly rounded square roots; DOPRI5's pow lane by lane).
+    template <class T>
+    [[gnu::always_inline]] static void step_factors(const T& err, T& factor) {
+        const T tiny = T{} + 1e-300;
+        const T e = err < tiny ? tiny : err;  // std::max(err, 1e-300)
+        T p;
+        error_power(e, p);
+        factor = Method::safety * p;
     }
-    static double error_norm_from(double h, double first, double second, const rk_options& o) {
+    static double step_factor(double err) {
+        double factor;
+        step_factors(err, factor);
+        return factor;
+    }
+    /// The error norm from error_sums' sums, for T double or a vector of lanes (the same bits).
+    template <class T>
+    [[gnu::always_inline]] static void error_norms(const T& h, const T& first, const T& second,
+                                                   const rk_options& o, T& err) {
         const auto m = static_cast<double>(o.controlled_components);
         if constexpr (Method::order == 5) {
-            return std::sqrt(first / m);
+            sqrt_of(first / m, err);
         } else {
-            if (first == 0 && second == 0) return 0;
-            double deno = first + 0.01 * second;
-            if (!(deno > 0)) deno = 1;
-            return std::abs(h) * first / std::sqrt(deno * m);
+            // as a double: 0 when both sums are, else |h| s5 / sqrt(m (s5 + 0.01 s3)), the
+            // denominator 1 when it is not positive; lane by lane the same (|h| as in error_sums,
+            // h > 0 anyway)
+            const T one = T{} + 1.0;
+            T deno = first + 0.01 * second;
+            deno = deno > T{} ? deno : one;
+            const T ah = h < T{} ? -h : h;
+            T root;
+            sqrt_of(deno * m, root);
+            const T r = ah * first / root;
+            err = (first == T{}) & (second == T{}) ? T{} : r;
         }
+    }
+    static double error_norm_from(double h, double first, double second, const rk_options& o) {
+        double err;
+        error_norms(h, first, second, o, err);
+        return err;
     }
 
   private:
@@ -477,11 +528,23 @@ class explicit_rk {
     // err^(-1/q + 0.75 beta) of the step-size update; for DOP853 (q = 8, beta = 0) as
     // 1 / sqrt(sqrt(sqrt(err))): correctly rounded square roots, a few ulp from pow's value (the
     // factor is clamped to [1/3, 6] anyway) at a fifth of its cost.
-    static double error_power(double err) {
-        if constexpr (Method::order == 8 && Method::beta == 0)
-            return 1 / std::sqrt(std::sqrt(std::sqrt(err)));
-        else
-            return std::pow(err, -1.0 / Method::order + 0.75 * Method::beta);
+    template <class T>
+    [[gnu::always_inline]] static void error_power(const T& err, T& p) {
+        if constexpr (Method::order == 8 && Method::beta == 0) {
+            T r1, r2, r3;
+            sqrt_of(err, r1);
+            sqrt_of(r1, r2);
+            sqrt_of(r2, r3);
+            p = 1 / r3;
+        } else if constexpr (std::is_floating_point_v<T>) {
+            p = std::pow(err, -1.0 / Method::order + 0.75 * Method::beta);
+        } else {
+            for (std::size_t l = 0; l < sizeof(T) / sizeof(double); ++l) {
+                double one;
+                error_power(double(err[l]), one);
+                p[l] = one;
+            }
+        }
     }
 
     void accept(double h, double err, double factor, double t_new) {
