@@ -143,6 +143,10 @@ class lane {
     /// H (hamiltonian_absolute) at the trial step's end, from the vector evaluation of its last
     /// stage (vector_stages).
     void set_end_energy(double h) { end_energy_ = h; }
+    /// Whether the trial step is quiet (step_is_quiet with quiet_bound(), from the vector
+    /// evaluation of its stages).
+    void set_quiet(bool quiet) { quiet_ = quiet; }
+    const std::array<double, 2>& quiet_bound() const { return quiet_bound_; }
     /// The trial step's error norm and step-size factor (explicit_rk::step_factor), from the
     /// vector evaluation of the stages (vector_stages).
     void set_error_norm(double err, double factor) {
@@ -219,7 +223,7 @@ class lane {
         const std::array<double, 4> x0 = first4(rk_.x_previous()),
                                     f0 = first4(rk_.derivative_previous());
         record_samples(rk_.t());
-        if (step_is_quiet(quiet_bound_, h, x0, f0, x1, f1)) {
+        if (quiet_) {  // step_is_quiet(quiet_bound_, h, x0, f0, x1, f1), from vector_stages
             detail::skip_detectors(detectors_, skipped_);
         } else {
             skipped_ = false;
@@ -291,8 +295,9 @@ class lane {
     /// per angle (th1, th2), the widest prefilter bound of its detectors (-1: none tests it)
     const std::array<double, 2> quiet_bound_;
     bool done_ = false;
-    bool skipped_ =
-        false;  ///< the detectors have been told of a quiet step since they last saw one
+    /// the detectors have been told of a quiet step since they last saw one
+    bool skipped_ = false;
+    bool quiet_ = false;  ///< set_quiet
 };
 
 // Where a round's stages are kept, lane-major: the groups' vectors (V k[S][N] each, group after
@@ -355,14 +360,28 @@ struct lane_group {
             integrator::error_norms(h, first, second, o, err);
             integrator::step_factors(err, factor);
             for (std::size_t l = 0; l < g; ++l) {
+                Lane& lane = *lanes[l];
                 double end[N], f[N];
+                std::array<double, 4> a0, f0, a1, f1;
                 for (std::size_t c = 0; c < N; ++c) {
                     end[c] = y[c][l];
                     f[c] = k[s][c][l];
+                    if (c < 4) {
+                        a0[c] = x0[c][l];
+                        f0[c] = k[0][c][l];
+                        a1[c] = end[c];
+                        f1[c] = f[c];
+                    }
                 }
-                lanes[l]->rk().set_trial_end(end, f);
-                lanes[l]->set_end_energy(e[l]);
-                lanes[l]->set_error_norm(err[l], factor[l]);
+                integrator& rk = lane.rk();
+                rk.set_trial_end(end, f);
+                lane.set_end_energy(e[l]);
+                lane.set_error_norm(err[l], factor[l]);
+                // the quiet test of the step, should it be accepted (the lane's after_step), here
+                // in a loop whose lanes are independent (and with this target's rounding
+                // instructions for its ceil and floor)
+                lane.set_quiet(step_is_quiet(lane.quiet_bound(), rk.trial_end_time() - rk.t(), a0,
+                                             f0, a1, f1));
             }
         }
         if constexpr (s + 1 < S) stages_from<s + 1>(flow);

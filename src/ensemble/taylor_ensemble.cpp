@@ -390,8 +390,8 @@ class taylor_lane final : public step_interpolant {
     double energy_ = 0, jump_ = 0, h_start_ = 0, h_end_ = 0, log_growth_ = 0;
     long steps_ = 0, check_rejections_ = 0;
     bool done_ = false;
-    bool skipped_ =
-        false;  ///< the detectors have been told of a quiet step since they last saw one
+    /// the detectors have been told of a quiet step since they last saw one
+    bool skipped_ = false;
 };
 
 // The jets of a group of lanes, in the widest vectors of the instruction set (`flatten`

@@ -164,6 +164,8 @@ class explicit_rk {
     /// dense output is used (after an accepted step, before dense()); the error norm and the
     /// step-size factor come with end_step (error_sums, error_norm_from, step_factor).
     double trial_step() const { return trial_h_; }
+    /// Where the trial step ends: t() after it, if accepted.
+    double trial_end_time() const { return trial_last_ ? trial_end_ : t_ + trial_h_; }
     void set_trial_end(const double* y, const double* f) {
         copy(y, x_new_.data());
         copy(f, k_[S - 1]);
@@ -213,7 +215,7 @@ class explicit_rk {
         const double tiny = 16 * std::numeric_limits<double>::epsilon() * std::abs(t_);
         if (opt_.fixed_step > 0 || err <= 1) {
             if (opt_.fixed_step > 0 || check()) {
-                accept(h, err, factor, trial_last_ ? trial_end_ : t_ + h);
+                accept(h, err, factor, trial_end_time());
                 return 1;
             }
             // the error estimate passed but the step check failed: halve and retry
