@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/model/double_pendulum.hpp"
@@ -34,12 +35,9 @@ class pendulum_flow {
     /// Hamilton's equations (th1', th2', l1', l2'); t is ignored (autonomous).
     std::array<double, 4> operator()(double, const std::array<double, 4>& state) const {
         const double* x = state.data();
-        const trig g(x);
-        const double det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
-        const double w1 = (k_.B * x[2] - k_.C * g.cd * x[3]) / det;
-        const double w2 = (k_.A * x[3] - k_.C * g.cd * x[2]) / det;
-        const double P = k_.C * g.sd * w1 * w2;
-        return {w1, w2, -P - k_.alpha * g.s1, P - k_.beta * g.s2};
+        std::array<double, 4> f;
+        lanes_from(trig_lanes<double>(x), x, f.data());
+        return f;
     }
 
     /// Hamilton's equations at lanes_of<V> states at once (V = v2d, v4d or v8d), x[i] = (component
@@ -114,11 +112,9 @@ class pendulum_flow {
     /// absolute error of a few ulp of max(E, 1), for the per-step energy check and drift (the
     /// relative accuracy of hamiltonian() near the bottom of the well is not needed there).
     double hamiltonian_absolute(const std::array<double, 4>& x) const {
-        const trig g(x.data());
-        const double det = k_.D0 + k_.C * k_.C * g.sd * g.sd;
-        const double kin =
-            (k_.B * x[2] * x[2] - 2 * k_.C * g.cd * x[2] * x[3] + k_.A * x[3] * x[3]) / (2 * det);
-        return kin + (k_.alpha * (1 - g.c1) + k_.beta * (1 - g.c2));
+        double h;
+        energy_from(trig_lanes<double>(x.data()), x.data(), h);
+        return h;
     }
 
     /// H = 1/2 l^T M^-1 l + 2 alpha sin^2(th1/2) + 2 beta sin^2(th2/2).
@@ -134,24 +130,9 @@ class pendulum_flow {
 
     /// Hamilton's equations and their tangent equations: state (x, v), v' = J(x) v.
     std::array<double, 8> tangent(const std::array<double, 8>& state) const {
-        const double* y = state.data();
-        const double* x = y;
-        const trig g(x);
-        const double C = k_.C;
-        const double det = k_.D0 + C * C * g.sd * g.sd;
-        const double n1 = k_.B * x[2] - C * g.cd * x[3];
-        const double n2 = k_.A * x[3] - C * g.cd * x[2];
-        const double w1 = n1 / det, w2 = n2 / det;
-        const double P = C * g.sd * w1 * w2;
-        const double dd = y[4] - y[5];
-        const double dsd = g.cd * dd, dcd = -g.sd * dd;
-        const double ddet = 2 * C * C * g.sd * dsd;
-        const double dn1 = k_.B * y[6] - C * (dcd * x[3] + g.cd * y[7]);
-        const double dn2 = k_.A * y[7] - C * (dcd * x[2] + g.cd * y[6]);
-        const double dw1 = (dn1 - w1 * ddet) / det, dw2 = (dn2 - w2 * ddet) / det;
-        const double dP = C * (dsd * w1 * w2 + g.sd * (dw1 * w2 + w1 * dw2));
-        return {w1,  w2,  -P - k_.alpha * g.s1,         P - k_.beta * g.s2,
-                dw1, dw2, -dP - k_.alpha * g.c1 * y[4], dP - k_.beta * g.c2 * y[5]};
+        std::array<double, 8> f;
+        tangent_lanes_from(trig_lanes<double>(state.data()), state.data(), f.data());
+        return f;
     }
 
     const lagrangian_coefficients<double>& coefficients() const { return k_; }
@@ -171,27 +152,26 @@ class pendulum_flow {
         }
     }
 
-    struct trig {
-        double s1, c1, s2, c2, sd, cd;
-        explicit trig(const double* x) {
-            fast_sincos2(x[0], x[1], s1, c1, s2, c2);
-            sd = s1 * c2 - c1 * s2;
-            cd = c1 * c2 + s1 * s2;
-        }
-    };
-    /// trig at lanes_of<V> states at once (x[0], x[1]: the angles of each lane).
+    /// The sines and cosines of the angles and of their difference, of one state (V = double)
+    /// or of lanes_of<V> states at once (x[0], x[1]: the angles of each lane): each lane the bits
+    /// of one state.
     template <class V>
     struct trig_lanes {
         V s1, c1, s2, c2, sd, cd;
         [[gnu::always_inline]] explicit trig_lanes(const V* x) {
-            fast_sincos_lanes(x[0], s1, c1);
-            fast_sincos_lanes(x[1], s2, c2);
+            if constexpr (std::is_same_v<V, double>) {
+                fast_sincos2(x[0], x[1], s1, c1, s2, c2);
+            } else {
+                fast_sincos_lanes(x[0], s1, c1);
+                fast_sincos_lanes(x[1], s2, c2);
+            }
             sd = s1 * c2 - c1 * s2;
             cd = c1 * c2 + s1 * s2;
         }
     };
-    // The bodies of lanes(), tangent_lanes() and hamiltonian_lanes() from the states' sines and
-    // cosines.
+    // Hamilton's equations, their tangent form and H (hamiltonian_absolute) from the states' sines
+    // and cosines: one state (V = double: operator(), tangent(), hamiltonian_absolute()) or
+    // several (lanes(), tangent_lanes(), hamiltonian_lanes()), the same operations.
     template <class V>
     [[gnu::always_inline]] void lanes_from(const trig_lanes<V>& g, const V x[4], V f[4]) const {
         const double CC = k_.C * k_.C;
