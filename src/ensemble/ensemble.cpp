@@ -302,7 +302,7 @@ class lane {
 
 // Where a round's stages are kept, lane-major: the groups' vectors (V k[S][N] each, group after
 // group), alive until every lane of the round has ended its step. A lane reads its own stages
-// from them only when its dense output is used (stage_source).
+// from them only when its dense output is used (lane::set_stage_source, load_stages).
 template <class Lane>
 struct round_stages {
     static constexpr std::size_t bytes = max_lanes * Lane::stages * Lane::N * sizeof(double);

@@ -162,7 +162,7 @@ class explicit_rk {
     /// over the trial step's end (the last stage's point) and f there with set_trial_end, which
     /// counts the stages' evaluations, and the stages in between with set_stage only where the
     /// dense output is used (after an accepted step, before dense()); the error norm and the
-    /// step-size factor come with end_step (error_sums, error_norm_from, step_factor).
+    /// step-size factor come with end_step (error_sums, error_norms, step_factors).
     double trial_step() const { return trial_h_; }
     /// Where the trial step ends: t() after it, if accepted.
     double trial_end_time() const { return trial_last_ ? trial_end_ : t_ + trial_h_; }
@@ -510,7 +510,7 @@ class explicit_rk {
             T root;
             sqrt_of(deno * m, root);
             const T r = ah * first / root;
-            err = (first == T{}) & (second == T{}) ? T{} : r;
+            err = ((first == T{}) & (second == T{})) ? T{} : r;
         }
     }
     static double error_norm_from(double h, double first, double second, const rk_options& o) {
