@@ -196,6 +196,29 @@ trajectory_spec read_trajectory(table_reader& r, int index) {
     return t;
 }
 
+// The scene's [[key]] tables (ensembles, trajectories): each read by `read(reader, index)` (index
+// from 1) into `out`; their names must differ, since a name is where the outputs go.
+template <class Spec, class Read>
+void read_named_tables(table_reader& top, const std::string& fname, const std::string& key,
+                       Read&& read, std::vector<Spec>& out) {
+    const toml::node* n = top.get(key);
+    if (n == nullptr) return;
+    const toml::array* list = n->as_array();
+    if (list == nullptr || !list->is_array_of_tables())
+        top.fail(n, key, "expected [[" + key + "]] tables");
+    int index = 0;
+    for (const toml::node& e : *list) {
+        table_reader r(*e.as_table(), fname, key + "[" + std::to_string(index++) + "]");
+        out.push_back(read(r, index));
+        for (std::size_t j = 0; j + 1 < out.size(); ++j)
+            if (out[j].name == out.back().name)
+                r.fail(r.get("name"), "name",
+                       "'" + out.back().name + "' is already the name of the " + key + " at line " +
+                           std::to_string(out[j].line) +
+                           " (their outputs would overwrite each other)");
+    }
+}
+
 golden_spec read_golden(table_reader& r) {
     golden_spec g;
     g.line = r.line();
@@ -398,42 +421,8 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         table_reader r(*t, fname, "orbits");
         s.orbits = read_orbits(r);
     }
-    if (const toml::node* n = top.get("ensemble")) {
-        const toml::array* list = n->as_array();
-        if (list == nullptr || !list->is_array_of_tables()) {
-            top.fail(n, "ensemble", "expected [[ensemble]] tables");
-        }
-        int index = 0;
-        for (const toml::node& e : *list) {
-            table_reader r(*e.as_table(), fname, "ensemble[" + std::to_string(index++) + "]");
-            s.ensembles.push_back(read_ensemble(r, index));
-            for (std::size_t j = 0; j + 1 < s.ensembles.size(); ++j)
-                if (s.ensembles[j].name == s.ensembles.back().name)
-                    r.fail(r.get("name"), "name",
-                           "'" + s.ensembles.back().name +
-                               "' is already the name of the ensemble at line " +
-                               std::to_string(s.ensembles[j].line) +
-                               " (their outputs would overwrite each other)");
-        }
-    }
-    if (const toml::node* n = top.get("trajectory")) {
-        const toml::array* list = n->as_array();
-        if (list == nullptr || !list->is_array_of_tables()) {
-            top.fail(n, "trajectory", "expected [[trajectory]] tables");
-        }
-        int index = 0;
-        for (const toml::node& e : *list) {
-            table_reader r(*e.as_table(), fname, "trajectory[" + std::to_string(index++) + "]");
-            s.trajectories.push_back(read_trajectory(r, index));
-            for (std::size_t j = 0; j + 1 < s.trajectories.size(); ++j)
-                if (s.trajectories[j].name == s.trajectories.back().name)
-                    r.fail(r.get("name"), "name",
-                           "'" + s.trajectories.back().name +
-                               "' is already the name of the trajectory at line " +
-                               std::to_string(s.trajectories[j].line) +
-                               " (their outputs would overwrite each other)");
-        }
-    }
+    read_named_tables(top, fname, "ensemble", read_ensemble, s.ensembles);
+    read_named_tables(top, fname, "trajectory", read_trajectory, s.trajectories);
     if (const toml::table* t = top.subtable("golden")) {
         table_reader r(*t, fname, "golden");
         s.golden = read_golden(r);
