@@ -199,6 +199,20 @@ double flipflux_bench_rhs_seconds(const pendulum_flow& flow, const std::vector<s
     return t[2];
 }
 
+// The benches' ensemble: energy E, T time units per trajectory, seed 1, rtol = atol = 1e-10,
+// one thread, no chaos indicator.
+ensemble_options bench_options(double E, double T, integration_method method) {
+    ensemble_options o;
+    o.energy = E;
+    o.time = T;
+    o.seed = 1;
+    o.rtol = 1e-10;
+    o.threads = 1;
+    o.chaos = false;
+    o.method = method;
+    return o;
+}
+
 void ensemble_vs_odeint(benchmark::State& state) {
     const double_pendulum<double> m;
     const double E = 5, T = 100;
@@ -212,14 +226,8 @@ void ensemble_vs_odeint(benchmark::State& state) {
     const std::vector<plain_curve> curves{plain(upright_curve<double>{arm::two}),
                                           plain(approximate_saddle_curve(m, arm::two)),
                                           plain(make_saddle_curve<double>(m, orbit))};
-    ensemble_options o;
-    o.energy = E;
-    o.time = T;
-    o.seed = 1;
-    o.rtol = 1e-10;
-    o.threads = 1;
-    o.chaos = false;
-    o.method = state.range(0) == 0 ? integration_method::dop853 : integration_method::dopri5;
+    const ensemble_options o = bench_options(
+        E, T, state.range(0) == 0 ? integration_method::dop853 : integration_method::dopri5);
     ensemble_options chaos = o;
     chaos.chaos = true;
     std::array<long, 3> ours{}, theirs{};
@@ -311,14 +319,7 @@ void ensemble_rhs_fraction(benchmark::State& state) {
     const char* names[3] = {"upright", "approx", "saddle"};
     for (std::int64_t c = 0; c < state.range(1); ++c)
         criteria.push_back(make_criterion(m, arm::two, names[c], E));
-    ensemble_options o;
-    o.energy = E;
-    o.time = T;
-    o.seed = 1;
-    o.rtol = 1e-10;
-    o.threads = 1;
-    o.chaos = false;
-    o.method = integration_method::dop853;
+    const ensemble_options o = bench_options(E, T, integration_method::dop853);
     double cpu = 0, units = 0;
     long evaluations = 0;
     std::vector<state4> starts;
