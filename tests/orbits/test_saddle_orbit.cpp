@@ -378,6 +378,46 @@ TEST(SaddleOrbit, FamilyOfAHeavySecondArmPassesWhereCoarsePilotRunsAgreed) {
     EXPECT_LE(std::abs(o.period - 1.42531863364656566099282113857810871), o.error_estimate_period);
 }
 
+// Very unstable orbits at double, where the periodic residual's rounding floor eps |mu| is large:
+// the periodic period's error estimate must still cover its actual error (found by a randomized
+// sweep of the command line, 2026-12-01: the estimates were 11x and 10x below the errors). The
+// references are the quad solves' periods (`eval period --precision quad`, error estimates
+// 2.07e-32 and 1.12e-30), a higher precision, and the symmetric formulation's double solution,
+// an independent formulation.
+TEST(SaddleOrbit, PeriodicErrorEstimatesCoverTheRoundingFloorOfVeryUnstableOrbits) {
+    struct unstable_case {
+        physical_parameters<double> p;
+        arm a;
+        double energy;
+        double quad_period;
+        double min_multiplier;
+    };
+    physical_parameters<double> converged;  // |mu| = 9.0e10: the periodic iteration converges
+    converged.m1 = 0.6268, converged.m2 = 1.522, converged.L1 = converged.a1 = 4.369;
+    converged.L2 = converged.a2 = 0.9752, converged.g = 4.816;
+    physical_parameters<double> stalled;  // |mu| = 1.7e14: it stalls at its rounding floor
+    stalled.m1 = 1, stalled.m2 = 0.05, stalled.L1 = stalled.a1 = 1;
+    stalled.L2 = stalled.a2 = 10, stalled.g = 0.5;
+    const unstable_case cases[] = {
+        {converged, arm::two, 41.42421294592, 6.14986159015852869002189429737476252, 1e10},
+        {stalled, arm::one, 1.5, 45.958977251458681414934759897835382, 1e13}};
+    for (const unstable_case& c : cases) {
+        const double_pendulum<double> model(c.p);
+        const auto per = solve_saddle_orbit(model, c.a, c.energy, {orbit_method::periodic});
+        const auto sym = solve_saddle_orbit(model, c.a, c.energy, {orbit_method::symmetric});
+        ASSERT_NE(per.status, orbit_status::not_converged) << per.double_stage;
+        ASSERT_EQ(sym.status, orbit_status::converged) << sym.double_stage;
+        ASSERT_GT(std::abs(per.floquet.multiplier), c.min_multiplier);
+        const double error = std::abs(per.period - c.quad_period);
+        EXPECT_LE(error, per.error_estimate_period) << "E = " << c.energy;
+        // honest but not absurd: within 100x of the actual error
+        EXPECT_LE(per.error_estimate_period, 100 * error) << "E = " << c.energy;
+        // the symmetric formulation (amplification ~ |mu|^(1/4)) is accurate here
+        EXPECT_LE(std::abs(sym.period - c.quad_period), sym.error_estimate_period);
+        EXPECT_LE(sym.error_estimate_period, 1e-12 * sym.period);
+    }
+}
+
 // A light long first link, a heavy short second one (docs/limits.md): with the step counts of the
 // coarse runs that agreed with each other, the arm-1 continuation of the build of 19fb772
 // converged to the family's orbit traversed several times (T, F exactly 3x and the multiplier
