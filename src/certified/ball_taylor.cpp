@@ -1,6 +1,8 @@
 // The rigorous Taylor integrator (ball_taylor.hpp; docs/certified.md#the-rigorous-taylor-step).
 #include "ball_taylor.hpp"
 
+#include "flipflux/core/budget.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -140,7 +142,16 @@ bool integrate_rigorous(ball_vector_field& f, arb_ptr y, const arb_t duration, s
     bool ok = true, expanded = false, done = false;
     arb_ball H, Hp, acc, rem;
     std::vector<double> scale;
+    // the CPU-time budget (eval --max-seconds), checked once a step: the temporaries above are
+    // cleared before budget_exceeded leaves
+    bool over_budget = false;
     while (ok && !done) {
+        try {
+            check_cpu_budget();
+        } catch (const budget_exceeded&) {
+            over_budget = true;
+            break;
+        }
         if (!expanded) {
             expand(f, y, thin, prec);
             scale = group_scales(f, thin);
@@ -214,6 +225,7 @@ bool integrate_rigorous(ball_vector_field& f, arb_ptr y, const arb_t duration, s
     if (stats) stats->order = static_cast<int>(p);
     arf_clear(t), arf_clear(end), arf_clear(h), arf_clear(remaining), arf_clear(hi);
     mag_clear(spread);
+    if (over_budget) throw budget_exceeded("the CPU-time budget of this computation is spent");
     return ok && done;
 }
 

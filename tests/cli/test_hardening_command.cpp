@@ -181,6 +181,17 @@ TEST(HardeningCommand, PrecisionBeyondTheTimeBoundIsRefusedWithAnEstimate) {
                     {"--precision", "Taylor"});
 }
 
+// --certify honours --max-seconds: the rigorous integration of the orbit's proof checks the CPU
+// budget once a step (found by a randomized sweep of the command line, 2026-12-01: this command
+// ran past 120 s with --max-seconds 20, a rigid pendulum's arm-1 orbit whose proof is long; without
+// --certify it takes 0.24 s).
+TEST(HardeningCommand, CertificationStopsAtTheTimeBound) {
+    expect_one_line(
+        "eval period --arm 1 --energy 91.612 --m1 0.3 --m2 4 --L1 0.8 --L2 2.5 --a1 0.2 --a2 2.4 "
+        "--I1 0 --I2 1.3 --g 3.7 --certify --max-seconds 1",
+        2, {"--max-seconds", "did not finish in its 1 CPU seconds"});
+}
+
 /// A scene in the scratch folder with its output there too.
 std::string scene_with(const scratch& s, const std::string& body) {
     s.write("s.toml", "[scene]\nname = \"h\"\noutput = \"" + s / "out" + "\"\n" + body);
