@@ -159,6 +159,34 @@ orbit_guess<Real> linear_guess(const double_pendulum<Real>& model, arm a) {
 
 using namespace saddle_polish;  // the solver's stages
 
+namespace {
+
+/// The periodic residual's rounding floor (~ eps |mu| of the orbit's scale) can leave T farther
+/// from the orbit's than the iteration's corrections show, stalled or converged (double: arm 1 of
+/// --m1 1 --m2 0.05 --L1 1 --L2 10 --g 0.5 at E = 1.5, |mu| = 1.7e14, stalled, T off by 1.4e-7
+/// relative against 4 x its last correction, 1.5e-8; arm 2 of --m1 0.6268 --m2 1.522 --L1 4.369
+/// --L2 0.9752 --g 4.816 at E = 41.42421294592, |mu| = 9.0e10, converged, T off by 1.3e-11
+/// relative against an estimate of 1.2e-12). Where that floor exceeds 1e-9, the symmetric
+/// formulation solved from the periodic solution `p` (a quarter period: amplification
+/// ~ |mu|^(1/4)) is an independent solution of the same orbit: the two periods' difference (0 if
+/// it does not converge; 0 where the periodic formulation was not used or its floor is below
+/// that), of which twice is taken as the period's error if that is larger.
+template <class Real>
+Real symmetric_period_gap(const detail::shooting_setup<Real>& setup,
+                          const orbit_options<Real>& options, const Real& tol, long quarter_steps,
+                          const polish<Real>& p, bool periodic_used) {
+    using std::abs;
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    if (!periodic_used || p.chord || !(eps * abs(p.orbit.floquet.multiplier) > Real(1e-9)))
+        return 0;
+    saddle_orbit<Real> scratch;  // (the cross-check's iteration records its own)
+    polish<Real> q{setup, options, tol, quarter_steps, scratch, p.beta, p.period};
+    q.newton(false);
+    return !q.failed && (q.converged || q.stalled) ? Real(abs(q.period - p.period)) : Real(0);
+}
+
+}  // namespace
+
 template <class Real>
 saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a,
                                        const level_arg<Real>& energy,
@@ -260,23 +288,6 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     orbit.monodromy = periodic_used ? p.phi : monodromy_from_quarter(p.phi);
     orbit.floquet = floquet_analysis(orbit.monodromy);
     orbit.period_derivative = period_derivative(setup, p, periodic_used);
-    // NOTE: the periodic residual's rounding floor (~ eps |mu| of the orbit's scale) can leave T
-    // farther from the orbit's than the iteration's corrections show, stalled or converged
-    // (double: arm 1 of --m1 1 --m2 0.05 --L1 1 --L2 10 --g 0.5 at E = 1.5, |mu| = 1.7e14,
-    // stalled, T off by 1.4e-7 relative against 4 x its last correction, 1.5e-8; arm 2 of --m1
-    // 0.6268 --m2 1.522 --L1 4.369 --L2 0.9752 --g 4.816 at E = 41.42421294592, |mu| = 9.0e10,
-    // converged, T off by 1.3e-11 relative against an estimate of 1.2e-12). Where that floor
-    // exceeds 1e-9, the symmetric formulation solved from the periodic solution (a quarter
-    // period: amplification ~ |mu|^(1/4)) is an independent solution of the same orbit, and
-    // twice the two periods' difference is taken as the period's error if it is larger.
-    Real symmetric_gap = 0;
-    if (periodic_used && !p.chord && eps * abs(orbit.floquet.multiplier) > Real(1e-9)) {
-        saddle_orbit<Real> scratch;  // (the cross-check's iteration records its own)
-        polish<Real> q{setup, options, tol, quarter_steps, scratch, p.beta, p.period};
-        q.newton(false);
-        if (!q.failed && (q.converged || q.stalled)) symmetric_gap = abs(q.period - p.period);
-    }
-
     // ---- error estimates ---------------------------------------------------------------------
     // NOTE: besides the integration and Newton errors, rounding perturbs the orbit's energy by
     // about eps (E - E_s) (the frame's quantities are all on that scale; plus the measured
@@ -291,7 +302,8 @@ saddle_orbit<Real> refine_saddle_orbit(const double_pendulum<Real>& model, arm a
     const Real rel = max({integration_error, update, 16 * eps});
     const Real denergy = (4 * eps + orbit.energy_error) * excess;
     orbit.error_estimate_period =
-        max(rel * orbit.period + abs(orbit.period_derivative) * denergy, 2 * symmetric_gap);
+        max(rel * orbit.period + abs(orbit.period_derivative) * denergy,
+            2 * symmetric_period_gap(setup, options, tol, quarter_steps, p, periodic_used));
     orbit.error_estimate_action = rel * orbit.action + orbit.period * denergy;
     return orbit;
 }
