@@ -230,7 +230,9 @@ class lane {
             for (int i = 0; i < 2; ++i)
                 if (quiet_bound_[static_cast<std::size_t>(i)] >= 0)  // some detector tests angle i
                     ranges[i] = flip_angle_range(i, h, x0, f0, x1, f1);
-            const step_view view{rk_.t_previous(), rk_.t(), x0, f0, x1, f1, dense_, &ranges};
+            step_samples samples;  // the examinations' shared samples of this step
+            step_view view{rk_.t_previous(), rk_.t(), x0, f0, x1, f1, dense_, &ranges};
+            view.samples = &samples;
             detail::detect(detectors_, view, o_.keep_crossings, found_, r_);
         }
         // h_end_ = H(x1), evaluated by the energy check

@@ -300,7 +300,9 @@ class taylor_lane final : public step_interpolant {
             skip_detectors(detectors_, skipped_);
         } else {
             skipped_ = false;
-            const step_view view{t0, t1, x_, f_, x1, f1, *this, &ranges};
+            step_samples samples;  // the examinations' shared samples of this step
+            step_view view{t0, t1, x_, f_, x1, f1, *this, &ranges};
+            view.samples = &samples;
             detect(detectors_, view, o_.keep_crossings, found_, r_);
         }
         ++steps_;

@@ -13,6 +13,7 @@
 //     monotone in the range and the bound.
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -100,6 +101,75 @@ TEST(FlipDetector, GrazingDoubleCrossingInsideOneStep) {
         }
         EXPECT_EQ(d->examined_steps(), 1);
     }
+}
+
+// The detectors of one trajectory share a step's examination samples (step_view::samples): the
+// same crossings, bit for bit, as each evaluating its own, whichever detector examines first, and
+// fewer evaluations of the dense output.
+TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    // th2 oscillates about pi while th1 drifts: crossings of the upright line and of the line
+    // th2 = pi + 0.2 th1 in the same steps, some grazing
+    path p{[](double t) {
+        return std::array<double, 4>{-0.4 + 0.1 * t, pi + 0.3 * std::sin(7 * t) + 0.01 * t, 0.1,
+                                     2.1 * std::cos(7 * t) + 0.01};
+    }};
+    class counting final : public step_interpolant {
+      public:
+        explicit counting(const step_interpolant& d) : d_(d) {}
+        std::array<double, 4> state(double t) const override {
+            ++calls;
+            return d_.state(t);
+        }
+        mutable long calls = 0;
+
+      private:
+        const step_interpolant& d_;
+    };
+    const path_interpolant base(m, p);
+    auto run = [&](bool share, bool reversed, long& calls) {
+        std::vector<std::unique_ptr<flip_detector_base>> ds;
+        ds.push_back(make_flip_detector(upright_curve<double>{arm::two}, flow));
+        ds.push_back(make_flip_detector(linear_curve{}, flow));
+        if (reversed) std::swap(ds[0], ds[1]);
+        const counting interp(base);
+        std::vector<std::vector<crossing>> out(2);
+        auto x0 = base.state(0.0), f0 = flow(0, x0);
+        for (auto& d : ds)
+            d->start(x0, f0);
+        const int steps = 40;
+        for (int i = 0; i < steps; ++i) {
+            const double a = 3.0 * i / steps, b = 3.0 * (i + 1) / steps;
+            const auto x1 = base.state(b), f1 = flow(0, x1);
+            step_samples samples;
+            step_view v{a, b, x0, f0, x1, f1, interp};
+            if (share) v.samples = &samples;
+            for (std::size_t k = 0; k < 2; ++k)
+                ds[k]->step(v, out[reversed ? 1 - k : k]);
+            x0 = x1;
+            f0 = f1;
+        }
+        calls = interp.calls;
+        return out;
+    };
+    long own = 0, shared = 0, shared_reversed = 0;
+    const auto a = run(false, false, own);
+    const auto b = run(true, false, shared);
+    const auto c = run(true, true, shared_reversed);
+    for (std::size_t k = 0; k < 2; ++k) {
+        ASSERT_GE(a[k].size(), 4u) << k;
+        for (const auto* other : {&b, &c}) {
+            ASSERT_EQ((*other)[k].size(), a[k].size()) << k;
+            for (std::size_t j = 0; j < a[k].size(); ++j) {
+                EXPECT_EQ((*other)[k][j].time, a[k][j].time) << k << " " << j;
+                EXPECT_EQ((*other)[k][j].direction, a[k][j].direction);
+                EXPECT_EQ((*other)[k][j].s, a[k][j].s);
+            }
+        }
+    }
+    EXPECT_LT(shared, own);
+    EXPECT_EQ(shared_reversed, shared);
 }
 
 TEST(FlipDetector, SeveralLevelsInOneStepAndStepBoundaries) {

@@ -69,6 +69,32 @@ class step_interpolant {
     ~step_interpolant() = default;
 };
 
+/// The examinations' samples of one step at 1/4, 1/2 and 3/4 of it (flip_detector's step 2): the
+/// dense output's state and the angular velocities there, computed by the first detector that
+/// examines the step and reused by the others of its trajectory (the same bits: the same dense
+/// output at the same times). Lives for one step (step_view::samples).
+class step_samples {
+  public:
+    struct sample {
+        std::array<double, 4> x;
+        std::array<double, 2> w;
+    };
+    /// Sample q (0, 1, 2) at time t (the same t for every caller in the step).
+    const sample& at(int q, double t, const step_interpolant& dense, const pendulum_flow& flow) {
+        const auto k = static_cast<std::size_t>(q);
+        if (!have_[k]) {
+            s_[k].x = dense.state(t);
+            s_[k].w = flow.velocities(s_[k].x);
+            have_[k] = true;
+        }
+        return s_[k];
+    }
+
+  private:
+    std::array<sample, 3> s_{};
+    std::array<bool, 3> have_{};
+};
+
 /// What a detector is told about one accepted step.
 struct step_view {
     double t0, t1;
@@ -84,6 +110,8 @@ struct step_view {
     /// each detector computing it); the Taylor lanes' a bound of the step's polynomial itself
     /// (pendulum_taylor.hpp: taylor_angle_range).
     const std::array<std::array<double, 2>, 2>* angle_ranges = nullptr;
+    /// Optional (null: each detector evaluates its own): the step's shared examination samples.
+    step_samples* samples = nullptr;
 };
 
 namespace detail {
@@ -349,9 +377,13 @@ class flip_detector final : public flip_detector_base {
         return s - two_pi * std::round((s - centre_) / two_pi);
     }
 
-    value evaluate(const std::array<double, 4>& x, const std::array<double, 2>& w) const {
+    // The curve at the state's angles: phi, s, and h'(s) (0 outside the domain).
+    struct on_curve {
+        double phi, s, slope;
+        std::array<double, 2> q;
+    };
+    on_curve locate(const std::array<double, 4>& x) const {
         const std::array<double, 2> q = curve_coordinates(arm_, x[0], x[1]);
-        const std::array<double, 2> qd = curve_coordinates(arm_, w[0], w[1]);
         const double s = reduce(q[0]);
         const bool inside = s >= lo_ && s <= hi_;
         const double sc = inside ? s : std::clamp(s, lo_, hi_);
@@ -372,13 +404,24 @@ class flip_detector final : public flip_detector_base {
             offset = curve_.offset(sc);
             slope = inside ? double(curve_.slope(sc)) : 0.0;
         }
-        return {q[1] - pi - offset, qd[1] - slope * qd[0], s};
+        return {q[1] - pi - offset, s, slope, q};
     }
 
+    value evaluate(const std::array<double, 4>& x, const std::array<double, 2>& w) const {
+        const on_curve c = locate(x);
+        const std::array<double, 2> qd = curve_coordinates(arm_, w[0], w[1]);
+        return {c.phi, qd[1] - c.slope * qd[0], c.s};
+    }
+
+    value evaluate(const step_samples::sample& p) const { return evaluate(p.x, p.w); }
     value evaluate_at(const step_view& v, double t) const {
         const std::array<double, 4> x = v.dense.state(t);
         return evaluate(x, flow_.velocities(x));
     }
+
+    // phi (and s) on the dense output without phi' (the velocities): the level searches' function,
+    // the same bits as evaluate_at's phi and s.
+    on_curve locate_at(const step_view& v, double t) const { return locate(v.dense.state(t)); }
 
     static int hermite_range(double p0, double p1, double m0, double m1, double& lo, double& hi,
                              std::array<double, 2>* critical = nullptr) {
@@ -401,21 +444,24 @@ class flip_detector final : public flip_detector_base {
     int examine(const step_view& v, const value& end, const std::array<double, 2>& crit, int ncrit,
                 bool first, std::vector<crossing>& out) {
         const double h = v.t1 - v.t0;
-        // sample points: ends, quarters, cubic critical points
-        std::array<double, 8> us{};
+        // sample points: ends, quarters (tagged 0, 1, 2: shared through v.samples), cubic
+        // critical points (tagged -1)
+        std::array<std::pair<double, int>, 8> us{};
         int nu = 0;
-        for (double u : {0.25, 0.5, 0.75})
-            us[nu++] = u;
+        for (int q = 0; q < 3; ++q)
+            us[nu++] = {0.25 * (q + 1), q};
         for (int i = 0; i < ncrit; ++i)
-            us[nu++] = crit[i];
+            us[nu++] = {crit[i], -1};
         std::sort(us.begin(), us.begin() + nu);
         std::array<point, 24> pts{};
         int np = 0;
         pts[np++] = {v.t0, start_.phi, start_.dphi};
         for (int i = 0; i < nu; ++i) {
-            const double t = v.t0 + us[i] * h;
+            const double t = v.t0 + us[i].first * h;
             if (t <= pts[np - 1].t || t >= v.t1) continue;
-            const value val = evaluate_at(v, t);
+            const value val = us[i].second >= 0 && v.samples != nullptr
+                                  ? evaluate(v.samples->at(us[i].second, t, v.dense, flow_))
+                                  : evaluate_at(v, t);
             pts[np++] = {t, val.phi, val.dphi};
         }
         pts[np++] = {v.t1, end.phi, end.dphi};
@@ -430,8 +476,7 @@ class flip_detector final : public flip_detector_base {
                 auto dphi = [&](double t) { return evaluate_at(v, t).dphi; };
                 const double tc = root(dphi, a.t, b.t, a.dphi, b.dphi);
                 if (tc > mono[nm - 1].t && tc < b.t) {
-                    const value val = evaluate_at(v, tc);
-                    mono[nm++] = {tc, val.phi, 0.0};
+                    mono[nm++] = {tc, locate_at(v, tc).phi, 0.0};
                 }
             }
             mono[nm++] = b;
@@ -449,7 +494,7 @@ class flip_detector final : public flip_detector_base {
                 const double k = dir > 0 ? k_lo + kk : k_hi - kk;
                 const double level = k * two_pi;
                 if ((a.phi >= level) == (b.phi >= level)) continue;
-                auto g = [&](double t) { return evaluate_at(v, t).phi - level; };
+                auto g = [&](double t) { return locate_at(v, t).phi - level; };
                 // NOTE: tx == t0 is possible only when phi(t0) equals the level exactly and
                 // leaves it downwards; the previous step saw no indicator change then (it ended
                 // with phi at the level, indicator true). At the trajectory's start there is no
@@ -457,9 +502,9 @@ class flip_detector final : public flip_detector_base {
                 // (crossings are counted in (0, T]).
                 const double tx = root(g, a.t, b.t, a.phi - level, b.phi - level);
                 if (first && tx == v.t0) continue;
-                const value at = tx == v.t1 ? end : evaluate_at(v, tx);
-                if (at.s < lo_ || at.s > hi_) continue;  // outside the curve's domain
-                out.push_back({tx, dir, at.s});
+                const double at_s = tx == v.t1 ? end.s : locate_at(v, tx).s;
+                if (at_s < lo_ || at_s > hi_) continue;  // outside the curve's domain
+                out.push_back({tx, dir, at_s});
                 ++found;
             }
         }
