@@ -7,7 +7,26 @@
 
 #include <string>
 
+#include "flipflux/core/budget.hpp"
+
 namespace flipflux::certified_detail {
+
+/// The CPU-time budget (core/budget.hpp) checked where no exception may leave: inside Arb's C
+/// callbacks (acb_calc_integrate's integrands) or before temporaries are cleared. Returns true,
+/// and sets `spent`, once the budget is spent (then at once, without the clock); the caller
+/// stops its work and throws budget_exceeded (throw_if_spent) once Arb has returned.
+inline bool budget_spent(bool& spent) {
+    if (spent) return true;
+    try {
+        check_cpu_budget();
+    } catch (const budget_exceeded&) {
+        spent = true;
+    }
+    return spent;
+}
+inline void throw_if_spent(bool spent) {
+    if (spent) throw budget_exceeded("the CPU-time budget of this computation is spent");
+}
 
 struct arb_ball {
     arb_t x;

@@ -146,12 +146,7 @@ bool integrate_rigorous(ball_vector_field& f, arb_ptr y, const arb_t duration, s
     // cleared before budget_exceeded leaves
     bool over_budget = false;
     while (ok && !done) {
-        try {
-            check_cpu_budget();
-        } catch (const budget_exceeded&) {
-            over_budget = true;
-            break;
-        }
+        if (budget_spent(over_budget)) break;
         if (!expanded) {
             expand(f, y, thin, prec);
             scale = group_scales(f, thin);
@@ -225,7 +220,7 @@ bool integrate_rigorous(ball_vector_field& f, arb_ptr y, const arb_t duration, s
     if (stats) stats->order = static_cast<int>(p);
     arf_clear(t), arf_clear(end), arf_clear(h), arf_clear(remaining), arf_clear(hi);
     mag_clear(spread);
-    if (over_budget) throw budget_exceeded("the CPU-time budget of this computation is spent");
+    throw_if_spent(over_budget);
     return ok && done;
 }
 

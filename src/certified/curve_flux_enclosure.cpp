@@ -167,12 +167,20 @@ struct flux_integrand {
     piece kind = piece::plain;
     const arb_struct* root = nullptr;  // the zero of K the u-pieces start from
     const curve_data* c = nullptr;
+    /// the CPU-time budget (eval --max-seconds) ran out during the quadrature: the integrand
+    /// returns zero from then on (so that Arb returns at once) and integrate_exact throws
+    /// budget_exceeded
+    bool spent = false;
 };
 
 /// sqrt(2 K Q) (plain, in s) or 2 u^2 sqrt(+-2 D Q) (u-pieces): acb_calc_func_t. Square roots
 /// only of balls in the right half plane; otherwise an indeterminate ball (not holomorphic here).
 int flux_integrand_eval(acb_ptr out, const acb_t z, void* param, slong /*order*/, slong prec) {
-    const auto& f = *static_cast<const flux_integrand*>(param);
+    auto& f = *static_cast<flux_integrand*>(param);
+    if (budget_spent(f.spent)) {  // Arb finishes at once on a zero integrand; the result is
+        acb_zero(out);            // discarded (integrate_exact throws)
+        return 0;
+    }
     acb_ball s, t, k, q;
     if (f.kind == piece::plain) {
         acb_set(s.x, z);
@@ -218,6 +226,7 @@ void integrate_exact(arb_t res, flux_integrand& f, const arf_t a, const arf_t b,
     acb_calc_integrate_opt_init(opt);
     acb_calc_integrate(r.x, flux_integrand_eval, &f, ca.x, cb.x, prec, tol, opt, prec);
     mag_clear(tol);
+    throw_if_spent(f.spent);
     arb_set(res, acb_realref(r.x));  // real on the real segment
 }
 

@@ -160,6 +160,10 @@ struct volume_integrand {
     const arb_struct* anchor_supplement = nullptr;  // pi - anchor, computed without cancellation
     bool anchor_is_kink = false;  // th_full = 0 or th_edge = pi exactly (E at a kink)
     const volume_constants* k = nullptr;
+    /// the CPU-time budget (eval --max-seconds) ran out during the quadrature: the integrand
+    /// returns zero from then on (so that Arb returns at once) and integrate_exact throws
+    /// budget_exceeded
+    bool spent = false;
 };
 
 double mid_double(const acb_t z) {
@@ -201,7 +205,11 @@ bool factored_root(acb_t res, const acb_t z, const volume_integrand& f, int sign
 
 /// The integrand F(th1(z)) dth1/dz of one piece (acb_calc_func_t).
 int volume_integrand_eval(acb_ptr out, const acb_t z, void* param, slong order, slong prec) {
-    const auto& f = *static_cast<const volume_integrand*>(param);
+    auto& f = *static_cast<volume_integrand*>(param);
+    if (budget_spent(f.spent)) {  // Arb finishes at once on a zero integrand; the result is
+        acb_zero(out);            // discarded (integrate_exact throws)
+        return 0;
+    }
     acb_ball th, jac, rem, gap, s2, c2, t;
     // th1, the Jacobian, and sqrt(2 beta) sin(t2/2) (s2) and sqrt(2 beta) cos(t2/2) (c2)
     if (f.kind == piece::plain) {
@@ -296,6 +304,7 @@ void integrate_exact(arb_t res, volume_integrand& f, const arf_t a, const arf_t 
     acb_calc_integrate_opt_init(opt);
     acb_calc_integrate(r.x, volume_integrand_eval, &f, ca.x, cb.x, prec, tol, opt, prec);
     mag_clear(tol);
+    throw_if_spent(f.spent);
     arb_set(res, acb_realref(r.x));  // the integrand is real on the real segment
 }
 

@@ -192,6 +192,14 @@ TEST(HardeningCommand, CertificationStopsAtTheTimeBound) {
         2, {"--max-seconds", "did not finish in its 1 CPU seconds"});
 }
 
+// ... and in the Arb quadratures of the certified routes: Omega's proof at mp:150 takes ~4x its
+// evaluation (0.5 s and 2.3 s on a Zen 5), so the bound falls inside acb_calc_integrate
+TEST(HardeningCommand, CertifiedQuadratureStopsAtTheTimeBound) {
+    expect_one_line(
+        "eval omega --arm 2 --energy 4.3 --precision mp:150 --certify --max-seconds 1.5", 2,
+        {"--max-seconds", "did not finish in its 1.5 CPU seconds"});
+}
+
 /// A scene in the scratch folder with its output there too.
 std::string scene_with(const scratch& s, const std::string& body) {
     s.write("s.toml", "[scene]\nname = \"h\"\noutput = \"" + s / "out" + "\"\n" + body);
