@@ -3,6 +3,7 @@
 // docs/limits.md says, deep TOML keys, huge angles, extreme parameters, one number and integer
 // grammar, escaped control characters, duplicate energies, collisions of a scene's outputs and
 // `run --dry-run` refusing what `run` refuses, all before any computation. Cheap at -O0.
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -198,6 +199,26 @@ TEST(HardeningCommand, CertifiedQuadratureStopsAtTheTimeBound) {
     expect_one_line(
         "eval omega --arm 2 --energy 4.3 --precision mp:150 --certify --max-seconds 1.5", 2,
         {"--max-seconds", "did not finish in its 1.5 CPU seconds"});
+}
+
+// ... and within a loop body of it whatever the body's cost: an mp:300 saddle-orbit evaluation's
+// Taylor steps (~0.1-0.3 s each) ran 2.5-4 s past --max-seconds 0.5 while the budget read the
+// clock once in 16 checks and the step-count pass did not check (an independent sweep's case,
+// 2026-12-02). Its CPU time, the children's, is bounded with a second of slack: a bound that was
+// missed by seconds, not a speed measurement.
+TEST(HardeningCommand, TheTimeBoundHoldsForCostlyLoopBodies) {
+    rusage before{}, after{};
+    getrusage(RUSAGE_CHILDREN, &before);
+    expect_one_line(
+        "eval stability-index --arm 1 --energy 27.0249 --precision mp:300 --certify "
+        "--max-seconds 0.5 --m1 2.68 --m2 1.83 --L1 1.5 --L2 0.783 --g 2.5 --a1 0.788",
+        2, {"--max-seconds", "did not finish in its 0.5 CPU seconds"});
+    getrusage(RUSAGE_CHILDREN, &after);
+    auto seconds = [](const rusage& r) {
+        return static_cast<double>(r.ru_utime.tv_sec + r.ru_stime.tv_sec) +
+               1e-6 * static_cast<double>(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
+    };
+    EXPECT_LT(seconds(after) - seconds(before), 0.5 + 1.0);
 }
 
 /// A scene in the scratch folder with its output there too.

@@ -380,7 +380,6 @@ class flip_detector final : public flip_detector_base {
     // The curve at the state's angles: phi, s, and h'(s) (0 outside the domain).
     struct on_curve {
         double phi, s, slope;
-        std::array<double, 2> q;
     };
     on_curve locate(const std::array<double, 4>& x) const {
         const std::array<double, 2> q = curve_coordinates(arm_, x[0], x[1]);
@@ -404,7 +403,7 @@ class flip_detector final : public flip_detector_base {
             offset = curve_.offset(sc);
             slope = inside ? double(curve_.slope(sc)) : 0.0;
         }
-        return {q[1] - pi - offset, s, slope, q};
+        return {q[1] - pi - offset, s, slope};
     }
 
     value evaluate(const std::array<double, 4>& x, const std::array<double, 2>& w) const {

@@ -551,6 +551,7 @@ step_count_estimate<Real> taylor_steps_for_tolerance(const MakeF& make_f,
         Real t = 0, hmin = abs(duration);
         // NOTE: at most 2^20 adaptive steps: beyond that the problem is not one of step size
         for (long i = 0; i < (1L << 20) && t < abs(duration); ++i) {
+            check_cpu_budget();
             if (!ti.expand(f, x)) return est;
             Real h = ti.step_size(tolerance, scale);
             if (h < hmin) hmin = h;
