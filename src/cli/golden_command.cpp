@@ -4,6 +4,7 @@
 // written atomically to DIR/golden.csv and DIR/provenance.json (see
 // include/flipflux/quantities/golden.hpp).
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -33,6 +34,7 @@ struct golden_state {
     bool merge = false;
     bool certify = false;
     bool certify_existing = false;
+    double max_seconds = 0;
 };
 
 /// A file's text, or input_error naming it.
@@ -56,6 +58,55 @@ std::vector<std::string> split_list(const std::string& text) {
     while (std::getline(in, item, ','))
         if (!item.empty()) items.push_back(item);
     return items;
+}
+
+/// The options of the command line, checked (input_error naming the option).
+golden_options checked_options(const golden_state& s) {
+    golden_options options;
+    options.model = s.model;
+    (void)make_model<double>(s.model);  // input_error naming a bad parameter
+    if (s.pendulum.empty() && !s.model.is_default())
+        throw input_error(
+            "--pendulum: a name is required for a pendulum other than the "
+            "paper's (it names the golden set)");
+    options.pendulum = s.pendulum.empty() ? "egalitarian" : s.pendulum;
+    if (!is_plain_name(options.pendulum))
+        throw input_error("--pendulum: '" + options.pendulum +
+                          "' is not a plain name (one path component: letters, digits, '.', '_' or "
+                          "'-', not starting with '.')");
+    options.value_precision = parse_precision(s.precision.text);
+    (void)golden_check_precision(options.value_precision);  // input_error when too low
+    options.quantities = split_list(s.quantities);
+    for (const std::string& name : options.quantities)
+        find_quantity(name);  // input_error naming an unknown quantity
+    if (s.jobs < 1) {
+        throw input_error("--jobs: '" + std::to_string(s.jobs) + "' must be >= 1");
+    }
+    options.jobs = checked_threads(static_cast<std::uint64_t>(s.jobs), "--jobs");
+    // parsed here, not by CLI11: its unsigned conversion wraps '-1' to 2^64 - 1 (all rows: a
+    // run of hours where a refusal belongs)
+    options.max_rows = parse_unsigned(s.max_rows, "--max-rows", false);
+    options.certify = s.certify;
+    if (!(s.max_seconds >= 0) || !std::isfinite(s.max_seconds))
+        throw input_error("--max-seconds: '" + to_decimal(s.max_seconds) +
+                          "' must be finite and >= 0 (0: no bound)");
+    options.max_seconds = s.max_seconds;
+    return options;
+}
+
+/// The command line as the provenance records it (the options that differ from the defaults).
+std::string provenance_command(const golden_state& s, std::size_t max_rows) {
+    std::string command = "flipflux golden --out " + s.out + " --jobs " + std::to_string(s.jobs);
+    if (!s.quantities.empty()) command += " --quantities " + s.quantities;
+    if (max_rows > 0) command += " --max-rows " + std::to_string(max_rows);
+    if (s.precision.text != "mp:100") command += " --precision " + s.precision.text;
+    if (!s.pendulum.empty()) command += " --pendulum " + s.pendulum;
+    command += model_flags(s.model);
+    if (s.merge) command += " --merge";
+    if (s.certify) command += " --certify";
+    if (s.certify_existing) command += " --certify-existing";
+    if (s.max_seconds > 0) command += " --max-seconds " + to_decimal(s.max_seconds);
+    return command;
 }
 
 const register_command registration([](CLI::App& app) {
@@ -88,37 +139,17 @@ const register_command registration([](CLI::App& app) {
                   "add the proven enclosures (radius, proven_digits) to the rows of the set in "
                   "--out without recomputing any value (same pendulum and precision, checked as "
                   "for --merge; the provenance lists the runs)");
+    sub->add_option("--max-seconds", s->max_seconds,
+                    "CPU seconds each evaluation of a row (its value, each check) and each proof "
+                    "may take (0: no bound): a row that does not finish in them is skipped, a "
+                    "proof leaves its row without an enclosure; both are named on stderr")
+        ->capture_default_str();
     sub->add_flag("--merge", s->merge,
                   "extend the set in --out: its rows of the other quantities are kept, those of "
                   "--quantities replaced (same pendulum and precision; the provenance lists the "
                   "runs)");
     sub->callback([s] {
-        golden_options options;
-        options.model = s->model;
-        (void)make_model<double>(s->model);  // input_error naming a bad parameter
-        if (s->pendulum.empty() && !s->model.is_default())
-            throw input_error(
-                "--pendulum: a name is required for a pendulum other than the "
-                "paper's (it names the golden set)");
-        options.pendulum = s->pendulum.empty() ? "egalitarian" : s->pendulum;
-        if (!is_plain_name(options.pendulum))
-            throw input_error(
-                "--pendulum: '" + options.pendulum +
-                "' is not a plain name (one path component: letters, digits, '.', '_' or "
-                "'-', not starting with '.')");
-        options.value_precision = parse_precision(s->precision.text);
-        (void)golden_check_precision(options.value_precision);  // input_error when too low
-        options.quantities = split_list(s->quantities);
-        for (const std::string& name : options.quantities)
-            find_quantity(name);  // input_error naming an unknown quantity
-        if (s->jobs < 1) {
-            throw input_error("--jobs: '" + std::to_string(s->jobs) + "' must be >= 1");
-        }
-        options.jobs = checked_threads(static_cast<std::uint64_t>(s->jobs), "--jobs");
-        // parsed here, not by CLI11: its unsigned conversion wraps '-1' to 2^64 - 1 (all rows: a
-        // run of hours where a refusal belongs)
-        options.max_rows = parse_unsigned(s->max_rows, "--max-rows", false);
-        options.certify = s->certify;
+        golden_options options = checked_options(*s);
         progress_bar bar(s->progress);
         options.progress = [&bar](const golden_row& r, std::size_t done, std::size_t total) {
             bar.update(done, total, "rows", 0,
@@ -129,6 +160,11 @@ const register_command registration([](CLI::App& app) {
         options.skipped = [&skipped](const std::string& what) {
             ++skipped;
             std::fprintf(stderr, "golden: skipped %s\n", what.c_str());
+        };
+        std::size_t unproven = 0;
+        options.unproven = [&unproven](const std::string& what) {
+            ++unproven;
+            std::fprintf(stderr, "golden: unproven: %s\n", what.c_str());
         };
         if (s->certify_existing &&
             (s->merge || s->certify || !s->quantities.empty() || options.max_rows > 0))
@@ -163,22 +199,14 @@ const register_command registration([](CLI::App& app) {
         std::vector<golden_row> rows;
         if (s->certify_existing) {
             rows = std::move(kept);
-            prove_golden_rows(rows, options.model, options.jobs);
+            prove_golden_rows(rows, options.model, options.jobs, options.max_seconds,
+                              options.unproven);
         } else {
             rows = generate_golden(options);
             if (s->merge) rows = merge_golden(kept, rows, options.quantities);
         }
         bar.finish();
-        std::string command =
-            "flipflux golden --out " + s->out + " --jobs " + std::to_string(s->jobs);
-        if (!s->quantities.empty()) command += " --quantities " + s->quantities;
-        if (options.max_rows > 0) command += " --max-rows " + std::to_string(options.max_rows);
-        if (s->precision.text != "mp:100") command += " --precision " + s->precision.text;
-        if (!s->pendulum.empty()) command += " --pendulum " + s->pendulum;
-        command += model_flags(s->model);
-        if (s->merge) command += " --merge";
-        if (s->certify) command += " --certify";
-        if (s->certify_existing) command += " --certify-existing";
+        const std::string command = provenance_command(*s, options.max_rows);
         write_file_atomically(s->out + "/golden.csv", golden_csv(rows));
         write_file_atomically(
             s->out + "/provenance.json",
@@ -192,6 +220,7 @@ const register_command registration([](CLI::App& app) {
         const json summary{{"rows", rows.size()},
                            {"proven_rows", proven},
                            {"skipped", skipped},
+                           {"unproven", unproven},
                            {"least_digits", least},
                            {"csv", s->out + "/golden.csv"},
                            {"provenance", s->out + "/provenance.json"}};

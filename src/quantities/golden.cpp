@@ -22,6 +22,7 @@
 #include <stdexcept>
 
 #include "flipflux/certified/enclosure.hpp"
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/core/version.hpp"
@@ -53,6 +54,7 @@ struct golden_task {
     arm a;
     std::string energy;
     const model_text* model;
+    double max_seconds;  ///< of each evaluation (golden_options::max_seconds; 0: no bound)
 };
 
 /// One evaluation as decimal text (every digit of its precision), or why there is none.
@@ -62,9 +64,17 @@ struct evaluation {
     std::string skipped;  ///< why there is none
 };
 
+/// Why a computation bounded by golden_options::max_seconds has no result.
+std::string unfinished(double max_seconds) {
+    return "did not finish in its " + to_decimal(max_seconds, 6) + " CPU seconds";
+}
+
 template <class Real>
 evaluation evaluate_text(const golden_task& t, const std::string& method) {
     try {
+        const std::optional<cpu_budget_scope> budget =
+            t.max_seconds > 0 ? std::optional<cpu_budget_scope>(std::in_place, t.max_seconds)
+                              : std::nullopt;
         const double_pendulum<Real> model = make_model<Real>(*t.model);
         const energy_level<Real> energy = parse_energy_level<Real>(t.energy, "energy");
         const quantity_value<Real> v = t.q->evaluate(model, t.a, energy, method);
@@ -72,6 +82,8 @@ evaluation evaluate_text(const golden_task& t, const std::string& method) {
         return {to_decimal(v.value), method.empty() ? t.q->methods.front() : method, ""};
     } catch (const input_error& e) {
         return {"", "", e.what()};  // outside the quantity's (or method's) domain
+    } catch (const budget_exceeded&) {
+        return {"", "", (method.empty() ? "" : method + ": ") + unfinished(t.max_seconds)};
     } catch (const std::runtime_error& e) {
         // undefined here (e.g. the real multiplier of an elliptic orbit), or no solution
         return {"", "", e.what()};
@@ -253,14 +265,14 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
         }
         if (!q.per_arm) {
             for (const std::string& e : grid(0, model.maximum_energy()))
-                tasks.push_back({&q, arm::two, e, &options.model});
+                tasks.push_back({&q, arm::two, e, &options.model, options.max_seconds});
             continue;
         }
         for (arm a : {arm::two, arm::one}) {
             const double es = model.saddle_energy(a), emax = model.maximum_energy();
             for (const std::string& e :
                  q.needs_saddle_orbit ? orbit_grid(es, emax) : grid(es, emax))
-                tasks.push_back({&q, a, e, &options.model});
+                tasks.push_back({&q, a, e, &options.model, options.max_seconds});
         }
     }
     if (options.max_rows > 0 && tasks.size() > options.max_rows) {
@@ -319,11 +331,14 @@ std::vector<golden_row> generate_golden(const golden_options& options) {
     std::vector<golden_row> out;
     for (auto& r : rows)
         if (r.row) out.push_back(std::move(*r.row));
-    if (options.certify) prove_golden_rows(out, options.model, threads);
+    if (options.certify)
+        prove_golden_rows(out, options.model, threads, options.max_seconds, options.unproven);
     return out;
 }
 
-void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, int jobs) {
+void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, int jobs,
+                       double max_seconds,
+                       const std::function<void(const std::string&)>& unproven) {
     // NOTE: an exception must not leave an OpenMP region: kept, the first rethrown after it
     // NOTE: one proof of a saddle orbit serves its six quantities (the process's proof memo is
     // keyed by the precision): the rows of one orbit ask for the most digits any of them has, so
@@ -343,7 +358,18 @@ void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, i
             const auto orbit = orbit_digits.find({r.arm, r.energy});
             const bool shared =
                 orbit != orbit_digits.end() && find_quantity(r.quantity).needs_saddle_orbit;
+            const std::optional<cpu_budget_scope> budget =
+                max_seconds > 0 ? std::optional<cpu_budget_scope>(std::in_place, max_seconds)
+                                : std::nullopt;
             prove_row(rows[static_cast<std::size_t>(i)], model, shared ? orbit->second : 0);
+        } catch (const budget_exceeded&) {
+            // the row stays without an enclosure (no radius), and is named
+            if (unproven) {
+                const golden_row& r = rows[static_cast<std::size_t>(i)];
+#pragma omp critical(flipflux_golden_progress)
+                unproven("the proof of " + r.quantity + " arm " + (r.arm.empty() ? "-" : r.arm) +
+                         " E " + r.energy + ": " + unfinished(max_seconds));
+            }
         } catch (...) {
             failed[static_cast<std::size_t>(i)] = std::current_exception();
         }

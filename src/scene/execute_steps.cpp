@@ -42,6 +42,12 @@ void run_golden(context& ctx) {
     options.quantities = g.quantities;
     options.value_precision = g.value_precision;
     options.jobs = ctx.options.threads > 0 ? ctx.options.threads : 2;
+    options.max_seconds = std::strtod(g.max_seconds.c_str(), nullptr);
+    std::size_t skipped = 0;
+    options.skipped = [&](const std::string& what) {
+        ++skipped;
+        ctx.log << "  golden: skipped " << what << "\n";
+    };
     std::size_t last = 0;
     options.progress = [&](const golden_row&, std::size_t done, std::size_t total) {
         if (done == total || done >= last + 50) {
@@ -59,7 +65,7 @@ void run_golden(context& ctx) {
     ctx.counters.files.push_back((dir / "golden.csv").string());
     ctx.counters.files.push_back((dir / "provenance.json").string());
     ctx.log << "  wrote " << (dir / "golden.csv").string() << " (" << rows.size() << " rows)\n";
-    ctx.summary["golden"] = {{"dir", g.dir}, {"rows", rows.size()}};
+    ctx.summary["golden"] = {{"dir", g.dir}, {"rows", rows.size()}, {"skipped", skipped}};
 }
 
 void run_accuracy(context& ctx) {

@@ -232,6 +232,12 @@ golden_spec read_golden(table_reader& r) {
             r.fail(r.get("precision"), "precision", e.what());
         }
     }
+    if (auto m = r.number("max_seconds")) {
+        if (const double x = std::strtod(m->c_str(), nullptr); !(x >= 0 && std::isfinite(x)))
+            r.fail(r.get("max_seconds"), "max_seconds",
+                   "'" + *m + "' must be finite and >= 0 (0: no bound)");
+        g.max_seconds = *m;
+    }
     r.finish();
     return g;
 }

@@ -213,6 +213,10 @@ TEST(LimitsCommand, ProbeGoldenMaxRowsMinusOneIsRefused) {
     expect_refused("golden --out /nonexistent/g --max-rows -1",
                    {"--max-rows: '-1' is invalid (expected a non-negative integer)"});
     expect_refused("golden --out /nonexistent/g --max-rows 1e3", {"--max-rows: '1e3'"});
+    expect_refused("golden --out /nonexistent/g --max-seconds -1",
+                   {"--max-seconds: '-1' must be finite and >= 0"});
+    expect_refused("golden --out /nonexistent/g --max-seconds inf",
+                   {"--max-seconds: 'inf' is not a finite decimal number"});
 }
 
 // trajectory --out/--events and orbit --out naming a directory or /proc were refused only after

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "flipflux/certified/enclosure.hpp"
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/output/accuracy_markdown.hpp"
 #include "flipflux/output/golden_files.hpp"
@@ -323,6 +324,41 @@ TEST(Golden, TheRowsOfOneOrbitShareOneProof) {
         EXPECT_FALSE(r.radius.empty()) << r.quantity << " arm " << r.arm;
         EXPECT_GE(r.proven_digits, r.digits - 1) << r.quantity << " arm " << r.arm;
     }
+}
+
+// golden --max-seconds: an evaluation or a proof that does not finish in its CPU seconds gives no
+// row (skipped, named) or no enclosure (unproven, named), and stops at the bound. A pendulum of
+// its own (no memoized orbit) at mp:40: its saddle orbit takes far more than 2 ms to solve.
+TEST(Golden, TheTimeBoundSkipsRowsAndProofsItCannotFinish) {
+    golden_options options;
+    options.quantities = {"period"};
+    options.model.m2 = "1.37";
+    options.value_precision = mp_precision(40);
+    options.max_rows = 1;
+    options.max_seconds = 0.002;
+    std::vector<std::string> skipped;
+    options.skipped = [&](const std::string& what) { skipped.push_back(what); };
+    const double start = thread_cpu_seconds();
+    EXPECT_TRUE(generate_golden(options).empty());
+    EXPECT_LT(thread_cpu_seconds() - start, 1.0);
+    ASSERT_EQ(skipped.size(), 1u);
+    EXPECT_NE(skipped[0].find("period arm "), std::string::npos) << skipped[0];
+    EXPECT_NE(skipped[0].find("did not finish in its 0.002 CPU seconds"), std::string::npos)
+        << skipped[0];
+    // a committed 50-digit row of omega, whose Arb enclosure at 50 digits takes far more than 1 ms
+    std::vector<golden_row> rows;
+    for (const golden_row& r : committed_rows())
+        if (r.quantity == "omega" && r.energy == "4.3") rows.push_back(r);
+    ASSERT_EQ(rows.size(), 1u);
+    rows[0].radius.clear();
+    rows[0].proven_digits = -1;
+    std::vector<std::string> unproven;
+    prove_golden_rows(rows, model_text{}, 1, 0.001,
+                      [&](const std::string& what) { unproven.push_back(what); });
+    EXPECT_TRUE(rows[0].radius.empty());
+    ASSERT_EQ(unproven.size(), 1u);
+    EXPECT_NE(unproven[0].find("the proof of omega arm - E 4.3: did not finish"), std::string::npos)
+        << unproven[0];
 }
 
 TEST(Golden, CommandWritesASmallSelection) {

@@ -81,6 +81,8 @@ TEST(Scene, ErrorsNameFileLineAndKey) {
          "s.toml:4: accuracy.max_seconds: '0' must be finite and > 0"},
         {"[scene]\noutput = \"o\"\n[accuracy]\nmax_seconds = \"1e400\"\n",
          "s.toml:4: accuracy.max_seconds: '1e400' must be finite and > 0"},
+        {"[scene]\noutput = \"o\"\n[golden]\nmax_seconds = -1\n",
+         "s.toml:4: golden.max_seconds: '-1' must be finite and >= 0 (0: no bound)"},
     };
     for (const auto& [text, expected] : cases) {
         const std::string e = error_of(text);

@@ -70,11 +70,18 @@ struct golden_options {
     /// quantities and the saddle orbit's), aiming at the row's certified digits; the row's value
     /// must lie in it (certification_error otherwise)
     bool certify = false;
+    /// CPU seconds each evaluation of a row (its value, each check) and each proof may take (0:
+    /// no bound): a row whose evaluation does not finish in them gives no row (`skipped` names
+    /// it), a proof that does not finish leaves its row without an enclosure (`unproven` names it)
+    double max_seconds = 0;
     /// called after each row (from one thread at a time), for progress reports
     std::function<void(const golden_row&, std::size_t done, std::size_t total)> progress;
     /// called for each task that gives no row ("QUANTITY arm A E ENERGY: reason"), one thread at
     /// a time: outside the quantity's domain, or undefined there
     std::function<void(const std::string& what)> skipped;
+    /// called for each row whose proof did not finish in max_seconds ("the proof of QUANTITY arm
+    /// A E ENERGY: reason"), one thread at a time
+    std::function<void(const std::string& what)> unproven;
 };
 
 /// Generates the rows for options.model: the egalitarian pendulum (the paper's) on the golden grid,
@@ -86,8 +93,11 @@ std::vector<golden_row> generate_golden(const golden_options& options);
 /// the row's value). The value must lie in the proof's ball (half a unit of its last digit of
 /// slack): certification_error otherwise, as when a proof fails. `golden --certify` calls it on
 /// the rows it generates, `golden --certify-existing` on a committed set's rows (no value is
-/// recomputed).
-void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, int jobs);
+/// recomputed). A proof that does not finish in `max_seconds` CPU seconds (> 0; 0: no bound) leaves
+/// its row without an enclosure and is named to `unproven` (one thread at a time).
+void prove_golden_rows(std::vector<golden_row>& rows, const model_text& model, int jobs,
+                       double max_seconds = 0,
+                       const std::function<void(const std::string&)>& unproven = {});
 
 /// Certified significant digits of `value` given a reference: floor(-log10 |a - b| / |b|),
 /// clamped to [0, cap]; cap when they are equal.

@@ -122,6 +122,9 @@ struct golden_spec {
     std::string dir = "data/golden";
     std::vector<std::string> quantities;            ///< empty: every registered quantity
     precision value_precision = mp_precision(100);  ///< of the values (certified in half of it)
+    /// CPU seconds each evaluation of a row may take (golden_options::max_seconds; decimal text,
+    /// >= 0, "0": no bound)
+    std::string max_seconds = "0";
     int line = 0;
 };
 
