@@ -142,6 +142,8 @@ void check_ensemble(const scene& s, std::size_t i, const double_pendulum<double>
                      "E = " + text + " is at or below arm " + std::to_string(x.arm) +
                          "'s saddle energy " + to_decimal(threshold) + " (criterion " + c +
                          " cannot flip)");
+            if (const double ceiling = criterion_ceiling(model, a, c); !(e < ceiling))
+                fail(s, x.line, key + ".energies", criterion_ceiling_text(e, ceiling, a, c));
         }
     }
     // the short estimator spends trajectories x time on trajectories of simulation_request's

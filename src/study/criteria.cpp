@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "flipflux/core/decimal.hpp"
@@ -145,6 +146,20 @@ double criterion_threshold(const double_pendulum<double>& model, arm a, const st
     return model.saddle_energy(a);
 }
 
+double criterion_ceiling(const double_pendulum<double>& model, arm a, const std::string& name) {
+    check_criterion_name(name);
+    (void)a;  // the potential's maximum is both arms' ceiling
+    return criterion(name).needs_saddle_orbit ? model.maximum_energy()
+                                              : std::numeric_limits<double>::infinity();
+}
+
+std::string criterion_ceiling_text(double energy, double ceiling, arm a, const std::string& name) {
+    return "'" + to_shortest_decimal(energy) + "' is at or above the maximum energy " +
+           to_decimal(ceiling) + ", where criterion '" + name + "' of arm " + to_string(a) +
+           " has no saddle orbit (its family ends at E_max): leave '" + name +
+           "' out of the criteria at this energy";
+}
+
 ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
                                   const std::string& name, double energy) {
     const double threshold = criterion_threshold(model, a, name);
@@ -153,6 +168,8 @@ ensemble_criterion make_criterion(const double_pendulum<double>& model, arm a,
             "energy", "'" + to_shortest_decimal(energy) + "' is at or below the threshold " +
                           to_decimal(threshold) + " of criterion '" + name + "' for arm " +
                           to_string(a) + " (the saddle energy: no flips are possible)");
+    if (const double ceiling = criterion_ceiling(model, a, name); !(energy < ceiling))
+        throw input_error::about("energy", criterion_ceiling_text(energy, ceiling, a, name));
     return {name, criterion(name).detector(model, a, energy, pendulum_flow(model))};
 }
 

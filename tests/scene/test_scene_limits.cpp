@@ -85,6 +85,11 @@ TEST(SceneLimits, DryRunRefusesWhatRunWouldRefuse) {
     // arm 1's saddle energy is 2 alpha = 4 for the egalitarian pendulum
     expect_refused(head + "[[ensemble]]\narm = 1\nenergies = [3]\n",
                    "s.toml:4: ensemble[0].energies: E = 3 is at or below arm 1's saddle energy 4");
+    // the saddle orbit's family ends at the potential's maximum E_max = 6: refused in the plan,
+    // naming the scene's key (not the command line's option), before any step runs
+    expect_refused(head + "[[ensemble]]\nenergies = [3, 7]\ncriteria = [\"upright\", \"saddle\"]\n",
+                   "s.toml:4: ensemble[0].energies: '7' is at or above the maximum energy 6, where "
+                   "criterion 'saddle' of arm 2 has no saddle orbit");
     expect_refused(head + "[model]\nm2 = 1e300\n", "s.toml:4: model: m2: '1e+300' is outside");
     expect_refused(head + "[report]\ndir = \"r\"\n",
                    "s.toml:4: report: the report needs something to report");

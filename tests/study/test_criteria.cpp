@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "flipflux/core/constants.hpp"
 #include "flipflux/core/error.hpp"
@@ -152,6 +153,35 @@ TEST(CriterionRegistry, AToyLevelIsFoundAtDoubleAndQuadOnTheLevel) {
         const quad off = r - two_pi * boost::multiprecision::round(r / two_pi);
         EXPECT_LT(static_cast<double>(boost::multiprecision::abs(off)), 1e-22) << i;
     }
+}
+
+// A criterion on the saddle orbit exists only below the potential's maximum E_max (the family
+// ends there); the others have no ceiling. At a pendulum whose E_max is not the egalitarian one
+// (m1 = 2, m2 = 1, L1 = 1, L2 = 0.5, g = 1: E_max = 2 (m1 + m2) L1 + 2 m2 L2 = 7 from the potential
+// by hand), an energy above it is refused naming the energy and the criterion; below it the
+// criterion is made.
+TEST(CriterionRegistry, ASaddleOrbitCriterionEndsAtTheMaximumEnergy) {
+    const double_pendulum<double> m(physical_parameters<double>{
+        .m1 = 2, .m2 = 1, .L1 = 1, .L2 = 0.5, .a1 = 1, .a2 = 0.5, .g = 1});
+    ASSERT_EQ(m.maximum_energy(), 7.0);
+    EXPECT_EQ(criterion_ceiling(m, arm::two, "saddle"), 7.0);
+    EXPECT_EQ(criterion_ceiling(m, arm::one, "saddle"), 7.0);
+    EXPECT_EQ(criterion_ceiling(m, arm::two, "upright"), std::numeric_limits<double>::infinity());
+    EXPECT_EQ(criterion_ceiling(m, arm::two, "approx"), std::numeric_limits<double>::infinity());
+    for (const double e : {7.0, 9.5}) {
+        try {
+            (void)make_criterion(m, arm::two, "saddle", e);
+            ADD_FAILURE() << "E = " << e << " was not refused";
+        } catch (const input_error& err) {
+            const std::string what = err.what();
+            EXPECT_NE(what.find("is at or above the maximum energy 7, where criterion 'saddle' of "
+                                "arm 2 has no saddle orbit"),
+                      std::string::npos)
+                << what;
+        }
+    }
+    EXPECT_EQ(make_criterion(m, arm::two, "upright", 9.5).name, "upright");
+    EXPECT_EQ(make_criterion(m, arm::two, "saddle", 6.5).name, "saddle");
 }
 
 }  // namespace

@@ -146,6 +146,14 @@ void check_criterion_name(const std::string& name, const std::string& option = "
 /// (below it no flip of `a` is possible and the predicted rate vanishes).
 double criterion_threshold(const double_pendulum<double>& model, arm a, const std::string& name);
 
+/// The energy at and above which the criterion's curve does not exist: the potential's maximum
+/// E_max for a criterion on the saddle orbit (its family ends there), +inf for the others.
+double criterion_ceiling(const double_pendulum<double>& model, arm a, const std::string& name);
+
+/// The refusal of `energy` at or above criterion `name`'s ceiling (criterion_ceiling), without
+/// the name of the caller's key: one text for make_criterion and a scene's plan.
+std::string criterion_ceiling_text(double energy, double ceiling, arm a, const std::string& name);
+
 /// The criterion `name` for arm `a` at energy E (the saddle orbit depends on E). Throws
 /// input_error for an unknown name, an energy at or below the threshold, or an energy where the
 /// curve does not exist.
