@@ -291,12 +291,20 @@ py::tuple simulate_tables(const std::map<std::string, std::string>& a,
     auto stop = std::make_shared<std::atomic<int>>(0);
     q.options.stop = stop.get();
     // the worker holds the sink: an abandoned call cannot outlive it
-    const study_result r = interruptible(
-        [model, q, sink] {
-            std::optional<study_result> out = simulate(model, q);
-            return *out;
-        },
-        stop.get());
+    std::optional<study_result> run;
+    try {
+        run = interruptible(
+            [model, q, sink] {
+                std::optional<study_result> out = simulate(model, q);
+                return *out;
+            },
+            stop.get());
+    } catch (const simulation_interrupted& e) {
+        if (e.signal() != cpu_bound_stop) throw;
+        PyErr_SetString(PyExc_TimeoutError, (std::string("max_seconds: ") + e.what()).c_str());
+        throw py::error_already_set();
+    }
+    const study_result& r = *run;
     nlohmann::ordered_json j = study_json(r);
     j["model"] = model_parameters_json(model);
     py::dict tables;

@@ -172,12 +172,14 @@ def saddle_orbit(energy, arm=2, precision="double", samples=101, method="periodi
 
 def simulate(energy, trajectories, time, arm=None, criteria=None, seed=None, rtol=None,
              method=None, threads=None, chaos=None, chaos_threshold=None, pendulum=None,
-             replicates=None):
+             replicates=None, max_seconds=None):
     """A Monte Carlo study -- `flipflux simulate` (at double). energy: one value, a list, or a
     "FROM:TO:STEP" string. Returns (report, trajectories): the study's JSON report as a dict (what
     the command-line tool prints; with replicates R > 1, `trajectories` each, every statistic
     also with its spread over the replicates) and, per energy label, the per-trajectory results as NumPy
-    structured arrays (the columns of the --csv-dir trajectory files). Ctrl-C stops it."""
+    structured arrays (the columns of the --csv-dir trajectory files). Ctrl-C stops it;
+    max_seconds bounds the integration's CPU seconds (every thread's): at the bound it stops with
+    TimeoutError."""
     if isinstance(energy, (list, tuple)):
         energy = ",".join(_text(e, "energy") for e in energy)
     else:
@@ -185,7 +187,8 @@ def simulate(energy, trajectories, time, arm=None, criteria=None, seed=None, rto
     if isinstance(criteria, (list, tuple)):
         criteria = ",".join(criteria)
     given = {"trajectories": trajectories, "time": time, "arm": arm, "seed": seed, "rtol": rtol,
-             "threads": threads, "chaos_threshold": chaos_threshold, "replicates": replicates}
+             "threads": threads, "chaos_threshold": chaos_threshold, "replicates": replicates,
+             "max_seconds": max_seconds}
     args = {k: _text(v, k) for k, v in given.items() if v is not None}
     args["energy"] = energy
     if criteria is not None:

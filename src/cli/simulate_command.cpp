@@ -252,6 +252,8 @@ void run(const simulate_state& s) {
             }
         } catch (const simulation_interrupted& e) {
             bar.finish();
+            if (e.signal() == cpu_bound_stop)  // the run's own bound: an error naming it
+                throw input_error(std::string("--max-seconds: ") + e.what());
             if (root) std::fprintf(stderr, "flipflux: %s\n", e.what());
             exit_status() = 128 + (e.signal() > 0 ? e.signal() : SIGINT);
             return;
@@ -395,6 +397,11 @@ const register_command registration([](CLI::App& app) {
                     "save finished trajectories to FILE and resume from it (same command)");
     sub->add_option("--checkpoint-interval", s->checkpoint_interval,
                     "seconds between checkpoint appends (0: after every trajectory)")
+        ->capture_default_str();
+    sub->add_option("--max-seconds", s->max_seconds,
+                    "CPU seconds (every thread's) the integration may take (0: no bound): at the "
+                    "bound the run stops as at Ctrl-C, its finished trajectories kept in "
+                    "--checkpoint (the same command resumes), exit status 2")
         ->capture_default_str();
     sub->add_option("--estimator", s->estimator,
                     "long: the given trajectories x time; short: the same budget in "

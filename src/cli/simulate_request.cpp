@@ -25,6 +25,7 @@ simulation_request make_request(const simulate_state& s) {
                     {"sample_interval", s.sample_interval},
                     {"bins", s.bins},
                     {"checkpoint_interval", s.checkpoint_interval},
+                    {"max_seconds", s.max_seconds},
                     {"estimator", s.estimator},
                     {"short_time", s.short_time},
                     {"reference_time", s.reference_time}};

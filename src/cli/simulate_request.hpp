@@ -27,9 +27,9 @@ struct simulate_state {
         first_index = cli_default("first_index"), bins = cli_default("bins"),
         sample_interval = cli_default("sample_interval"), checkpoint,
         checkpoint_interval = cli_default("checkpoint_interval"),
-        estimator = cli_default("estimator"), short_time = cli_default("short_time"),
-        reference_time = cli_default("reference_time"), replicates = cli_default("replicates"),
-        initial_states, write_initial_states;
+        max_seconds = cli_default("max_seconds"), estimator = cli_default("estimator"),
+        short_time = cli_default("short_time"), reference_time = cli_default("reference_time"),
+        replicates = cli_default("replicates"), initial_states, write_initial_states;
     bool no_chaos = false, progress = false, no_timing = false;
     model_options model;
 };

@@ -3,6 +3,7 @@
 
 #include <time.h>
 
+#include <chrono>
 #include <string>
 
 namespace flipflux {
@@ -45,6 +46,30 @@ cpu_budget_scope::cpu_budget_scope(double seconds) : previous_(detail::cpu_deadl
 
 cpu_budget_scope::~cpu_budget_scope() {
     detail::cpu_deadline = previous_;
+}
+
+cpu_watch::cpu_watch(double seconds, std::atomic<int>& flag, int value,
+                     const std::atomic<int>* relay) {
+    if (!(seconds > 0)) return;
+    const double deadline = process_cpu_seconds() + seconds;
+    watcher_ = std::jthread([this, deadline, &flag, value, relay](const std::stop_token& stop) {
+        while (!stop.stop_requested()) {
+            if (const int v = relay != nullptr ? relay->load() : 0; v != 0) flag.store(v);
+            if (process_cpu_seconds() >= deadline) {
+                reached_.store(true);
+                flag.store(value);
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    });
+}
+
+cpu_watch::~cpu_watch() {
+    if (watcher_.joinable()) {
+        watcher_.request_stop();
+        watcher_.join();
+    }
 }
 
 }  // namespace flipflux

@@ -50,6 +50,8 @@ const std::vector<run_setting>& run_settings() {
          "store every trajectory's state at this time interval", setting_kind::number},
         {"checkpoint_interval", "--checkpoint-interval", "", "", "2", "", false,
          "seconds between checkpoint appends", setting_kind::number},
+        {"max_seconds", "--max-seconds", "", "max_seconds", "0", "", false,
+         "CPU seconds the integration may take (0: no bound)", setting_kind::number},
         {"estimator", "--estimator", "estimator", "", "long", "", true, "long or short",
          setting_kind::text},
         {"short_time", "--short-time", "", "", "20", "", true,
@@ -173,6 +175,7 @@ simulation_request make_simulation_request(const settings_text& given, settings_
     o.sample_interval = r.real("sample_interval");
     q.bins = r.count("bins", false);
     q.checkpoint_interval = r.real("checkpoint_interval");
+    q.max_seconds = r.real("max_seconds");
     q.estimator = parse_name<rate_estimator>(r.text("estimator"), r.name("estimator"));
     q.short_time = r.positive("short_time");
     q.reference_time = r.real("reference_time");

@@ -4,6 +4,7 @@
 #include "flipflux/study/settings.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -241,12 +242,16 @@ simulation_interrupted interruption(const simulation_request& request, const std
         kept = writer->saved_trajectories();
     }
     const int signal = o.stop ? o.stop->load() : 0;
+    const std::string cause =
+        signal == cpu_bound_stop
+            ? "stopped at its bound of " + to_shortest_decimal(request.max_seconds) + " CPU seconds"
+            : "interrupted";
     return simulation_interrupted(
         request.checkpoint.empty()
-            ? "interrupted (without a checkpoint: the finished trajectories are lost)"
-            : "interrupted: " + std::to_string(k) + " energies complete and " +
-                  std::to_string(kept) + " trajectories of E = " + label + " saved in '" +
-                  request.checkpoint.string() + "'; rerun the same command to resume",
+            ? cause + " (without a checkpoint: the finished trajectories are lost)"
+            : cause + ": " + std::to_string(k) + " energies complete and " + std::to_string(kept) +
+                  " trajectories of E = " + label + " saved in '" + request.checkpoint.string() +
+                  "'; rerun the same command to resume",
         signal, kept);
 }
 
@@ -383,6 +388,7 @@ class study_run {
     const bool root_;
     ensemble_options o_;
     std::vector<study_criteria> setups_;
+    std::atomic<int> own_stop_{0};  ///< options.stop when the caller gave none (max_seconds)
     shared_energies shared_;
     resumption resumed_;
     std::vector<energy_sink*> sinks_;  ///< per study (null: none)
@@ -577,6 +583,11 @@ std::vector<study_result> study_run::finish_studies() {
 }
 
 std::optional<std::vector<study_result>> study_run::run() {
+    // max_seconds: the lanes poll the run's own stop flag, which a watch on the process's CPU
+    // time sets at the bound and into which it relays the caller's flag (a signal's) until then
+    const std::atomic<int>* caller_stop = o_.stop;
+    if (request_.max_seconds > 0) o_.stop = &own_stop_;
+    const cpu_watch watch(request_.max_seconds, own_stop_, cpu_bound_stop, caller_stop);
     resume_checkpoint();
     redo_missing_results();
     const auto& energies = shared_.energies;

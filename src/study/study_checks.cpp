@@ -65,6 +65,10 @@ ensemble_options checked_options(const simulation_request& request, const proces
         throw input_error::about("reference_time", "'" +
                                                        to_shortest_decimal(request.reference_time) +
                                                        "' is invalid (must be finite and >= 0)");
+    if (!(request.max_seconds >= 0) || !std::isfinite(request.max_seconds))
+        throw input_error::about("max_seconds", "'" + to_shortest_decimal(request.max_seconds) +
+                                                    "' is invalid (CPU seconds: finite and >= 0; "
+                                                    "0: no bound)");
     if (!(request.checkpoint_interval >= 0))
         throw input_error::about(
             "checkpoint_interval",

@@ -130,6 +130,19 @@ TEST(LimitsCommand, BudgetsThatCannotFinishAreRefused) {
                    {"--short-time: '", "is longer than the budget"});
     expect_refused("accuracy --min-seconds inf --quantities omega --out /dev/null",
                    {"--min-seconds"});
+    expect_refused(simulate + "--max-seconds -1",
+                   {"--max-seconds: '-1' is invalid (CPU seconds: finite and >= 0"});
+    expect_refused(simulate + "--max-seconds inf", {"--max-seconds: 'inf' is not a finite"});
+    // a run of about 2 CPU seconds bounded at 0.05: one line naming the bound, status 2, no
+    // report on stdout
+    const command_result r = run_flipflux(
+        "simulate --energy 5 --trajectories 4000 --time 100 --criteria upright --threads 1 "
+        "--no-chaos --max-seconds 0.05");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(r.err,
+              "flipflux: error: --max-seconds: stopped at its bound of 0.05 CPU seconds (without "
+              "a checkpoint: the finished trajectories are lost)\n");
+    EXPECT_EQ(r.out, "");
 }
 
 TEST(LimitsCommand, OverflowingInputsAreRefusedNotPrintedAsInf) {

@@ -296,3 +296,14 @@ def test_simulate_defaults_are_the_settings_table():
         assert report[key] == expected[key], key
     assert report["chaos"]["threshold"] == expected["chaos"]["threshold"]
     assert report["chaos"]["indicator"] == expected["chaos"]["indicator"]
+
+
+def test_simulate_max_seconds_bounds_the_run():
+    """max_seconds bounds the integration's CPU seconds: a run of about 2 CPU seconds stops at
+    0.05 with TimeoutError naming the keyword; a bound that is not a finite number >= 0 is a
+    ValueError naming it."""
+    with pytest.raises(TimeoutError, match=r"^max_seconds: stopped at its bound of 0.05 CPU"):
+        flipflux.simulate(5, 4000, 100, criteria="upright", threads=1, chaos=False,
+                          max_seconds=0.05)
+    with pytest.raises(ValueError, match=r"^max_seconds: '-1' is invalid"):
+        flipflux.simulate(5, 4, 1, max_seconds=-1)

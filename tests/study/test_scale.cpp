@@ -19,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/core/error.hpp"
 #include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
@@ -1025,6 +1026,66 @@ simulation_request small_study(std::vector<std::pair<std::string, double>> energ
     q.options.threads = 1;
     q.timing = false;
     return q;
+}
+
+// max_seconds bounds the integration's CPU time: a study of 0.5 CPU seconds or more given 0.1 stops
+// near it (by the process's CPU clock, measured here independently), says so, and keeps its
+// finished trajectories in the checkpoint; rerun without the bound it resumes and its report is
+// the unbounded run's, bit for bit. Without a checkpoint (and without a stop flag of the
+// caller's) it stops alike. A bound the run does not reach changes nothing.
+TEST(Interruption, TheCpuBoundStopsTheStudyAndTheRerunResumes) {
+    const double_pendulum<double> m;
+    const fs::path file =
+        fs::path(::testing::TempDir()) / ("flipflux_bound_" + std::to_string(getpid()) + ".ckpt");
+    fs::remove(file);
+    simulation_request q = small_study({{"4", 4.0}, {"5", 5.0}}, 1000, 100, 3);
+    const json full = study_json(*simulate(m, q));  // 0.5 CPU seconds on one thread (release)
+    q.checkpoint = file;
+    q.checkpoint_interval = 0;
+    q.max_seconds = 0.1;
+    const double c0 = process_cpu_seconds();
+    try {
+        simulate(m, q);
+        ADD_FAILURE() << "not stopped at the bound";
+    } catch (const simulation_interrupted& e) {
+        const double used = process_cpu_seconds() - c0;
+        EXPECT_EQ(e.signal(), cpu_bound_stop);
+        EXPECT_GE(used, 0.1);
+        EXPECT_LT(used, 0.6);  // the bound, the watch's 10 ms and one step of each lane
+        EXPECT_NE(std::string(e.what()).find("stopped at its bound of 0.1 CPU seconds: "),
+                  std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("rerun the same command to resume"), std::string::npos)
+            << e.what();
+    }
+    q.max_seconds = 0;
+    EXPECT_EQ(study_json(*simulate(m, q)), full);
+    fs::remove(file);
+    // no checkpoint, no stop flag of the caller's: the study's own flag
+    simulation_request bare = small_study({{"5", 5.0}}, 1000, 100, 3);
+    bare.max_seconds = 0.05;
+    try {
+        simulate(m, bare);
+        ADD_FAILURE() << "not stopped at the bound";
+    } catch (const simulation_interrupted& e) {
+        EXPECT_EQ(e.signal(), cpu_bound_stop);
+        EXPECT_NE(std::string(e.what()).find("without a checkpoint"), std::string::npos)
+            << e.what();
+    }
+    bare.max_seconds = 1e6;
+    bare.energies = {{"4", 4.0}};
+    bare.options.trajectories = 8;
+    simulation_request plain = bare;
+    plain.max_seconds = 0;
+    EXPECT_EQ(study_json(*simulate(m, bare)), study_json(*simulate(m, plain)));
+    bare.max_seconds = -1;
+    try {
+        simulate(m, bare);
+        ADD_FAILURE() << "a negative bound was accepted";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("max_seconds: '-1' is invalid"), std::string::npos)
+            << e.what();
+    }
 }
 
 // A record's hash covers the record, not the run: trajectory records spliced in from a run with

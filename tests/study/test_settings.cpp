@@ -127,6 +127,7 @@ TEST(Settings, TheKeyFollowsTheTablesFlags) {
                                                    {"bins", "5"},
                                                    {"sample_interval", "1"},
                                                    {"checkpoint_interval", "5"},
+                                                   {"max_seconds", "60"},
                                                    {"estimator", "long"},
                                                    {"short_time", "30"},
                                                    {"reference_time", "100"}};

@@ -7,7 +7,9 @@
 // harness) a check costs one thread-local load.
 #pragma once
 
+#include <atomic>
 #include <stdexcept>
+#include <thread>
 
 namespace flipflux {
 
@@ -46,6 +48,27 @@ class cpu_budget_scope {
 
   private:
     double previous_;
+};
+
+/// While it lives, watches the process's CPU time (every thread) from its construction: once
+/// `seconds` more have been used, stores `value` in `flag` (which the computation polls, as it
+/// polls a signal's flag) and watches no more. Until then a non-zero value of `relay` (the
+/// caller's own stop flag, e.g. a signal's) is copied into `flag`. A watcher thread reads the
+/// clocks every 10 ms, so the bound is overrun by at most that much wall time (times the
+/// threads) and the computation's poll. seconds <= 0: no watch, no thread.
+class cpu_watch {
+  public:
+    cpu_watch(double seconds, std::atomic<int>& flag, int value,
+              const std::atomic<int>* relay = nullptr);
+    ~cpu_watch();  // stops and joins the watcher
+    cpu_watch(const cpu_watch&) = delete;
+    cpu_watch& operator=(const cpu_watch&) = delete;
+    /// Whether the bound was reached (the flag was set by this watch).
+    bool reached() const { return reached_.load(); }
+
+  private:
+    std::atomic<bool> reached_{false};
+    std::jthread watcher_;
 };
 
 }  // namespace flipflux

@@ -43,6 +43,10 @@ struct simulation_progress {
 };
 
 /// Thrown by simulate() when options.stop was set: finished trajectories are in the checkpoint.
+/// The value a study stores in options.stop when it reaches simulation_request::max_seconds:
+/// simulation_interrupted::signal() then returns it (a signal's number is positive).
+inline constexpr int cpu_bound_stop = -1;
+
 class simulation_interrupted : public std::runtime_error {
   public:
     simulation_interrupted(const std::string& what, int signal, std::uint64_t saved)
@@ -90,7 +94,12 @@ struct simulation_request {
     /// Non-empty: resume from / save to this checkpoint (study/checkpoint.hpp).
     std::filesystem::path checkpoint;
     double checkpoint_interval = 2;  ///< seconds between appends of finished trajectories
-    bool timing = true;              ///< report "seconds" and "threads" (they vary run to run)
+    /// > 0: the CPU seconds (the process's, every thread) the integration may take; at the bound
+    /// the study stops as at an interrupt (finished trajectories stay in the checkpoint, and a
+    /// rerun resumes from it) and throws simulation_interrupted with signal() == cpu_bound_stop.
+    /// 0: no bound.
+    double max_seconds = 0;
+    bool timing = true;  ///< report "seconds" and "threads" (they vary run to run)
     rate_estimator estimator = rate_estimator::long_trajectories;
     double short_time = 20;  ///< trajectory length of the short estimator
     /// > 0: the quality indices also give the PQI expected at this trajectory length
