@@ -52,11 +52,10 @@ cpu_watch::cpu_watch(double seconds, std::atomic<int>& flag, int value,
                      const std::atomic<int>* relay) {
     if (!(seconds > 0)) return;
     const double deadline = process_cpu_seconds() + seconds;
-    watcher_ = std::jthread([this, deadline, &flag, value, relay](const std::stop_token& stop) {
+    watcher_ = std::jthread([deadline, &flag, value, relay](const std::stop_token& stop) {
         while (!stop.stop_requested()) {
             if (const int v = relay != nullptr ? relay->load() : 0; v != 0) flag.store(v);
             if (process_cpu_seconds() >= deadline) {
-                reached_.store(true);
                 flag.store(value);
                 return;
             }

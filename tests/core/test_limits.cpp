@@ -1,5 +1,6 @@
 // core/limits.hpp: the memory budget (physical memory, or $FLIPFLUX_MEMORY_LIMIT), the memory
 // check's one-line refusal naming the field and value, and the thread limit.
+#include <atomic>
 #include <cstdlib>
 
 #include "flipflux/core/budget.hpp"
@@ -73,6 +74,40 @@ TEST(CpuBudget, ASpentBudgetStopsTheLoopThatChecksIt) {
             EXPECT_THROW(spin(1), budget_exceeded);
         }
         EXPECT_THROW(spin(1), budget_exceeded);
+    }
+}
+
+// core/budget.hpp's cpu_watch: a loop polling a flag, as the ensemble's lanes poll their stop
+// flag, is stopped once the process has used the watch's seconds (measured here by the process's
+// CPU clock, not the watch's say-so), and not long after (the watch's 10 ms and a poll); until
+// then a value in the relayed flag (a signal's) reaches the polled one; no bound, no watch.
+TEST(CpuBudget, AWatchSetsThePolledFlagAtItsBound) {
+    std::atomic<int> flag{0};
+    const auto spin_until_flag = [&flag](double at_most) {
+        const double start = process_cpu_seconds();
+        while (flag.load(std::memory_order_relaxed) == 0 && process_cpu_seconds() - start < at_most)
+            ;
+        return process_cpu_seconds() - start;
+    };
+    {
+        const cpu_watch watch(0.05, flag, -1);
+        const double used = spin_until_flag(5);
+        EXPECT_EQ(flag.load(), -1);
+        EXPECT_GE(used, 0.05);
+        EXPECT_LT(used, 0.5);
+    }
+    flag = 0;
+    {
+        const cpu_watch none(0, flag, -1);  // no bound: the flag stays clear
+        EXPECT_GE(spin_until_flag(0.05), 0.05);
+        EXPECT_EQ(flag.load(), 0);
+    }
+    std::atomic<int> caller{0};
+    {
+        const cpu_watch watch(100, flag, -1, &caller);
+        caller = 15;  // SIGTERM's number, set by the caller's handler
+        spin_until_flag(5);
+        EXPECT_EQ(flag.load(), 15);  // relayed, not the bound's value
     }
 }
 

@@ -63,11 +63,8 @@ class cpu_watch {
     ~cpu_watch();  // stops and joins the watcher
     cpu_watch(const cpu_watch&) = delete;
     cpu_watch& operator=(const cpu_watch&) = delete;
-    /// Whether the bound was reached (the flag was set by this watch).
-    bool reached() const { return reached_.load(); }
 
   private:
-    std::atomic<bool> reached_{false};
     std::jthread watcher_;
 };
 

@@ -42,11 +42,11 @@ struct simulation_progress {
     std::size_t energy = 0, energies = 0;            ///< the energy being simulated
 };
 
-/// Thrown by simulate() when options.stop was set: finished trajectories are in the checkpoint.
-/// The value a study stores in options.stop when it reaches simulation_request::max_seconds:
+/// The value a study stores in its stop flag when it reaches simulation_request::max_seconds:
 /// simulation_interrupted::signal() then returns it (a signal's number is positive).
 inline constexpr int cpu_bound_stop = -1;
 
+/// Thrown by simulate() when options.stop was set: finished trajectories are in the checkpoint.
 class simulation_interrupted : public std::runtime_error {
   public:
     simulation_interrupted(const std::string& what, int signal, std::uint64_t saved)
