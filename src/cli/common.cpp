@@ -144,6 +144,31 @@ int& exit_status() {
     return status;
 }
 
+std::atomic<int>& stop_signal() {
+    static std::atomic<int> signal{0};
+    return signal;
+}
+
+namespace {
+extern "C" void on_stop_signal(int signal) {
+    stop_signal().store(signal);
+}
+}  // namespace
+
+signal_guard::signal_guard() {
+    stop_signal().store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+}
+
+signal_guard::~signal_guard() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+}
+
 std::filesystem::path find_share_path(const std::filesystem::path& relative) {
     const std::filesystem::path exe = executable_path();
     if (exe.empty()) return {};

@@ -2,7 +2,10 @@
 // precision option, JSON output with every number as a decimal string.
 #pragma once
 
+#include <signal.h>
+
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -117,6 +120,24 @@ std::filesystem::path find_share_path(const std::filesystem::path& relative);
 
 /// Writes text to stdout in one piece (the JSON is built completely before anything is printed).
 void print(const std::string& text);
+
+/// The signal (SIGINT, SIGTERM) that asked a long command (simulate, run) to stop; 0: none. Its
+/// computations poll it once per integrator step (ensemble_options::stop): in-flight trajectories
+/// are abandoned, finished ones are in the checkpoint, the exit status is 128 + the signal.
+std::atomic<int>& stop_signal();
+
+/// Installs the SIGINT/SIGTERM handlers that set stop_signal() for its lifetime (and clears it).
+class signal_guard {
+  public:
+    signal_guard();
+    ~signal_guard();
+    signal_guard(const signal_guard&) = delete;
+    signal_guard& operator=(const signal_guard&) = delete;
+
+  private:
+    struct sigaction old_int_ {};
+    struct sigaction old_term_ {};
+};
 
 }  // namespace flipflux::cli
 

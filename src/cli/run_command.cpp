@@ -1,11 +1,17 @@
 // flipflux run [--dry-run] SCENE: compute what a scene file asks for, and nothing else.
+// --max-seconds S bounds the run's CPU time; at the bound, or at SIGINT/SIGTERM, it stops with its
+// ensembles' finished trajectories and finished ensemble steps in their checkpoints, and the same
+// command resumes (exit status 2 at the bound, 128 + the signal otherwise).
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 #include "common.hpp"
 #include "flipflux/core/limits.hpp"
@@ -36,9 +42,19 @@ struct run_state {
     bool no_cache = false;
     int threads = 0;
     double checkpoint_interval = 2;
+    double max_seconds = 0;
 };
 
 void run_scene(const run_state& s, process_group* group);
+
+/// The message of a run stopped at its bound (naming --max-seconds) or by a signal.
+std::string stopped_text(const simulation_interrupted& e) {
+    return e.signal() == cpu_bound_stop ? std::string("--max-seconds: ") + e.what() : e.what();
+}
+/// Its exit status: 2 at the bound (as bad input), else 128 + the signal.
+int stopped_status(const simulation_interrupted& e) {
+    return e.signal() == cpu_bound_stop ? 2 : 128 + (e.signal() > 0 ? e.signal() : SIGINT);
+}
 
 const register_command registration([](CLI::App& app) {
     auto s = std::make_shared<run_state>();
@@ -56,11 +72,19 @@ const register_command registration([](CLI::App& app) {
                     "seconds between checkpoint appends of an ensemble's finished trajectories "
                     "(0: after every one)")
         ->capture_default_str();
+    sub->add_option("--max-seconds", s->max_seconds,
+                    "CPU seconds the run may take (0: no bound); at the bound it stops as at "
+                    "SIGINT, keeping its ensembles' finished trajectories, and the same command "
+                    "resumes")
+        ->capture_default_str();
     sub->callback([s] {
         if (!(s->checkpoint_interval >= 0) || !std::isfinite(s->checkpoint_interval)) {
             throw input_error("--checkpoint-interval: '" + to_decimal(s->checkpoint_interval) +
                               "' is invalid (must be a finite number >= 0)");
         }
+        if (!(s->max_seconds >= 0))
+            throw input_error("--max-seconds: '" + to_decimal(s->max_seconds) +
+                              "' is invalid (must be >= 0; 0: no bound)");
         (void)checked_threads(static_cast<std::uint64_t>(s->threads), "--threads");
         // mpirun -np N flipflux run SCENE: the ensembles' trajectories spread over the ranks,
         // everything else computed and written by rank 0 (run_options::group)
@@ -69,6 +93,19 @@ const register_command registration([](CLI::App& app) {
         if (mpi && mpi->size() > 1) {
             try {
                 run_scene(*s, mpi.get());
+            } catch (const simulation_interrupted& e) {
+                // every rank stops in the same ensemble step (its collective agrees) or rank 0
+                // alone between steps: rank 0 says why and ends the whole job; the others give it
+                // the time to (their abort would end it first, unsaid)
+                if (mpi->rank() == 0) {
+                    std::fprintf(stderr, "flipflux: %s%s\n",
+                                 e.signal() == cpu_bound_stop ? "error: " : "",
+                                 stopped_text(e).c_str());
+                    std::fflush(stderr);
+                } else {
+                    std::this_thread::sleep_for(std::chrono::seconds(5));
+                }
+                mpi->abort(stopped_status(e));
             } catch (const std::exception& e) {
                 // another rank may wait in a collective: report (rank 0, or any rank's internal
                 // error) and end the whole job
@@ -85,7 +122,13 @@ const register_command registration([](CLI::App& app) {
             }
             return;
         }
-        run_scene(*s, nullptr);
+        try {
+            run_scene(*s, nullptr);
+        } catch (const simulation_interrupted& e) {
+            if (e.signal() == cpu_bound_stop) throw input_error(stopped_text(e));
+            std::fprintf(stderr, "flipflux: %s\n", stopped_text(e).c_str());
+            exit_status() = stopped_status(e);
+        }
     });
 });
 
@@ -111,10 +154,13 @@ void run_scene(const run_state& st, process_group* group) {
         options.threads = s->threads;
         options.group = group;
         options.checkpoint_interval = s->checkpoint_interval;
+        options.max_seconds = s->max_seconds;
+        options.stop = &stop_signal();
         if (!s->no_cache)
             options.cache_dir =
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
         std::ostringstream quiet;  // the other ranks' log
+        const signal_guard guard;  // SIGINT, SIGTERM: the run stops as at its CPU bound
         const run_counters c = execute_plan(sc, p, root ? std::cout : quiet, options);
         if (!root) return;
         std::cout << "saddle orbits solved " << c.orbit_solves << ", from cache "

@@ -33,35 +33,6 @@
 namespace flipflux::cli {
 namespace {
 
-std::atomic<int> stop_signal{0};
-
-extern "C" void on_stop_signal(int signal) {
-    stop_signal.store(signal);
-}
-
-/// Installs the SIGINT/SIGTERM handlers for its lifetime.
-class signal_guard {
-  public:
-    signal_guard() {
-        stop_signal.store(0);
-        struct sigaction sa {};
-        sa.sa_handler = on_stop_signal;
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &old_int_);
-        sigaction(SIGTERM, &sa, &old_term_);
-    }
-    ~signal_guard() {
-        sigaction(SIGINT, &old_int_, nullptr);
-        sigaction(SIGTERM, &old_term_, nullptr);
-    }
-    signal_guard(const signal_guard&) = delete;
-    signal_guard& operator=(const signal_guard&) = delete;
-
-  private:
-    struct sigaction old_int_ {};
-    struct sigaction old_term_ {};
-};
-
 /// --initial-states: the file's energies and states replace --energy and --trajectories (one
 /// replicate); its `# pendulum:` line, if any, must name the model options' pendulum.
 void use_initial_states(const simulate_state& s, const double_pendulum<double>& model,
@@ -229,7 +200,7 @@ void run(const simulate_state& s) {
         simulation_request q = make_request(one);
         if (given) use_initial_states(s, model, q, both, root);
         if (!s.write_initial_states.empty() && root) check_initial_states_output(s);
-        q.options.stop = &stop_signal;
+        q.options.stop = &stop_signal();
         q.group = mpi.get();
         progress_bar bar(s.progress);
         if (root && bar.active())

@@ -353,6 +353,7 @@ simulation_request ensemble_request(context& ctx, std::size_t index) {
     for (const std::string& text : energy_texts(x.energies, where + ": energies"))
         request.energies.emplace_back(text, parse_real<double>(text, where + ": energies"));
     request.options.threads = ctx.options.threads;
+    request.options.stop = ctx.stop;
     request.csv_dir = ctx.s.output / ("ensemble-" + x.name);  // per-trajectory CSVs always (the
                                                               // report reads them)
     request.residence_times = x.residence_times;  // every crossing time: only where asked
@@ -412,9 +413,9 @@ void run_ensemble(context& ctx, const plan_step& step) {
         if (!x.classification_check_of.empty())
             ctx.summary["ensembles"].back()["classification_check_of"] = x.classification_check_of;
     }
-    // the results are on disk: only now may the trajectories go (a kill before this point
-    // resumes from the checkpoint)
-    std::filesystem::remove(checkpoint);
+    // the results are on disk; the checkpoint goes when the whole run is complete (execute_plan):
+    // a rerun of a run stopped later restores this step from it rather than integrating again
+    ctx.checkpoints.push_back(checkpoint);
 }
 
 // ---- single trajectories ------------------------------------------------------------------
@@ -518,6 +519,9 @@ run_counters join_ensembles(const scene& s, const plan& p, std::ostream& log,
                             const run_options& options) {
     context ctx{s, log, options, {}};
     ctx.writes = false;
+    std::atomic<int> bound{0};  // this rank's own CPU bound (run_options::max_seconds)
+    const cpu_watch watch(options.max_seconds, bound, cpu_bound_stop, options.stop);
+    ctx.stop = options.max_seconds > 0 ? &bound : options.stop;
     const double_pendulum<double> model = make_model<double>(s.model);
     bool met = false;
     for (const plan_step& step : p.steps) {
@@ -531,6 +535,52 @@ run_counters join_ensembles(const scene& s, const plan& p, std::ostream& log,
     return ctx.counters;
 }
 
+/// One step of the plan (`seconds`: the run's so far, for the report's run.json).
+void run_step(context& ctx, const plan_step& step, double seconds) {
+    switch (step.what) {
+        case plan_step::kind::orbit_family:
+            dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
+            break;
+        case plan_step::kind::predictions:
+            dispatch(ctx.s.prec, [&]<class Real>() { run_predictions<Real>(ctx, step); });
+            break;
+        case plan_step::kind::ensemble:
+            run_ensemble(ctx, step);
+            break;
+        case plan_step::kind::trajectory:
+            run_trajectory(ctx, step);
+            break;
+        case plan_step::kind::viewer:
+            dispatch(ctx.s.prec, [&]<class Real>() { run_viewer<Real>(ctx); });
+            break;
+        case plan_step::kind::golden:
+            run_golden(ctx);
+            break;
+        case plan_step::kind::accuracy:
+            run_accuracy(ctx);
+            break;
+        case plan_step::kind::report:
+            run_report(ctx, seconds);
+            break;
+    }
+}
+
+/// Why the run stops (ctx.stop holds `signal`), `where` in the plan: what simulation_interrupted
+/// says, naming the bound or the interruption, where it stopped and how to resume.
+simulation_interrupted run_stopped(const context& ctx, int signal, const std::string& where,
+                                   std::uint64_t saved) {
+    const std::string cause =
+        signal == cpu_bound_stop ? "stopped at its bound of " +
+                                       to_shortest_decimal(ctx.options.max_seconds) + " CPU seconds"
+                                 : "interrupted";
+    std::string text = cause + " " + where;
+    if (const std::size_t n = ctx.checkpoints.size(); n > 0)
+        text += n == 1 ? std::string("; the finished ensemble step is kept in its checkpoint")
+                       : "; the " + std::to_string(n) +
+                             " finished ensemble steps are kept in their checkpoints";
+    return simulation_interrupted(text + "; rerun the same command to resume", signal, saved);
+}
+
 }  // namespace
 
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
@@ -538,6 +588,11 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     if (options.group != nullptr && options.group->rank() != 0)
         return join_ensembles(s, p, log, options);
     context ctx{s, log, options, {}};
+    // the run's CPU bound: a watch sets the flag the ensembles poll, relaying the caller's until
+    // then; the flag is also checked between steps
+    std::atomic<int> bound{0};
+    const cpu_watch watch(options.max_seconds, bound, cpu_bound_stop, options.stop);
+    ctx.stop = options.max_seconds > 0 ? &bound : options.stop;
     const auto start = std::chrono::steady_clock::now();
     const std::size_t misses_before = saddle_orbit_memo_misses();
     ctx.summary["scene"] = s.name;
@@ -574,7 +629,15 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     // each step's wall seconds (where a run's time goes: docs/scale.md)
     ctx.summary["step_seconds"] = json::array();
     bool met = options.group == nullptr;  // an MPI run's ranks meet before the first ensemble
-    for (const plan_step& step : p.steps) {
+    for (std::size_t i = 0; i < p.steps.size(); ++i) {
+        const plan_step& step = p.steps[i];
+        const std::string of = " of " + std::to_string(p.steps.size());
+        if (const int signal = ctx.stop ? ctx.stop->load() : 0; signal != 0)
+            throw run_stopped(ctx, signal,
+                              i == 0 ? std::string("before its first step")
+                                     : "after step " + std::to_string(i) + of + " (" +
+                                           p.steps[i - 1].description + ")",
+                              0);
         if (!met && step.what == plan_step::kind::ensemble) {
             log << "  " << meet_before_the_ensembles(options, s)
                 << " orbits sent to the other ranks\n";
@@ -584,31 +647,13 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         log << "- " << step.description << "\n";
         const double step_start = elapsed(), step_cpu_start = process_cpu_seconds();
-        switch (step.what) {
-            case plan_step::kind::orbit_family:
-                dispatch(step.prec, [&]<class Real>() { run_orbit_family<Real>(ctx, step); });
-                break;
-            case plan_step::kind::predictions:
-                dispatch(s.prec, [&]<class Real>() { run_predictions<Real>(ctx, step); });
-                break;
-            case plan_step::kind::ensemble:
-                run_ensemble(ctx, step);
-                break;
-            case plan_step::kind::trajectory:
-                run_trajectory(ctx, step);
-                break;
-            case plan_step::kind::viewer:
-                dispatch(s.prec, [&]<class Real>() { run_viewer<Real>(ctx); });
-                break;
-            case plan_step::kind::golden:
-                run_golden(ctx);
-                break;
-            case plan_step::kind::accuracy:
-                run_accuracy(ctx);
-                break;
-            case plan_step::kind::report:
-                run_report(ctx, elapsed());
-                break;
+        try {
+            run_step(ctx, step, elapsed());
+        } catch (const simulation_interrupted& e) {  // an ensemble's: its flag is ctx.stop
+            throw run_stopped(ctx, e.signal(),
+                              "in step " + std::to_string(i + 1) + of + " (" + step.description +
+                                  "): " + e.kept(),
+                              e.saved());
         }
         const double seconds = elapsed() - step_start;
         ctx.summary["step_seconds"].push_back(
@@ -630,6 +675,9 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     ctx.summary["seconds"] = elapsed();
     ctx.summary["cpu_seconds"] = process_cpu_seconds() - ctx.cpu_start;
     ctx.write("run.json", ctx.summary.dump(2) + "\n");
+    // the run is complete: its ensemble steps' checkpoints go (a rerun computes it afresh)
+    for (const std::filesystem::path& checkpoint : ctx.checkpoints)
+        std::filesystem::remove(checkpoint);
     log << "done in " << ctx.summary["seconds"].get<double>() << " s\n";
     return ctx.counters;
 }

@@ -3,10 +3,12 @@
 // output directories. execute.cpp runs the plan; execute_steps.cpp holds these steps.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "flipflux/core/budget.hpp"
 #include "flipflux/io/atomic_file.hpp"
@@ -27,6 +29,11 @@ struct context {
     /// false on the ranks other than 0 of an MPI run: they compute what the ensembles need and
     /// write nothing (join_ensembles)
     bool writes = true;
+    /// What the ensembles poll to stop (run_options::stop or the run's CPU bound; null: nothing).
+    const std::atomic<int>* stop = nullptr;
+    /// The ensemble steps' checkpoints, removed once the whole run is complete (a stopped run's
+    /// rerun restores its finished ensembles from them).
+    std::vector<std::filesystem::path> checkpoints{};
 
     void write(const std::filesystem::path& name, const std::string& content) {
         if (!writes) return;

@@ -242,17 +242,21 @@ simulation_interrupted interruption(const simulation_request& request, const std
         kept = writer->saved_trajectories();
     }
     const int signal = o.stop ? o.stop->load() : 0;
+    // (a bound the caller set on its stop flag, as a scene's run does, is the caller's to name)
     const std::string cause =
-        signal == cpu_bound_stop
+        signal != cpu_bound_stop ? "interrupted"
+        : request.max_seconds > 0
             ? "stopped at its bound of " + to_shortest_decimal(request.max_seconds) + " CPU seconds"
-            : "interrupted";
+            : "stopped at its CPU bound";
+    const std::string saved = request.checkpoint.empty()
+                                  ? std::string()
+                                  : std::to_string(k) + " energies complete and " +
+                                        std::to_string(kept) + " trajectories of E = " + label +
+                                        " saved in '" + request.checkpoint.string() + "'";
     return simulation_interrupted(
-        request.checkpoint.empty()
-            ? cause + " (without a checkpoint: the finished trajectories are lost)"
-            : cause + ": " + std::to_string(k) + " energies complete and " + std::to_string(kept) +
-                  " trajectories of E = " + label + " saved in '" + request.checkpoint.string() +
-                  "'; rerun the same command to resume",
-        signal, kept);
+        saved.empty() ? cause + " (without a checkpoint: the finished trajectories are lost)"
+                      : cause + ": " + saved + "; rerun the same command to resume",
+        signal, kept, saved);
 }
 
 }  // namespace

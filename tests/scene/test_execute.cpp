@@ -1,8 +1,10 @@
 // Scene execution: outputs are written, unrequested work is skipped (counted), saddle orbits are
 // continued once and then read back bit-identically from the disk cache.
+#include <signal.h>
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -273,6 +275,34 @@ TEST(Execute, EnsembleEvaluatesOnlyTheListedCriteria) {
     EXPECT_EQ(u["model"]["m1"], "1");
     EXPECT_EQ(u["model"]["coefficients"]["A"], "2");
     EXPECT_FALSE(fs::exists(out / "ensemble-u+ua.checkpoint"));  // removed once complete
+    fs::remove_all(out);
+}
+
+// A stop the caller asked for (run_options::stop, a signal's number) before the run began: the
+// run computes and writes nothing, and says so with the signal and how to resume.
+TEST(Execute, AStopAskedForBeforeTheFirstStepComputesNothing) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("stopped");
+    const scene s = scene_in(out,
+                             "[predictions]\nquantities = [\"omega\"]\narms = [2]\n"
+                             "energies = [4]\n" +
+                                 ensemble_table("u", "\"upright\"", "5", 8, 5));
+    std::atomic<int> stop{SIGINT};
+    std::ostringstream log;
+    run_options o;
+    o.threads = 1;
+    o.stop = &stop;
+    try {
+        execute_plan(s, make_plan(s), log, o);
+        ADD_FAILURE() << "the run did not stop";
+    } catch (const simulation_interrupted& e) {
+        EXPECT_EQ(e.signal(), SIGINT);
+        EXPECT_EQ(std::string(e.what()),
+                  "interrupted before its first step; rerun the same command to resume");
+    }
+    EXPECT_FALSE(fs::exists(out / "predictions.csv"));
+    EXPECT_FALSE(fs::exists(out / "ensemble-u.json"));
+    EXPECT_FALSE(fs::exists(out / "run.json"));
     fs::remove_all(out);
 }
 

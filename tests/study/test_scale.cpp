@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -661,6 +662,77 @@ TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
     }
     EXPECT_GE(csvs, 2u);
     EXPECT_EQ(run_flipflux("run --checkpoint-interval -1 " + whole.string()).status, 2);
+    fs::remove_all(dir);
+}
+
+// `flipflux run --max-seconds B`: a scene whose run takes about four times B (0.3 CPU seconds in
+// a release build) stops at the bound
+// (status 2, one line naming --max-seconds and saying how to resume), keeping its finished
+// trajectories and finished ensemble steps; the same command, repeated, completes the run, and its
+// files are an unbounded run's, bit for bit (the results less their timing fields, every
+// per-trajectory CSV and the predictions). No checkpoint is left behind. A negative bound is
+// refused.
+TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
+    const fs::path dir =
+        fs::path(::testing::TempDir()) / ("flipflux_scene_bound_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto scene_file = [&](const std::string& name) {
+        const fs::path file = dir / (name + ".toml");
+        std::ofstream f(file);
+        f << "[scene]\nname = \"" << name << "\"\noutput = \"" << (dir / name).string() << "\"\n"
+          << "[predictions]\nquantities = [\"rate-upright\"]\narms = [2]\nenergies = [4.6]\n"
+          << "[[ensemble]]\nname = \"a\"\ncriteria = [\"upright\", \"approx\"]\n"
+             "energies = [4.6, 5.2]\ntrajectories = 150\ntime = 300\nseed = 7\nchaos = false\n"
+          << "[[ensemble]]\nname = \"b\"\narm = 1\ncriteria = [\"upright\"]\n"
+             "energies = [5.6]\ntrajectories = 150\ntime = 300\nseed = 8\nchaos = false\n";
+        return file;
+    };
+    const fs::path whole = scene_file("whole"), bounded = scene_file("bounded");
+    const command_result reference = run_flipflux("run --no-cache --threads 1 " + whole.string());
+    ASSERT_EQ(reference.status, 0) << reference.err;
+    const double cpu = json::parse(read_text(dir / "whole" / "run.json")).at("cpu_seconds");
+    const double bound = std::max(0.05, cpu / 4);
+    const std::string command =
+        "run --no-cache --threads 1 --checkpoint-interval 0 --max-seconds " +
+        std::to_string(bound) + " " + bounded.string();
+    int stops = 0;
+    for (;;) {
+        const command_result r = run_flipflux(command);
+        if (r.status == 0) break;
+        ASSERT_EQ(r.status, 2) << r.err;
+        EXPECT_EQ(r.err.find("flipflux: error: --max-seconds: stopped at its bound of "), 0u)
+            << r.err;
+        EXPECT_NE(r.err.find("; rerun the same command to resume\n"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        ASSERT_LT(++stops, 40) << "the run makes no progress at its bound";
+    }
+    EXPECT_GE(stops, 1) << "a run of " << cpu << " CPU seconds was not stopped at " << bound;
+    for (const fs::directory_entry& f : fs::directory_iterator(dir / "bounded"))
+        EXPECT_NE(f.path().extension(), ".checkpoint") << f.path();
+    const auto result = [&](const std::string& name, const std::string& file) {
+        json j = json::parse(read_text(dir / name / file));
+        for (json& e : j.at("energies"))
+            for (const char* wall : {"seconds", "cpu_seconds", "threads", "processes"})
+                e.erase(wall);
+        return j;
+    };
+    for (const char* file : {"ensemble-a.json", "ensemble-b.json"})
+        EXPECT_EQ(result("bounded", file), result("whole", file)) << file;
+    EXPECT_EQ(read_text(dir / "bounded" / "predictions.csv"),
+              read_text(dir / "whole" / "predictions.csv"));
+    std::size_t csvs = 0;
+    for (const char* name : {"ensemble-a", "ensemble-b"})
+        for (const fs::directory_entry& f : fs::directory_iterator(dir / "whole" / name)) {
+            EXPECT_EQ(read_text(dir / "bounded" / name / f.path().filename()), read_text(f.path()))
+                << f.path();
+            ++csvs;
+        }
+    EXPECT_GE(csvs, 3u);
+    const command_result negative = run_flipflux("run --max-seconds -1 " + whole.string());
+    EXPECT_EQ(negative.status, 2);
+    EXPECT_NE(negative.err.find("--max-seconds: '-1' is invalid"), std::string::npos)
+        << negative.err;
     fs::remove_all(dir);
 }
 

@@ -19,6 +19,7 @@
 // `flipflux run --dry-run SCENE` prints the plan without computing anything.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <ostream>
@@ -110,6 +111,18 @@ struct run_options {
     /// The caller's words for its commands in the files the scene generates (golden provenance,
     /// the accuracy report); the command line gives its own.
     command_words words;
+    /// The CPU seconds the run may take (this process's, every thread; 0: no bound), from its
+    /// start. Checked at every integrator step of an ensemble and between the plan's steps; at the
+    /// bound the run stops as at `stop`: execute_plan throws simulation_interrupted with signal()
+    /// cpu_bound_stop. A step of another kind (an orbit family, predictions, ...) runs to its end
+    /// before the check ([golden] and [accuracy] have max_seconds of their own).
+    double max_seconds = 0;
+    /// The caller's stop flag (a signal's number; null: none), polled as max_seconds is: a
+    /// non-zero value stops the run, execute_plan throwing simulation_interrupted with signal()
+    /// that value. Either way the finished ensembles' results and the one in progress's finished
+    /// trajectories stay in their checkpoints (ensemble-NAMES.checkpoint in the output directory,
+    /// removed when the whole run completes), so that the same command resumes the run.
+    const std::atomic<int>* stop = nullptr;
 };
 
 /// The default cache directory: $FLIPFLUX_CACHE_DIR, else $XDG_CACHE_HOME/flipflux, else

@@ -49,14 +49,19 @@ inline constexpr int cpu_bound_stop = -1;
 /// Thrown by simulate() when options.stop was set: finished trajectories are in the checkpoint.
 class simulation_interrupted : public std::runtime_error {
   public:
-    simulation_interrupted(const std::string& what, int signal, std::uint64_t saved)
-        : std::runtime_error(what), signal_(signal), saved_(saved) {}
+    simulation_interrupted(const std::string& what, int signal, std::uint64_t saved,
+                           std::string kept = {})
+        : std::runtime_error(what), signal_(signal), saved_(saved), kept_(std::move(kept)) {}
     int signal() const { return signal_; }  ///< the value options.stop held
     std::uint64_t saved() const { return saved_; }
+    /// What the checkpoint keeps, without the cause ("2 energies complete and 37 trajectories of
+    /// E = 4.5 saved in 'FILE'"; empty without a checkpoint): for a caller's own message.
+    const std::string& kept() const { return kept_; }
 
   private:
     int signal_;
     std::uint64_t saved_;
+    std::string kept_;
 };
 
 /// Where a study's per-energy results go as each energy completes: the CSV files of a directory
