@@ -608,23 +608,58 @@ TEST_F(CliScale, SigtermStopsCleanlyAndTheRunResumes) {
     fs::remove(file);
 }
 
+// A scene's runs side by side: a fresh folder `tag`, scene files in it writing to dir/NAME.
+struct scene_runs {
+    fs::path dir;
+    explicit scene_runs(const std::string& tag)
+        : dir(fs::path(::testing::TempDir()) / (tag + std::to_string(getpid()))) {
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    ~scene_runs() { fs::remove_all(dir); }
+    scene_runs(const scene_runs&) = delete;
+    scene_runs& operator=(const scene_runs&) = delete;
+    /// dir/NAME.toml: the scene NAME with `body` (its tables), output dir/NAME.
+    fs::path scene(const std::string& name, const std::string& body) const {
+        const fs::path file = dir / (name + ".toml");
+        std::ofstream(file) << "[scene]\nname = \"" << name << "\"\noutput = \""
+                            << (dir / name).string() << "\"\n"
+                            << body;
+        return file;
+    }
+    /// Ensemble ENSEMBLE's result in run NAME less its timing fields.
+    json result(const std::string& name, const std::string& ensemble) const {
+        json j = json::parse(read_text(dir / name / ("ensemble-" + ensemble + ".json")));
+        for (json& e : j.at("energies"))
+            for (const char* wall : {"seconds", "cpu_seconds", "threads", "processes"})
+                e.erase(wall);
+        return j;
+    }
+    /// Expects ENSEMBLE's per-trajectory CSVs of run `other` to be those of run `whole`, byte for
+    /// byte; returns how many there are.
+    std::size_t expect_same_csvs(const std::string& whole, const std::string& other,
+                                 const std::string& ensemble) const {
+        std::size_t csvs = 0;
+        const fs::path folder = "ensemble-" + ensemble;
+        for (const fs::directory_entry& f : fs::directory_iterator(dir / whole / folder)) {
+            EXPECT_EQ(read_text(dir / other / folder / f.path().filename()), read_text(f.path()))
+                << f.path();
+            ++csvs;
+        }
+        return csvs;
+    }
+};
+
 // A scene's ensembles checkpoint too (<output>/ensemble-NAME.checkpoint): `flipflux run` killed
 // in the middle of an ensemble and run again resumes it, and writes every bit an uninterrupted run
 // writes (the result less its wall-clock fields, and every per-trajectory CSV).
 TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
-    const fs::path dir =
-        fs::path(::testing::TempDir()) / ("flipflux_scene_kill_" + std::to_string(getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const auto scene_file = [&](const std::string& name) {
-        const fs::path file = dir / (name + ".toml");
-        std::ofstream f(file);
-        f << "[scene]\nname = \"" << name << "\"\noutput = \"" << (dir / name).string() << "\"\n"
-          << "[[ensemble]]\nname = \"k\"\ncriteria = [\"upright\", \"approx\"]\n"
-             "energies = [4.6, 5.2]\ntrajectories = 24\ntime = 1000\nseed = 7\nrtol = 1e-9\n";
-        return file;
-    };
-    const fs::path whole = scene_file("whole"), killed = scene_file("killed");
+    const scene_runs runs("flipflux_scene_kill_");
+    const fs::path& dir = runs.dir;
+    const std::string body =
+        "[[ensemble]]\nname = \"k\"\ncriteria = [\"upright\", \"approx\"]\n"
+        "energies = [4.6, 5.2]\ntrajectories = 24\ntime = 1000\nseed = 7\nrtol = 1e-9\n";
+    const fs::path whole = runs.scene("whole", body), killed = runs.scene("killed", body);
     const command_result reference = run_flipflux("run --no-cache --threads 2 " + whole.string());
     ASSERT_EQ(reference.status, 0) << reference.err;
 
@@ -644,51 +679,27 @@ TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
     ASSERT_EQ(resumed.status, 0) << resumed.err;
     EXPECT_FALSE(fs::exists(checkpoint)) << "a complete ensemble's checkpoint is removed";
 
-    const auto result = [&](const std::string& name) {
-        json j = json::parse(read_text(dir / name / "ensemble-k.json"));
-        for (json& e : j.at("energies")) {
-            for (const char* wall : {"seconds", "cpu_seconds", "threads", "processes"})
-                e.erase(wall);
-        }
-        return j;
-    };
-    EXPECT_EQ(result("killed"), result("whole"));
-    std::size_t csvs = 0;
-    for (const fs::directory_entry& f : fs::directory_iterator(dir / "whole" / "ensemble-k")) {
-        EXPECT_EQ(read_text(dir / "killed" / "ensemble-k" / f.path().filename()),
-                  read_text(f.path()))
-            << f.path().filename();
-        ++csvs;
-    }
-    EXPECT_GE(csvs, 2u);
+    EXPECT_EQ(runs.result("killed", "k"), runs.result("whole", "k"));
+    EXPECT_GE(runs.expect_same_csvs("whole", "killed", "k"), 2u);
     EXPECT_EQ(run_flipflux("run --checkpoint-interval -1 " + whole.string()).status, 2);
-    fs::remove_all(dir);
 }
 
-// `flipflux run --max-seconds B`: a scene whose run takes about four times B (0.3 CPU seconds in
-// a release build) stops at the bound
-// (status 2, one line naming --max-seconds and saying how to resume), keeping its finished
-// trajectories and finished ensemble steps; the same command, repeated, completes the run, and its
-// files are an unbounded run's, bit for bit (the results less their timing fields, every
-// per-trajectory CSV and the predictions). No checkpoint is left behind. A negative bound is
-// refused.
+// `flipflux run --max-seconds B`: a scene whose run takes about four times B (its run is 0.3 CPU
+// seconds in a release build) stops at the bound (status 2, one line naming --max-seconds and
+// saying how to resume), keeping its finished trajectories and finished ensemble steps; the same
+// command, repeated, completes the run, and its files are an unbounded run's, bit for bit (the
+// results less their timing fields, every per-trajectory CSV and the predictions). No checkpoint
+// is left behind. A negative bound is refused.
 TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
-    const fs::path dir =
-        fs::path(::testing::TempDir()) / ("flipflux_scene_bound_" + std::to_string(getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const auto scene_file = [&](const std::string& name) {
-        const fs::path file = dir / (name + ".toml");
-        std::ofstream f(file);
-        f << "[scene]\nname = \"" << name << "\"\noutput = \"" << (dir / name).string() << "\"\n"
-          << "[predictions]\nquantities = [\"rate-upright\"]\narms = [2]\nenergies = [4.6]\n"
-          << "[[ensemble]]\nname = \"a\"\ncriteria = [\"upright\", \"approx\"]\n"
-             "energies = [4.6, 5.2]\ntrajectories = 150\ntime = 300\nseed = 7\nchaos = false\n"
-          << "[[ensemble]]\nname = \"b\"\narm = 1\ncriteria = [\"upright\"]\n"
-             "energies = [5.6]\ntrajectories = 150\ntime = 300\nseed = 8\nchaos = false\n";
-        return file;
-    };
-    const fs::path whole = scene_file("whole"), bounded = scene_file("bounded");
+    const scene_runs runs("flipflux_scene_bound_");
+    const fs::path& dir = runs.dir;
+    const std::string body =
+        "[predictions]\nquantities = [\"rate-upright\"]\narms = [2]\nenergies = [4.6]\n"
+        "[[ensemble]]\nname = \"a\"\ncriteria = [\"upright\", \"approx\"]\n"
+        "energies = [4.6, 5.2]\ntrajectories = 150\ntime = 300\nseed = 7\nchaos = false\n"
+        "[[ensemble]]\nname = \"b\"\narm = 1\ncriteria = [\"upright\"]\n"
+        "energies = [5.6]\ntrajectories = 150\ntime = 300\nseed = 8\nchaos = false\n";
+    const fs::path whole = runs.scene("whole", body), bounded = runs.scene("bounded", body);
     const command_result reference = run_flipflux("run --no-cache --threads 1 " + whole.string());
     ASSERT_EQ(reference.status, 0) << reference.err;
     const double cpu = json::parse(read_text(dir / "whole" / "run.json")).at("cpu_seconds");
@@ -710,30 +721,17 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
     EXPECT_GE(stops, 1) << "a run of " << cpu << " CPU seconds was not stopped at " << bound;
     for (const fs::directory_entry& f : fs::directory_iterator(dir / "bounded"))
         EXPECT_NE(f.path().extension(), ".checkpoint") << f.path();
-    const auto result = [&](const std::string& name, const std::string& file) {
-        json j = json::parse(read_text(dir / name / file));
-        for (json& e : j.at("energies"))
-            for (const char* wall : {"seconds", "cpu_seconds", "threads", "processes"})
-                e.erase(wall);
-        return j;
-    };
-    for (const char* file : {"ensemble-a.json", "ensemble-b.json"})
-        EXPECT_EQ(result("bounded", file), result("whole", file)) << file;
+    for (const char* ensemble : {"a", "b"})
+        EXPECT_EQ(runs.result("bounded", ensemble), runs.result("whole", ensemble)) << ensemble;
     EXPECT_EQ(read_text(dir / "bounded" / "predictions.csv"),
               read_text(dir / "whole" / "predictions.csv"));
-    std::size_t csvs = 0;
-    for (const char* name : {"ensemble-a", "ensemble-b"})
-        for (const fs::directory_entry& f : fs::directory_iterator(dir / "whole" / name)) {
-            EXPECT_EQ(read_text(dir / "bounded" / name / f.path().filename()), read_text(f.path()))
-                << f.path();
-            ++csvs;
-        }
-    EXPECT_GE(csvs, 3u);
+    EXPECT_GE(runs.expect_same_csvs("whole", "bounded", "a") +
+                  runs.expect_same_csvs("whole", "bounded", "b"),
+              3u);
     const command_result negative = run_flipflux("run --max-seconds -1 " + whole.string());
     EXPECT_EQ(negative.status, 2);
     EXPECT_NE(negative.err.find("--max-seconds: '-1' is invalid"), std::string::npos)
         << negative.err;
-    fs::remove_all(dir);
 }
 
 TEST_F(CliScale, MismatchedOrUnreadableCheckpointsAreRefused) {
