@@ -57,4 +57,10 @@ void progress_bar::finish() {
     open_line_ = false;
 }
 
+void show_study_progress(progress_bar& bar, const simulation_progress& p, const std::string& what) {
+    bar.update(p.done, p.total, "trajectories", p.resumed,
+               (what.empty() ? "" : what + ", ") + "energy " + std::to_string(p.energy + 1) + "/" +
+                   std::to_string(p.energies));
+}
+
 }  // namespace flipflux::cli

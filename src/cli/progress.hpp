@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <string>
 
+#include "flipflux/study/simulation.hpp"
+
 namespace flipflux::cli {
 
 /// "42s", "3m07s", "1h02m03s"; "?" for a negative or non-finite duration.
@@ -31,5 +33,10 @@ class progress_bar {
     std::uint64_t base_ = 0;
     std::chrono::steady_clock::time_point start_{}, last_{};
 };
+
+/// A study's progress on `bar`: "N/M trajectories, [WHAT, ]energy I/J, ..." (simulate; a scene's
+/// ensemble steps, WHAT naming the step's ensembles).
+void show_study_progress(progress_bar& bar, const simulation_progress& p,
+                         const std::string& what = "");
 
 }  // namespace flipflux::cli

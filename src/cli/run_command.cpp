@@ -1,7 +1,8 @@
 // flipflux run [--dry-run] SCENE: compute what a scene file asks for, and nothing else.
 // --max-seconds S bounds the run's CPU time; at the bound, or at SIGINT/SIGTERM, it stops with its
 // ensembles' finished trajectories and finished ensemble steps in their checkpoints, and the same
-// command resumes (exit status 2 at the bound, 128 + the signal otherwise).
+// command resumes (exit status 2 at the bound, 128 + the signal otherwise). Each ensemble step
+// shows a progress bar on stderr (a terminal, or --progress).
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -18,6 +19,7 @@
 #include "flipflux/scene/plan.hpp"
 #include "flipflux/scene/scene.hpp"
 #include "mpi_group.hpp"
+#include "progress.hpp"
 
 namespace flipflux::cli {
 namespace {
@@ -43,6 +45,7 @@ struct run_state {
     int threads = 0;
     double checkpoint_interval = 2;
     double max_seconds = 0;
+    bool progress = false;
 };
 
 void run_scene(const run_state& s, process_group* group);
@@ -77,6 +80,9 @@ const register_command registration([](CLI::App& app) {
                     "SIGINT, keeping its ensembles' finished trajectories, and the same command "
                     "resumes")
         ->capture_default_str();
+    sub->add_flag("--progress", s->progress,
+                  "a progress bar of each ensemble step on stderr (default: only when stderr is a "
+                  "terminal)");
     sub->callback([s] {
         if (!(s->checkpoint_interval >= 0) || !std::isfinite(s->checkpoint_interval)) {
             throw input_error("--checkpoint-interval: '" + to_decimal(s->checkpoint_interval) +
@@ -159,9 +165,27 @@ void run_scene(const run_state& st, process_group* group) {
         if (!s->no_cache)
             options.cache_dir =
                 s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
+        // each ensemble step's bar on stderr (rank 0): a new bar when another step reports
+        std::unique_ptr<progress_bar> bar;
+        std::string bar_of;
+        if (root && progress_bar(s->progress).active())
+            options.progress = [&](const std::string& ensembles, const simulation_progress& q) {
+                if (!bar || ensembles != bar_of) {
+                    if (bar) bar->finish();
+                    bar = std::make_unique<progress_bar>(s->progress);
+                    bar_of = ensembles;
+                }
+                show_study_progress(*bar, q, "ensemble " + ensembles);
+            };
         std::ostringstream quiet;  // the other ranks' log
         const signal_guard guard;  // SIGINT, SIGTERM: the run stops as at its CPU bound
-        const run_counters c = execute_plan(sc, p, root ? std::cout : quiet, options);
+        run_counters c;
+        try {
+            c = execute_plan(sc, p, root ? std::cout : quiet, options);
+        } catch (...) {
+            if (bar) bar->finish();  // a terminal's open line ended before the message
+            throw;
+        }
         if (!root) return;
         std::cout << "saddle orbits solved " << c.orbit_solves << ", from cache "
                   << c.orbit_cache_hits

@@ -204,11 +204,7 @@ void run(const simulate_state& s) {
         q.group = mpi.get();
         progress_bar bar(s.progress);
         if (root && bar.active())
-            q.progress = [&bar](const simulation_progress& p) {
-                bar.update(
-                    p.done, p.total, "trajectories", p.resumed,
-                    "energy " + std::to_string(p.energy + 1) + "/" + std::to_string(p.energies));
-            };
+            q.progress = [&bar](const simulation_progress& p) { show_study_progress(bar, p); };
         const signal_guard guard;
         std::optional<study_result> result;
         std::optional<std::vector<study_result>> results;

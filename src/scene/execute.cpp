@@ -377,6 +377,9 @@ std::vector<simulation_request> ensemble_step_requests(context& ctx, const plan_
         q.checkpoint = ctx.s.output / ("ensemble-" + names + ".checkpoint");
         q.group = ctx.options.group;
     }
+    if (ctx.options.progress)  // the first request's serves the run (simulate)
+        requests.front().progress = [&progress = ctx.options.progress,
+                                     names](const simulation_progress& p) { progress(names, p); };
     return requests;
 }
 

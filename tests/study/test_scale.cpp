@@ -689,7 +689,7 @@ TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
 // saying how to resume), keeping its finished trajectories and finished ensemble steps; the same
 // command, repeated, completes the run, and its files are an unbounded run's, bit for bit (the
 // results less their timing fields, every per-trajectory CSV and the predictions). No checkpoint
-// is left behind. A negative bound is refused.
+// is left behind. A negative bound is refused. (And --progress shows each ensemble step's bar.)
 TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
     const scene_runs runs("flipflux_scene_bound_");
     const fs::path& dir = runs.dir;
@@ -700,8 +700,13 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
         "[[ensemble]]\nname = \"b\"\narm = 1\ncriteria = [\"upright\"]\n"
         "energies = [5.6]\ntrajectories = 150\ntime = 300\nseed = 8\nchaos = false\n";
     const fs::path whole = runs.scene("whole", body), bounded = runs.scene("bounded", body);
-    const command_result reference = run_flipflux("run --no-cache --threads 1 " + whole.string());
+    const command_result reference =
+        run_flipflux("run --no-cache --threads 1 --progress " + whole.string());
     ASSERT_EQ(reference.status, 0) << reference.err;
+    // --progress into a pipe: each ensemble step's bar, its last line complete
+    for (const char* done : {"] 300/300 trajectories, ensemble a, energy 2/2, ",
+                             "] 150/150 trajectories, ensemble b, energy 1/1, "})
+        EXPECT_NE(reference.err.find(done), std::string::npos) << reference.err;
     const double cpu = json::parse(read_text(dir / "whole" / "run.json")).at("cpu_seconds");
     const double bound = std::max(0.05, cpu / 4);
     const std::string command =

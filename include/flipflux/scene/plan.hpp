@@ -21,6 +21,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <ostream>
 #include <string>
@@ -123,6 +124,9 @@ struct run_options {
     /// trajectories stay in their checkpoints (ensemble-NAMES.checkpoint in the output directory,
     /// removed when the whole run completes), so that the same command resumes the run.
     const std::atomic<int>* stop = nullptr;
+    /// Called as an ensemble step's trajectories finish (rank 0 only): the step's ensembles'
+    /// names ("a" or "a+b", those sharing its trajectories) and the study's progress; null: none.
+    std::function<void(const std::string& ensembles, const simulation_progress&)> progress;
 };
 
 /// The default cache directory: $FLIPFLUX_CACHE_DIR, else $XDG_CACHE_HOME/flipflux, else
