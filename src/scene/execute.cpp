@@ -388,7 +388,16 @@ void run_ensemble(context& ctx, const plan_step& step) {
     std::string names;
     const std::vector<simulation_request> requests = ensemble_step_requests(ctx, step, names);
     const std::filesystem::path checkpoint = requests.front().checkpoint;
-    const std::vector<study_result> results = *simulate(model, requests);
+    std::vector<study_result> results;
+    try {
+        results = *simulate(model, requests);
+    } catch (const input_error& e) {  // the checkpoint, named as the scene has it
+        if (e.field() != "checkpoint") throw;
+        const ensemble_spec& x = ctx.s.ensembles[step.ensemble_indices.front()];
+        throw input_error(ctx.s.file.string() + ":" + std::to_string(x.line) + ": ensemble '" +
+                          x.name + "': its checkpoint " + e.detail() +
+                          "; delete the file to start the ensemble afresh");
+    }
     // what was integrated (once per energy of the step) and detected
     ctx.counters.trajectories += results.front().options.trajectories * step.energies.size();
     for (std::size_t r = 0; r < results.size(); ++r) {

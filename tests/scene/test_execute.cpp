@@ -306,6 +306,33 @@ TEST(Execute, AStopAskedForBeforeTheFirstStepComputesNothing) {
     fs::remove_all(out);
 }
 
+// A checkpoint left in the output directory that is not this ensemble's (corrupt, or another
+// run's: the scene was edited since) is refused naming the scene's file, line and ensemble, and
+// what to do; it is not the command line's --checkpoint, which `run` does not have.
+TEST(Execute, AForeignCheckpointIsRefusedNamingTheScenesEnsemble) {
+    forget_saddle_orbits();
+    const fs::path out = fresh_dir("foreign");
+    const scene s = scene_in(out, ensemble_table("u", "\"upright\"", "5", 8, 5));
+    fs::create_directories(out);
+    std::ofstream(out / "ensemble-u.checkpoint") << "not a checkpoint\n";
+    try {
+        run(s);
+        ADD_FAILURE() << "the foreign checkpoint was accepted";
+    } catch (const input_error& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.find("t.toml:4: ensemble 'u': its checkpoint '" +
+                            (out / "ensemble-u.checkpoint").string() + "' "),
+                  0u)
+            << what;
+        EXPECT_NE(what.find("is not a flipflux checkpoint"), std::string::npos) << what;
+        EXPECT_NE(what.find("; delete the file to start the ensemble afresh"), std::string::npos)
+            << what;
+        EXPECT_EQ(e.field(), "");
+    }
+    EXPECT_FALSE(fs::exists(out / "ensemble-u.json"));
+    fs::remove_all(out);
+}
+
 // Two scenes with one output directory mixed their files (an audit found scene A's
 // orbits-arm2.csv beside scene B's run.json): another scene's run.json there is refused before
 // anything is computed; the same scene runs there again.
