@@ -31,11 +31,15 @@ struct curve_frame {
     Real w_s, w_f;       ///< weights of s and of the flip angle in V
     Real M_ss, M_ff, C;  ///< diagonal entries of M for s and for the flip angle; C
     Real D0;             ///< M_ss M_ff - C^2 (the model's, without cancellation)
+    /// The domain is a full turn (hi - lo = 2 pi): s beyond hi is the point s - (hi - lo) of it
+    /// (intervals_of may start its window inside the domain and end it past hi).
+    bool periodic = false;
 
     curve_frame(const double_pendulum<Real>& m, const energy_level<Real>& energy,
                 const curve_view<Real>& c)
         : model(m), curve(c) {
         using boost::multiprecision::isfinite;
+        using std::abs;
         using std::isfinite;
         if (!isfinite(energy.value) || !isfinite(energy.residual))
             throw std::domain_error("curve_flux: energy not finite");
@@ -49,27 +53,41 @@ struct curve_frame {
         M_ff = two ? k.B : k.A;
         C = k.C;
         D0 = k.D0;
+        const Real width = c.domain[1] - c.domain[0];
+        periodic = abs(width - two_pi<Real>()) <= 16 * epsilon<Real>() * two_pi<Real>();
+    }
+
+    /// s as a point of the curve's domain (a periodic domain's s past hi, one turn back).
+    Real in_domain(const Real& s) const {
+        return periodic && s > curve.domain[1] ? Real(s - (curve.domain[1] - curve.domain[0])) : s;
     }
 
     /// K = (E - E_s) - 2 w_s sin^2(s/2) + 2 w_f sin^2(h/2): E - V at (s, pi + h); for
     /// |s| > pi/2 as (E - E_max) + 2 w_s cos^2(s/2) + 2 w_f sin^2(h/2), whose terms are small
     /// where K is (near the maximum).
-    Real kinetic(const Real& s) const {
+    /// (The form is chosen by s reduced to [-pi, pi]: a domain such as [0, 2 pi] reaches s near
+    /// 2 pi, where K is the first form's.)
+    Real kinetic(const Real& at) const {
         using std::abs;
         using std::cos;
         using std::sin;
+        const Real s = in_domain(at);
         const Real h = curve.offset(s);
         const Real sh = sin(h / 2);
-        if (abs(s) > half_pi<Real>()) {
-            const Real cs = cos(s / 2);
+        const Real p = s > pi<Real>()    ? Real(s - two_pi<Real>())
+                       : s < -pi<Real>() ? Real(s + two_pi<Real>())
+                                         : s;
+        if (abs(p) > half_pi<Real>()) {
+            const Real cs = cos(p / 2);
             return above_max + 2 * w_s * cs * cs + 2 * w_f * sh * sh;
         }
-        const Real ss = sin(s / 2);
+        const Real ss = sin(p / 2);
         return delta - 2 * w_s * ss * ss + 2 * w_f * sh * sh;
     }
     /// dK/ds = -w_s sin s + w_f sin(h) h'.
-    Real kinetic_slope(const Real& s) const {
+    Real kinetic_slope(const Real& at) const {
         using std::sin;
+        const Real s = in_domain(at);
         return -w_s * sin(s) + w_f * sin(curve.offset(s)) * curve.slope(s);
     }
     /// Q = n^T adj(M) n = M_ss + 2 C c h' + M_ff h'^2, c = cos(th1 - th2) = -cos(s - h), in a
@@ -78,9 +96,10 @@ struct curve_frame {
     /// 2e6). With u = s - h: Q = M_ff (h' - C/M_ff)^2 + D0/M_ff + 4 C h' sin^2(u/2) where cos u >=
     /// 0, and M_ff (h' + C/M_ff)^2 + D0/M_ff - 4 C h' cos^2(u/2) where it is negative (each the
     /// expression above: 2 sin^2(u/2) = 1 - cos u, 2 cos^2(u/2) = 1 + cos u).
-    Real normal_weight(const Real& s) const {
+    Real normal_weight(const Real& at) const {
         using std::cos;
         using std::sin;
+        const Real s = in_domain(at);
         const Real h = curve.offset(s), hp = curve.slope(s);
         const Real u = s - h;
         const Real r = C / M_ff, floor = D0 / M_ff;
@@ -92,14 +111,15 @@ struct curve_frame {
         return M_ff * d * d + floor - 4 * C * hp * cu * cu;
     }
     /// (th1, th2) at s.
-    std::array<Real, 2> angles(const Real& s) const {
+    std::array<Real, 2> angles(const Real& at) const {
+        const Real s = in_domain(at);
         const Real flip = pi<Real>() + curve.offset(s);
         return curve.flip_arm == arm::two ? std::array<Real, 2>{s, flip}
                                           : std::array<Real, 2>{flip, s};
     }
     /// n = grad g in (th1, th2).
     std::array<Real, 2> normal(const Real& s) const {
-        const Real hp = curve.slope(s);
+        const Real hp = curve.slope(in_domain(s));
         return curve.flip_arm == arm::two ? std::array<Real, 2>{-hp, Real(1)}
                                           : std::array<Real, 2>{Real(1), -hp};
     }
@@ -184,6 +204,30 @@ struct accessible_pieces {
     std::vector<std::array<Real, 2>> radii;
 };
 
+/// A full turn accessible at its seam (lo = hi): the sampling window (samples s, K, dK of [lo, hi])
+/// starts instead at the sample where K is largest and ends a turn later (curve_frame::in_domain),
+/// so that no piece is cut where K may nearly vanish. Above E_max the sine curve's K has its
+/// minimum, ~ E - E_max, at the seam s = pi: cut there, the pieces' ends met the branch points of
+/// sqrt(K) at s = pi +- i r, r ~ sqrt(E - E_max), unseen, and tanh-sinh lost up to 6 digits of
+/// quad beyond its estimate (an independent audit, 2 December 2026).
+template <class Real>
+void start_where_K_is_largest(std::vector<Real>& s, std::vector<Real>& K, std::vector<Real>& dK,
+                              const Real& turn) {
+    const std::size_t n = s.size() - 1;
+    const auto top = std::size_t(std::max_element(K.begin(), K.end() - 1) - K.begin());
+    if (top == 0) return;
+    std::vector<Real> s2(n + 1), K2(n + 1), dK2(n + 1);
+    for (std::size_t i = 0; i <= n; ++i) {
+        const std::size_t j = (i + top) % n;
+        s2[i] = i + top < n ? s[j] : Real(s[j] + turn);
+        K2[i] = K[j];
+        dK2[i] = dK[j];
+    }
+    s.swap(s2);
+    K.swap(K2);
+    dK.swap(dK2);
+}
+
 template <class Real>
 accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
     using boost::multiprecision::isfinite;
@@ -191,7 +235,7 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
     using std::ceil;
     using std::isfinite;
     using std::sqrt;
-    const Real lo = frame.curve.domain[0], hi = frame.curve.domain[1];
+    Real lo = frame.curve.domain[0], hi = frame.curve.domain[1];
     if (!isfinite(lo) || !isfinite(hi) || !(lo < hi)) {
         throw std::domain_error("curve_flux: the curve's domain must be a finite interval");
     }
@@ -203,6 +247,9 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
         K[i] = frame.kinetic(s[i]);
         dK[i] = frame.kinetic_slope(s[i]);
     }
+    if (frame.periodic && K[0] > 0 && K[n] > 0) start_where_K_is_largest(s, K, dK, hi - lo);
+    lo = s[0];
+    hi = s[n];
     // the rounding level of K's terms: a K within it of zero is a touch of K = 0 (below)
     const Real noise = 16 * epsilon<Real>() * (abs(frame.delta) + 2 * frame.w_s + 2 * frame.w_f);
     auto kinetic = [&frame](const Real& x) { return frame.kinetic(x); };
@@ -273,7 +320,7 @@ accessible_pieces<Real> intervals_of(const curve_frame<Real>& frame) {
     std::vector<bool> open(nb - 1);
     for (std::size_t j = 0; j + 1 < nb; ++j)
         open[j] = frame.kinetic((breaks[j] + breaks[j + 1]) / 2) > 0;
-    const bool periodic = abs(hi - lo - two_pi<Real>()) <= 16 * epsilon<Real>() * two_pi<Real>();
+    const bool periodic = frame.periodic;
     // the radius at break point j seen from the piece on its `side` (+1: piece j, -1: piece j-1)
     auto radius = [&](std::size_t j, int side) -> Real {
         for (const auto& g : grazing)

@@ -3,7 +3,9 @@
 // (values by mpmath), every route against every other, the power laws just above each saddle,
 // the switch of closed form at E_max, huge energies, and curves with restricted domains, grazing
 // zeros of K and several accessible pieces. (More: verification/prediction_routes.cpp.)
+#include <boost/math/quadrature/gauss.hpp>
 #include <stdexcept>
+#include <string>
 
 #include "flipflux/core/constants.hpp"
 #include "flipflux/model/critical_points.hpp"
@@ -18,8 +20,10 @@ namespace {
 
 using test::convert;
 using test::eps;
+using test::reference_real;
 using test::relative_error;
 using test::target;
+using test::to_reference;
 using test::tolerance;
 
 template <class Real>
@@ -279,6 +283,83 @@ TYPED_TEST(Fluxes, AtTheMaximumOfDecimalParametersTheCurveTouchesIt) {
         }
     } else {
         check_curve_flux_at_the_decimal_maximum<Real>("");
+    }
+}
+
+// The approximate curve's flux just above E_max, from the point-mass parameters alone (an
+// independent route: 120 digits, Gauss-Legendre on pieces halving towards s = pi): the curve
+// th_flip = pi + a sin s with a from the saddle's stable mode, det(K* - lambda M*) = 0; K = E - V
+// on it; f = 8 int_0^pi sqrt(2 K Q) ds with Q = n^T adj(M) n (K and Q even in s).
+struct point_masses {
+    const char *m1, *m2, *L1, *L2;
+};
+reference_real approximate_flux_reference(const point_masses& p, arm a, const reference_real& E) {
+    using R = reference_real;
+    const R m1(p.m1), m2(p.m2), L1(p.L1), L2(p.L2);
+    const R A = (m1 + m2) * L1 * L1, B = m2 * L2 * L2, C = m2 * L1 * L2;
+    const R alpha = (m1 + m2) * L1, beta = m2 * L2, D0 = A * B - C * C;  // g = 1
+    const bool two = a == arm::two;
+    // lambda^2 D0 + lambda b - alpha beta = 0, b = A beta - alpha B (arm 2) or alpha B - A beta
+    const R b = two ? R(A * beta - alpha * B) : R(alpha * B - A * beta);
+    const R lambda = (-b + sqrt(b * b + 4 * D0 * alpha * beta)) / (2 * D0);
+    const R amp = two ? R(lambda * C / (beta + lambda * B)) : R(lambda * C / (alpha + lambda * A));
+    const R w_s = two ? alpha : beta, w_f = two ? beta : alpha;  // V's weights of s and flip
+    const R J_s = two ? A : B, J_f = two ? B : A;  // M's diagonal entries of s and flip
+    auto integrand = [&](const R& s) {
+        const R h = amp * sin(s), hp = amp * cos(s);
+        const R K = E - w_s * (1 - cos(s)) - w_f * (1 + cos(h));
+        const R Q = J_s - 2 * C * cos(s - h) * hp + J_f * hp * hp;
+        return K > 0 ? R(sqrt(2 * K * Q)) : R(0);
+    };
+    const R half_pi = boost::math::constants::half_pi<R>(), pi = boost::math::constants::pi<R>();
+    R total = boost::math::quadrature::gauss<R, 30>::integrate(integrand, R(0), half_pi);
+    R gap = half_pi;
+    for (int k = 0; k < 130; ++k, gap /= 2)
+        total += boost::math::quadrature::gauss<R, 30>::integrate(integrand, R(pi - gap),
+                                                                  R(pi - gap / 2));
+    return 8 * total;
+}
+
+// Just above E_max the sine curve's K has its minimum, ~ E - E_max, at s = pi, the seam of its
+// domain [-pi, pi]: split there, its pieces met the branch points of sqrt(K) at pi +- i r,
+// r ~ sqrt(E - E_max), and at quad the flux lost up to 6 digits beyond its error estimate (an
+// independent mpmath audit: 7e-28 against an estimate of 3e-33 at E_max (1 + 1e-20)). Both
+// routes keep the working precision within their estimates, for both arms of two pendulums.
+TYPED_TEST(Fluxes, JustAboveTheMaximumTheCurvesSeamKeepsItsDigits) {
+    using Real = TypeParam;
+    if constexpr (is_mp_v<Real>) {
+        GTEST_SKIP() << "double and quad: mp has the digits to spare here";
+    } else {
+        for (const point_masses& p :
+             {point_masses{"1", "1", "1", "1"}, point_masses{"1.7", "0.3", "0.4", "2.2"}}) {
+            model_text t;
+            t.m1 = p.m1, t.m2 = p.m2, t.L1 = p.L1, t.L2 = p.L2;
+            const double_pendulum<Real> model(parse_parameters<Real>(t));
+            // E_max = V(pi, pi) = 2 (alpha + beta), alpha = (m1 + m2) L1, beta = m2 L2 (g = 1)
+            const reference_real m1(p.m1), m2(p.m2), L1(p.L1), L2(p.L2);
+            const reference_real E_max = 2 * ((m1 + m2) * L1 + m2 * L2);
+            for (const char* excess : {"1e-10", "1e-14", "1e-20"}) {
+                const reference_real E_ref = E_max * (1 + reference_real(excess));
+                const std::string text = E_ref.str(45);
+                const energy_level<Real> E = parse_energy_level<Real>(text, "E");
+                for (arm a : {arm::two, arm::one}) {
+                    const reference_real ref = approximate_flux_reference(p, a, E_ref);
+                    for (curve_flux_method method :
+                         {curve_flux_method::kinetic, curve_flux_method::momentum}) {
+                        if (method == curve_flux_method::momentum && !std::is_same_v<Real, double>)
+                            continue;  // (its nested quadrature at quad: verify's)
+                        const curve_flux_result<Real> f =
+                            curve_flux(model, E, approximate_saddle_curve(model, a), method);
+                        const reference_real error = abs(to_reference(f.value) - ref);
+                        const std::string where = std::string(p.m1) + "," + p.m2 + "," + p.L1 +
+                                                  "," + p.L2 + " E = " + text + " arm " +
+                                                  to_string(a);
+                        EXPECT_LE(error, to_reference(f.error_estimate)) << where;
+                        EXPECT_LE(error / ref, 1000 * to_reference(eps<Real>())) << where;
+                    }
+                }
+            }
+        }
     }
 }
 
