@@ -37,10 +37,10 @@ void check_orbit_energy(const double_pendulum<Real>& model, arm a, const level_a
     const Real lo = model.saddle_energy(a), hi = model.maximum_energy();
     if (!isfinite(energy.value) || !isfinite(energy.residual) ||
         !(energy.above(model.saddle_level(a)) > 0) || !(energy.below(model.maximum_level()) > 0)) {
-        throw input_error::about("energy", "'" + to_shortest_decimal(energy.value) +
-                                               "' is outside the arm-" + to_string(a) +
-                                               " saddle-orbit family's range (" + to_decimal(lo) +
-                                               ", " + to_decimal(hi) + "), open at both ends");
+        throw input_error::about("energy", "'" + energy.text() + "' is outside the arm-" +
+                                               to_string(a) + " saddle-orbit family's range (" +
+                                               to_decimal(lo) + ", " + to_decimal(hi) +
+                                               "), open at both ends");
     }
     // the continuation starts in double: a pendulum double cannot integrate is refused there too
     check_conditioning(model.coefficients(), std::numeric_limits<double>::epsilon());
@@ -89,8 +89,7 @@ void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_
         char buf[96];
         std::snprintf(buf, sizeof buf, "%.6g (E - E_s = %.6g)", end, orbit.family_end);
         throw input_error::about(
-            "energy", "'" + to_shortest_decimal(energy.value) +
-                          "' lies beyond the end of the arm-" + to_string(a) +
+            "energy", "'" + energy.text() + "' lies beyond the end of the arm-" + to_string(a) +
                           " saddle-orbit family at E = " + buf + ": there the orbit swings theta" +
                           std::to_string(orbit.family_end_angle) +
                           " to the vertical opposite the saddle's, and beyond it the family's "
@@ -100,9 +99,9 @@ void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_
     const Real gap = energy.below(model.maximum_level());  // E_max - E, carried exactly
     if (gap <= (hi - lo) / 1000000)
         throw input_error::about(
-            "energy", "'" + to_shortest_decimal(energy.value) +
-                          "' is too close to E_max = " + to_decimal(hi) + " for the arm-" +
-                          to_string(a) + " saddle orbit in this precision (E_max - E = " +
+            "energy", "'" + energy.text() + "' is too close to E_max = " + to_decimal(hi) +
+                          " for the arm-" + to_string(a) +
+                          " saddle orbit in this precision (E_max - E = " +
                           to_decimal(static_cast<double>(gap), 3) +
                           "): its period diverges there and the continuation from the saddle "
                           "stopped short (" +
@@ -120,8 +119,7 @@ void throw_not_converged(const double_pendulum<Real>& model, arm a, const level_
         std::snprintf(mu, sizeof mu,
                       "1e%.0f (exp of the saddle's growth rate %.4g times its centre period %.4g)",
                       log10_mu, growth, 2 * std::numbers::pi / centre);
-        throw input_error(what + " at E = " + to_shortest_decimal(energy.value) + " (arm " +
-                          to_string(a) +
+        throw input_error(what + " at E = " + energy.text() + " (arm " + to_string(a) +
                           "): the pendulum's saddle orbits for this arm are too unstable to be "
                           "found by shooting: their Floquet multiplier near the saddle is about " +
                           mu +

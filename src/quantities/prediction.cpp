@@ -33,7 +33,7 @@ Method method_named(const std::string& quantity, const std::string& method) {
 
 template <class Real>
 void require_positive_energy(const std::string& quantity, const energy_level<Real>& energy) {
-    const std::string text = energy.decimal.empty() ? to_decimal(energy.value) : energy.decimal;
+    const std::string text = energy.text();
     if (!energy.positive())
         throw input_error::about("energy", "'" + text + "' is outside the domain of " + quantity +
                                                " (needs E > 0: the energy surface is empty at "
@@ -63,7 +63,7 @@ void add_prediction_quantities(std::vector<quantity>& list) {
             if (m == phase_volume_method::closed_form &&
                 !(energy.above(model.maximum_level()) >= 0)) {
                 throw input_error::about(
-                    "energy", "'" + to_shortest_decimal(energy.value) +
+                    "energy", "'" + energy.text() +
                                   "' is below the threshold of method closed-form of omega "
                                   "(needs E >= E_max = " +
                                   to_decimal(model.maximum_energy()) + ", the potential maximum)");

@@ -101,6 +101,18 @@ TEST(LimitsCommand, AnEnergyThatUnderflowsIsNamedAsWritten) {
     expect_refused("eval flux-upright --energy=-0.5", {"--energy: '-0.5' is outside the domain"});
 }
 
+// An energy that double rounds onto the threshold it misses is quoted as written, not as its
+// double: the closed form of omega "needs E >= E_max = 6" refused '6' (an independent audit found
+// such a quote); the saddle-orbit family's range likewise.
+TEST(LimitsCommand, EnergiesBesideAThresholdAreQuotedAsWritten) {
+    expect_refused("eval omega --method closed-form --energy 5.99999999999999999999",
+                   {"--energy: '5.99999999999999999999' is below the threshold of method "
+                    "closed-form of omega (needs E >= E_max = 6"});
+    expect_refused("eval period --energy 1.99999999999999999999 --arm 2",
+                   {"--energy: '1.99999999999999999999' is outside the arm-2 saddle-orbit "
+                    "family's range (2, 6)"});
+}
+
 TEST(LimitsCommand, SimulateTinySampleIntervalIsRefused) {
     const std::string dir = ::testing::TempDir() + "flipflux_limits_" + std::to_string(getpid());
     expect_refused(simulate + "--sample-interval 1e-300 --csv-dir " + dir,

@@ -47,6 +47,9 @@ struct energy_level {
     /// E > 0, for the exact E: from the decimal when known (so a positive input that underflows
     /// Real, 1e-999999 in double, counts; a computation needs value > 0 as well).
     bool positive() const { return decimal.empty() ? value > 0 : decimal_sign(decimal) > 0; }
+    /// E as a message quotes it: as the caller gave it (the exact decimal, when known), else the
+    /// shortest decimal of its value.
+    std::string text() const { return decimal.empty() ? to_shortest_decimal(value) : decimal; }
 };
 
 /// Parses a decimal energy: its correctly rounded value and the residual of the exact decimal.
