@@ -522,6 +522,18 @@ std::size_t meet_before_the_ensembles(const run_options& options, const scene& s
     return received.size();
 }
 
+/// The run's CPU bound (run_options::max_seconds): a watch sets the flag the ensembles poll,
+/// relaying the caller's (run_options::stop) until then. `stop` is what to poll: the flag, or the
+/// caller's own without a bound.
+struct run_bound {
+    std::atomic<int> flag{0};
+    const cpu_watch watch;
+    const std::atomic<int>* const stop;
+    explicit run_bound(const run_options& o)
+        : watch(o.max_seconds, flag, cpu_bound_stop, o.stop),
+          stop(o.max_seconds > 0 ? &flag : o.stop) {}
+};
+
 /// A rank other than 0 of `mpirun -np N flipflux run`: its share of the ensembles' trajectories.
 /// It computes no family and no prediction: the saddle criterion's curves need rank 0's orbits
 /// bit for bit, and rank 0 sends them (meet_before_the_ensembles). Then it joins each ensemble
@@ -531,9 +543,8 @@ run_counters join_ensembles(const scene& s, const plan& p, std::ostream& log,
                             const run_options& options) {
     context ctx{s, log, options, {}};
     ctx.writes = false;
-    std::atomic<int> bound{0};  // this rank's own CPU bound (run_options::max_seconds)
-    const cpu_watch watch(options.max_seconds, bound, cpu_bound_stop, options.stop);
-    ctx.stop = options.max_seconds > 0 ? &bound : options.stop;
+    const run_bound bound(options);  // this rank's own
+    ctx.stop = bound.stop;
     const double_pendulum<double> model = make_model<double>(s.model);
     bool met = false;
     for (const plan_step& step : p.steps) {
@@ -600,11 +611,8 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
     if (options.group != nullptr && options.group->rank() != 0)
         return join_ensembles(s, p, log, options);
     context ctx{s, log, options, {}};
-    // the run's CPU bound: a watch sets the flag the ensembles poll, relaying the caller's until
-    // then; the flag is also checked between steps
-    std::atomic<int> bound{0};
-    const cpu_watch watch(options.max_seconds, bound, cpu_bound_stop, options.stop);
-    ctx.stop = options.max_seconds > 0 ? &bound : options.stop;
+    const run_bound bound(options);  // the flag is also checked between steps
+    ctx.stop = bound.stop;
     const auto start = std::chrono::steady_clock::now();
     const std::size_t misses_before = saddle_orbit_memo_misses();
     ctx.summary["scene"] = s.name;
