@@ -338,7 +338,7 @@ TYPED_TEST(Fluxes, JustAboveTheMaximumTheCurvesSeamKeepsItsDigits) {
             // E_max = V(pi, pi) = 2 (alpha + beta), alpha = (m1 + m2) L1, beta = m2 L2 (g = 1)
             const reference_real m1(p.m1), m2(p.m2), L1(p.L1), L2(p.L2);
             const reference_real E_max = 2 * ((m1 + m2) * L1 + m2 * L2);
-            for (const char* excess : {"1e-10", "1e-14", "1e-20"}) {
+            for (const char* excess : {"1e-14", "1e-20"}) {
                 const reference_real E_ref = E_max * (1 + reference_real(excess));
                 const std::string text = E_ref.str(45);
                 const energy_level<Real> E = parse_energy_level<Real>(text, "E");

@@ -684,7 +684,7 @@ TEST(CliScene, KilledRunResumesItsEnsembleFromTheCheckpoint) {
     EXPECT_EQ(run_flipflux("run --checkpoint-interval -1 " + whole.string()).status, 2);
 }
 
-// `flipflux run --max-seconds B`: a scene whose run takes about four times B (its run is 0.3 CPU
+// `flipflux run --max-seconds B`: a scene whose run takes about four times B (its run is 0.07 CPU
 // seconds in a release build) stops at the bound (status 2, one line naming --max-seconds and
 // saying how to resume), keeping its finished trajectories and finished ensemble steps; the same
 // command, repeated, completes the run, and its files are an unbounded run's, bit for bit (the
@@ -696,19 +696,19 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
     const std::string body =
         "[predictions]\nquantities = [\"rate-upright\"]\narms = [2]\nenergies = [4.6]\n"
         "[[ensemble]]\nname = \"a\"\ncriteria = [\"upright\", \"approx\"]\n"
-        "energies = [4.6, 5.2]\ntrajectories = 150\ntime = 300\nseed = 7\nchaos = false\n"
+        "energies = [4.6, 5.2]\ntrajectories = 50\ntime = 200\nseed = 7\nchaos = false\n"
         "[[ensemble]]\nname = \"b\"\narm = 1\ncriteria = [\"upright\"]\n"
-        "energies = [5.6]\ntrajectories = 150\ntime = 300\nseed = 8\nchaos = false\n";
+        "energies = [5.6]\ntrajectories = 50\ntime = 200\nseed = 8\nchaos = false\n";
     const fs::path whole = runs.scene("whole", body), bounded = runs.scene("bounded", body);
     const command_result reference =
         run_flipflux("run --no-cache --threads 1 --progress " + whole.string());
     ASSERT_EQ(reference.status, 0) << reference.err;
     // --progress into a pipe: each ensemble step's bar, its last line complete
-    for (const char* done : {"] 300/300 trajectories, ensemble a, energy 2/2, ",
-                             "] 150/150 trajectories, ensemble b, energy 1/1, "})
+    for (const char* done : {"] 100/100 trajectories, ensemble a, energy 2/2, ",
+                             "] 50/50 trajectories, ensemble b, energy 1/1, "})
         EXPECT_NE(reference.err.find(done), std::string::npos) << reference.err;
     const double cpu = json::parse(read_text(dir / "whole" / "run.json")).at("cpu_seconds");
-    const double bound = std::max(0.05, cpu / 4);
+    const double bound = std::max(0.02, cpu / 4);
     const std::string command =
         "run --no-cache --threads 1 --checkpoint-interval 0 --max-seconds " +
         std::to_string(bound) + " " + bounded.string();
