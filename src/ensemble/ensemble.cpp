@@ -26,8 +26,8 @@ namespace flipflux {
 
 namespace {
 
-// The most trajectories a thread advances in lockstep (lanes_per_thread: 8 with AVX-512, else 4).
-constexpr std::size_t max_lanes = 8;
+// The most trajectories a thread advances in lockstep (lanes_per_thread: 16 with AVX-512).
+constexpr std::size_t max_lanes = max_thread_lanes;
 
 using detail::angle_reduction;
 
@@ -325,6 +325,7 @@ struct lane_group {
     V (*k)[N];      ///< k[s][c]: stage s, component c
     V h, x0[N];
 
+    lane_group() = default;
     [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count, std::byte* storage)
         : lanes(first), g(count), k(reinterpret_cast<V (*)[N]>(storage)) {
         for (int l = 0; l < W; ++l) {
@@ -339,10 +340,10 @@ struct lane_group {
             lanes[l]->set_stage_source(storage, W, static_cast<int>(l));
     }
 
-    // Stage s and the ones after it (recursion rather than a lambda: every function here is
-    // always_inline, so all of it is compiled for the caller's target, AVX-512, AVX2 or SSE2).
+    // Stage s (every function here is always_inline, so all of it is compiled for the caller's
+    // target, AVX-512, AVX2 or SSE2).
     template <int s>
-    [[gnu::always_inline]] void stages_from(const pendulum_flow& flow) {
+    [[gnu::always_inline]] void stage(const pendulum_flow& flow) {
         V y[N];
         integrator::template stage_sum<s>(h, x0, k, y);
         if constexpr (s < S - 1) {
@@ -386,9 +387,19 @@ struct lane_group {
                                              f0, a1, f1));
             }
         }
-        if constexpr (s + 1 < S) stages_from<s + 1>(flow);
     }
 };
+
+// Stage s and the ones after it of every group, stage by stage: the groups' dependency chains
+// (each stage needs the one before) are independent, so the processor overlaps one group's stage
+// with the next one's (recursion rather than a lambda: always_inline throughout).
+template <int s, class Group>
+[[gnu::always_inline]] inline void stages_from(Group* groups, std::size_t count,
+                                               const pendulum_flow& flow) {
+    for (std::size_t i = 0; i < count; ++i)
+        groups[i].template stage<s>(flow);
+    if constexpr (s + 1 < Group::S) stages_from<s + 1>(groups, count, flow);
+}
 
 // Every stage of a trial step of the active lanes, a group of W = lanes_of<V> at a time
 // (lane_group): the stage sums (explicit_rk::stage_sum) and the right-hand sides
@@ -401,12 +412,15 @@ template <class Lane, class V>
 [[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m,
                                                  std::byte* storage) {
     constexpr std::size_t W = lanes_of<V>;
+    constexpr std::size_t most = max_lanes / W;
     const pendulum_flow& flow = active[0]->flow();
-    for (std::size_t i = 0; i < m; i += W) {
-        lane_group<Lane, V> group(active + i, std::min(W, m - i),
-                                  storage + (i / W) * sizeof(V) * Lane::stages * Lane::N);
-        group.template stages_from<1>(flow);
-    }
+    using group = lane_group<Lane, V>;
+    std::array<group, most> groups;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < m; i += W, ++count)
+        groups[count] = group(active + i, std::min(W, m - i),
+                              storage + (i / W) * sizeof(V) * Lane::stages * Lane::N);
+    stages_from<1>(groups.data(), count, flow);
 }
 
 // Every stage of a trial step of the active lanes, two lanes per SSE2 vector (any x86-64) ...
@@ -433,9 +447,15 @@ __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* cons
     vector_stages<Lane, v8d>(active, m, storage);
 }
 
-// Trajectories per thread in lockstep with `isa`.
-std::size_t lanes_per_thread(vector_isa isa) {
-    return isa == vector_isa::avx512 ? 8 : 4;
+// Trajectories per thread in lockstep with `isa`: two of its widest vectors' worth (SSE2: two
+// pairs), whose stages are computed side by side (stages_from), for `n` trajectories on `threads`
+// threads: fewer when there are not that many per thread, so that a small ensemble's trajectories
+// do not gather on one thread.
+std::size_t lanes_per_thread(vector_isa isa, std::size_t n, int threads) {
+    const std::size_t most = ensemble_lanes_per_thread(isa);
+    const std::size_t share = (n + static_cast<std::size_t>(threads) - 1) /
+                              static_cast<std::size_t>(std::max(threads, 1));
+    return std::clamp<std::size_t>(share, 1, most);
 }
 
 // One trial step of every unfinished lane, stage by stage (lanes of one type), the lanes'
@@ -460,16 +480,16 @@ void lockstep_round(std::span<Lane* const> lanes, vector_isa isa) {
         active[i]->end();
 }
 
-// Runs one thread's share: lanes_per_thread trajectories advanced in lockstep, the next index
-// taken whenever one finishes. `deliver` gets each finished (or abandoned) lane's result.
+// Runs one thread's share: `count` trajectories (lanes_per_thread) advanced in lockstep, the next
+// index taken whenever one finishes. `deliver` gets each finished (or abandoned) lane's result.
 template <class Method, bool Tangent, class Next, class Deliver>
 void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
                std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
-               Next&& next_index, Deliver&& deliver) {
+               std::size_t count, Next&& next_index, Deliver&& deliver) {
     using lane_type = lane<Method, Tangent>;
     detail::refill_lanes<lane_type, max_lanes>(
-        lanes_per_thread(isa),
+        count,
         [&](std::uint64_t index, std::size_t l) {
             return std::make_unique<lane_type>(model, o, initial_state_of(sampler, o, index), index,
                                                detectors[l]);
@@ -482,31 +502,30 @@ template <class Next, class Deliver>
 void run_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                const microcanonical_sampler& sampler,
                std::array<std::vector<flip_detector_base*>, max_lanes>& detectors, vector_isa isa,
-               Next&& next_index, Deliver&& deliver) {
+               std::size_t count, Next&& next_index, Deliver&& deliver) {
     if (resolved_method(o.method, o.rtol) != o.method) {
         ensemble_options resolved = o;
         resolved.method = resolved_method(o.method, o.rtol);
-        run_lanes(model, resolved, sampler, detectors, isa, next_index, deliver);
+        run_lanes(model, resolved, sampler, detectors, isa, count, next_index, deliver);
         return;
     }
     if (o.method == integration_method::taylor) {
-        detail::run_taylor_lanes(model, o, sampler, detectors, isa, lanes_per_thread(isa),
-                                 next_index, deliver);
+        detail::run_taylor_lanes(model, o, sampler, detectors, isa, count, next_index, deliver);
         return;
     }
     if (o.method == integration_method::dop853) {
         if (o.chaos)
-            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, isa, next_index,
-                                                deliver);
+            run_lanes<dormand_prince_853, true>(model, o, sampler, detectors, isa, count,
+                                                next_index, deliver);
         else
-            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, isa, next_index,
-                                                 deliver);
+            run_lanes<dormand_prince_853, false>(model, o, sampler, detectors, isa, count,
+                                                 next_index, deliver);
     } else {
         if (o.chaos)
-            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, isa, next_index,
+            run_lanes<dormand_prince_5, true>(model, o, sampler, detectors, isa, count, next_index,
                                               deliver);
         else
-            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, isa, next_index,
+            run_lanes<dormand_prince_5, false>(model, o, sampler, detectors, isa, count, next_index,
                                                deliver);
     }
 }
@@ -578,6 +597,7 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
     const vector_isa isa = ensemble_vector_isa();
     std::exception_ptr failure;
     const std::size_t n = indices.size();
+    const std::size_t lanes = lanes_per_thread(isa, n, threads);
     std::atomic<std::size_t> next{0};
     std::atomic<bool> failed{false};
     int used = 1;
@@ -587,18 +607,18 @@ batch_outcome run_trajectories(const double_pendulum<double>& model, const ensem
     {
 #pragma omp single
         used = omp_get_num_threads();
-        // each thread advances lanes_per_thread trajectories in lockstep (run_lanes), taking the
-        // next index whenever one finishes
+        // each thread advances `lanes` trajectories in lockstep (run_lanes), taking the next index
+        // whenever one finishes
         std::array<std::vector<std::unique_ptr<flip_detector_base>>, max_lanes> own;
         std::array<std::vector<flip_detector_base*>, max_lanes> detectors;
-        for (std::size_t l = 0; l < lanes_per_thread(isa); ++l)
+        for (std::size_t l = 0; l < lanes; ++l)
             for (const ensemble_criterion& c : criteria) {
                 own[l].push_back(c.detector->clone());
                 detectors[l].push_back(own[l].back().get());
             }
         try {
             run_lanes(
-                model, o, sampler, detectors, isa,
+                model, o, sampler, detectors, isa, lanes,
                 [&](std::uint64_t& index) {
                     if (failed.load(std::memory_order_relaxed)) return false;
                     if (stopped()) {

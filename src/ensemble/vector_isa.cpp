@@ -69,4 +69,11 @@ vector_isa ensemble_vector_isa() {
     return isa == vector_isa::automatic ? automatic_isa() : isa;
 }
 
+std::size_t ensemble_lanes_per_thread(vector_isa isa) {
+    if (isa == vector_isa::automatic) isa = ensemble_vector_isa();
+    return isa == vector_isa::avx512 ? max_thread_lanes
+           : isa == vector_isa::avx2 ? max_thread_lanes / 2
+                                     : max_thread_lanes / 4;
+}
+
 }  // namespace flipflux

@@ -41,8 +41,9 @@ void expect_identical(const trajectory_result& a, const trajectory_result& b) {
 
 // Within a thread, trajectories advance in lockstep lanes whose right-hand sides are evaluated
 // together in vectors: with each instruction set the processor has (ensemble.hpp, vector_isa:
-// eight lanes per thread in AVX-512 vectors, then AVX2 and SSE2 ones as lanes finish; four lanes
-// in AVX2 vectors; four lanes in SSE2 vectors, two per vector), every trajectory must have the bits
+// sixteen lanes per thread in two groups of AVX-512 vectors, then AVX2 and SSE2 ones as lanes
+// finish; eight lanes in two groups of AVX2 vectors; four lanes in SSE2 vectors, two per vector),
+// every trajectory must have the bits
 // of the same trajectory integrated alone (one lane), with and without the tangent equations, for
 // DOP853 and DOPRI5. (That each lane's arithmetic is the scalar integrator's: ExplicitRk.
 // VectorLanesHaveTheBitsOfTheDoubleStagesAndErrorSums.)
@@ -60,8 +61,8 @@ TEST(Ensemble, LockstepLanesGiveTheBitsOfALoneTrajectory) {
              {integration_method::dop853, integration_method::dopri5, integration_method::taylor})
             for (bool chaos : {false, true}) {
                 ensemble_options o = small_run(1);
-                // 8 (or 4) lanes, refilled twice, then the last ones: every vector width, padded
-                // groups
+                // 16 (8, 4) lanes in two groups, refilled, then the last ones: every vector
+                // width, one and two groups, padded groups
                 o.trajectories = 19;
                 o.chaos = chaos;
                 o.method = method;

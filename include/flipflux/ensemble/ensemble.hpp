@@ -65,9 +65,12 @@ integration_method resolved_method(integration_method method, double rtol);
 /// The vector instructions of the ensemble's lockstep lanes (within a thread, several
 /// trajectories advance stage by stage with their stages computed together in vectors). Every
 /// choice gives the same bits, trajectory by trajectory (tested); only the speed differs.
-///   - avx512: eight lanes per thread, eight per AVX-512 vector (AVX2 then SSE2 as lanes finish);
-///   - avx2: four lanes per thread, four per AVX2 vector (SSE2 for the last two);
+///   - avx512: sixteen lanes per thread, eight per AVX-512 vector, two vectors' stages side by
+///     side (AVX2 then SSE2 as lanes finish);
+///   - avx2: eight lanes per thread, four per AVX2 vector, two side by side (SSE2 for the last
+///     two);
 ///   - sse2: four lanes per thread, two per SSE2 vector (any x86-64);
+///   (fewer lanes per thread when an ensemble has fewer trajectories per thread);
 ///   - automatic: avx512 where the processor has AVX-512F (on AMD's Zen 4 too, whose 512-bit
 ///     operations are two 256-bit halves: 0.82-0.88 of AVX2's CPU time for DOP853 lanes there and
 ///     0.44-0.75 for Taylor lanes, docs/scale.md); else avx2 where it has AVX2; else sse2.
@@ -95,6 +98,13 @@ void set_ensemble_vector_isa(vector_isa isa);
 
 /// Whether this processor can run `isa` (automatic and sse2: always, on x86-64).
 bool processor_supports(vector_isa isa);
+
+/// The most trajectories one thread advances in lockstep with any instruction set.
+inline constexpr std::size_t max_thread_lanes = 16;
+
+/// The most trajectories one thread advances in lockstep with `isa` (automatic: the instruction
+/// set in use, ensemble_vector_isa): 16 with avx512, 8 with avx2, 4 with sse2 (see vector_isa).
+std::size_t ensemble_lanes_per_thread(vector_isa isa = vector_isa::automatic);
 
 /// An accepted step may change H by at most this times (atol + rtol |E|); otherwise it is retried
 /// with half the size (the error estimate passed a bad step). See docs/theory.md#ensembles.

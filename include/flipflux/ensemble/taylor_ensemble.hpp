@@ -60,11 +60,11 @@ inline constexpr double min_taylor_rtol = std::numeric_limits<double>::epsilon()
 
 namespace detail {
 
-/// One thread's detectors, per lane.
-using lane_detectors = std::array<std::vector<flip_detector_base*>, 8>;
+/// One thread's detectors, per lane (the Taylor lanes take at most 8).
+using lane_detectors = std::array<std::vector<flip_detector_base*>, max_thread_lanes>;
 
-/// One thread's share of a Taylor ensemble: `count` (4 or 8) trajectories in lockstep, the next
-/// index taken from next_index whenever one finishes; `deliver` gets each finished (or
+/// One thread's share of a Taylor ensemble: `count` (at most 8 are taken) trajectories in lockstep,
+/// the next index taken from next_index whenever one finishes; `deliver` gets each finished (or
 /// abandoned) one.
 void run_taylor_lanes(const double_pendulum<double>& model, const ensemble_options& o,
                       const microcanonical_sampler& sampler, lane_detectors& detectors,
