@@ -1,6 +1,7 @@
 // The Ceres plugin, libflipflux_ceres.so (orbits/least_squares.hpp): Levenberg-Marquardt with a
 // dense QR for the small problems of the saddle orbits' shooting. It calls nothing of flipflux.
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include <cmath>
 #include <cstring>
@@ -26,6 +27,16 @@ class callback_cost final : public ceres::CostFunction {
   private:
     const flipflux_least_squares_problem& p_;
 };
+
+// NOTE: Ceres logs through glog, and some of its messages ignore logging_type = SILENT (e.g.
+// "Terminating: Residual and Jacobian evaluation failed." when the callback stops at a CPU
+// budget). With glog never initialised they go to stderr, where a one-line error must stand
+// alone: everything below FATAL is dropped (the solver's outcome reaches the caller through the
+// summary's report). Set before the first solve; the plugin is glog's only user in the process.
+const bool glog_quiet = [] {
+    FLAGS_minloglevel = google::GLOG_FATAL;
+    return true;
+}();
 
 void write_report(flipflux_least_squares_summary* s, const std::string& text) {
     const std::size_t n = std::min(text.size(), sizeof s->report - 1);
