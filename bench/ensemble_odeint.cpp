@@ -304,11 +304,12 @@ BENCHMARK(ensemble_vs_odeint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Mi
 
 // Where the right-hand-side bound's fraction is lost (issue 42's target >= 0.3): the same workload
 // and bound as ensemble_vs_odeint (DOP853, its energy, seed, rtol and criteria; no Odeint), with
-// run_trajectories given `batch` trajectories per call (args: batch, criteria). batch 8 is
-// ensemble_vs_odeint's (one thread's lanes filled once, so its last rounds run part-filled
-// vectors); 64 refills the lanes from the same call, as a large ensemble does. criteria 0 runs the
-// integrator alone (no detector: no step tests, examinations or dense output), 3 the bench's
-// three arm-2 criteria. Counters: fraction_of_rhs_bound, ours_units_per_cpu_s,
+// run_trajectories given `batch` trajectories per call (args: batch, criteria). batch 8 fills one
+// group of AVX-512 lanes once (ensemble_vs_odeint's batch until 2026-12-02; it is now one thread's
+// lanes, ensemble_lanes_per_thread(): 16, two groups, with AVX-512), so its last rounds run
+// part-filled vectors; 64 refills the lanes from the same call, as a large ensemble does. criteria
+// 0 runs the integrator alone (no detector: no step tests, examinations or dense output), 3 the
+// bench's three arm-2 criteria. Counters: fraction_of_rhs_bound, ours_units_per_cpu_s,
 // ours_evaluations_per_unit, rhs_ns_per_lane (as in ensemble_vs_odeint).
 void ensemble_rhs_fraction(benchmark::State& state) {
     const double_pendulum<double> m;
