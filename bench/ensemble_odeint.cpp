@@ -19,7 +19,11 @@
 //     lanes; pendulum_flow::lanes on independent states) times our evaluations per
 //     time unit gives the throughput if nothing but right-hand sides cost anything
 //     (rhs_bound_units_per_cpu_s); ours / that is fraction_of_rhs_bound. The right-hand side's
-//     time is the median of five timings (rhs_ns_per_lane).
+//     time (rhs_ns_per_lane) is the median of timings interleaved with ours, one after each
+//     timed ensemble call (since 2026-12-03): this VM's speed drifts by 10 % within a run, and a
+//     bound timed apart from the ensemble moved the fraction with it. The earlier bound, the
+//     median of five timings after the loop, is kept beside it (rhs_ns_per_lane_after,
+//     fraction_of_rhs_bound_after).
 // Counters: throughputs (time units per CPU-second), the ratios, flips of each criterion for
 // ours and odeint, and z = (n_ours - n_odeint) / sqrt(n_ours + n_odeint) per criterion (|z| of
 // a few at most: both integrate the same initial conditions).
@@ -187,6 +191,17 @@ double rhs_seconds_once(const pendulum_flow& flow, const std::vector<state4>& x,
             return rhs_seconds_lanes<v4d>(flow, x, rounds);
     }
 }
+// The median of `t` (sorted in place).
+double median_of(std::vector<double>& t) {
+    std::sort(t.begin(), t.end());
+    const std::size_t n = t.size();
+    return n == 0 ? 0.0 : n % 2 == 1 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
+
+// One timing of the right-hand side in a bench's loop, after each timed ensemble call: rounds of
+// about a millisecond (AVX-512: 4000 / 2 rounds of 16 x 8 lanes).
+constexpr int interleaved_rhs_rounds = 4000;
+
 // The median of five timings of rounds / 5 each: one timing of this VM's CPU time varied by
 // up to 40 % between runs (6.4 to 9.0 ns per lane on a Zen 4), and the bound is proportional to
 // it.
@@ -239,10 +254,15 @@ void ensemble_vs_odeint(benchmark::State& state) {
     const fast_rhs our_rhs{flow};
     long steps_ours = 0, steps_theirs = 0;
     std::uint64_t next = 0;
+    // the right-hand side's timings, one per iteration, on the initial states of the first 64
+    // trajectories (those of the iterations so far)
+    std::vector<double> rhs_slices;
     for (auto _ : state) {
         std::vector<std::uint64_t> indices;
-        for (std::uint64_t i = 0; i < batch; ++i)
+        for (std::uint64_t i = 0; i < batch; ++i) {
+            if (starts.size() < 64) starts.push_back(sampler.sample(o.seed, next));
             indices.push_back(next++);
+        }
         double c0 = thread_cpu_seconds();
         run_trajectories(m, o, criteria, indices, [&](trajectory_result&& r) {
             for (std::size_t c = 0; c < 3; ++c)
@@ -252,13 +272,14 @@ void ensemble_vs_odeint(benchmark::State& state) {
         });
         double c1 = thread_cpu_seconds();
         cpu_ours += c1 - c0;
+        rhs_slices.push_back(rhs_seconds_once(flow, starts, interleaved_rhs_rounds));
+        c1 = thread_cpu_seconds();
         run_trajectories(m, chaos, criteria, indices,
                          [&](trajectory_result&& r) { benchmark::DoNotOptimize(r.lyapunov); });
         const double c1c = thread_cpu_seconds();
         cpu_chaos += c1c - c1;
         c1 = c1c;
         for (const std::uint64_t i : indices) {
-            if (starts.size() < 64) starts.push_back(sampler.sample(o.seed, i));
             const odeint_result r =
                 odeint_trajectory(user_rhs, sampler.sample(o.seed, i), T, curves);
             for (std::size_t c = 0; c < 3; ++c)
@@ -274,8 +295,12 @@ void ensemble_vs_odeint(benchmark::State& state) {
         units += static_cast<double>(batch) * T;
     }
     const double evaluations_per_unit = static_cast<double>(evaluations_ours) / units;
-    const double rhs_seconds = flipflux_bench_rhs_seconds(flow, starts, 200000);
+    const double rhs_seconds = median_of(rhs_slices);
     const double bound = 1 / (evaluations_per_unit * rhs_seconds);
+    const double rhs_after = flipflux_bench_rhs_seconds(flow, starts, 200000);
+    state.counters["rhs_ns_per_lane_after"] = 1e9 * rhs_after;
+    state.counters["fraction_of_rhs_bound_after"] =
+        units / cpu_ours * evaluations_per_unit * rhs_after;
     state.counters["ours_units_per_cpu_s"] = units / cpu_ours;
     state.counters["ours_chaos_units_per_cpu_s"] = units / cpu_chaos;
     state.counters["speedup_chaos"] = cpu_theirs / cpu_chaos;
@@ -310,7 +335,7 @@ BENCHMARK(ensemble_vs_odeint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Mi
 // part-filled vectors; 64 refills the lanes from the same call, as a large ensemble does. criteria
 // 0 runs the integrator alone (no detector: no step tests, examinations or dense output), 3 the
 // bench's three arm-2 criteria. Counters: fraction_of_rhs_bound, ours_units_per_cpu_s,
-// ours_evaluations_per_unit, rhs_ns_per_lane (as in ensemble_vs_odeint).
+// ours_evaluations_per_unit, rhs_ns_per_lane and the _after pair (as in ensemble_vs_odeint).
 void ensemble_rhs_fraction(benchmark::State& state) {
     const double_pendulum<double> m;
     const double E = 5, T = 100;
@@ -325,6 +350,7 @@ void ensemble_rhs_fraction(benchmark::State& state) {
     double cpu = 0, units = 0;
     long evaluations = 0;
     std::vector<state4> starts;
+    std::vector<double> rhs_slices;  // the right-hand side's timings, one per iteration
     std::uint64_t next = 0;
     for (auto _ : state) {
         std::vector<std::uint64_t> indices;
@@ -337,11 +363,15 @@ void ensemble_rhs_fraction(benchmark::State& state) {
                          [&](trajectory_result&& r) { evaluations += r.evaluations; });
         cpu += thread_cpu_seconds() - c0;
         units += static_cast<double>(batch) * T;
+        rhs_slices.push_back(rhs_seconds_once(flow, starts, interleaved_rhs_rounds));
     }
     const double evaluations_per_unit = static_cast<double>(evaluations) / units;
-    const double rhs_seconds = flipflux_bench_rhs_seconds(flow, starts, 200000);
+    const double rhs_seconds = median_of(rhs_slices);
     const double bound = 1 / (evaluations_per_unit * rhs_seconds);
     state.counters["fraction_of_rhs_bound"] = units / cpu / bound;
+    const double rhs_after = flipflux_bench_rhs_seconds(flow, starts, 200000);
+    state.counters["rhs_ns_per_lane_after"] = 1e9 * rhs_after;
+    state.counters["fraction_of_rhs_bound_after"] = units / cpu * evaluations_per_unit * rhs_after;
     state.counters["ours_units_per_cpu_s"] = units / cpu;
     state.counters["ours_evaluations_per_unit"] = evaluations_per_unit;
     state.counters["rhs_ns_per_lane"] = 1e9 * rhs_seconds;
@@ -350,6 +380,7 @@ void ensemble_rhs_fraction(benchmark::State& state) {
 BENCHMARK(ensemble_rhs_fraction)
     ->ArgNames({"batch", "criteria"})
     ->Args({8, 3})
+    ->Args({16, 3})
     ->Args({64, 3})
     ->Args({8, 0})
     ->Args({64, 0})

@@ -324,6 +324,7 @@ struct lane_group {
     std::size_t g;  ///< lanes in use
     V (*k)[N];      ///< k[s][c]: stage s, component c
     V h, x0[N];
+    V span;  ///< where the trial step ends less where it starts (the quiet test's h)
 
     lane_group() = default;
     [[gnu::always_inline]] lane_group(Lane* const* first, std::size_t count, std::byte* storage)
@@ -331,6 +332,7 @@ struct lane_group {
         for (int l = 0; l < W; ++l) {
             const integrator& rk = lanes[static_cast<std::size_t>(l) < g ? l : 0]->rk();
             h[l] = rk.trial_step();
+            span[l] = rk.trial_end_time() - rk.t();
             for (std::size_t c = 0; c < N; ++c) {
                 x0[c][l] = rk.x()[c];
                 k[0][c][l] = rk.derivative()[c];
@@ -362,29 +364,32 @@ struct lane_group {
             V err, factor;
             integrator::error_norms(h, first, second, o, err);
             integrator::step_factors(err, factor);
+            // the quiet test of the step, should it be accepted (the lane's after_step):
+            // step_is_quiet's arithmetic on the group's vectors (detail::quiet_reach), the
+            // rounding lane by lane; every lane's detectors are clones of the same criteria, so
+            // one lane's bounds are every lane's
+            const std::array<double, 2>& bound = lanes[0]->quiet_bound();
+            std::array<V, 2> reach_lo{}, reach_hi{};
+            for (std::size_t i = 0; i < 2; ++i)
+                if (bound[i] >= 0)
+                    detail::quiet_reach(bound[i], span, x0[i], y[i], k[0][i], k[s][i], reach_lo[i],
+                                        reach_hi[i]);
             for (std::size_t l = 0; l < g; ++l) {
                 Lane& lane = *lanes[l];
                 double end[N], f[N];
-                std::array<double, 4> a0, f0, a1, f1;
                 for (std::size_t c = 0; c < N; ++c) {
                     end[c] = y[c][l];
                     f[c] = k[s][c][l];
-                    if (c < 4) {
-                        a0[c] = x0[c][l];
-                        f0[c] = k[0][c][l];
-                        a1[c] = end[c];
-                        f1[c] = f[c];
-                    }
                 }
                 integrator& rk = lane.rk();
                 rk.set_trial_end(end, f);
                 lane.set_end_energy(e[l]);
                 lane.set_error_norm(err[l], factor[l]);
-                // the quiet test of the step, should it be accepted (the lane's after_step), here
-                // in a loop whose lanes are independent (and with this target's rounding
-                // instructions for its ceil and floor)
-                lane.set_quiet(step_is_quiet(lane.quiet_bound(), rk.trial_end_time() - rk.t(), a0,
-                                             f0, a1, f1));
+                bool quiet = true;
+                for (std::size_t i = 0; i < 2; ++i)
+                    if (bound[i] >= 0 && !(std::ceil(reach_lo[i][l]) > std::floor(reach_hi[i][l])))
+                        quiet = false;
+                lane.set_quiet(quiet);
             }
         }
     }
@@ -392,59 +397,82 @@ struct lane_group {
 
 // Stage s and the ones after it of every group, stage by stage: the groups' dependency chains
 // (each stage needs the one before) are independent, so the processor overlaps one group's stage
-// with the next one's (recursion rather than a lambda: always_inline throughout).
-template <int s, class Group>
-[[gnu::always_inline]] inline void stages_from(Group* groups, std::size_t count,
+// with the next one's (recursion rather than a lambda: always_inline throughout). `tail` (null:
+// none) is a last group of a narrower vector type.
+template <int s, class Group, class Tail>
+[[gnu::always_inline]] inline void stages_from(Group* groups, std::size_t count, Tail* tail,
                                                const pendulum_flow& flow) {
     for (std::size_t i = 0; i < count; ++i)
         groups[i].template stage<s>(flow);
-    if constexpr (s + 1 < Group::S) stages_from<s + 1>(groups, count, flow);
+    if (tail != nullptr) tail->template stage<s>(flow);
+    if constexpr (s + 1 < Group::S) stages_from<s + 1>(groups, count, tail, flow);
 }
 
-// Every stage of a trial step of the active lanes, a group of W = lanes_of<V> at a time
-// (lane_group): the stage sums (explicit_rk::stage_sum) and the right-hand sides
-// (pendulum_flow::lanes / tangent_lanes) are vector operations, each lane's the same operations
-// as one integrator alone (the same bits). The stages stay in the round's storage; each
-// integrator gets its trial step's end and f there (set_trial_end), H there serves the energy
-// check, and the error norm's sums over components are vector operations too
-// (explicit_rk::error_sums).
-template <class Lane, class V>
-[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m,
-                                                 std::byte* storage) {
+// Every stage of a trial step of the active lanes: m / W groups of W = lanes_of<V> lanes and the
+// rest, if any, in a group of type Tail (lane_group), its storage after theirs: the stage sums
+// (explicit_rk::stage_sum) and the right-hand sides (pendulum_flow::lanes / tangent_lanes) are
+// vector operations, each lane's the same operations as one integrator alone (the same bits). The
+// stages stay in the round's storage; each integrator gets its trial step's end and f there
+// (set_trial_end), H there serves the energy check, and the error norm's sums over components
+// are vector operations too (explicit_rk::error_sums).
+template <class Lane, class V, class Tail>
+[[gnu::always_inline]] inline void vector_stages_with(Lane* const* active, std::size_t m,
+                                                      std::byte* storage) {
     constexpr std::size_t W = lanes_of<V>;
     constexpr std::size_t most = max_lanes / W;
+    constexpr std::size_t bytes = sizeof(V) * Lane::stages * Lane::N;
     const pendulum_flow& flow = active[0]->flow();
     using group = lane_group<Lane, V>;
     std::array<group, most> groups;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < m; i += W, ++count)
-        groups[count] = group(active + i, std::min(W, m - i),
-                              storage + (i / W) * sizeof(V) * Lane::stages * Lane::N);
-    stages_from<1>(groups.data(), count, flow);
+    const std::size_t full = m / W, rest = m % W;
+    for (std::size_t i = 0; i < full; ++i)
+        groups[i] = group(active + i * W, W, storage + i * bytes);
+    if (rest == 0) {
+        stages_from<1>(groups.data(), full, static_cast<group*>(nullptr), flow);
+    } else {
+        lane_group<Lane, Tail> tail(active + full * W, rest, storage + full * bytes);
+        stages_from<1>(groups.data(), full, &tail, flow);
+    }
+}
+
+// ... the rest in a group of the narrowest of V, V2 and V1 (widths W > W2 > W1, or V2 = V1 = V)
+// that holds it: fewer padded lanes than a group of W for all of them.
+template <class Lane, class V, class V2, class V1>
+[[gnu::always_inline]] inline void vector_stages(Lane* const* active, std::size_t m,
+                                                 std::byte* storage) {
+    const std::size_t rest = m % lanes_of<V>;
+    if (rest == 0 || rest > static_cast<std::size_t>(lanes_of<V2>))
+        vector_stages_with<Lane, V, V>(active, m, storage);
+    else if (rest > static_cast<std::size_t>(lanes_of<V1>))
+        vector_stages_with<Lane, V, V2>(active, m, storage);
+    else
+        vector_stages_with<Lane, V, V1>(active, m, storage);
 }
 
 // Every stage of a trial step of the active lanes, two lanes per SSE2 vector (any x86-64) ...
 template <class Lane>
 void vector_stages_sse2(Lane* const* active, std::size_t m, std::byte* storage) {
-    vector_stages<Lane, v2d>(active, m, storage);
+    vector_stages<Lane, v2d, v2d, v2d>(active, m, storage);
 }
 
-// ... or four per AVX2 vector (the same bits; used when the processor has AVX2). `flatten'
-// inlines everything called here, so that all of it is compiled for AVX2; no FMA is enabled, so
-// the operations and their rounding are those of the scalar code.
+// ... or four per AVX2 vector, the rest of one or two lanes in an SSE2 pair (the same bits; used
+// when the processor has AVX2). `flatten' inlines everything called here, so that all of it is
+// compiled for AVX2; no FMA is enabled, so the operations and their rounding are those of the
+// scalar code.
 template <class Lane>
 __attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active, std::size_t m,
                                                                  std::byte* storage) {
-    vector_stages<Lane, v4d>(active, m, storage);
+    vector_stages<Lane, v4d, v2d, v2d>(active, m, storage);
 }
 
-// ... or eight per AVX-512 vector (the same bits again; used for five to eight lanes when the
-// processor has AVX-512F: 1.24x the AVX2 path's throughput on a Zen 5 EPYC, docs/scale.md).
+// ... or eight per AVX-512 vector, the rest in a group of eight, four or two (the same bits again;
+// used for more than four lanes when the processor has AVX-512F: 1.24x the AVX2 path's
+// throughput on a Zen 5 EPYC, docs/scale.md).
 template <class Lane>
 __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* const* active,
                                                                       std::size_t m,
                                                                       std::byte* storage) {
-    vector_stages<Lane, v8d>(active, m, storage);
+    vector_stages<Lane, v8d, v4d, v2d>(active, m, storage);
 }
 
 // Trajectories per thread in lockstep with `isa`: two of its widest vectors' worth (SSE2: two

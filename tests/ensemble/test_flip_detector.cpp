@@ -20,6 +20,7 @@
 
 #include "ensemble_support.hpp"
 #include "flipflux/ensemble/ensemble.hpp"
+#include "flipflux/ensemble/fast_trig.hpp"
 #include "flipflux/ensemble/flip_detector.hpp"
 
 namespace flipflux::test {
@@ -451,6 +452,76 @@ TEST(FlipDetector, QuietStepsAreOnesNoDetectorExamines) {
     ASSERT_EQ(d->step({0.1, 0.2, x1, f1, x2, f2, interp}, out), 1);
     EXPECT_NEAR(out[0].time, 0.15, 8 * eps<double>() * pi);  // rounding of phi over slope 1
     EXPECT_EQ(out[0].direction, 1);
+}
+
+// The quiet test as the RK lanes run it, on a vector of steps (detail::quiet_reach on v8d, v4d and
+// v2d, the rounding lane by lane), against the scalar test written out here as it was before it
+// was shared (std::min, std::max, std::abs, within_reach's subtraction of bound + pi): the same
+// verdict in every lane, on random steps, on steps whose end sits on the reach's edges (values
+// near pi + 2 pi k +- bound, where a rounding decides) and on signed zeros.
+template <class V>
+void expect_lane_quiet_tests_match(std::mt19937_64& rng) {
+    constexpr int W = lanes_of<V>;
+    std::uniform_real_distribution<double> u(-1, 1);
+    auto literal = [](double bound, double h, double p0, double p1, double w0, double w1) {
+        const double m0 = h * w0, m1 = h * w1;
+        const double b1 = p0 + m0 / 3, b2 = p1 - m1 / 3;
+        const double lo = std::min(std::min(p0, p1), std::min(b1, b2));
+        const double hi = std::max(std::max(p0, p1), std::max(b1, b2));
+        const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
+        const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
+        const double margin =
+            0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) + 0.125 * std::max(d2a, d2b) +
+            64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(lo) + std::abs(hi)) + 1e-9;
+        double a = lo - margin, b = hi + margin;
+        a -= bound + pi;
+        b += bound - pi;
+        return std::ceil(a * (1 / (2 * pi))) > std::floor(b * (1 / (2 * pi)));
+    };
+    long quiet = 0, loud = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        const double bound = trial % 4 == 0 ? 0.0 : 0.8 * (u(rng) + 1);
+        V h, p0, p1, w0, w1;
+        for (int l = 0; l < W; ++l) {
+            h[l] = 0.02 + 0.1 * (u(rng) + 1);
+            w0[l] = 2 * u(rng);
+            w1[l] = 2 * u(rng);
+            const double k = std::round(3 * u(rng));
+            p0[l] = pi + 2 * pi * k + 2 * u(rng);
+            p1[l] = p0[l] + h[l] * (w0[l] + w1[l]) / 2;
+            if (trial % 5 == 1) {
+                // the end's reach exactly on pi + 2 pi k - bound - margin (a rounding decides)
+                const double edge = pi + 2 * pi * k - bound;
+                p0[l] = p1[l] = edge + (l % 3 - 1) * 1e-9;
+                w0[l] = w1[l] = 0;
+            }
+            if (trial % 7 == 2 && l % 2 == 0) {
+                p0[l] = -0.0;
+                w0[l] = -0.0;
+                w1[l] = 0.0;
+            }
+        }
+        V a, b;
+        detail::quiet_reach(bound, h, p0, p1, w0, w1, a, b);
+        for (int l = 0; l < W; ++l) {
+            const bool lane_quiet = std::ceil(a[l]) > std::floor(b[l]);
+            const bool expected = literal(bound, h[l], p0[l], p1[l], w0[l], w1[l]);
+            EXPECT_EQ(lane_quiet, expected) << "W " << W << " trial " << trial << " lane " << l;
+            EXPECT_EQ(step_is_quiet({-1.0, bound}, h[l], {0, p0[l], 0, 0}, {0, w0[l], 0, 0},
+                                    {0, p1[l], 0, 0}, {0, w1[l], 0, 0}),
+                      expected);
+            (expected ? quiet : loud) += 1;
+        }
+    }
+    EXPECT_GT(quiet, 1000);  // not vacuous: both verdicts occur often
+    EXPECT_GT(loud, 1000);
+}
+
+TEST(FlipDetector, LaneQuietTestIsTheScalarOne) {
+    std::mt19937_64 rng(20261203);
+    expect_lane_quiet_tests_match<v8d>(rng);
+    expect_lane_quiet_tests_match<v4d>(rng);
+    expect_lane_quiet_tests_match<v2d>(rng);
 }
 
 // The prefilter's reach (detail::within_reach), on which both lanes' quiet tests rest: levels

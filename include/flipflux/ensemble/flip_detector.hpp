@@ -40,10 +40,12 @@
 #include <array>
 #include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -148,13 +150,40 @@ inline int cubic_critical_points(double p0, double p1, double m0, double m1,
     return n;
 }
 
+// |x| for T double (std::abs) or lane by lane of a vector of doubles with the same bits (the sign
+// bit cleared). (Out-parameters here and below: a function returning a vector by value would
+// have an ABI that depends on the instruction set, which GCC warns of.)
+template <class T>
+[[gnu::always_inline]] inline void abs_into(const T& x, T& r) {
+    if constexpr (std::is_floating_point_v<T>) {
+        r = std::abs(x);
+    } else {
+        using bits = decltype(x < x);  // the signed 64-bit integers of the vector's lanes
+        r = reinterpret_cast<T>(reinterpret_cast<bits>(x) &
+                                std::numeric_limits<std::int64_t>::max());
+    }
+}
+
 // The prefilter's margin of the cubic Hermite interpolant of (p, m) on the step, before its
 // rounding term: a quarter of the variation of the data plus an eighth of the cubic's largest
-// second-derivative term (hermite_range's and step_is_quiet's, one formula).
+// second-derivative term (hermite_range's and step_is_quiet's, one formula). For T double or a
+// vector of doubles whose lanes are several steps, each lane the same bits as a double's (the
+// larger of the two terms by std::max's rule, a < b ? b : a).
+template <class T>
+[[gnu::always_inline]] inline void hermite_margin(const T& p0, const T& p1, const T& m0,
+                                                  const T& m1, T& margin) {
+    T d2a, d2b, dp, am0, am1;
+    abs_into(6 * (p1 - p0) - 4 * m0 - 2 * m1, d2a);
+    abs_into(-6 * (p1 - p0) + 2 * m0 + 4 * m1, d2b);
+    abs_into(p1 - p0, dp);
+    abs_into(m0, am0);
+    abs_into(m1, am1);
+    margin = 0.25 * (dp + am0 + am1) + 0.125 * (d2a < d2b ? d2b : d2a);
+}
 inline double hermite_margin(double p0, double p1, double m0, double m1) {
-    const double d2a = std::abs(6 * (p1 - p0) - 4 * m0 - 2 * m1);
-    const double d2b = std::abs(-6 * (p1 - p0) + 2 * m0 + 4 * m1);
-    return 0.25 * (std::abs(p1 - p0) + std::abs(m0) + std::abs(m1)) + 0.125 * std::max(d2a, d2b);
+    double margin = 0;
+    hermite_margin(p0, p1, m0, m1, margin);
+    return margin;
 }
 
 // The range of the cubic Hermite interpolant of (p, m) on the step, widened by hermite_margin
@@ -178,16 +207,46 @@ inline int hermite_range(double p0, double p1, double m0, double m1, double& lo,
     return ncrit;
 }
 
+// within_reach's test in two parts: the ends a, b scaled to levels (for T double or lane by lane
+// of a vector of doubles, the same bits), then whether ceil(a) <= floor(b).
+template <class T>
+[[gnu::always_inline]] inline void reach_ends(const T& lo, const T& hi, double bound, T& a, T& b) {
+    constexpr double pi = std::numbers::pi, inv_two_pi = 1 / (2 * std::numbers::pi);
+    a = (lo - (bound + pi)) * inv_two_pi;
+    b = (hi + (bound - pi)) * inv_two_pi;
+}
+
 /// The prefilter's test: whether a flip angle ranging over [lo, hi] in a step comes within
 /// `bound` of pi (mod 2 pi), i.e. [lo - (bound + pi), hi + (bound - pi)] holds a level 2 pi n (the
 /// ends scaled by 1 / (2 pi) rather than divided: a rounding's difference, far inside the ranges'
 /// widening). Monotone in lo, hi and bound, rounding included: a wider range or a larger bound
 /// never reaches fewer levels.
 inline bool within_reach(double lo, double hi, double bound) {
-    constexpr double pi = std::numbers::pi, inv_two_pi = 1 / (2 * std::numbers::pi);
-    lo -= bound + pi;
-    hi += bound - pi;
-    return !(std::ceil(lo * inv_two_pi) > std::floor(hi * inv_two_pi));
+    double a = 0, b = 0;
+    reach_ends(lo, hi, bound, a, b);
+    return !(std::ceil(a) > std::floor(b));
+}
+
+// step_is_quiet's test of one flip angle, for T double or a vector of doubles whose lanes are
+// several steps (each lane the same bits as a double's): the reach_ends a, b of the angle's range
+// (p0 to p1, rates w0 and w1, step h) against `bound`; the step is quiet in this angle when
+// ceil(a) > floor(b).
+template <class T>
+[[gnu::always_inline]] inline void quiet_reach(double bound, const T& h, const T& p0, const T& p1,
+                                               const T& w0, const T& w1, T& a, T& b) {
+    constexpr double slack = 1e-9;
+    const T m0 = h * w0, m1 = h * w1;
+    const T b1 = p0 + m0 / 3, b2 = p1 - m1 / 3;
+    // std::min's and std::max's rules (b < a ? b : a, a < b ? b : a), lane by lane
+    const T lo01 = p1 < p0 ? p1 : p0, lo12 = b2 < b1 ? b2 : b1;
+    const T hi01 = p0 < p1 ? p1 : p0, hi12 = b1 < b2 ? b2 : b1;
+    const T lo = lo12 < lo01 ? lo12 : lo01, hi = hi01 < hi12 ? hi12 : hi01;
+    T margin, alo, ahi;
+    hermite_margin(p0, p1, m0, m1, margin);
+    abs_into(lo, alo);
+    abs_into(hi, ahi);
+    margin = margin + 64 * std::numeric_limits<double>::epsilon() * (1 + alo + ahi) + slack;
+    reach_ends(lo - margin, hi + margin, bound, a, b);
 }
 
 }  // namespace detail
@@ -213,18 +272,11 @@ inline std::array<double, 2> flip_angle_range(int i, double h, const std::array<
 inline bool step_is_quiet(const std::array<double, 2>& bound, double h,
                           const std::array<double, 4>& x0, const std::array<double, 4>& w0,
                           const std::array<double, 4>& x1, const std::array<double, 4>& w1) {
-    constexpr double slack = 1e-9;
-    for (int i = 0; i < 2; ++i) {
-        if (bound[static_cast<std::size_t>(i)] < 0) continue;
-        const auto k = static_cast<std::size_t>(i);
-        const double p0 = x0[k], p1 = x1[k], m0 = h * w0[k], m1 = h * w1[k];
-        const double b1 = p0 + m0 / 3, b2 = p1 - m1 / 3;
-        const double lo = std::min(std::min(p0, p1), std::min(b1, b2));
-        const double hi = std::max(std::max(p0, p1), std::max(b1, b2));
-        const double margin =
-            detail::hermite_margin(p0, p1, m0, m1) +
-            64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(lo) + std::abs(hi)) + slack;
-        if (detail::within_reach(lo - margin, hi + margin, bound[k])) return false;
+    for (std::size_t k = 0; k < 2; ++k) {
+        if (bound[k] < 0) continue;
+        double a = 0, b = 0;
+        detail::quiet_reach(bound[k], h, x0[k], x1[k], w0[k], w1[k], a, b);
+        if (!(std::ceil(a) > std::floor(b))) return false;
     }
     return true;
 }

@@ -510,7 +510,8 @@ class explicit_rk {
             T root;
             sqrt_of(deno * m, root);
             const T r = ah * first / root;
-            err = ((first == T{}) & (second == T{})) ? T{} : r;
+            // (nested selects: a vector's & of two comparisons compiles to a compare per lane)
+            err = first == T{} ? (second == T{} ? T{} : r) : r;
         }
     }
     static double error_norm_from(double h, double first, double second, const rk_options& o) {
