@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "flipflux/core/budget.hpp"
@@ -324,6 +325,8 @@ void run_predictions(context& ctx, const plan_step& step) {
                     << printed[0] << "," << printed[1] << "," << csv_field(v.method) << "\n";
             } catch (const input_error& e) {
                 skipped.push_back({{"quantity", entry}, {"energy", text}, {"reason", e.what()}});
+            } catch (const budget_exceeded&) {  // the run's bound (execute_plan), not a finding
+                throw;
             } catch (const std::runtime_error& e) {  // e.g. no multiplier of an elliptic orbit
                 skipped.push_back({{"quantity", entry}, {"energy", text}, {"reason", e.what()}});
             }
@@ -529,10 +532,22 @@ struct run_bound {
     std::atomic<int> flag{0};
     const cpu_watch watch;
     const std::atomic<int>* const stop;
+    /// the process's CPU time at which the bound is reached (0: no bound)
+    const double deadline;
     explicit run_bound(const run_options& o)
         : watch(o.max_seconds, flag, cpu_bound_stop, o.stop),
-          stop(o.max_seconds > 0 ? &flag : o.stop) {}
+          stop(o.max_seconds > 0 ? &flag : o.stop),
+          deadline(o.max_seconds > 0 ? process_cpu_seconds() + o.max_seconds : 0) {}
 };
+
+/// Whether a step of this kind runs on the calling thread alone, through computations that check
+/// the thread's CPU budget (core/budget.hpp: quadratures, integrators, Arb): the run's bound stops
+/// it there, not at its end. The ensembles poll the run's flag themselves; the golden proofs and
+/// the accuracy harness run cells on OpenMP threads with budgets of their own (max_seconds).
+bool bounded_on_the_calling_thread(plan_step::kind k) {
+    return k == plan_step::kind::orbit_family || k == plan_step::kind::predictions ||
+           k == plan_step::kind::trajectory || k == plan_step::kind::viewer;
+}
 
 /// A rank other than 0 of `mpirun -np N flipflux run`: its share of the ensembles' trajectories.
 /// It computes no family and no prediction: the saddle criterion's curves need rank 0's orbits
@@ -667,13 +682,26 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
         log << "- " << step.description << "\n";
         const double step_start = elapsed(), step_cpu_start = process_cpu_seconds();
+        const std::string in_step =
+            "in step " + std::to_string(i + 1) + of + " (" + step.description + ")";
+        // the run's CPU bound as the calling thread's budget (its CPU time is the process's in
+        // these steps), so that a long orbit family or prediction stops at the bound
+        const bool bounded = bound.deadline > 0 && bounded_on_the_calling_thread(step.what);
         try {
+            const std::optional<cpu_budget_scope> budget =
+                bounded ? std::optional<cpu_budget_scope>(
+                              std::in_place, std::max(bound.deadline - step_cpu_start, 1e-6))
+                        : std::nullopt;
             run_step(ctx, step, elapsed());
         } catch (const simulation_interrupted& e) {  // an ensemble's: its flag is ctx.stop
-            throw run_stopped(ctx, e.signal(),
-                              "in step " + std::to_string(i + 1) + of + " (" + step.description +
-                                  "): " + e.kept(),
-                              e.saved());
+            throw run_stopped(ctx, e.signal(), in_step + ": " + e.kept(), e.saved());
+        } catch (const budget_exceeded&) {
+            if (!bounded) throw;
+            throw run_stopped(ctx, cpu_bound_stop,
+                              in_step +
+                                  ": its work so far is not kept (it needs a larger bound "
+                                  "to finish)",
+                              0);
         }
         const double seconds = elapsed() - step_start;
         ctx.summary["step_seconds"].push_back(

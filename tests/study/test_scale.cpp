@@ -739,6 +739,30 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
         << negative.err;
 }
 
+// The bound stops a step that runs on the calling thread where it is, not at its end: Ω at mp:600
+// takes about 12 CPU seconds per energy (this project's machine), and a run bounded at 0.3 stops
+// inside its predictions step, saying so, with no predictions.csv (nothing half-written).
+TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
+    const scene_runs runs("flipflux_scene_step_bound_");
+    const fs::path file =
+        runs.scene("slow",
+                   "precision = \"mp:600\"\n[predictions]\nquantities = [\"omega\"]\n"
+                   "energies = [4.6, 5.2]\n");
+    const command_result r = run_flipflux("run --no-cache --max-seconds 0.3 " + file.string());
+    ASSERT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(r.err.find("flipflux: error: --max-seconds: stopped at its bound of 0.3 CPU seconds "
+                         "in step 1 of "),
+              0u)
+        << r.err;
+    EXPECT_NE(r.err.find("): its work so far is not kept (it needs a larger bound to finish); "
+                         "rerun the same command to resume\n"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(runs.dir / "slow" / "predictions.csv"));
+    EXPECT_FALSE(fs::exists(runs.dir / "slow" / "run.json"));
+}
+
 TEST_F(CliScale, MismatchedOrUnreadableCheckpointsAreRefused) {
     const fs::path file = fs::path(::testing::TempDir()) / "flipflux_mismatch.ckpt";
     fs::remove(file);
