@@ -565,8 +565,10 @@ trajectory_result single_trajectory(const double_pendulum<double>& model, const 
     using lane_type = lane<Method, Tangent>;
     lane_type l(model, o, x0, index, detectors);
     lane_type* const one[1] = {&l};
-    while (!l.finished())
+    while (!l.finished()) {
+        check_cpu_budget();  // a bounded caller's (e.g. a scene's trajectory step)
         lockstep_round<lane_type>(one, vector_isa::sse2);
+    }
     return std::move(l.result());
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <numbers>
 
+#include "flipflux/core/budget.hpp"
 #include "flipflux/ensemble/pendulum_flow.hpp"
 #include "flipflux/ensemble/pendulum_taylor.hpp"
 #include "flipflux/ensemble/random.hpp"
@@ -512,8 +513,10 @@ trajectory_result one_trajectory(const double_pendulum<double>& model,
     jet_buffers<Tangent> buf;
     taylor_lane<Tangent> l(model, o, x0, index, detectors, p);
     taylor_lane<Tangent>* const one[1] = {&l};
-    while (!l.finished())
+    while (!l.finished()) {
+        check_cpu_budget();  // a bounded caller's (e.g. a scene's trajectory step)
         run_round<Tangent>(one, vector_isa::sse2, buf, k, p);
+    }
     return std::move(l.result());
 }
 

@@ -541,8 +541,8 @@ struct run_bound {
 };
 
 /// Whether a step of this kind runs on the calling thread alone, through computations that check
-/// the thread's CPU budget (core/budget.hpp: quadratures, integrators, Arb): the run's bound stops
-/// it there, not at its end. The ensembles poll the run's flag themselves; the golden proofs and
+/// the thread's CPU budget (core/budget.hpp: quadratures, integrators, Arb, a lone trajectory's
+/// steps at double): the run's bound stops it there, not at its end. The ensembles poll the run's flag themselves; the golden proofs and
 /// the accuracy harness run cells on OpenMP threads with budgets of their own (max_seconds).
 bool bounded_on_the_calling_thread(plan_step::kind k) {
     return k == plan_step::kind::orbit_family || k == plan_step::kind::predictions ||
@@ -661,6 +661,21 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         });
         orbit_tables_written = true;
     };
+    // `work` with the rest of the run's CPU bound as the calling thread's budget when `bounded`
+    // (the work runs on this thread alone, its CPU time about the process's), so that a long orbit
+    // family or prediction stops at the bound, `where` in the plan, its work not kept
+    auto within_bound = [&](bool bounded, const std::string& where, auto&& work) {
+        try {
+            std::optional<cpu_budget_scope> budget;
+            if (bounded) budget.emplace(std::max(bound.deadline - process_cpu_seconds(), 1e-6));
+            work();
+        } catch (const budget_exceeded&) {
+            if (!bounded) throw;
+            throw run_stopped(
+                ctx, cpu_bound_stop,
+                where + ": its work so far is not kept (it needs a larger bound to finish)", 0);
+        }
+    };
     // each step's wall seconds (where a run's time goes: docs/scale.md)
     ctx.summary["step_seconds"] = json::array();
     bool met = options.group == nullptr;  // an MPI run's ranks meet before the first ensemble
@@ -679,30 +694,21 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
             met = true;
         }
         // (the orbit tables belong to the families before: written before this step's clock)
-        if (step.what != plan_step::kind::orbit_family) write_orbit_tables_once();
+        if (step.what != plan_step::kind::orbit_family)
+            within_bound(bound.deadline > 0,
+                         "after step " + std::to_string(i) + of + ", writing the orbit tables",
+                         write_orbit_tables_once);
         log << "- " << step.description << "\n";
         const double step_start = elapsed(), step_cpu_start = process_cpu_seconds();
         const std::string in_step =
             "in step " + std::to_string(i + 1) + of + " (" + step.description + ")";
-        // the run's CPU bound as the calling thread's budget (its CPU time is the process's in
-        // these steps), so that a long orbit family or prediction stops at the bound
-        const bool bounded = bound.deadline > 0 && bounded_on_the_calling_thread(step.what);
-        try {
-            const std::optional<cpu_budget_scope> budget =
-                bounded ? std::optional<cpu_budget_scope>(
-                              std::in_place, std::max(bound.deadline - step_cpu_start, 1e-6))
-                        : std::nullopt;
-            run_step(ctx, step, elapsed());
-        } catch (const simulation_interrupted& e) {  // an ensemble's: its flag is ctx.stop
-            throw run_stopped(ctx, e.signal(), in_step + ": " + e.kept(), e.saved());
-        } catch (const budget_exceeded&) {
-            if (!bounded) throw;
-            throw run_stopped(ctx, cpu_bound_stop,
-                              in_step +
-                                  ": its work so far is not kept (it needs a larger bound "
-                                  "to finish)",
-                              0);
-        }
+        within_bound(bound.deadline > 0 && bounded_on_the_calling_thread(step.what), in_step, [&] {
+            try {
+                run_step(ctx, step, elapsed());
+            } catch (const simulation_interrupted& e) {  // an ensemble's: its flag is ctx.stop
+                throw run_stopped(ctx, e.signal(), in_step + ": " + e.kept(), e.saved());
+            }
+        });
         const double seconds = elapsed() - step_start;
         ctx.summary["step_seconds"].push_back(
             {{"step", step.description},
@@ -710,7 +716,10 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
              {"cpu_seconds", process_cpu_seconds() - step_cpu_start}});
         log << "  (" << seconds << " s)\n";
     }
-    write_orbit_tables_once();
+    within_bound(bound.deadline > 0,
+                 "after step " + std::to_string(p.steps.size()) + " of " +
+                     std::to_string(p.steps.size()) + ", writing the orbit tables",
+                 write_orbit_tables_once);
     if (!met) (void)meet_before_the_ensembles(options, s);
     // orbits solved one by one outside a family (e.g. beyond where a continuation stopped)
     ctx.counters.orbit_solves += saddle_orbit_memo_misses() - misses_before;

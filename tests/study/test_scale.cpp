@@ -740,7 +740,7 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
 }
 
 // The bound stops a step that runs on the calling thread where it is, not at its end: Ω at mp:600
-// takes about 12 CPU seconds per energy (this project's machine), and a run bounded at 0.3 stops
+// takes about 12 CPU seconds per energy (this project's machine), and a run bounded at 1 stops
 // inside its predictions step, saying so, with no predictions.csv (nothing half-written).
 TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
     const scene_runs runs("flipflux_scene_step_bound_");
@@ -748,9 +748,9 @@ TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
         runs.scene("slow",
                    "precision = \"mp:600\"\n[predictions]\nquantities = [\"omega\"]\n"
                    "energies = [4.6, 5.2]\n");
-    const command_result r = run_flipflux("run --no-cache --max-seconds 0.3 " + file.string());
+    const command_result r = run_flipflux("run --no-cache --max-seconds 1 " + file.string());
     ASSERT_EQ(r.status, 2) << r.err;
-    EXPECT_EQ(r.err.find("flipflux: error: --max-seconds: stopped at its bound of 0.3 CPU seconds "
+    EXPECT_EQ(r.err.find("flipflux: error: --max-seconds: stopped at its bound of 1 CPU seconds "
                          "in step 1 of "),
               0u)
         << r.err;
@@ -761,6 +761,17 @@ TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(fs::exists(runs.dir / "slow" / "predictions.csv"));
     EXPECT_FALSE(fs::exists(runs.dir / "slow" / "run.json"));
+    // a trajectory at double (DOP853's lone lane) of 1e6 time units (about 11 million steps, tens
+    // of CPU seconds): stopped inside its step too, no CSV
+    const fs::path long_one =
+        runs.scene("long",
+                   "[[trajectory]]\nname = \"t\"\nstate = [1.4, 2.2, 0.2, 0.8]\ntime = 1e6\n"
+                   "sample_interval = 0\ncriteria = [\"upright\"]\narms = [2]\n");
+    const command_result t = run_flipflux("run --no-cache --max-seconds 1 " + long_one.string());
+    ASSERT_EQ(t.status, 2) << t.err;
+    EXPECT_NE(t.err.find("in step 1 of 1 (trajectory 't'"), std::string::npos) << t.err;
+    EXPECT_NE(t.err.find("): its work so far is not kept"), std::string::npos) << t.err;
+    EXPECT_FALSE(fs::exists(runs.dir / "long" / "trajectory-t.csv"));
 }
 
 TEST_F(CliScale, MismatchedOrUnreadableCheckpointsAreRefused) {
