@@ -542,8 +542,9 @@ struct run_bound {
 
 /// Whether a step of this kind runs on the calling thread alone, through computations that check
 /// the thread's CPU budget (core/budget.hpp: quadratures, integrators, Arb, a lone trajectory's
-/// steps at double): the run's bound stops it there, not at its end. The ensembles poll the run's flag themselves; the golden proofs and
-/// the accuracy harness run cells on OpenMP threads with budgets of their own (max_seconds).
+/// steps at double): the run's bound stops it there, not at its end. The ensembles poll the run's
+/// flag themselves; the golden proofs and the accuracy harness run cells on OpenMP threads with
+/// budgets of their own (max_seconds).
 bool bounded_on_the_calling_thread(plan_step::kind k) {
     return k == plan_step::kind::orbit_family || k == plan_step::kind::predictions ||
            k == plan_step::kind::trajectory || k == plan_step::kind::viewer;
