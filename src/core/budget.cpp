@@ -28,6 +28,9 @@ void check_cpu_deadline() {
     // reading. A thread's CPU time grows no faster than the wall time, so the budget is overrun
     // by at most one loop body and a tick, whatever the loop's cost (a fixed count of 16 calls
     // between readings let mp:300 Taylor steps of ~0.25 s run 4 s past a bound of 0.5 s).
+    if (stop_poll != nullptr && stop_poll->load(std::memory_order_relaxed) != 0)
+        throw budget_exceeded("the computation was asked to stop");
+    if (!(cpu_deadline > 0)) return;
     thread_local double last = -1;
     timespec w{};
     clock_gettime(CLOCK_MONOTONIC_COARSE, &w);

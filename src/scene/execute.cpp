@@ -620,6 +620,33 @@ simulation_interrupted run_stopped(const context& ctx, int signal, const std::st
     return simulation_interrupted(text + "; rerun the same command to resume", signal, saved);
 }
 
+/// `work`, when `bounded` (it runs on the calling thread alone, its CPU time about the
+/// process's), with the rest of the run's CPU bound as that thread's budget and the run's stop
+/// flag polled where it checks that budget, so that a long orbit family or prediction stops at the
+/// bound or a signal, `where` in the plan, its work not kept.
+template <class Work>
+void within_bound(const context& ctx, const run_bound& bound, bool bounded,
+                  const std::string& where, Work&& work) {
+    try {
+        std::optional<cpu_budget_scope> budget;
+        if (bounded && bound.deadline > 0)
+            budget.emplace(std::max(bound.deadline - process_cpu_seconds(), 1e-6));
+        const stop_poll_scope poll(bounded ? ctx.stop : nullptr);
+        work();
+    } catch (const budget_exceeded&) {
+        // the flag names the cause (a signal, or the bound); the thread's budget may end first,
+        // before the watch sets the flag
+        const int signal = ctx.stop != nullptr ? ctx.stop->load() : 0;
+        if (!bounded || (signal == 0 && bound.deadline == 0)) throw;  // not the run's
+        throw run_stopped(ctx, signal != 0 ? signal : cpu_bound_stop,
+                          where + ": its work so far is not kept" +
+                              (signal == 0 || signal == cpu_bound_stop
+                                   ? std::string(" (it needs a larger bound to finish)")
+                                   : std::string()),
+                          0);
+    }
+}
+
 }  // namespace
 
 run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
@@ -662,21 +689,6 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         });
         orbit_tables_written = true;
     };
-    // `work` with the rest of the run's CPU bound as the calling thread's budget when `bounded`
-    // (the work runs on this thread alone, its CPU time about the process's), so that a long orbit
-    // family or prediction stops at the bound, `where` in the plan, its work not kept
-    auto within_bound = [&](bool bounded, const std::string& where, auto&& work) {
-        try {
-            std::optional<cpu_budget_scope> budget;
-            if (bounded) budget.emplace(std::max(bound.deadline - process_cpu_seconds(), 1e-6));
-            work();
-        } catch (const budget_exceeded&) {
-            if (!bounded) throw;
-            throw run_stopped(
-                ctx, cpu_bound_stop,
-                where + ": its work so far is not kept (it needs a larger bound to finish)", 0);
-        }
-    };
     // each step's wall seconds (where a run's time goes: docs/scale.md)
     ctx.summary["step_seconds"] = json::array();
     bool met = options.group == nullptr;  // an MPI run's ranks meet before the first ensemble
@@ -696,14 +708,14 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         }
         // (the orbit tables belong to the families before: written before this step's clock)
         if (step.what != plan_step::kind::orbit_family)
-            within_bound(bound.deadline > 0,
+            within_bound(ctx, bound, true,
                          "after step " + std::to_string(i) + of + ", writing the orbit tables",
                          write_orbit_tables_once);
         log << "- " << step.description << "\n";
         const double step_start = elapsed(), step_cpu_start = process_cpu_seconds();
         const std::string in_step =
             "in step " + std::to_string(i + 1) + of + " (" + step.description + ")";
-        within_bound(bound.deadline > 0 && bounded_on_the_calling_thread(step.what), in_step, [&] {
+        within_bound(ctx, bound, bounded_on_the_calling_thread(step.what), in_step, [&] {
             try {
                 run_step(ctx, step, elapsed());
             } catch (const simulation_interrupted& e) {  // an ensemble's: its flag is ctx.stop
@@ -717,7 +729,7 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
              {"cpu_seconds", process_cpu_seconds() - step_cpu_start}});
         log << "  (" << seconds << " s)\n";
     }
-    within_bound(bound.deadline > 0,
+    within_bound(ctx, bound, true,
                  "after step " + std::to_string(p.steps.size()) + " of " +
                      std::to_string(p.steps.size()) + ", writing the orbit tables",
                  write_orbit_tables_once);

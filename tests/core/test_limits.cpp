@@ -77,6 +77,35 @@ TEST(CpuBudget, ASpentBudgetStopsTheLoopThatChecksIt) {
     }
 }
 
+// core/budget.hpp's stop_poll_scope: while it lives, a set flag stops a loop that checks its
+// budget (no CPU budget needed), at once; an unset flag does not; without the scope the flag is
+// not looked at; a null flag is none; with a budget too, the budget still holds.
+TEST(CpuBudget, APolledStopFlagStopsTheLoopThatChecksItsBudget) {
+    const auto spin = [](double seconds) {
+        const double end = thread_cpu_seconds() + seconds;
+        while (thread_cpu_seconds() < end)
+            check_cpu_budget();
+    };
+    std::atomic<int> flag{0};
+    {
+        const stop_poll_scope poll(&flag);
+        EXPECT_NO_THROW(spin(0.02));  // not set
+        flag.store(2);
+        EXPECT_THROW(check_cpu_budget(), budget_exceeded);  // set: the first check throws
+    }
+    EXPECT_NO_THROW(spin(0.02));  // set, but no longer polled
+    {
+        const stop_poll_scope none(nullptr);
+        EXPECT_NO_THROW(spin(0.02));
+    }
+    flag.store(0);
+    {
+        const stop_poll_scope poll(&flag);
+        const cpu_budget_scope budget(0.01);
+        EXPECT_THROW(spin(1), budget_exceeded);  // the budget, with the flag unset
+    }
+}
+
 // core/budget.hpp's cpu_watch: a loop polling a flag, as the ensemble's lanes poll their stop
 // flag, is stopped once the process has used the watch's seconds (measured here by the process's
 // CPU clock from before the watch exists, so that the watcher's own start is inside the count),

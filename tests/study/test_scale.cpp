@@ -739,9 +739,10 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
         << negative.err;
 }
 
-// The bound stops a step that runs on the calling thread where it is, not at its end: Ω at mp:600
-// takes about 12 CPU seconds per energy (this project's machine), and a run bounded at 1 stops
-// inside its predictions step, saying so, with no predictions.csv (nothing half-written).
+// The bound, and a signal, stop a step that runs on the calling thread where it is, not at its
+// end: Ω at mp:600 takes about 12 CPU seconds per energy (this project's machine), and a run
+// bounded at 1 stops inside its predictions step, saying so, with no predictions.csv (nothing
+// half-written); so does a long trajectory, and SIGINT in the predictions.
 TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
     const scene_runs runs("flipflux_scene_step_bound_");
     const fs::path file =
@@ -772,6 +773,36 @@ TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
     EXPECT_NE(t.err.find("in step 1 of 1 (trajectory 't'"), std::string::npos) << t.err;
     EXPECT_NE(t.err.find("): its work so far is not kept"), std::string::npos) << t.err;
     EXPECT_FALSE(fs::exists(runs.dir / "long" / "trajectory-t.csv"));
+    // SIGINT in the predictions step (no bound): the run stops there too, status 128 + SIGINT,
+    // rather than after the step (which, the scene's last, would end the run normally)
+    const fs::path err = runs.dir / "sigint.err";
+    const pid_t pid = spawn("run --no-cache " + file.string() + " 2> " + err.string());
+    // inside the step: 1.5 CPU seconds used (start-up takes well under 1, the step about 24)
+    auto cpu_of = [](pid_t p) {
+        std::ifstream stat("/proc/" + std::to_string(p) + "/stat");
+        const std::string text((std::istreambuf_iterator<char>(stat)),
+                               std::istreambuf_iterator<char>());
+        std::istringstream fields(text.substr(text.rfind(')') + 2));  // after "pid (comm) "
+        std::string f;
+        double ticks = 0;
+        for (int i = 3; i <= 15 && fields >> f; ++i)
+            if (i >= 14) ticks += std::stod(f);  // utime, stime
+        return ticks / static_cast<double>(sysconf(_SC_CLK_TCK));
+    };
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < deadline && cpu_of(pid) < 1.5)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    kill(pid, SIGINT);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+    const std::string said = read_text(err);
+    EXPECT_EQ(said.find("flipflux: interrupted in step 1 of 1 (predictions omega"), 0u) << said;
+    EXPECT_NE(said.find("): its work so far is not kept; rerun the same command to resume\n"),
+              std::string::npos)
+        << said;
+    EXPECT_FALSE(fs::exists(runs.dir / "slow" / "predictions.csv"));
 }
 
 TEST_F(CliScale, MismatchedOrUnreadableCheckpointsAreRefused) {

@@ -22,7 +22,10 @@ class budget_exceeded : public std::runtime_error {
 namespace detail {
 /// The calling thread's CPU-time deadline (seconds of CLOCK_THREAD_CPUTIME_ID); 0: none.
 inline thread_local double cpu_deadline = 0;
-void check_cpu_deadline();  // throws budget_exceeded past the deadline (src/core/budget.cpp)
+/// The calling thread's stop flag (stop_poll_scope); null: none.
+inline thread_local const std::atomic<int>* stop_poll = nullptr;
+// throws budget_exceeded past the deadline or once the stop flag is set (src/core/budget.cpp)
+void check_cpu_deadline();
 }  // namespace detail
 
 /// The calling thread's CPU time in seconds (CLOCK_THREAD_CPUTIME_ID).
@@ -32,9 +35,10 @@ double thread_cpu_seconds();
 /// seconds in every timing field (a shared machine's wall time misleads).
 double process_cpu_seconds();
 
-/// Throws budget_exceeded when the calling thread's budget (cpu_budget_scope) is spent.
+/// Throws budget_exceeded when the calling thread's budget (cpu_budget_scope) is spent, or its
+/// stop flag (stop_poll_scope) set.
 inline void check_cpu_budget() {
-    if (detail::cpu_deadline > 0) detail::check_cpu_deadline();
+    if (detail::cpu_deadline > 0 || detail::stop_poll != nullptr) detail::check_cpu_deadline();
 }
 
 /// While it lives, the calling thread may use `seconds` more CPU time in computations that call
@@ -48,6 +52,22 @@ class cpu_budget_scope {
 
   private:
     double previous_;
+};
+
+/// While it lives, check_cpu_budget on the calling thread also throws budget_exceeded once `flag`
+/// (a caller's stop flag: a signal's, or a cpu_watch's) is non-zero, so that a long computation
+/// on that thread stops where it checks its budget rather than at its end. Null: no flag.
+class stop_poll_scope {
+  public:
+    explicit stop_poll_scope(const std::atomic<int>* flag) : previous_(detail::stop_poll) {
+        detail::stop_poll = flag;
+    }
+    ~stop_poll_scope() { detail::stop_poll = previous_; }
+    stop_poll_scope(const stop_poll_scope&) = delete;
+    stop_poll_scope& operator=(const stop_poll_scope&) = delete;
+
+  private:
+    const std::atomic<int>* previous_;
 };
 
 /// While it lives, watches the process's CPU time (every thread) from its construction: once
