@@ -125,7 +125,10 @@ void estimate_cost(const precision& p, const time_bound_option& bound,
 void budget_spent(const time_bound_option& bound, const precision& p) {
     throw input_error("--max-seconds: the evaluation in " + precision_name(p) +
                       " did not finish in its " + to_decimal(bound.max_seconds, 6) +
-                      " CPU seconds (raise --max-seconds, or lower the precision)");
+                      (p.kind == real_kind::double_
+                           ? std::string(" CPU seconds (raise --max-seconds)")
+                           : std::string(" CPU seconds (raise --max-seconds, or lower the "
+                                         "precision)")));
 }
 
 }  // namespace detail

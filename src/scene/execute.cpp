@@ -607,7 +607,8 @@ void run_step(context& ctx, const plan_step& step, double seconds) {
 /// Why the run stops (ctx.stop holds `signal`), `where` in the plan: what simulation_interrupted
 /// says, naming the bound or the interruption, where it stopped and how to resume.
 simulation_interrupted run_stopped(const context& ctx, int signal, const std::string& where,
-                                   std::uint64_t saved) {
+                                   std::uint64_t saved,
+                                   const std::string& rerun = "rerun the same command to resume") {
     const std::string cause =
         signal == cpu_bound_stop ? "stopped at its bound of " +
                                        to_shortest_decimal(ctx.options.max_seconds) + " CPU seconds"
@@ -617,7 +618,7 @@ simulation_interrupted run_stopped(const context& ctx, int signal, const std::st
         text += n == 1 ? std::string("; the finished ensemble step is kept in its checkpoint")
                        : "; the " + std::to_string(n) +
                              " finished ensemble steps are kept in their checkpoints";
-    return simulation_interrupted(text + "; rerun the same command to resume", signal, saved);
+    return simulation_interrupted(text + "; " + rerun, signal, saved);
 }
 
 /// `work`, when `bounded` (it runs on the calling thread alone, its CPU time about the
@@ -638,12 +639,13 @@ void within_bound(const context& ctx, const run_bound& bound, bool bounded,
         // before the watch sets the flag
         const int signal = ctx.stop != nullptr ? ctx.stop->load() : 0;
         if (!bounded || (signal == 0 && bound.deadline == 0)) throw;  // not the run's
-        throw run_stopped(ctx, signal != 0 ? signal : cpu_bound_stop,
-                          where + ": its work so far is not kept" +
-                              (signal == 0 || signal == cpu_bound_stop
-                                   ? std::string(" (it needs a larger bound to finish)")
-                                   : std::string()),
-                          0);
+        // at the bound, the step alone needs more than the rest of it: the same command would
+        // stop there again
+        const bool at_bound = signal == 0 || signal == cpu_bound_stop;
+        throw run_stopped(ctx, at_bound ? cpu_bound_stop : signal,
+                          where + ": its work so far is not kept", 0,
+                          at_bound ? "rerun with a larger --max-seconds to finish it"
+                                   : "rerun the same command to resume");
     }
 }
 
@@ -709,7 +711,8 @@ run_counters execute_plan(const scene& s, const plan& p, std::ostream& log,
         // (the orbit tables belong to the families before: written before this step's clock)
         if (step.what != plan_step::kind::orbit_family)
             within_bound(ctx, bound, true,
-                         "after step " + std::to_string(i) + of + ", writing the orbit tables",
+                         (i == 0 ? "before step 1" : "after step " + std::to_string(i)) + of +
+                             ", writing the orbit tables",
                          write_orbit_tables_once);
         log << "- " << step.description << "\n";
         const double step_start = elapsed(), step_cpu_start = process_cpu_seconds();

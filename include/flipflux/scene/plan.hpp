@@ -115,10 +115,12 @@ struct run_options {
     /// The CPU seconds the run may take (this process's, every thread; 0: no bound), from its
     /// start. Checked at every integrator step of an ensemble and between the plan's steps; at the
     /// bound the run stops as at `stop`: execute_plan throws simulation_interrupted with signal()
-    /// cpu_bound_stop. A step of another kind (an orbit family, predictions, ...) runs to its end
-    /// before the check ([golden] and [accuracy] have max_seconds of their own).
+    /// cpu_bound_stop. An orbit family, predictions, a trajectory, the viewer's page and the orbit
+    /// tables have the rest of it as the calling thread's CPU budget and stop inside (their work
+    /// not kept); [golden], [accuracy] and [report] run to their end before the check ([golden]
+    /// and [accuracy] have max_seconds of their own).
     double max_seconds = 0;
-    /// The caller's stop flag (a signal's number; null: none), polled as max_seconds is: a
+    /// The caller's stop flag (a signal's number; null: none), polled where max_seconds is: a
     /// non-zero value stops the run, execute_plan throwing simulation_interrupted with signal()
     /// that value. Either way the finished ensembles' results and the one in progress's finished
     /// trajectories stay in their checkpoints (ensemble-NAMES.checkpoint in the output directory,
