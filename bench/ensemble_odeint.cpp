@@ -20,8 +20,9 @@
 //     time unit gives the throughput if nothing but right-hand sides cost anything
 //     (rhs_bound_units_per_cpu_s); ours / that is fraction_of_rhs_bound. The right-hand side's
 //     time (rhs_ns_per_lane) is the median of timings interleaved with ours, one after each
-//     timed ensemble call (since 2026-12-03): this VM's speed drifts by 10 % within a run, and a
-//     bound timed apart from the ensemble moved the fraction with it. The earlier bound, the
+//     timed ensemble call (since 2026-12-03): this VM's speed varies from run to run (3.9 to 4.8
+//     ns per lane, bench/results/quiet_lanes_xeon_2026-12-03.txt), and a bound timed apart
+//     from the ensemble moves the fraction with it. The earlier bound, the
 //     median of five timings after the loop, is kept beside it (rhs_ns_per_lane_after,
 //     fraction_of_rhs_bound_after).
 // Counters: throughputs (time units per CPU-second), the ratios, flips of each criterion for
@@ -332,7 +333,8 @@ BENCHMARK(ensemble_vs_odeint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Mi
 // run_trajectories given `batch` trajectories per call (args: batch, criteria). batch 8 fills one
 // group of AVX-512 lanes once (ensemble_vs_odeint's batch until 2026-12-02; it is now one thread's
 // lanes, ensemble_lanes_per_thread(): 16, two groups, with AVX-512), so its last rounds run
-// part-filled vectors; 64 refills the lanes from the same call, as a large ensemble does. criteria
+// part-filled vectors; 16 is the issue bench's batch (its tail with one thread's lanes); 64
+// refills the lanes from the same call, as a large ensemble does. criteria
 // 0 runs the integrator alone (no detector: no step tests, examinations or dense output), 3 the
 // bench's three arm-2 criteria. Counters: fraction_of_rhs_bound, ours_units_per_cpu_s,
 // ours_evaluations_per_unit, rhs_ns_per_lane and the _after pair (as in ensemble_vs_odeint).

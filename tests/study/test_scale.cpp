@@ -745,11 +745,14 @@ TEST(CliScene, ARunStoppedAtItsCpuBoundResumesToTheSameFiles) {
 // half-written); so does a long trajectory, and SIGINT in the predictions.
 TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
     const scene_runs runs("flipflux_scene_step_bound_");
-    const fs::path file =
-        runs.scene("slow",
-                   "precision = \"mp:600\"\n[predictions]\nquantities = [\"omega\"]\n"
-                   "energies = [4.6, 5.2]\n");
-    const command_result r = run_flipflux("run --no-cache --max-seconds 1 " + file.string());
+    // scene NAME with BODY, run with a bound of 1 CPU second
+    auto bounded = [&runs](const std::string& name, const std::string& body) {
+        return run_flipflux("run --no-cache --max-seconds 1 " + runs.scene(name, body).string());
+    };
+    const fs::path file = runs.dir / "slow.toml";
+    const command_result r = bounded("slow",
+                                     "precision = \"mp:600\"\n[predictions]\nquantities = "
+                                     "[\"omega\"]\nenergies = [4.6, 5.2]\n");
     ASSERT_EQ(r.status, 2) << r.err;
     EXPECT_EQ(r.err.find("flipflux: error: --max-seconds: stopped at its bound of 1 CPU seconds "
                          "in step 1 of "),
@@ -764,11 +767,10 @@ TEST(CliScene, ARunsBoundStopsALongPredictionStepInsideIt) {
     EXPECT_FALSE(fs::exists(runs.dir / "slow" / "run.json"));
     // a trajectory at double (DOP853's lone lane) of 1e6 time units (about 11 million steps, tens
     // of CPU seconds): stopped inside its step too, no CSV
-    const fs::path long_one =
-        runs.scene("long",
-                   "[[trajectory]]\nname = \"t\"\nstate = [1.4, 2.2, 0.2, 0.8]\ntime = 1e6\n"
-                   "sample_interval = 0\ncriteria = [\"upright\"]\narms = [2]\n");
-    const command_result t = run_flipflux("run --no-cache --max-seconds 1 " + long_one.string());
+    const command_result t =
+        bounded("long",
+                "[[trajectory]]\nname = \"t\"\nstate = [1.4, 2.2, 0.2, 0.8]\ntime = 1e6\n"
+                "sample_interval = 0\ncriteria = [\"upright\"]\narms = [2]\n");
     ASSERT_EQ(t.status, 2) << t.err;
     EXPECT_NE(t.err.find("in step 1 of 1 (trajectory 't'"), std::string::npos) << t.err;
     EXPECT_NE(t.err.find("): its work so far is not kept"), std::string::npos) << t.err;
