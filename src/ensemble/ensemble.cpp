@@ -42,6 +42,18 @@ class dense_adapter final : public step_interpolant {
         const auto y = lane_.rk().dense(t);
         return {y[0], y[1], y[2], y[3]};
     }
+    bool angles_and_rates(double t, std::array<double, 2>& q,
+                          std::array<double, 2>& dq) const override {
+        lane_.load_stages();
+        lane_.rk().dense_and_rate(t, 2, q.data(), dq.data());
+        return true;
+    }
+    bool angle_bounds(std::array<std::array<double, 2>, 2>& r) const override {
+        lane_.load_stages();
+        r[0] = lane_.rk().dense_range(0);
+        r[1] = lane_.rk().dense_range(1);
+        return true;
+    }
 
   private:
     Lane& lane_;
@@ -227,9 +239,9 @@ class lane {
             detail::skip_detectors(detectors_, skipped_);
         } else {
             skipped_ = false;
+            // both angles' ranges: a detector tests one and reads the other (its curve's s)
             for (int i = 0; i < 2; ++i)
-                if (quiet_bound_[static_cast<std::size_t>(i)] >= 0)  // some detector tests angle i
-                    ranges[i] = flip_angle_range(i, h, x0, f0, x1, f1);
+                ranges[static_cast<std::size_t>(i)] = flip_angle_range(i, h, x0, f0, x1, f1);
             step_samples samples;  // the examinations' shared samples of this step
             step_view view{rk_.t_previous(), rk_.t(), x0, f0, x1, f1, dense_, &ranges};
             view.samples = &samples;

@@ -2,7 +2,9 @@
 //   - on prescribed analytic paths (exact dense output): a grazing double crossing inside one
 //     step with both ends on the same side, its near miss, several 2 pi levels in one step, a
 //     restricted-domain curve (crossings outside the domain do not count), arm 1, a crossing at
-//     a step boundary counted once;
+//     a step boundary counted once; each with and without the dense output's rates and angle
+//     bounds (Newton's method and the enclosure test against TOMS 748 and the samples alone);
+//   - offset_bounds against the curves sampled on any range of the other angle;
 //   - on real dynamics: a brake orbit whose apex lies 1e-8 beyond the curve (two crossings
 //     ~1e-4 apart inside one step) or before it (none); a crossing in the first step and one
 //     at the very end; counts at high energy (many turns, angles reduced every step) against a
@@ -13,6 +15,7 @@
 //     monotone in the range and the bound.
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -45,31 +48,63 @@ struct path {
     std::function<std::array<double, 4>(double)> q;  // (th1, th2, w1, w2)
 };
 
+// With `rated`, it also gives the angles' rates (the path's own derivative: Newton's method on
+// the crossings) and their bounds over the current step (from 4001 points and widened by 1e-9:
+// the enclosure test before the samples), as the RK lanes' dense output does.
 class path_interpolant final : public step_interpolant {
   public:
-    path_interpolant(const double_pendulum<double>& m, path p) : m_(m), p_(std::move(p)) {}
+    path_interpolant(const double_pendulum<double>& m, path p, bool rated = false)
+        : m_(m), p_(std::move(p)), rated_(rated) {}
     std::array<double, 4> state(double t) const override {
         const auto q = p_.q(t);
         const auto l = m_.momenta(q[0], q[1], q[2], q[3]);
         return {q[0], q[1], l[0], l[1]};
     }
+    bool angles_and_rates(double t, std::array<double, 2>& q,
+                          std::array<double, 2>& dq) const override {
+        if (!rated_) return false;
+        const auto y = p_.q(t);
+        q = {y[0], y[1]};
+        dq = {y[2], y[3]};
+        return true;
+    }
+    bool angle_bounds(std::array<std::array<double, 2>, 2>& r) const override {
+        if (!rated_) return false;
+        for (std::size_t i = 0; i < 2; ++i)
+            r[i] = {std::numeric_limits<double>::infinity(),
+                    -std::numeric_limits<double>::infinity()};
+        for (int j = 0; j <= 4000; ++j) {
+            const auto y = p_.q(j == 4000 ? t1_ : t0_ + (t1_ - t0_) * (j / 4000.0));
+            for (std::size_t i = 0; i < 2; ++i)
+                r[i] = {std::min(r[i][0], y[i] - 1e-9), std::max(r[i][1], y[i] + 1e-9)};
+        }
+        return true;
+    }
+    void set_step(double t0, double t1) {
+        t0_ = t0;
+        t1_ = t1;
+    }
 
   private:
     const double_pendulum<double>& m_;
     path p_;
+    bool rated_ = false;
+    double t0_ = 0, t1_ = 0;
 };
 
-// Runs a detector over [t0, t1] split into `steps` equal steps of the path.
+// Runs a detector over [t0, t1] split into `steps` equal steps of the path (`rated`: see
+// path_interpolant).
 std::vector<crossing> detect(const double_pendulum<double>& m, flip_detector_base& d, path p,
-                             double t0, double t1, int steps) {
+                             double t0, double t1, int steps, bool rated = false) {
     const pendulum_flow flow(m);
-    const path_interpolant interp(m, p);
+    path_interpolant interp(m, p, rated);
     std::vector<crossing> out;
     auto x0 = interp.state(t0), f0 = flow(0, x0);
     d.start(x0, f0);
     for (int i = 0; i < steps; ++i) {
         const double a = t0 + (t1 - t0) * i / steps, b = t0 + (t1 - t0) * (i + 1) / steps;
         const auto x1 = interp.state(b), f1 = flow(0, x1);
+        interp.set_step(a, b);
         d.step({a, b, x0, f0, x1, f1, interp}, out);
         x0 = x1;
         f0 = f1;
@@ -80,28 +115,29 @@ std::vector<crossing> detect(const double_pendulum<double>& m, flip_detector_bas
 TEST(FlipDetector, GrazingDoubleCrossingInsideOneStep) {
     const double_pendulum<double> m;
     const pendulum_flow flow(m);
-    for (double delta : {1e-6, 1e-10, -1e-6, -1e-10}) {
-        // th2 = pi + delta - (t - 0.5)^2: an apex delta beyond the upright line at t = 0.5
-        path p{[delta](double t) {
-            return std::array<double, 4>{0.3 + 0.1 * t, pi + delta - (t - 0.5) * (t - 0.5), 0.1,
-                                         -2 * (t - 0.5)};
-        }};
-        auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
-        const auto c = detect(m, *d, p, 0, 1, 1);
-        if (delta < 0) {
-            EXPECT_TRUE(c.empty()) << delta;
-        } else {
-            ASSERT_EQ(c.size(), 2u) << delta;
-            // rounding of phi (~ulp(pi)) divided by the slope phi' = 2 sqrt(delta) there
-            const double tol = 8 * eps<double>() * pi / (2 * std::sqrt(delta)) + 1e-15;
-            EXPECT_NEAR(c[0].time, 0.5 - std::sqrt(delta), tol) << delta;
-            EXPECT_NEAR(c[1].time, 0.5 + std::sqrt(delta), tol) << delta;
-            EXPECT_EQ(c[0].direction, 1);
-            EXPECT_EQ(c[1].direction, -1);
-            EXPECT_NEAR(c[0].s, 0.3 + 0.1 * c[0].time, 1e-15);
+    for (const bool rated : {false, true})
+        for (double delta : {1e-6, 1e-10, -1e-6, -1e-10}) {
+            // th2 = pi + delta - (t - 0.5)^2: an apex delta beyond the upright line at t = 0.5
+            path p{[delta](double t) {
+                return std::array<double, 4>{0.3 + 0.1 * t, pi + delta - (t - 0.5) * (t - 0.5), 0.1,
+                                             -2 * (t - 0.5)};
+            }};
+            auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
+            const auto c = detect(m, *d, p, 0, 1, 1, rated);
+            if (delta < 0) {
+                EXPECT_TRUE(c.empty()) << delta;
+            } else {
+                ASSERT_EQ(c.size(), 2u) << delta;
+                // rounding of phi (~ulp(pi)) divided by the slope phi' = 2 sqrt(delta) there
+                const double tol = 8 * eps<double>() * pi / (2 * std::sqrt(delta)) + 1e-15;
+                EXPECT_NEAR(c[0].time, 0.5 - std::sqrt(delta), tol) << delta;
+                EXPECT_NEAR(c[1].time, 0.5 + std::sqrt(delta), tol) << delta;
+                EXPECT_EQ(c[0].direction, 1);
+                EXPECT_EQ(c[1].direction, -1);
+                EXPECT_NEAR(c[0].s, 0.3 + 0.1 * c[0].time, 1e-15);
+            }
+            EXPECT_EQ(d->examined_steps(), 1);
         }
-        EXPECT_EQ(d->examined_steps(), 1);
-    }
 }
 
 // The detectors of one trajectory share a step's examination samples (step_view::samples): the
@@ -178,15 +214,16 @@ TEST(FlipDetector, SeveralLevelsInOneStepAndStepBoundaries) {
     const pendulum_flow flow(m);
     // th2 = pi - 0.1 + 20 t on [0, 1]: levels 0, 2 pi, 4 pi, 6 pi at t = (0.1 + 2 pi k) / 20
     path p{[](double t) { return std::array<double, 4>{0.2, pi - 0.1 + 20 * t, 0.0, 20.0}; }};
-    for (int steps : {1, 3, 7}) {
-        auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
-        const auto c = detect(m, *d, p, 0, 1, steps);
-        ASSERT_EQ(c.size(), 4u) << steps;
-        for (int k = 0; k < 4; ++k) {
-            EXPECT_NEAR(c[k].time, (0.1 + 2 * pi * k) / 20, 1e-14);
-            EXPECT_EQ(c[k].direction, 1);
+    for (const bool rated : {false, true})
+        for (int steps : {1, 3, 7}) {
+            auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
+            const auto c = detect(m, *d, p, 0, 1, steps, rated);
+            ASSERT_EQ(c.size(), 4u) << steps;
+            for (int k = 0; k < 4; ++k) {
+                EXPECT_NEAR(c[k].time, (0.1 + 2 * pi * k) / 20, 1e-14);
+                EXPECT_EQ(c[k].direction, 1);
+            }
         }
-    }
     // a path that reaches the level exactly at a step end and continues: counted once
     path q{[](double t) { return std::array<double, 4>{0.0, pi - 0.5 + t, 0.0, 1.0}; }};
     auto d = make_flip_detector(upright_curve<double>{arm::two}, flow);
@@ -198,24 +235,27 @@ TEST(FlipDetector, SeveralLevelsInOneStepAndStepBoundaries) {
 TEST(FlipDetector, RestrictedDomainCountsOnlyInside) {
     const double_pendulum<double> m;
     const pendulum_flow flow(m);
-    for (double s0 : {0.3, 0.7, -0.45, -0.55}) {
-        // crossing the line th2 = pi + 0.2 th1 at th1 = s0, moving in th2 only
-        path p{[s0](double t) {
-            return std::array<double, 4>{s0, pi + 0.2 * s0 - 0.5 + t, 0.0, 1.0};
+    for (const bool rated : {false, true}) {
+        for (double s0 : {0.3, 0.7, -0.45, -0.55}) {
+            // crossing the line th2 = pi + 0.2 th1 at th1 = s0, moving in th2 only
+            path p{[s0](double t) {
+                return std::array<double, 4>{s0, pi + 0.2 * s0 - 0.5 + t, 0.0, 1.0};
+            }};
+            auto d = make_flip_detector(linear_curve{}, flow);
+            const auto c = detect(m, *d, p, 0, 1, 3, rated);
+            EXPECT_EQ(c.size(), std::abs(s0) <= 0.5 ? 1u : 0u) << s0;
+        }
+        // crossing while moving along s out of the domain: the crossing is at s = 0.45, counted
+        path p{[](double t) {
+            return std::array<double, 4>{0.4 + 0.1 * t, pi + 0.2 * (0.4 + 0.1 * t) - 0.5 + t, 0.1,
+                                         1.02};
         }};
         auto d = make_flip_detector(linear_curve{}, flow);
-        const auto c = detect(m, *d, p, 0, 1, 3);
-        EXPECT_EQ(c.size(), std::abs(s0) <= 0.5 ? 1u : 0u) << s0;
+        const auto c = detect(m, *d, p, 0, 1, 2, rated);
+        ASSERT_EQ(c.size(), 1u);
+        EXPECT_NEAR(c[0].s, 0.45, 1e-12);
+        EXPECT_NEAR(c[0].time, 0.5, 1e-14);  // 0.2 (0.4 + 0.1 t) - 0.5 + t = 0.2 s at t = 0.5
     }
-    // crossing while moving along s out of the domain: the crossing is at s = 0.45, counted
-    path p{[](double t) {
-        return std::array<double, 4>{0.4 + 0.1 * t, pi + 0.2 * (0.4 + 0.1 * t) - 0.5 + t, 0.1,
-                                     1.02};
-    }};
-    auto d = make_flip_detector(linear_curve{}, flow);
-    const auto c = detect(m, *d, p, 0, 1, 2);
-    ASSERT_EQ(c.size(), 1u);
-    EXPECT_NEAR(c[0].s, 0.45, 1e-12);
     // a domain longer than 2 pi is refused
     EXPECT_THROW(make_flip_detector(linear_curve{arm::two, 0.1, {-4, 4}}, flow),
                  std::invalid_argument);
@@ -231,14 +271,69 @@ TEST(FlipDetector, ArmOneCurvesUseTheFirstAngle) {
     ASSERT_NEAR(curve.amplitude, 1 - std::sqrt(0.5), 1e-15);
     // th1 decreasing through pi + A sin(th2) at th2 = 0.1, then continuing 2 pi further down
     path p{[](double t) { return std::array<double, 4>{4 - 8 * t, 0.1, -8.0, 0.0}; }};
-    auto d = make_flip_detector(curve, flow);
-    const auto c = detect(m, *d, p, 0, 1, 4);
-    const double level = pi + curve.offset(0.1);
-    ASSERT_EQ(c.size(), 2u);
-    EXPECT_NEAR(c[0].time, (4 - level) / 8, 1e-14);
-    EXPECT_NEAR(c[1].time, (4 - level + 2 * pi) / 8, 1e-14);
-    EXPECT_EQ(c[0].direction, -1);
-    EXPECT_EQ(d->flip_arm(), arm::one);
+    for (const bool rated : {false, true}) {
+        auto d = make_flip_detector(curve, flow);
+        const auto c = detect(m, *d, p, 0, 1, 4, rated);
+        const double level = pi + curve.offset(0.1);
+        ASSERT_EQ(c.size(), 2u);
+        EXPECT_NEAR(c[0].time, (4 - level) / 8, 1e-14);
+        EXPECT_NEAR(c[1].time, (4 - level + 2 * pi) / 8, 1e-14);
+        EXPECT_EQ(c[0].direction, -1);
+        EXPECT_EQ(d->flip_arm(), arm::one);
+    }
+}
+
+// offset_bounds against the curve sampled on 2001 points of each range of s (reduced around the
+// domain's centre, kept where it lies in the domain): they enclose it, no more than a bin's
+// variation wider, and a range that never meets the domain is reported as such. Curves: the
+// approximate saddle curve (the whole circle), a restricted linear one, the upright arm (h = 0).
+template <class Curve>
+void expect_offset_bounds(const Curve& curve, double width_slack) {
+    const double_pendulum<double> m;
+    const pendulum_flow flow(m);
+    const flip_detector<Curve> d(curve, flow);
+    const std::array<double, 2> dom = curve.domain();
+    const double c = (dom[0] + dom[1]) / 2;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> start(-20, 20), width(0, 7);
+    int met = 0, missed = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const double slo = start(rng), shi = slo + (trial % 3 == 0 ? 0.05 : 1) * width(rng);
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (int j = 0; j <= 2000; ++j) {
+            const double s = slo + (shi - slo) * (j / 2000.0);
+            const double r = s - 2 * pi * std::round((s - c) / (2 * pi));
+            if (r < dom[0] || r > dom[1]) continue;
+            lo = std::min(lo, curve.offset(r));
+            hi = std::max(hi, curve.offset(r));
+        }
+        double hmin = 0, hmax = 0;
+        const bool any = d.offset_bounds(slo, shi, hmin, hmax);
+        if (lo > hi) {  // no sample in the domain: either answer, bounds not checked
+            missed += any ? 0 : 1;
+            continue;
+        }
+        ++met;
+        ASSERT_TRUE(any) << slo << " " << shi;
+        EXPECT_LE(hmin, lo) << slo << " " << shi;
+        EXPECT_GE(hmax, hi) << slo << " " << shi;
+        EXPECT_LE(lo - hmin, width_slack) << slo << " " << shi;
+        EXPECT_LE(hmax - hi, width_slack) << slo << " " << shi;
+    }
+    EXPECT_GT(met, 1000);
+    if (dom[1] - dom[0] < pi) {
+        EXPECT_GT(missed, 100);
+    }
+}
+
+TEST(FlipDetector, OffsetBoundsEncloseTheCurveOverAnyRangeOfS) {
+    const double_pendulum<double> m;
+    const sine_curve<double> approx = approximate_saddle_curve(m, arm::two);
+    // a bin is 2 pi / 64 wide: h = A sin s varies by at most A 2 pi / 64 < 0.06 across one
+    expect_offset_bounds(approx, 0.07);
+    // bins of 1 / 64: 0.2 / 64 = 0.003 of variation
+    expect_offset_bounds(linear_curve{}, 0.004);
+    expect_offset_bounds(upright_curve<double>{arm::two}, 0.0);
 }
 
 // ---- real dynamics ---------------------------------------------------------------------------

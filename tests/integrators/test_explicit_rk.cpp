@@ -114,12 +114,83 @@ TEST(ExplicitRk, DenseOutputOrders) {
     }
 }
 
+// An adaptive integrator of the Kepler orbit at rtol = atol = tol.
+template <class Method>
+explicit_rk<Method, 4, kepler> adaptive_kepler(double tol) {
+    rk_options o;
+    o.rtol = o.atol = tol;
+    return explicit_rk<Method, 4, kepler>(kepler{}, o);
+}
+
+// dense_range and dense_and_rate over adaptive steps of the Kepler orbit (large and small steps,
+// curved and nearly straight components): every dense() value on a fine grid lies in the range,
+// the range is no wider than the sampled one by more than its bound of the higher terms; the
+// rates equal the dense output's central differences and, at the step's ends, the right-hand
+// side there (the continuous extensions interpolate f at both ends).
+template <class Method>
+void expect_dense_range_and_rates(double tol) {
+    const kepler k;
+    auto rk = adaptive_kepler<Method>(tol);
+    rk.initialize(0, k.exact(0));
+    int steps = 0;
+    const rk_status s = rk.integrate(6, [&](auto& r) {
+        ++steps;
+        const double t0 = r.t_previous(), t1 = r.t(), h = t1 - t0;
+        for (std::size_t i = 0; i < 4; ++i) {
+            const std::array<double, 2> range = r.dense_range(i);
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (int j = 0; j <= 4000; ++j) {
+                const double t = j == 4000 ? t1 : t0 + h * (j / 4000.0);
+                const double y = r.dense(t)[i];
+                lo = std::min(lo, y);
+                hi = std::max(hi, y);
+            }
+            EXPECT_LE(range[0], lo) << Method::name << " component " << i << " t0 " << t0;
+            EXPECT_GE(range[1], hi) << Method::name << " component " << i << " t0 " << t0;
+            // the widening is the higher terms' bound: a small part of the step's variation and of
+            // h |f| (measured: below 1 % and 0.5 %)
+            const double f0 = k(t0, r.x_previous())[i], f1 = k(t1, r.x())[i];
+            EXPECT_LE((range[1] - range[0]) - (hi - lo),
+                      0.02 * (hi - lo) + 0.01 * h * (std::abs(f0) + std::abs(f1)) + 1e-12)
+                << Method::name << " component " << i << " t0 " << t0;
+        }
+        for (double th : {0.0, 0.3, 0.71, 1.0}) {
+            const double t = th == 1.0 ? t1 : t0 + th * h;
+            std::array<double, 4> y{}, dy{};
+            r.dense_and_rate(t, 4, y.data(), dy.data());
+            const vec4 d = r.dense(t);
+            for (std::size_t i = 0; i < 4; ++i)
+                EXPECT_EQ(std::bit_cast<std::uint64_t>(y[i]), std::bit_cast<std::uint64_t>(d[i]));
+            if (th == 0.0 || th == 1.0) {
+                // the right-hand side at the step's ends, evaluated independently
+                const vec4 f = k(t, th == 0.0 ? r.x_previous() : r.x());
+                for (std::size_t i = 0; i < 4; ++i)
+                    EXPECT_NEAR(dy[i], f[i], 1e-12 * (1 + std::abs(f[i])))
+                        << Method::name << " end " << th << " component " << i;
+            } else {
+                const double e = 1e-5 * h;
+                const vec4 a = r.dense(t - e), b = r.dense(t + e);
+                for (std::size_t i = 0; i < 4; ++i)
+                    EXPECT_NEAR(dy[i], (b[i] - a[i]) / (2 * e), 1e-7 * (1 + std::abs(dy[i])))
+                        << Method::name << " th " << th << " component " << i;
+            }
+        }
+    });
+    EXPECT_EQ(s, rk_status::ok);
+    EXPECT_GT(steps, 5);
+}
+
+TEST(ExplicitRk, DenseRangeEnclosesTheDenseOutputAndRatesAreItsDerivative) {
+    expect_dense_range_and_rates<dormand_prince_853>(1e-6);
+    expect_dense_range_and_rates<dormand_prince_853>(1e-11);
+    expect_dense_range_and_rates<dormand_prince_5>(1e-5);
+    expect_dense_range_and_rates<dormand_prince_5>(1e-10);
+}
+
 template <class Method>
 std::array<double, 2> adaptive_error(double tol, double T) {
     const kepler k;
-    rk_options o;
-    o.rtol = o.atol = tol;
-    explicit_rk<Method, 4, kepler> rk(k, o);
+    auto rk = adaptive_kepler<Method>(tol);
     rk.initialize(0, k.exact(0));
     double dense_err = 0;
     const rk_status s = rk.integrate(T, [&](auto& r) {

@@ -19,16 +19,24 @@
 //      from the angles and their rates at the step's ends; the Taylor lanes': ranges_are_quiet,
 //      on their polynomial ranges); a quiet step is not shown to the detectors at all
 //      (skip_step): most steps for curves with |h| < pi;
-//   1. the cheap test: phi and phi' = f' - h'(s) s' at the step's end (from the state and the
+//   1. the cheap test: first the prefilter of the flip angle f alone (within the bound on |h| of
+//      pi), then the same with h's bounds over the step's range of s (offset_bounds: a table of
+//      h's bounds on 64 bins of its domain) -- phi's range lies in f's range minus pi minus h's
+//      -- then phi and phi' = f' - h'(s) s' at the step's end (from the state and the
 //      right-hand side, which the integrator has already evaluated), the cubic Hermite
 //      interpolant of (phi, phi') at both ends and its interior extrema give the range of phi;
 //      widened by a margin (a quarter of the variation of the data plus an eighth of the cubic's
 //      largest second-derivative term), it must contain a level for the step to be examined;
-//   2. the examination: phi' on the dense output at 1/4, 1/2, 3/4 of the step and at the cubic's
+//   2. the examination: where the dense output bounds its angles over the step
+//      (step_interpolant::angle_bounds, a proof for its polynomial: the RK lanes' dense_range),
+//      phi's range from those bounds and offset_bounds must contain a level, or no indicator
+//      changes; then phi' on the dense output at 1/4, 1/2, 3/4 of the step and at the cubic's
 //      critical points; each sign change of phi' is refined by TOMS 748 root finding to a
 //      critical point of phi, splitting the step into monotone pieces; in each piece every level
-//      whose indicator changes is located by TOMS 748 on the dense output to a relative time
-//      tolerance of ~4 ulp. Direction: +1 when phi increases (the flip angle passes the curve in
+//      whose indicator changes is located on the dense output to a relative time tolerance of
+//      ~4 ulp: by Newton's method with the dense output's own derivative, kept in the bracket
+//      (level_root), where the dense output has one (step_interpolant::angles_and_rates), by
+//      TOMS 748 otherwise. Direction: +1 when phi increases (the flip angle passes the curve in
 //      the positive sense).
 // Grazing crossings (an extremum of phi just beyond a level, both step ends on the same side) are
 // found at step 2: two crossings, as they physically are. Assumption (documented in
@@ -38,6 +46,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
 #include <cstdint>
@@ -66,6 +75,22 @@ class step_interpolant {
   public:
     /// The pendulum state (th1, th2, l1, l2) at t in [t0, t1] (angles as at the step's start).
     virtual std::array<double, 4> state(double t) const = 0;
+    /// Optional: bounds r[i] = {lo, hi} of angle i (th1, th2) of state(t) over the whole step,
+    /// every value state() returns in [t0, t1] included (rounding too); false when the
+    /// interpolant has none (the detectors then sample it). The RK lanes': explicit_rk's
+    /// dense_range.
+    virtual bool angle_bounds(std::array<std::array<double, 2>, 2>& r) const {
+        (void)r;
+        return false;
+    }
+    /// Optional: the angles (th1, th2) of state(t) (the same bits) in q and their rates in t on
+    /// this interpolant (its derivative, not Hamilton's equations) in dq, for Newton's method on
+    /// the level crossings; false when the interpolant has none (the detectors then bracket).
+    virtual bool angles_and_rates(double t, std::array<double, 2>& q,
+                                  std::array<double, 2>& dq) const {
+        (void)t, (void)q, (void)dq;
+        return false;
+    }
 
   protected:
     ~step_interpolant() = default;
@@ -92,9 +117,21 @@ class step_samples {
         return s_[k];
     }
 
+    /// The dense output's bounds of the angles over the step (step_interpolant::angle_bounds),
+    /// asked of it once per step; null when it has none.
+    const std::array<std::array<double, 2>, 2>* angle_bounds(const step_interpolant& dense) {
+        if (!bounds_asked_) {
+            bounds_known_ = dense.angle_bounds(bounds_);
+            bounds_asked_ = true;
+        }
+        return bounds_known_ ? &bounds_ : nullptr;
+    }
+
   private:
     std::array<sample, 3> s_{};
     std::array<bool, 3> have_{};
+    std::array<std::array<double, 2>, 2> bounds_{};
+    bool bounds_asked_ = false, bounds_known_ = false;
 };
 
 /// What a detector is told about one accepted step.
@@ -106,8 +143,9 @@ struct step_view {
     const std::array<double, 4>& f1;  ///< Hamilton's equations at x1
     const step_interpolant& dense;
     /// Optional (null: the detector computes it): per angle (th1, th2), a range [lo, hi] of the
-    /// angle over the step for the prefilter, shared by the detectors of one trajectory that test
-    /// the same flip angle: the RK lanes' is the widened range of the cubic Hermite interpolant,
+    /// angle over the step for the prefilter (a detector reads both: its flip angle and its
+    /// curve's s), shared by the detectors of one trajectory: the RK lanes' is the widened range
+    /// of the cubic Hermite interpolant,
     /// flip_angle_range of (the angle, its rate) at the step's start and end (the same bits as
     /// each detector computing it); the Taylor lanes' a bound of the step's polynomial itself
     /// (pendulum_taylor.hpp: taylor_angle_range).
@@ -187,17 +225,25 @@ inline double hermite_margin(double p0, double p1, double m0, double m1) {
 }
 
 // The range of the cubic Hermite interpolant of (p, m) on the step, widened by hermite_margin
-// and a rounding term; returns its interior critical points.
+// and a rounding term; with `critical`, its interior critical points there and their number
+// returned (without, the number of those it needed: 0 when its range is its ends').
 inline int hermite_range(double p0, double p1, double m0, double m1, double& lo, double& hi,
                          std::array<double, 2>* critical = nullptr) {
     lo = std::min(p0, p1);
     hi = std::max(p0, p1);
     std::array<double, 2> crit{};
-    const int ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
-    for (int i = 0; i < ncrit; ++i) {
-        const double c = hermite(p0, p1, m0, m1, crit[i]);
-        lo = std::min(lo, c);
-        hi = std::max(hi, c);
+    int ncrit = 0;
+    // The cubic lies in the hull of its Bezier points p0, p0 + m0 / 3, p1 - m1 / 3, p1: when the
+    // inner two lie between the ends, so does the cubic, and its range is that of the ends (the
+    // critical points are needed only when the caller asks for them).
+    const double b1 = p0 + m0 * (1.0 / 3), b2 = p1 - m1 * (1.0 / 3);
+    if (critical != nullptr || !(b1 >= lo && b1 <= hi && b2 >= lo && b2 <= hi)) {
+        ncrit = cubic_critical_points(p0, p1, m0, m1, crit);
+        for (int i = 0; i < ncrit; ++i) {
+            const double c = hermite(p0, p1, m0, m1, crit[i]);
+            lo = std::min(lo, c);
+            hi = std::max(hi, c);
+        }
     }
     const double margin = hermite_margin(p0, p1, m0, m1) +
                           64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(hi));
@@ -346,6 +392,8 @@ class flip_detector final : public flip_detector_base {
                 hmax,
                 std::abs(static_cast<double>(curve_.offset(lo_ + (hi_ - lo_) * (i / 512.0)))));
         offset_bound_ = hmax == 0 ? 0.0 : 1.1 * hmax + 0.05;
+        flat_ = hmax == 0 && full_;
+        if (!flat_) offset_table_ = std::make_shared<const offset_table>(curve_, lo_, hi_);
     }
 
     std::unique_ptr<flip_detector_base> clone() const override {
@@ -360,6 +408,40 @@ class flip_detector final : public flip_detector_base {
         start_ = evaluate(x0, {f0[0], f0[1]});
         start_valid_ = true;
         at_start_ = true;
+    }
+
+    /// Bounds [hmin, hmax] of the curve's offset h over red(s) for s in [slo, shi], where red(s)
+    /// lies in the domain (there only does a crossing count): the table's bounds (offset_table)
+    /// over the bins that the pieces of [slo, shi] shifted by -2 pi, 0, 2 pi (after reduction)
+    /// meet in the domain, widened by 1e-9 rad (red's rounding). False when no piece meets the
+    /// domain: no crossing can count. A range of 2 pi or more (or not a number) gets the bounds
+    /// over the whole domain. A curve with h = 0 everywhere (the upright arm) gives [0, 0].
+    bool offset_bounds(double slo, double shi, double& hmin, double& hmax) const {
+        constexpr double eps = 1e-9;
+        if (flat_) {
+            hmin = hmax = 0;
+            return true;
+        }
+        const offset_table& t = *offset_table_;
+        if (!(shi - slo < two_pi - 2 * eps)) {
+            t.bounds(0, offset_table::bins - 1, hmin, hmax);
+            return true;
+        }
+        const double r = reduce(slo);
+        const double a = r - eps, b = r + (shi - slo) + eps;
+        hmin = std::numeric_limits<double>::infinity();
+        hmax = -hmin;
+        bool any = false;
+        for (int n = -1; n <= 1; ++n) {
+            const double pa = std::max(a + n * two_pi, lo_), pb = std::min(b + n * two_pi, hi_);
+            if (!(pa <= pb)) continue;
+            any = true;
+            double mn = 0, mx = 0;
+            t.bounds(t.bin(pa), t.bin(pb), mn, mx);
+            hmin = std::min(hmin, mn);
+            hmax = std::max(hmax, mx);
+        }
+        return any;
     }
 
     void shift(double d1, double d2) override {
@@ -377,16 +459,15 @@ class flip_detector final : public flip_detector_base {
         {
             const int fi = arm_ == arm::two ? 1 : 0;
             double lo = 0, hi = 0;
-            if (v.angle_ranges) {
-                lo = (*v.angle_ranges)[fi][0];
-                hi = (*v.angle_ranges)[fi][1];
-            } else {
-                const double h = v.t1 - v.t0;
-                const double p0 = v.x0[fi], p1 = v.x1[fi];
-                const double m0 = h * v.f0[fi], m1 = h * v.f1[fi];
-                hermite_range(p0, p1, m0, m1, lo, hi);
+            angle_range(v, fi, lo, hi);
+            bool skip = !detail::within_reach(lo, hi, offset_bound_);
+            if (!skip && !flat_) {
+                // the same test with h's bounds over the step's range of s (offset_bounds) in
+                // place of the bound on |h| over the whole domain
+                double slo = 0, shi = 0;
+                angle_range(v, 1 - fi, slo, shi);
+                skip = !reaches(lo, hi, slo, shi);
             }
-            const bool skip = !detail::within_reach(lo, hi, offset_bound_);
             if (!skip && !start_valid_) start_ = evaluate(v.x0, {v.f0[0], v.f0[1]});
             start_valid_ = !skip;  // when examined, start_ = end below
             if (skip) return 0;
@@ -396,11 +477,12 @@ class flip_detector final : public flip_detector_base {
         const double p0 = start_.phi, p1 = end.phi;
         const double m0 = h * start_.dphi, m1 = h * end.dphi;
         double lo = 0, hi = 0;
-        std::array<double, 2> crit{};
-        const int ncrit = hermite_range(p0, p1, m0, m1, lo, hi, &crit);
+        hermite_range(p0, p1, m0, m1, lo, hi);
         int found = 0;
         if (std::ceil(lo * inv_two_pi) <= std::floor(hi * inv_two_pi)) {
             ++examined_;
+            std::array<double, 2> crit{};
+            const int ncrit = detail::cubic_critical_points(p0, p1, m0, m1, crit);
             found = examine(v, end, crit, ncrit, first, out);
         }
         start_ = end;
@@ -492,8 +574,50 @@ class flip_detector final : public flip_detector_base {
         return 0.5 * (r.first + r.second);
     }
 
+    // A root of g in [a, b] (g(a), g(b) of opposite signs, g monotone there): Newton's method
+    // with the interpolant's own derivative (g_and_rate), kept inside the shrinking bracket (a
+    // step outside it bisects), to the tolerance of root()'s TOMS 748 (a relative change of at
+    // most 2^-49); root() itself when the interpolant has no rates.
+    template <class G, class GD>
+    double level_root(G&& g, GD&& g_and_rate, double a, double b, double ga, double gb) const {
+        if (ga == 0) return a;
+        if (gb == 0) return b;
+        constexpr double rel = 0x1p-49;
+        double t = a + (b - a) * (ga / (ga - gb));  // the secant's root: inside [a, b]
+        if (!(t > a && t < b)) t = 0.5 * (a + b);
+        for (int it = 0; it < 100; ++it) {
+            double gt = 0, dgt = 0;
+            if (!g_and_rate(t, gt, dgt)) return root(g, a, b, ga, gb);
+            if (gt == 0) return t;
+            if ((gt < 0) == (ga < 0)) {
+                a = t;
+                ga = gt;
+            } else {
+                b = t;
+                gb = gt;
+            }
+            const double tol = rel * std::max(std::abs(a), std::abs(b));
+            double next = t - gt / dgt;
+            if (std::abs(next - t) <= tol) return next;         // converged (next may round to t)
+            if (!(next > a && next < b)) next = 0.5 * (a + b);  // dgt 0 or not a number too
+            if (b - a <= tol) return 0.5 * (a + b);
+            t = next;
+        }
+        return 0.5 * (a + b);
+    }
+
     int examine(const step_view& v, const value& end, const std::array<double, 2>& crit, int ncrit,
                 bool first, std::vector<crossing>& out) {
+        // the dense output's own bounds of the angles over the step, where it has them: phi
+        // reaches no level there, so no indicator changes (the same outcome as the samples')
+        std::array<std::array<double, 2>, 2> own{};
+        const std::array<std::array<double, 2>, 2>* b =
+            v.samples != nullptr ? v.samples->angle_bounds(v.dense)
+                                 : (v.dense.angle_bounds(own) ? &own : nullptr);
+        if (b != nullptr) {
+            const std::size_t fi = arm_ == arm::two ? 1 : 0;
+            if (!reaches((*b)[fi][0], (*b)[fi][1], (*b)[1 - fi][0], (*b)[1 - fi][1])) return 0;
+        }
         const double h = v.t1 - v.t0;
         // sample points: ends, quarters (tagged 0, 1, 2: shared through v.samples), cubic
         // critical points (tagged -1)
@@ -546,12 +670,21 @@ class flip_detector final : public flip_detector_base {
                 const double level = k * two_pi;
                 if ((a.phi >= level) == (b.phi >= level)) continue;
                 auto g = [&](double t) { return locate_at(v, t).phi - level; };
+                auto g_and_rate = [&](double t, double& gt, double& dgt) {
+                    std::array<double, 2> q{}, dq{};
+                    if (!v.dense.angles_and_rates(t, q, dq)) return false;
+                    const on_curve c = locate({q[0], q[1], 0.0, 0.0});
+                    const std::array<double, 2> qd = curve_coordinates(arm_, dq[0], dq[1]);
+                    gt = c.phi - level;
+                    dgt = qd[1] - c.slope * qd[0];
+                    return true;
+                };
                 // NOTE: tx == t0 is possible only when phi(t0) equals the level exactly and
                 // leaves it downwards; the previous step saw no indicator change then (it ended
                 // with phi at the level, indicator true). At the trajectory's start there is no
                 // previous step: a state on the curve is not a crossing in either direction
                 // (crossings are counted in (0, T]).
-                const double tx = root(g, a.t, b.t, a.phi - level, b.phi - level);
+                const double tx = level_root(g, g_and_rate, a.t, b.t, a.phi - level, b.phi - level);
                 if (first && tx == v.t0) continue;
                 const double at_s = tx == v.t1 ? end.s : locate_at(v, tx).s;
                 if (at_s < lo_ || at_s > hi_) continue;  // outside the curve's domain
@@ -562,11 +695,91 @@ class flip_detector final : public flip_detector_base {
         return found;
     }
 
+    // The prefilter's range [lo, hi] of angle i over the step: the lane's (step_view::
+    // angle_ranges) or, without, flip_angle_range's from the step's ends.
+    static void angle_range(const step_view& v, int i, double& lo, double& hi) {
+        const auto k = static_cast<std::size_t>(i);
+        if (v.angle_ranges) {
+            lo = (*v.angle_ranges)[k][0];
+            hi = (*v.angle_ranges)[k][1];
+        } else {
+            const double h = v.t1 - v.t0;
+            hermite_range(v.x0[k], v.x1[k], h * v.f0[k], h * v.f1[k], lo, hi);
+        }
+    }
+
+    // Whether phi = f - pi - h(red(s)) can pass a level 2 pi k (with red(s) in the domain) while
+    // the flip angle f stays in [flo, fhi] and the other angle s in [slo, shi]: a level in
+    // [flo - pi - max h, fhi - pi - min h], widened by 1e-9 rad for rounding (a range that is not
+    // a number reaches every level).
+    bool reaches(double flo, double fhi, double slo, double shi) const {
+        double hmin = 0, hmax = 0;
+        if (!flat_ && !offset_bounds(slo, shi, hmin, hmax)) return false;
+        constexpr double slack = 1e-9;
+        const double a = (flo - pi - hmax - slack) * inv_two_pi;
+        const double b = (fhi - pi - hmin + slack) * inv_two_pi;
+        return !(std::ceil(a) > std::floor(b));
+    }
+
+    // h's bounds on the domain's bins, for offset_bounds: on each of `bins` equal bins, h's least
+    // and largest value at 17 equally spaced points, widened by 1.5 times the largest |h'| there
+    // times half their spacing, and by 1e-9 (1 + |h|) (h is smooth on its domain, so between two
+    // points it departs from them by at most its largest slope there times half their spacing);
+    // over a run of bins by a sparse table (the bounds of 2^k bins from each bin: two look-ups).
+    // Shared by a detector's clones.
+    struct offset_table {
+        static constexpr int bins = 64, levels = 7;  // 2^(levels - 1) = bins
+        double lo = 0, width = 1, per_width = 1;
+        std::array<std::array<std::array<double, 2>, bins>, levels> runs{};
+
+        offset_table(const Curve& curve, double dlo, double dhi)
+            : lo(dlo), width((dhi - dlo) / bins), per_width(bins / (dhi - dlo)) {
+            constexpr int points = 16;
+            for (int i = 0; i < bins; ++i) {
+                double mn = std::numeric_limits<double>::infinity(), mx = -mn, slope = 0;
+                for (int j = 0; j <= points; ++j) {
+                    const double sj = j == points && i == bins - 1
+                                          ? dhi
+                                          : dlo + width * (i + j / static_cast<double>(points));
+                    const double hj = static_cast<double>(curve.offset(sj));
+                    mn = std::min(mn, hj);
+                    mx = std::max(mx, hj);
+                    slope = std::max(slope, std::abs(static_cast<double>(curve.slope(sj))));
+                }
+                const double widen = 1.5 * slope * (width / points) / 2 +
+                                     1e-9 * (1 + std::max(std::abs(mn), std::abs(mx)));
+                runs[0][static_cast<std::size_t>(i)] = {mn - widen, mx + widen};
+            }
+            for (std::size_t k = 1; k < levels; ++k)
+                for (std::size_t i = 0; i + (std::size_t{1} << k) <= bins; ++i) {
+                    const auto& x = runs[k - 1][i];
+                    const auto& y = runs[k - 1][i + (std::size_t{1} << (k - 1))];
+                    runs[k][i] = {std::min(x[0], y[0]), std::max(x[1], y[1])};
+                }
+        }
+        // the bin of s in the domain
+        int bin(double s) const {
+            return std::clamp(static_cast<int>((s - lo) * per_width), 0, bins - 1);
+        }
+        // the bounds over bins i0..i1 (i0 <= i1)
+        void bounds(int i0, int i1, double& mn, double& mx) const {
+            const int n = i1 - i0 + 1;
+            const int k = std::bit_width(static_cast<unsigned>(n)) - 1;
+            const auto& x = runs[static_cast<std::size_t>(k)][static_cast<std::size_t>(i0)];
+            const auto& y =
+                runs[static_cast<std::size_t>(k)][static_cast<std::size_t>(i1 + 1 - (1 << k))];
+            mn = std::min(x[0], y[0]);
+            mx = std::max(x[1], y[1]);
+        }
+    };
+
     Curve curve_;
     pendulum_flow flow_;
     arm arm_;
     double lo_ = 0, hi_ = 0, centre_ = 0;
     bool full_ = true;
+    bool flat_ = false;  ///< h = 0 on the whole circle (no offset_table)
+    std::shared_ptr<const offset_table> offset_table_;
     value start_{};            ///< phi, phi' and s at the step's start (start_valid_)
     double offset_bound_ = 0;  ///< the prefilter's bound on |h|
     long examined_ = 0;

@@ -289,6 +289,61 @@ class explicit_rk {
         return y;
     }
 
+    /// Components 0 ... n - 1 of dense(t) (the same bits) in y and their rates (the derivative
+    /// in t of the continuous extension itself) in dy.
+    void dense_and_rate(double t, std::size_t n, double* y, double* dy) {
+        if (!dense_ready_) prepare_dense();
+        const double th = h_last_ == 0 ? 0 : (t - t_prev_) / h_last_;
+        const double th1 = 1 - th;
+        const double per_t = h_last_ == 0 ? 0 : 1 / h_last_;
+        for (std::size_t i = 0; i < n; ++i) {
+            // dense()'s nesting, each factor's derivative in th alongside (th1' = -1, th' = 1)
+            double acc = rc_[Method::dense_terms - 1][i], dacc = 0;
+            for (int j = Method::dense_terms - 2; j >= 0; --j) {
+                const bool even = j % 2 == 0;
+                dacc = (even ? -acc : acc) + (even ? th1 : th) * dacc;
+                acc = rc_[j][i] + (even ? th1 : th) * acc;
+            }
+            y[i] = x_prev_[i] + th * acc;
+            dy[i] = (acc + th * dacc) * per_t;
+        }
+    }
+
+    /// Bounds {lo, hi} of component i of dense(t) over the whole last accepted step. dense() is
+    /// y0 + th r0 + th th1 r1 + th^2 th1 r2 + th^2 th1^2 P(th), th1 = 1 - th, P a polynomial in
+    /// th and th1 with the coefficients r3, r4, ... (each term a product of factors in [0, 1]):
+    /// the cubic's range (its ends and its interior extrema) widened by (|r3| + |r4| + ...) / 16
+    /// and a rounding term (dense()'s own rounding included).
+    std::array<double, 2> dense_range(std::size_t i) {
+        if (!dense_ready_) prepare_dense();
+        const double y0 = x_prev_[i], r0 = rc_[0][i], r1 = rc_[1][i], r2 = rc_[2][i];
+        auto cubic = [&](double th) { return y0 + th * (r0 + (1 - th) * (r1 + th * r2)); };
+        double lo = std::min(y0, y0 + r0), hi = std::max(y0, y0 + r0);
+        // the cubic's derivative: (r0 + r1) + 2 (r2 - r1) th - 3 r2 th^2
+        const double a = -3 * r2, b = 2 * (r2 - r1), c = r0 + r1;
+        auto extremum = [&](double th) {
+            if (th > 0 && th < 1) {
+                const double v = cubic(th);
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+            }
+        };
+        if (a == 0) {
+            if (b != 0) extremum(-c / b);
+        } else if (const double disc = b * b - 4 * a * c; disc >= 0) {
+            const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+            extremum(q / a);
+            if (q != 0) extremum(c / q);
+        }
+        double rest = 0;
+        for (int j = 3; j < Method::dense_terms; ++j)
+            rest += std::abs(rc_[j][i]);
+        const double rounding = 64 * std::numeric_limits<double>::epsilon() *
+                                (std::abs(y0) + std::abs(r0) + std::abs(r1) + std::abs(r2) + rest);
+        const double widen = rest / 16 * (1 + 1e-12) + rounding;
+        return {lo - widen, hi + widen};
+    }
+
     /// Adds delta to the current state (and to the last step's start, keeping the dense output
     /// valid). Only for directions in which f is invariant (e.g. angles shifted by 2 pi).
     void translate(const state& delta) {
@@ -576,6 +631,28 @@ class explicit_rk {
         dense_ready_ = false;
     }
 
+    // The dense output's sums over the stages with the coefficients known at compile time (zero
+    // terms dropped: the same sums, in the same order, for finite stages).
+    template <int s>
+    void dense_stage_point(double h, const double* base, double* y) const {
+        for (std::size_t i = 0; i < N; ++i)
+            y[i] = base[i];
+        add_stage_terms<s, 0>(h, k_, y);
+    }
+    template <int n, int j = 0, class D>
+    [[gnu::always_inline]] void dense_terms_sum(D d, std::size_t i, double& sum) const {
+        if constexpr (j < n) {
+            if constexpr (constexpr double dj = D{}(j); dj != 0) sum += dj * k_[j][i];
+            dense_terms_sum<n, j + 1>(d, i, sum);
+        }
+    }
+    template <int r>
+    double dense_row_sum(std::size_t i) const {
+        double sum = 0;
+        dense_terms_sum<16>([](int j) { return Method::d[r][j]; }, i, sum);
+        return sum;
+    }
+
     void prepare_dense() {
         const double h = h_last_;
         const double* x0 = x_prev_.data();
@@ -590,27 +667,26 @@ class explicit_rk {
                 rc_[1][i] = bspl;
                 rc_[2][i] = dx - h * k_[6][i] - bspl;
                 double sum = 0;
-                for (int j = 0; j < 7; ++j)
-                    sum += Method::d[j] * k_[j][i];
+                dense_terms_sum<7>([](int j) { return Method::d[j]; }, i, sum);
                 rc_[3][i] = h * sum;
             }
         } else {
             double y[N];
-            for (int s = 13; s < 16; ++s) {
-                stage_point(s, h, x0, y);
-                eval_into(t_prev_ + Method::c[s] * h, y, k_[s]);
+            [&]<int... s>(std::integer_sequence<int, s...>) {
+                ((dense_stage_point<13 + s>(h, x0, y),
+                  eval_into(t_prev_ + Method::c[13 + s] * h, y, k_[13 + s])),
+                 ...);
             }
+            (std::make_integer_sequence<int, 3>{});
             for (std::size_t i = 0; i < N; ++i) {
                 const double dx = x1[i] - x0[i];
                 rc_[0][i] = dx;
                 rc_[1][i] = h * k_[0][i] - dx;
                 rc_[2][i] = 2 * dx - h * (k_[12][i] + k_[0][i]);
-                for (int r = 0; r < 4; ++r) {
-                    double sum = 0;
-                    for (int j = 0; j < 16; ++j)
-                        sum += Method::d[r][j] * k_[j][i];
-                    rc_[3 + r][i] = h * sum;
+                [&]<int... r>(std::integer_sequence<int, r...>) {
+                    ((rc_[3 + r][i] = h * dense_row_sum<r>(i)), ...);
                 }
+                (std::make_integer_sequence<int, 4>{});
             }
         }
         dense_ready_ = true;
