@@ -105,7 +105,12 @@ std::vector<crossing> detect(const double_pendulum<double>& m, flip_detector_bas
         const double a = t0 + (t1 - t0) * i / steps, b = t0 + (t1 - t0) * (i + 1) / steps;
         const auto x1 = interp.state(b), f1 = flow(0, x1);
         interp.set_step(a, b);
+        const std::size_t before = out.size();
         d.step({a, b, x0, f0, x1, f1, interp}, out);
+        for (std::size_t k = before; k < out.size(); ++k) {  // a step's crossings lie in it
+            EXPECT_GE(out[k].time, a);
+            EXPECT_LE(out[k].time, b);
+        }
         x0 = x1;
         f0 = f1;
     }
@@ -142,8 +147,9 @@ TEST(FlipDetector, GrazingDoubleCrossingInsideOneStep) {
 
 // The detectors of one trajectory share a step's examination samples (step_view::samples): the
 // same crossings, bit for bit, as each evaluating its own, whichever detector examines first, and
-// fewer evaluations of the dense output.
-TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
+// fewer evaluations of the dense output; with the dense output's rates and angle bounds too (the
+// bounds asked once per step when shared).
+void expect_shared_samples_give_the_same_bits(bool rated) {
     const double_pendulum<double> m;
     const pendulum_flow flow(m);
     // th2 oscillates about pi while th1 drifts: crossings of the upright line and of the line
@@ -159,12 +165,21 @@ TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
             ++calls;
             return d_.state(t);
         }
-        mutable long calls = 0;
+        bool angles_and_rates(double t, std::array<double, 2>& q,
+                              std::array<double, 2>& dq) const override {
+            return d_.angles_and_rates(t, q, dq);
+        }
+        bool angle_bounds(std::array<std::array<double, 2>, 2>& r) const override {
+            ++bounds_calls;
+            return d_.angle_bounds(r);
+        }
+        mutable long calls = 0, bounds_calls = 0;
 
       private:
         const step_interpolant& d_;
     };
-    const path_interpolant base(m, p);
+    path_interpolant base(m, p, rated);
+    long bounds_own = 0, bounds_shared = 0;
     auto run = [&](bool share, bool reversed, long& calls) {
         std::vector<std::unique_ptr<flip_detector_base>> ds;
         ds.push_back(make_flip_detector(upright_curve<double>{arm::two}, flow));
@@ -180,6 +195,7 @@ TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
             const double a = 3.0 * i / steps, b = 3.0 * (i + 1) / steps;
             const auto x1 = base.state(b), f1 = flow(0, x1);
             step_samples samples;
+            base.set_step(a, b);
             step_view v{a, b, x0, f0, x1, f1, interp};
             if (share) v.samples = &samples;
             for (std::size_t k = 0; k < 2; ++k)
@@ -188,6 +204,7 @@ TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
             f0 = f1;
         }
         calls = interp.calls;
+        (share ? bounds_shared : bounds_own) = interp.bounds_calls;
         return out;
     };
     long own = 0, shared = 0, shared_reversed = 0;
@@ -207,6 +224,16 @@ TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
     }
     EXPECT_LT(shared, own);
     EXPECT_EQ(shared_reversed, shared);
+    if (rated) {
+        EXPECT_GT(bounds_shared, 0);
+        EXPECT_LE(bounds_shared, 40);  // at most once per step
+        EXPECT_LT(bounds_shared, bounds_own);
+    }
+}
+
+TEST(FlipDetector, SharedExaminationSamplesGiveTheSameBits) {
+    for (const bool rated : {false, true})
+        expect_shared_samples_give_the_same_bits(rated);
 }
 
 TEST(FlipDetector, SeveralLevelsInOneStepAndStepBoundaries) {

@@ -29,8 +29,9 @@
 //      largest second-derivative term), it must contain a level for the step to be examined;
 //   2. the examination: where the dense output bounds its angles over the step
 //      (step_interpolant::angle_bounds, a proof for its polynomial: the RK lanes' dense_range),
-//      phi's range from those bounds and offset_bounds must contain a level, or no indicator
-//      changes; then phi' on the dense output at 1/4, 1/2, 3/4 of the step and at the cubic's
+//      phi's range from those bounds (widened to the step's end states) and offset_bounds (h's
+//      bounds, sampled with a safety factor) must contain a level, or no indicator changes;
+//      then phi' on the dense output at 1/4, 1/2, 3/4 of the step and at the cubic's
 //      critical points; each sign change of phi' is refined by TOMS 748 root finding to a
 //      critical point of phi, splitting the step into monotone pieces; in each piece every level
 //      whose indicator changes is located on the dense output to a relative time tolerance of
@@ -41,7 +42,10 @@
 // Grazing crossings (an extremum of phi just beyond a level, both step ends on the same side) are
 // found at step 2: two crossings, as they physically are. Assumption (documented in
 // docs/theory.md#ensembles): phi' does not change sign twice between two of the sample points,
-// i.e. phi has no pair of extrema within a quarter step -- steps resolve the motion.
+// i.e. phi has no pair of extrema within a quarter step -- steps resolve the motion; and, as for
+// the flip angle in the prefilter, the other angle s stays within its widened cubic Hermite range
+// over the step (step 1's test with h's bounds over that range).
+// examined_steps() counts the steps that reach step 2, those its proof then passes over included.
 #pragma once
 
 #include <algorithm>
@@ -77,8 +81,8 @@ class step_interpolant {
     virtual std::array<double, 4> state(double t) const = 0;
     /// Optional: bounds r[i] = {lo, hi} of angle i (th1, th2) of state(t) over the whole step,
     /// every value state() returns in [t0, t1] included (rounding too); false when the
-    /// interpolant has none (the detectors then sample it). The RK lanes': explicit_rk's
-    /// dense_range.
+    /// interpolant has none (the detectors then sample it). The detectors widen them to the
+    /// step's end states (step_view's x0, x1). The RK lanes': explicit_rk's dense_range.
     virtual bool angle_bounds(std::array<std::array<double, 2>, 2>& r) const {
         (void)r;
         return false;
@@ -351,7 +355,8 @@ class flip_detector_base {
     virtual int step(const step_view& v, std::vector<crossing>& out) = 0;
     /// The state's angles at the step end were shifted by (d1, d2), multiples of 2 pi.
     virtual void shift(double d1, double d2) = 0;
-    /// Number of steps that needed the dense-output examination (a cost diagnostic).
+    /// Number of steps that needed the dense-output examination (a cost diagnostic; those the
+    /// dense output's bounds then pass over included).
     virtual long examined_steps() const = 0;
     /// The prefilter's bound on |h|: a crossing needs the flip angle within it of pi (mod 2 pi)
     /// somewhere in the step (step_is_quiet).
@@ -598,7 +603,8 @@ class flip_detector final : public flip_detector_base {
             }
             const double tol = rel * std::max(std::abs(a), std::abs(b));
             double next = t - gt / dgt;
-            if (std::abs(next - t) <= tol) return next;         // converged (next may round to t)
+            // converged (next may round to t; kept in the bracket, so in the step)
+            if (std::abs(next - t) <= tol) return std::clamp(next, a, b);
             if (!(next > a && next < b)) next = 0.5 * (a + b);  // dgt 0 or not a number too
             if (b - a <= tol) return 0.5 * (a + b);
             t = next;
@@ -615,8 +621,11 @@ class flip_detector final : public flip_detector_base {
             v.samples != nullptr ? v.samples->angle_bounds(v.dense)
                                  : (v.dense.angle_bounds(own) ? &own : nullptr);
         if (b != nullptr) {
-            const std::size_t fi = arm_ == arm::two ? 1 : 0;
-            if (!reaches((*b)[fi][0], (*b)[fi][1], (*b)[1 - fi][0], (*b)[1 - fi][1])) return 0;
+            // widened to the step's end states, from which the ends' phi come (start_, end)
+            const std::size_t fi = arm_ == arm::two ? 1 : 0, si = 1 - fi;
+            auto lo = [&](std::size_t i) { return std::min({(*b)[i][0], v.x0[i], v.x1[i]}); };
+            auto hi = [&](std::size_t i) { return std::max({(*b)[i][1], v.x0[i], v.x1[i]}); };
+            if (!reaches(lo(fi), hi(fi), lo(si), hi(si))) return 0;
         }
         const double h = v.t1 - v.t0;
         // sample points: ends, quarters (tagged 0, 1, 2: shared through v.samples), cubic
@@ -722,9 +731,11 @@ class flip_detector final : public flip_detector_base {
     }
 
     // h's bounds on the domain's bins, for offset_bounds: on each of `bins` equal bins, h's least
-    // and largest value at 17 equally spaced points, widened by 1.5 times the largest |h'| there
-    // times half their spacing, and by 1e-9 (1 + |h|) (h is smooth on its domain, so between two
-    // points it departs from them by at most its largest slope there times half their spacing);
+    // and largest value at 17 equally spaced points, widened by 1.5 times the largest |h'| at
+    // those points times half their spacing, and by 1e-9 (1 + |h|). Between two points h departs
+    // from them by at most its largest slope there times half their spacing; that slope is
+    // sampled, with a safety factor of 1.5 (h is smooth on its domain: a sine, or Chebyshev
+    // series of a saddle orbit), so the bounds are not a proof;
     // over a run of bins by a sparse table (the bounds of 2^k bins from each bin: two look-ups).
     // Shared by a detector's clones.
     struct offset_table {
