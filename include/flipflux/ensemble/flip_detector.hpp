@@ -725,9 +725,7 @@ class flip_detector final : public flip_detector_base {
         double hmin = 0, hmax = 0;
         if (!flat_ && !offset_bounds(slo, shi, hmin, hmax)) return false;
         constexpr double slack = 1e-9;
-        const double a = (flo - pi - hmax - slack) * inv_two_pi;
-        const double b = (fhi - pi - hmin + slack) * inv_two_pi;
-        return !(std::ceil(a) > std::floor(b));
+        return detail::within_reach(flo - hmax - slack, fhi - hmin + slack, 0.0);
     }
 
     // h's bounds on the domain's bins, for offset_bounds: on each of `bins` equal bins, h's least
