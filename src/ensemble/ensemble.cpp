@@ -1,6 +1,7 @@
 // The ensemble runner: one trajectory per index, OpenMP across indices (see ensemble.hpp).
 #include "flipflux/ensemble/ensemble.hpp"
 
+#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -314,6 +315,70 @@ class lane {
     bool quiet_ = false;  ///< set_quiet
 };
 
+// The right-hand sides of a group's stages, out of line: one copy of the flow's code per vector
+// type (stage_flow: pendulum_flow::lanes or tangent_lanes; stage_flow_and_energy: with H, the
+// last stage's lanes_and_energy) rather than one inlined into each of the step's stages, group
+// types and tails. The flattened stage code (vector_stages_*) stays small enough for the
+// processor's instruction caches (inlined, DOP853's AVX2 path was 239 kB of code). The same
+// operations either way, so the same bits; v2d's copy is compiled for SSE2 and serves every
+// instruction set's pairs (no FMA is enabled anywhere, so its rounding is theirs).
+template <std::size_t N>
+[[gnu::noinline]] void stage_flow(const pendulum_flow& flow, const v2d* y, v2d* f) {
+    if constexpr (N == 4)
+        flow.lanes(y, f);
+    else
+        flow.tangent_lanes(y, f);
+}
+template <std::size_t N>
+[[gnu::noinline]] __attribute__((target("avx2"))) void stage_flow(const pendulum_flow& flow,
+                                                                  const v4d* y, v4d* f) {
+    if constexpr (N == 4)
+        flow.lanes(y, f);
+    else
+        flow.tangent_lanes(y, f);
+}
+template <std::size_t N>
+[[gnu::noinline]] __attribute__((target("avx512f"))) void stage_flow(const pendulum_flow& flow,
+                                                                     const v8d* y, v8d* f) {
+    if constexpr (N == 4)
+        flow.lanes(y, f);
+    else
+        flow.tangent_lanes(y, f);
+}
+template <std::size_t N>
+[[gnu::noinline]] void stage_flow_and_energy(const pendulum_flow& flow, const v2d* y, v2d* f,
+                                             v2d& e) {
+    flow.template lanes_and_energy<N>(y, f, e);
+}
+template <std::size_t N>
+[[gnu::noinline]] __attribute__((target("avx2"))) void stage_flow_and_energy(
+    const pendulum_flow& flow, const v4d* y, v4d* f, v4d& e) {
+    flow.template lanes_and_energy<N>(y, f, e);
+}
+template <std::size_t N>
+[[gnu::noinline]] __attribute__((target("avx512f"))) void stage_flow_and_energy(
+    const pendulum_flow& flow, const v8d* y, v8d* f, v8d& e) {
+    flow.template lanes_and_energy<N>(y, f, e);
+}
+
+// The square root of each lane for the error norms and step-size factors of vector_stages
+// (explicit_rk's Root): a vector's in one instruction of its width, SSE2's, AVX's or AVX-512's;
+// each correctly rounded, so the same bits as std::sqrt and explicit_rk's default (SSE2 two lanes
+// at a time). The wider two only where vector_stages_avx2 and _avx512 inline them: not
+// always_inline, which their instruction sets forbid in explicit_rk's callers compiled without.
+struct lanes_root {
+    [[gnu::always_inline]] static void of(const v2d& x, v2d& r) { r = __builtin_ia32_sqrtpd(x); }
+    __attribute__((target("avx"))) static void of(const v4d& x, v4d& r) {
+        r = reinterpret_cast<v4d>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x)));
+    }
+    // (the masked form with every lane kept: _mm512_sqrt_pd reads an undefined vector, which
+    // GCC warns of)
+    __attribute__((target("avx512f"))) static void of(const v8d& x, v8d& r) {
+        const auto y = reinterpret_cast<__m512d>(x);
+        r = reinterpret_cast<v8d>(_mm512_mask_sqrt_pd(y, static_cast<__mmask8>(0xff), y));
+    }
+};
+
 // Where a round's stages are kept, lane-major: the groups' vectors (V k[S][N] each, group after
 // group), alive until every lane of the round has ended its step. A lane reads its own stages
 // from them only when its dense output is used (lane::set_stage_source, load_stages).
@@ -361,21 +426,18 @@ struct lane_group {
         V y[N];
         integrator::template stage_sum<s>(h, x0, k, y);
         if constexpr (s < S - 1) {
-            if constexpr (N == 4)
-                flow.lanes(y, k[s]);
-            else
-                flow.tangent_lanes(y, k[s]);
+            stage_flow<N>(flow, y, k[s]);
         } else {
             // the trial step's end: f and H there (for the energy check) from the same sines and
             // cosines, the error norm and step-size factor
             V e;
-            flow.template lanes_and_energy<N>(y, k[s], e);
+            stage_flow_and_energy<N>(flow, y, k[s], e);
             const rk_options& o = lanes[0]->rk().options();  // the same for every lane
             V first, second;
             integrator::error_sums(h, x0, y, k, o, first, second);
             V err, factor;
-            integrator::error_norms(h, first, second, o, err);
-            integrator::step_factors(err, factor);
+            integrator::template error_norms<V, lanes_root>(h, first, second, o, err);
+            integrator::template step_factors<V, lanes_root>(err, factor);
             // the quiet test of the step, should it be accepted (the lane's after_step):
             // step_is_quiet's arithmetic on the group's vectors (detail::quiet_reach), the
             // rounding lane by lane; every lane's detectors are clones of the same criteria, so
@@ -503,7 +565,7 @@ std::size_t lanes_per_thread(vector_isa isa, std::size_t n, int threads) {
 // lanes fill more than half of.
 template <class Lane>
 void lockstep_round(std::span<Lane* const> lanes, vector_isa isa) {
-    std::array<Lane*, max_lanes> active{};
+    std::array<Lane*, max_lanes> active;  // the first m set (not zeroed: every round's cost)
     std::size_t m = 0;
     for (Lane* l : lanes)
         if (l != nullptr && l->begin()) active[m++] = l;

@@ -132,7 +132,7 @@ class step_samples {
     }
 
   private:
-    std::array<sample, 3> s_{};
+    std::array<sample, 3> s_;  // sample q is set where have_[q] (not zeroed: one per step)
     std::array<bool, 3> have_{};
     std::array<std::array<double, 2>, 2> bounds_{};
     bool bounds_asked_ = false, bounds_known_ = false;

@@ -412,6 +412,19 @@ class explicit_rk {
         }
     }
 
+  public:
+    /// error_norms' and step_factors' square root by default (Root): sqrt_of, std::sqrt for a
+    /// double and SSE2's two lanes at a time for a vector of any width. A caller compiled for
+    /// wider vectors may pass its own Root (a static of(x, r) per vector type, correctly
+    /// rounded, so the same bits): the ensemble's lanes use AVX's and AVX-512's there.
+    struct default_root {
+        template <class T>
+        [[gnu::always_inline]] static void of(const T& x, T& r) {
+            sqrt_of(x, r);
+        }
+    };
+
+  private:
     static void copy(const double* from, double* to) {
         for (std::size_t i = 0; i < N; ++i)
             to[i] = from[i];
@@ -514,32 +527,45 @@ class explicit_rk {
             }
             if constexpr (Method::order == 5) {
                 T e{};
-                for (int j = 0; j < S; ++j)
-                    e += Method::e[j] * k[j][i];
+                error_terms<0>(k, i, e, e);
                 const T r = h * e / sc;
                 first += r * r;
             } else {
                 T e5{}, e3{};
-                for (int j = 0; j < 12; ++j) {
-                    e5 += Method::e5[j] * k[j][i];
-                    e3 += Method::a[12][j] * k[j][i];
-                }
+                error_terms<0>(k, i, e5, e3);
                 e3 -= Method::bhh0 * k[0][i] + Method::bhh8 * k[8][i] + Method::bhh11 * k[11][i];
                 first += (e5 / sc) * (e5 / sc);
                 second += (e3 / sc) * (e3 / sc);
             }
         }
     }
+    // error_sums' sums over the stages, j = 0, 1, ... in order with the terms whose coefficient
+    // is zero dropped at compile time (the same sums for finite stages: adding a product +-0 to
+    // a sum that started at +0 leaves it as it is): DOPRI5's e in `a` (b aliases a), DOP853's
+    // 5th-order e5 in `a` and its 3rd-order estimate's b (tableau row 12) in `b`.
+    template <int j, class T, class Stages>
+    [[gnu::always_inline]] static void error_terms(const Stages& k, std::size_t i, T& a, T& b) {
+        if constexpr (Method::order == 5) {
+            if constexpr (j < S) {
+                if constexpr (constexpr double c = Method::e[j]; c != 0) a += c * k[j][i];
+                error_terms<j + 1>(k, i, a, b);
+            }
+        } else if constexpr (j < 12) {
+            if constexpr (constexpr double c = Method::e5[j]; c != 0) a += c * k[j][i];
+            if constexpr (constexpr double c = Method::a[12][j]; c != 0) b += c * k[j][i];
+            error_terms<j + 1>(k, i, a, b);
+        }
+    }
     /// The step-size update's factor before the PI term and the clamp: safety * err^(-1/q + 0.75
     /// beta) at max(err, 1e-300) (the factor of a rejected step too, whose err exceeds 1), for T
     /// double or a vector whose lanes are several integrators (each lane's the same as a double's:
     /// correctly rounded square roots; DOPRI5's pow lane by lane).
-    template <class T>
+    template <class T, class Root = default_root>
     [[gnu::always_inline]] static void step_factors(const T& err, T& factor) {
         const T tiny = T{} + 1e-300;
         const T e = err < tiny ? tiny : err;  // std::max(err, 1e-300)
         T p;
-        error_power(e, p);
+        error_power<T, Root>(e, p);
         factor = Method::safety * p;
     }
     static double step_factor(double err) {
@@ -548,12 +574,12 @@ class explicit_rk {
         return factor;
     }
     /// The error norm from error_sums' sums, for T double or a vector of lanes (the same bits).
-    template <class T>
+    template <class T, class Root = default_root>
     [[gnu::always_inline]] static void error_norms(const T& h, const T& first, const T& second,
                                                    const rk_options& o, T& err) {
         const auto m = static_cast<double>(o.controlled_components);
         if constexpr (Method::order == 5) {
-            sqrt_of(first / m, err);
+            Root::of(first / m, err);
         } else {
             // as a double: 0 when both sums are, else |h| s5 / sqrt(m (s5 + 0.01 s3)), the
             // denominator 1 when it is not positive; lane by lane the same (|h| as in error_sums,
@@ -563,7 +589,7 @@ class explicit_rk {
             deno = deno > T{} ? deno : one;
             const T ah = h < T{} ? -h : h;
             T root;
-            sqrt_of(deno * m, root);
+            Root::of(deno * m, root);
             const T r = ah * first / root;
             // (nested selects: a vector's & of two comparisons compiles to a compare per lane)
             err = first == T{} ? (second == T{} ? T{} : r) : r;
@@ -586,13 +612,13 @@ class explicit_rk {
     // err^(-1/q + 0.75 beta) of the step-size update; for DOP853 (q = 8, beta = 0) as
     // 1 / sqrt(sqrt(sqrt(err))): correctly rounded square roots, a few ulp from pow's value (the
     // factor is clamped to [1/3, 6] anyway) at a fifth of its cost.
-    template <class T>
+    template <class T, class Root = default_root>
     [[gnu::always_inline]] static void error_power(const T& err, T& p) {
         if constexpr (Method::order == 8 && Method::beta == 0) {
             T r1, r2, r3;
-            sqrt_of(err, r1);
-            sqrt_of(r1, r2);
-            sqrt_of(r2, r3);
+            Root::of(err, r1);
+            Root::of(r1, r2);
+            Root::of(r2, r3);
             p = 1 / r3;
         } else if constexpr (std::is_floating_point_v<T>) {
             p = std::pow(err, -1.0 / Method::order + 0.75 * Method::beta);
