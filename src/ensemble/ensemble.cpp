@@ -461,7 +461,7 @@ struct lane_group {
                 lane.set_error_norm(err[l], factor[l]);
                 bool quiet = true;
                 for (std::size_t i = 0; i < 2; ++i)
-                    if (bound[i] >= 0 && !(std::ceil(reach_lo[i][l]) > std::floor(reach_hi[i][l])))
+                    if (bound[i] >= 0 && detail::reaches_level(reach_lo[i][l], reach_hi[i][l]))
                         quiet = false;
                 lane.set_quiet(quiet);
             }

@@ -258,12 +258,19 @@ inline int hermite_range(double p0, double p1, double m0, double m1, double& lo,
 }
 
 // within_reach's test in two parts: the ends a, b scaled to levels (for T double or lane by lane
-// of a vector of doubles, the same bits), then whether ceil(a) <= floor(b).
+// of a vector of doubles, the same bits), then reaches_level(a, b).
 template <class T>
 [[gnu::always_inline]] inline void reach_ends(const T& lo, const T& hi, double bound, T& a, T& b) {
     constexpr double pi = std::numbers::pi, inv_two_pi = 1 / (2 * std::numbers::pi);
     a = (lo - (bound + pi)) * inv_two_pi;
     b = (hi + (bound - pi)) * inv_two_pi;
+}
+
+/// Whether [a, b] (reach_ends' ends, in units of levels) holds an integer: ceil(a) <= floor(b),
+/// true when either end is not a number (a range that is not a number reaches every level). The
+/// one form of the test for within_reach, step_is_quiet and the lanes' quiet test.
+inline bool reaches_level(double a, double b) {
+    return !(std::ceil(a) > std::floor(b));
 }
 
 /// The prefilter's test: whether a flip angle ranging over [lo, hi] in a step comes within
@@ -274,13 +281,13 @@ template <class T>
 inline bool within_reach(double lo, double hi, double bound) {
     double a = 0, b = 0;
     reach_ends(lo, hi, bound, a, b);
-    return !(std::ceil(a) > std::floor(b));
+    return reaches_level(a, b);
 }
 
 // step_is_quiet's test of one flip angle, for T double or a vector of doubles whose lanes are
 // several steps (each lane the same bits as a double's): the reach_ends a, b of the angle's range
 // (p0 to p1, rates w0 and w1, step h) against `bound`; the step is quiet in this angle when
-// ceil(a) > floor(b).
+// !reaches_level(a, b).
 template <class T>
 [[gnu::always_inline]] inline void quiet_reach(double bound, const T& h, const T& p0, const T& p1,
                                                const T& w0, const T& w1, T& a, T& b) {
@@ -326,7 +333,7 @@ inline bool step_is_quiet(const std::array<double, 2>& bound, double h,
         if (bound[k] < 0) continue;
         double a = 0, b = 0;
         detail::quiet_reach(bound[k], h, x0[k], x1[k], w0[k], w1[k], a, b);
-        if (!(std::ceil(a) > std::floor(b))) return false;
+        if (detail::reaches_level(a, b)) return false;
     }
     return true;
 }
