@@ -420,7 +420,8 @@ struct lane_group {
     }
 
     // Stage s (every function here is always_inline, so all of it is compiled for the caller's
-    // target, AVX-512, AVX2 or SSE2).
+    // target, AVX-512, AVX2 or SSE2, but for the right-hand sides, out of line in stage_flow and
+    // stage_flow_and_energy, each compiled for its vector type's instruction set).
     template <int s>
     [[gnu::always_inline]] void stage(const pendulum_flow& flow) {
         V y[N];
@@ -530,9 +531,10 @@ void vector_stages_sse2(Lane* const* active, std::size_t m, std::byte* storage) 
 }
 
 // ... or four per AVX2 vector, the rest of one or two lanes in an SSE2 pair (the same bits; used
-// when the processor has AVX2). `flatten' inlines everything called here, so that all of it is
-// compiled for AVX2; no FMA is enabled, so the operations and their rounding are those of the
-// scalar code.
+// when the processor has AVX2). `flatten' inlines everything called here but the noinline
+// right-hand sides (stage_flow, stage_flow_and_energy: AVX2's copy for the four-lane groups,
+// SSE2's for the pairs), so that the stage sums, error norms and step tests are compiled for
+// AVX2; no FMA is enabled, so the operations and their rounding are those of the scalar code.
 template <class Lane>
 __attribute__((target("avx2"), flatten)) void vector_stages_avx2(Lane* const* active, std::size_t m,
                                                                  std::byte* storage) {

@@ -268,7 +268,8 @@ template <class T>
 
 /// Whether [a, b] (reach_ends' ends, in units of levels) holds an integer: ceil(a) <= floor(b),
 /// true when either end is not a number (a range that is not a number reaches every level). The
-/// one form of the test for within_reach, step_is_quiet and the lanes' quiet test.
+/// one form of the prefilters' test, for within_reach, step_is_quiet and the lanes' quiet test
+/// (flip_detector::step's test of phi's own Hermite range is a different one: false for NaN).
 inline bool reaches_level(double a, double b) {
     return !(std::ceil(a) > std::floor(b));
 }

@@ -539,23 +539,6 @@ class explicit_rk {
             }
         }
     }
-    // error_sums' sums over the stages, j = 0, 1, ... in order with the terms whose coefficient
-    // is zero dropped at compile time (the same sums for finite stages: adding a product +-0 to
-    // a sum that started at +0 leaves it as it is): DOPRI5's e in `a` (b aliases a), DOP853's
-    // 5th-order e5 in `a` and its 3rd-order estimate's b (tableau row 12) in `b`.
-    template <int j, class T, class Stages>
-    [[gnu::always_inline]] static void error_terms(const Stages& k, std::size_t i, T& a, T& b) {
-        if constexpr (Method::order == 5) {
-            if constexpr (j < S) {
-                if constexpr (constexpr double c = Method::e[j]; c != 0) a += c * k[j][i];
-                error_terms<j + 1>(k, i, a, b);
-            }
-        } else if constexpr (j < 12) {
-            if constexpr (constexpr double c = Method::e5[j]; c != 0) a += c * k[j][i];
-            if constexpr (constexpr double c = Method::a[12][j]; c != 0) b += c * k[j][i];
-            error_terms<j + 1>(k, i, a, b);
-        }
-    }
     /// The step-size update's factor before the PI term and the clamp: safety * err^(-1/q + 0.75
     /// beta) at max(err, 1e-300) (the factor of a rejected step too, whose err exceeds 1), for T
     /// double or a vector whose lanes are several integrators (each lane's the same as a double's:
@@ -602,6 +585,23 @@ class explicit_rk {
     }
 
   private:
+    // error_sums' sums over the stages, j = 0, 1, ... in order with the terms whose coefficient
+    // is zero dropped at compile time (the same sums for finite stages: adding a product +-0 to
+    // a sum that started at +0 leaves it as it is): DOPRI5's e in `a` (b aliases a), DOP853's
+    // 5th-order e5 in `a` and its 3rd-order estimate's b (tableau row 12) in `b`.
+    template <int j, class T, class Stages>
+    [[gnu::always_inline]] static void error_terms(const Stages& k, std::size_t i, T& a, T& b) {
+        if constexpr (Method::order == 5) {
+            if constexpr (j < S) {
+                if constexpr (constexpr double c = Method::e[j]; c != 0) a += c * k[j][i];
+                error_terms<j + 1>(k, i, a, b);
+            }
+        } else if constexpr (j < 12) {
+            if constexpr (constexpr double c = Method::e5[j]; c != 0) a += c * k[j][i];
+            if constexpr (constexpr double c = Method::a[12][j]; c != 0) b += c * k[j][i];
+            error_terms<j + 1>(k, i, a, b);
+        }
+    }
     template <class Stages>
     static double error_norm(double h, const double* x0, const double* x1, const Stages& k,
                              const rk_options& o) {
