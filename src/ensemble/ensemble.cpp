@@ -14,6 +14,7 @@
 #include <exception>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "flipflux/core/budget.hpp"
 #include "flipflux/core/decimal.hpp"
@@ -321,29 +322,29 @@ class lane {
 // types and tails. The flattened stage code (vector_stages_*) stays small enough for the
 // processor's instruction caches (inlined, DOP853's AVX2 path was 239 kB of code). The same
 // operations either way, so the same bits; v2d's copy is compiled for SSE2 and serves every
-// instruction set's pairs (no FMA is enabled anywhere, so its rounding is theirs).
-template <std::size_t N>
-[[gnu::noinline]] void stage_flow(const pendulum_flow& flow, const v2d* y, v2d* f) {
+// instruction set's pairs (no FMA is enabled anywhere, so its rounding is theirs). Each overload
+// carries its own instruction set (a target attribute cannot be a template argument), the body
+// is flow_of's.
+template <std::size_t N, class V>
+[[gnu::always_inline]] inline void flow_of(const pendulum_flow& flow, const V* y, V* f) {
     if constexpr (N == 4)
         flow.lanes(y, f);
     else
         flow.tangent_lanes(y, f);
+}
+template <std::size_t N>
+[[gnu::noinline]] void stage_flow(const pendulum_flow& flow, const v2d* y, v2d* f) {
+    flow_of<N>(flow, y, f);
 }
 template <std::size_t N>
 [[gnu::noinline]] __attribute__((target("avx2"))) void stage_flow(const pendulum_flow& flow,
                                                                   const v4d* y, v4d* f) {
-    if constexpr (N == 4)
-        flow.lanes(y, f);
-    else
-        flow.tangent_lanes(y, f);
+    flow_of<N>(flow, y, f);
 }
 template <std::size_t N>
 [[gnu::noinline]] __attribute__((target("avx512f"))) void stage_flow(const pendulum_flow& flow,
                                                                      const v8d* y, v8d* f) {
-    if constexpr (N == 4)
-        flow.lanes(y, f);
-    else
-        flow.tangent_lanes(y, f);
+    flow_of<N>(flow, y, f);
 }
 template <std::size_t N>
 [[gnu::noinline]] void stage_flow_and_energy(const pendulum_flow& flow, const v2d* y, v2d* f,
@@ -470,17 +471,25 @@ struct lane_group {
     }
 };
 
-// Stage s and the ones after it of every group, stage by stage: the groups' dependency chains
-// (each stage needs the one before) are independent, so the processor overlaps one group's stage
-// with the next one's (recursion rather than a lambda: always_inline throughout). `tail` (null:
+// Stage s of every group: the groups' dependency chains (each stage needs the one before) are
+// independent, so the processor overlaps one group's stage with the next one's. `tail` (null:
 // none) is a last group of a narrower vector type.
 template <int s, class Group, class Tail>
-[[gnu::always_inline]] inline void stages_from(Group* groups, std::size_t count, Tail* tail,
-                                               const pendulum_flow& flow) {
+[[gnu::always_inline]] inline void stage_of_every(Group* groups, std::size_t count, Tail* tail,
+                                                  const pendulum_flow& flow) {
     for (std::size_t i = 0; i < count; ++i)
         groups[i].template stage<s>(flow);
     if (tail != nullptr) tail->template stage<s>(flow);
-    if constexpr (s + 1 < Group::S) stages_from<s + 1>(groups, count, tail, flow);
+}
+
+// Stages 1 to S - 1 of every group, stage by stage (a fold rather than a recursion or a lambda:
+// always_inline throughout, and each stage's code once in an unoptimised build, where a
+// recursion's out-of-line copies held every later stage again).
+template <class Group, class Tail, int... s>
+[[gnu::always_inline]] inline void stages_of_step(Group* groups, std::size_t count, Tail* tail,
+                                                  const pendulum_flow& flow,
+                                                  std::integer_sequence<int, s...>) {
+    (stage_of_every<s + 1>(groups, count, tail, flow), ...);
 }
 
 // Every stage of a trial step of the active lanes: m / W groups of W = lanes_of<V> lanes and the
@@ -502,11 +511,12 @@ template <class Lane, class V, class Tail>
     const std::size_t full = m / W, rest = m % W;
     for (std::size_t i = 0; i < full; ++i)
         groups[i] = group(active + i * W, W, storage + i * bytes);
+    constexpr auto later = std::make_integer_sequence<int, Lane::stages - 1>();  // stages 1..S-1
     if (rest == 0) {
-        stages_from<1>(groups.data(), full, static_cast<group*>(nullptr), flow);
+        stages_of_step(groups.data(), full, static_cast<group*>(nullptr), flow, later);
     } else {
         lane_group<Lane, Tail> tail(active + full * W, rest, storage + full * bytes);
-        stages_from<1>(groups.data(), full, &tail, flow);
+        stages_of_step(groups.data(), full, &tail, flow, later);
     }
 }
 
@@ -552,9 +562,9 @@ __attribute__((target("avx512f"), flatten)) void vector_stages_avx512(Lane* cons
 }
 
 // Trajectories per thread in lockstep with `isa`: two of its widest vectors' worth (SSE2: two
-// pairs), whose stages are computed side by side (stages_from), for `n` trajectories on `threads`
-// threads: fewer when there are not that many per thread, so that a small ensemble's trajectories
-// do not gather on one thread.
+// pairs), whose stages are computed side by side (stage_of_every), for `n` trajectories on
+// `threads` threads: fewer when there are not that many per thread, so that a small ensemble's
+// trajectories do not gather on one thread.
 std::size_t lanes_per_thread(vector_isa isa, std::size_t n, int threads) {
     const std::size_t most = ensemble_lanes_per_thread(isa);
     const std::size_t share = (n + static_cast<std::size_t>(threads) - 1) /

@@ -2,6 +2,9 @@
 """Checks of the reproduction report (tools/report/make_report.py).
 
     test_report.py                                   self-contained: a synthetic run directory
+    test_report.py --workers                         the synthetic run's figures drawn by two
+                                                     processes equal the serial run's, byte for
+                                                     byte (a second report: `verify` runs it)
     test_report.py --flipflux BIN --scene SCENE      runs `BIN run SCENE` in a temporary working
                                                      directory, then checks the scene's report
     test_report.py --report-dir DIR                  checks an existing report
@@ -462,6 +465,8 @@ def main():
     p.add_argument("--flipflux", help="the flipflux executable (with --scene)")
     p.add_argument("--scene", help="a scene with a [report] section, run in a temporary directory")
     p.add_argument("--report-dir", help="check this existing report")
+    p.add_argument("--workers", action="store_true",
+                   help="only: the synthetic report drawn by --jobs 2 equals the serial one")
     p.add_argument("--keep", action="store_true", help="keep the temporary directory")
     a = p.parse_args()
     base = tempfile.mkdtemp(prefix="flipflux-report-")
@@ -501,19 +506,21 @@ def main():
             others = ["--other-run-dir", other, "--other-run-dir", os.path.join(base, "never")]
             r = run_generator(run_dir, report, ["--jobs", "2"] + others)
             check(r.returncode == 0, "generator exit status 0: %s" % r.stderr)
+            if a.workers:
+                # the figures drawn by two processes, each its share, are the serial run's, byte
+                # for byte (a second full report: half this test's time, so in `verify` only)
+                serial = os.path.join(base, "report-serial")
+                r = run_generator(run_dir, serial, ["--jobs", "1"] + others)
+                check(r.returncode == 0, "serial generator exit status 0: %s" % r.stderr)
+                figs = sorted(os.listdir(os.path.join(report, "figures")))
+                differ = [f for f in figs if not filecmp.cmp(os.path.join(report, "figures", f),
+                                                             os.path.join(serial, "figures", f),
+                                                             shallow=False)]
+                check(len(figs) > 20 and figs == sorted(os.listdir(os.path.join(serial, "figures")))
+                      and not differ, "%d figures drawn by 2 workers equal the serial ones "
+                      "(differ: %s)" % (len(figs), differ))
+                return finish(base, a.keep)
             check_report(report)
-            # the figures drawn by two processes, each its share, are the serial run's, byte for
-            # byte
-            serial = os.path.join(base, "report-serial")
-            r = run_generator(run_dir, serial, ["--jobs", "1"] + others)
-            check(r.returncode == 0, "serial generator exit status 0: %s" % r.stderr)
-            figs = sorted(os.listdir(os.path.join(report, "figures")))
-            differ = [f for f in figs if not filecmp.cmp(os.path.join(report, "figures", f),
-                                                         os.path.join(serial, "figures", f),
-                                                         shallow=False)]
-            check(len(figs) > 20 and figs == sorted(os.listdir(os.path.join(serial, "figures")))
-                  and not differ, "%d figures drawn by 2 workers equal the serial ones (differ: "
-                  "%s)" % (len(figs), differ))
             r = run_generator(run_dir, os.path.join(base, "report-bad-jobs"), ["--jobs", "-1"])
             check(r.returncode == 2 and "--jobs -1" in r.stderr, "--jobs -1 is named: %r" % r.stderr)
             check_synthetic_values(report)
@@ -527,11 +534,19 @@ def main():
             check("`%s`: not run" % os.path.join(base, "never") in text,
                   "a missing other run is noted")
             check_errors(base)
-    finally:
-        if a.keep:
-            print("kept " + base)
-        else:
+    except BaseException:
+        if not a.keep:
             shutil.rmtree(base, ignore_errors=True)
+        raise
+    return finish(base, a.keep)
+
+
+def finish(base, keep):
+    """Removes (or keeps) the temporary directory, prints the tally; the exit status."""
+    if keep:
+        print("kept " + base)
+    else:
+        shutil.rmtree(base, ignore_errors=True)
     print("%d passed, %d failed" % (RESULTS["passed"], RESULTS["failed"]))
     return 0 if RESULTS["failed"] == 0 else 1
 
