@@ -492,6 +492,15 @@ TEST(SaddleOrbit, ContinuationReachesBothFamiliesAndRecordsItsSteps) {
     EXPECT_NEAR(fam2.highest_excess, 3.9, 1e-12);
     const auto fam1 = continue_saddle_family(model, arm::one, std::vector<double>{4.001, 5, 5.99});
     ASSERT_EQ(fam1.orbits.size(), 3u);
+    for (const auto* fam : {&fam1, &fam2}) {
+        int rejected = 0;
+        for (const auto& st : fam->steps)
+            if (!st.accepted) {
+                ++rejected;
+                EXPECT_FALSE(st.note.empty());
+            }
+        EXPECT_EQ(rejected, fam->halvings);
+    }
     // a single orbit from the family agrees with a direct solve
     const auto direct = solve_saddle_orbit(model, arm::one, 5.0);
     EXPECT_NEAR(direct.period, fam1.orbits[1].period, 1e-12 * direct.period);

@@ -469,6 +469,8 @@ def main():
                    help="only: the synthetic report drawn by --jobs 2 equals the serial one")
     p.add_argument("--keep", action="store_true", help="keep the temporary directory")
     a = p.parse_args()
+    if a.workers and (a.scene or a.report_dir):
+        p.error("--workers checks the synthetic run: not with --scene or --report-dir")
     base = tempfile.mkdtemp(prefix="flipflux-report-")
     try:
         if a.report_dir:
@@ -535,7 +537,9 @@ def main():
                   "a missing other run is noted")
             check_errors(base)
     except BaseException:
-        if not a.keep:
+        if a.keep:
+            print("kept " + base)
+        else:
             shutil.rmtree(base, ignore_errors=True)
         raise
     return finish(base, a.keep)
