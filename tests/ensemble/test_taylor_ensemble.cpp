@@ -177,6 +177,16 @@ TEST(TaylorEnsemble, AngleRangeBoundsTheStepPolynomial) {
         }
 }
 
+// The state (theta1, theta2, l1, l2) of a row of a golden trajectories table
+// (data/golden/trajectories: initial_states.csv, states.csv), rounded to double.
+phase_point<double> golden_state(const csv_table& table, const csv_row& row) {
+    phase_point<double> x{};
+    const char* keys[4] = {"theta1", "theta2", "l1", "l2"};
+    for (int c = 0; c < 4; ++c)
+        x[c] = parse_real<double>(row.fields[column_index(table, keys[c])], keys[c]);
+    return x;
+}
+
 // Every golden state (data/golden/trajectories: 50 digits, two independent routes) integrated to
 // t = 10 by the Taylor integrator at rtol = eps: the state error (max over components, angles as
 // integrated) is at the double limit, median below 1e-13 and every state below 1e-12 (measured:
@@ -190,18 +200,13 @@ TEST(TaylorEnsemble, ReachesTheDoubleLimitOnTheGoldenStates) {
     std::vector<double> taylor_errors, dop_errors;
     for (const csv_row& r : initial.rows) {
         const std::string name = r.fields[column_index(initial, "name")];
-        phase_point<double> x0{};
-        const char* keys[4] = {"theta1", "theta2", "l1", "l2"};
-        for (int c = 0; c < 4; ++c)
-            x0[c] = parse_real<double>(r.fields[column_index(initial, keys[c])], keys[c]);
+        const phase_point<double> x0 = golden_state(initial, r);
         std::array<double, 4> reference{};
         bool found = false;
         for (const csv_row& s : states.rows)
             if (s.fields[column_index(states, "state")] == name &&
                 parse_real<double>(s.fields[column_index(states, "t")], "t") == 10) {
-                for (int c = 0; c < 4; ++c)
-                    reference[c] =
-                        parse_real<double>(s.fields[column_index(states, keys[c])], keys[c]);
+                reference = golden_state(states, s);
                 found = true;
             }
         ASSERT_TRUE(found) << name;
@@ -250,10 +255,7 @@ TEST(TaylorEnsemble, CrossingTimesReachTheGoldenEvents) {
     std::size_t compared = 0, grazings = 0;
     for (const csv_row& r : initial.rows) {
         const std::string name = r.fields[column_index(initial, "name")];
-        phase_point<double> x0{};
-        const char* keys[4] = {"theta1", "theta2", "l1", "l2"};
-        for (int c = 0; c < 4; ++c)
-            x0[c] = parse_real<double>(r.fields[column_index(initial, keys[c])], keys[c]);
+        const phase_point<double> x0 = golden_state(initial, r);
         const std::unique_ptr<flip_detector_base> arm1 =
             make_flip_detector(upright_curve<double>{arm::one}, flow);
         const std::unique_ptr<flip_detector_base> arm2 =
