@@ -478,6 +478,18 @@ TEST(SaddleOrbit, AFamilyThatLeavesItsStripNamesItsEnd) {
     }
 }
 
+// Every rejected step of a continuation is recorded with its reason, one per halving.
+template <class Family>
+void expect_rejections_recorded(const Family& fam) {
+    int rejected = 0;
+    for (const auto& st : fam.steps)
+        if (!st.accepted) {
+            ++rejected;
+            EXPECT_FALSE(st.note.empty());
+        }
+    EXPECT_EQ(rejected, fam.halvings);
+}
+
 TEST(SaddleOrbit, ContinuationReachesBothFamiliesAndRecordsItsSteps) {
     const double_pendulum<double> model;
     const auto fam2 = continue_saddle_family(
@@ -492,15 +504,8 @@ TEST(SaddleOrbit, ContinuationReachesBothFamiliesAndRecordsItsSteps) {
     EXPECT_NEAR(fam2.highest_excess, 3.9, 1e-12);
     const auto fam1 = continue_saddle_family(model, arm::one, std::vector<double>{4.001, 5, 5.99});
     ASSERT_EQ(fam1.orbits.size(), 3u);
-    for (const auto* fam : {&fam1, &fam2}) {
-        int rejected = 0;
-        for (const auto& st : fam->steps)
-            if (!st.accepted) {
-                ++rejected;
-                EXPECT_FALSE(st.note.empty());
-            }
-        EXPECT_EQ(rejected, fam->halvings);
-    }
+    expect_rejections_recorded(fam1);
+    expect_rejections_recorded(fam2);
     // a single orbit from the family agrees with a direct solve
     const auto direct = solve_saddle_orbit(model, arm::one, 5.0);
     EXPECT_NEAR(direct.period, fam1.orbits[1].period, 1e-12 * direct.period);
@@ -517,13 +522,7 @@ TEST(SaddleOrbit, ArmOneContinuationReachesAMillionthBelowTheMaximum) {
     EXPECT_TRUE(fam1.stop_reason.empty());
     for (std::size_t i = 1; i < fam1.orbits.size(); ++i)
         EXPECT_GT(fam1.orbits[i].period, fam1.orbits[i - 1].period);
-    int rejected = 0;
-    for (const auto& st : fam1.steps)
-        if (!st.accepted) {
-            ++rejected;
-            EXPECT_FALSE(st.note.empty());
-        }
-    EXPECT_EQ(rejected, fam1.halvings);
+    expect_rejections_recorded(fam1);
     EXPECT_GT(fam1.halvings, 0);
 }
 
