@@ -80,13 +80,18 @@ template <class V>
     return reinterpret_cast<V>(reinterpret_cast<L>(q) + (ni << 52));
 }
 
-/// sum_k c[k] h^k (Horner, k = 0..p) in every lane; lane by lane the scalar horner's bits.
-template <class V>
-[[gnu::always_inline]] inline V horner_lanes(const V* c, int p, V h) {
-    V r = c[p];
+/// out[i] = sum_k c[i][k] h^k (Horner, k = 0..p) in every lane, lane by lane the scalar
+/// horner's bits; the N sums interleaved, so that their chains of dependent operations overlap.
+template <class V, int N, std::size_t K>
+[[gnu::always_inline]] inline void horner_lanes(const V (&c)[N][K], int p, V h, V* out) {
+    V r[N];
+    for (int i = 0; i < N; ++i)
+        r[i] = c[i][p];
     for (int k = p - 1; k >= 0; --k)
-        r = r * h + c[k];
-    return r;
+        for (int i = 0; i < N; ++i)
+            r[i] = r[i] * h + c[i][k];
+    for (int i = 0; i < N; ++i)
+        out[i] = r[i];
 }
 
 /// A group's step ends: per lane the step size h (`last`: 1 when it is the remaining time), the
@@ -117,15 +122,17 @@ template <class V, bool Tangent>
     const auto last = !(h < remaining);
     out.h = last ? remaining : h;
     out.last = last ? V{} + 1.0 : V{};
-    for (int c = 0; c < 4; ++c)
-        out.x1[c] = horner_lanes(jet.x[c], p, out.h);
-    if constexpr (Tangent)
-        for (int c = 0; c < 4; ++c)
-            out.v1[c] = horner_lanes(jet.v[c], p, out.h);
+    horner_lanes(jet.x, p, out.h, out.x1);
+    if constexpr (Tangent) horner_lanes(jet.v, p, out.h, out.v1);
     flow.lanes(out.x1, out.f1);
     flow.hamiltonian_lanes(out.x1, out.e1);
-    for (int i = 0; i < 2; ++i)
-        taylor_angle_range(jet.x[i], p, out.h, out.range[i][0], out.range[i][1]);
+    const V* const angles[2] = {jet.x[0], jet.x[1]};
+    V lo[2], hi[2];
+    taylor_angle_ranges(angles, p, out.h, lo, hi);
+    for (int i = 0; i < 2; ++i) {
+        out.range[i][0] = lo[i];
+        out.range[i][1] = hi[i];
+    }
 }
 
 // The angles' ranges over a step of size h of lane l of a jet<V, Tangent> (scalar
@@ -133,14 +140,14 @@ template <class V, bool Tangent>
 template <class V, bool Tangent>
 std::array<std::array<double, 2>, 2> jet_lane_ranges(const void* jet, int l, int p, double h) {
     const auto& j = *static_cast<const pendulum_jet<V, Tangent>*>(jet);
-    std::array<std::array<double, 2>, 2> out{};
-    for (int i = 0; i < 2; ++i) {
-        std::array<double, ensemble_taylor_max_order + 1> c{};
+    double c[2][ensemble_taylor_max_order + 1] = {};
+    for (int i = 0; i < 2; ++i)
         for (int k = 0; k <= p; ++k)
-            c[static_cast<std::size_t>(k)] = j.x[i][k][l];
-        taylor_angle_range(c.data(), p, h, out[i][0], out[i][1]);
-    }
-    return out;
+            c[i][k] = j.x[i][k][l];
+    const double* const angles[2] = {c[0], c[1]};
+    double lo[2], hi[2];
+    taylor_angle_ranges(angles, p, h, lo, hi);
+    return {{{lo[0], hi[0]}, {lo[1], hi[1]}}};
 }
 
 // The dense output of lane l of a jet<V, Tangent>: the state's (or the tangent's) polynomial at
@@ -148,13 +155,13 @@ std::array<std::array<double, 2>, 2> jet_lane_ranges(const void* jet, int l, int
 template <class V, bool Tangent>
 std::array<double, 4> jet_lane_value(const void* jet, int l, int p, double tau, bool tangent) {
     const auto& j = *static_cast<const pendulum_jet<V, Tangent>*>(jet);
+    const auto& x = Tangent && tangent ? j.v : j.x;
     std::array<double, 4> out{};
-    for (int c = 0; c < 4; ++c) {
-        double r = tangent ? j.v[Tangent ? c : 0][p][l] : j.x[c][p][l];
-        for (int k = p - 1; k >= 0; --k)
-            r = r * tau + (tangent ? j.v[Tangent ? c : 0][k][l] : j.x[c][k][l]);
-        out[c] = r;
-    }
+    for (int c = 0; c < 4; ++c)
+        out[c] = x[c][p][l];
+    for (int k = p - 1; k >= 0; --k)  // the four sums interleaved (their chains overlap)
+        for (int c = 0; c < 4; ++c)
+            out[c] = out[c] * tau + x[c][k][l];
     return out;
 }
 

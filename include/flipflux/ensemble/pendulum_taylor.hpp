@@ -12,7 +12,10 @@
 //     w_i = n_i / det       (w_k = (n_k - sum_{j=1..k} det_j w_{k-j}) (1 / det_0))
 //     u = sd w1,  P = C u w2
 //     (th1, th2, l1, l2)' = (w1, w2, -P - alpha s1, P - beta s2),   x_{k+1} = f_k / (k + 1):
-// thirteen convolutions per order (sd^2 by symmetry, half of one). The tangent (variational) series
+// thirteen convolutions per order. Their terms that hold no coefficient of the current order are
+// summed first, in two passes over j that load each operand once (the jets are bound by their
+// loads and by the chain of an order's newest terms, not by their arithmetic); the newest terms
+// come last in each sum. The tangent (variational) series
 // follow the same way from the pointwise identities d(sin th) = cos th dth, d(cos d) = -sin d dd,
 // d(det) = 2 C^2 sd dsd, d(w) det = dn - w d(det), du = dsd w1 + sd dw1, dP = C (du w2 + u dw2).
 //
@@ -60,28 +63,73 @@ struct pendulum_jet {
         fast_sincos_lanes(d0, sd[0], cd[0]);
         V inv_det0 = 0.0 * d0;
         for (int n = 0; n < p; ++n) {
-            if (n > 0) {
+            V n1, n2, Pn;
+            if (n == 0) {
+                det[0] = k.D0 + CC * (sd[0] * sd[0]);
+                inv_det0 = 1.0 / det[0];
+                n1 = k.B * x[2][0] - k.C * (cd[0] * x[3][0]);
+                n2 = k.A * x[3][0] - k.C * (cd[0] * x[2][0]);
+                w1[0] = n1 * inv_det0;
+                w2[0] = n2 * inv_det0;
+                u[0] = sd[0] * w1[0];
+                Pn = k.C * (u[0] * w2[0]);
+            } else {
                 const double inv = 1.0 / n;
                 const double dn = n;
-                const V dn_coefficient = x[0][n] - x[1][n];
                 j1[n] = dn * x[0][n];
                 j2[n] = dn * x[1][n];
-                jd[n] = dn * dn_coefficient;
-                sincos_order(j1, s1, c1, n, inv);
-                sincos_order(j2, s2, c2, n, inv);
-                sincos_order(jd, sd, cd, n, inv);
+                jd[n] = dn * (x[0][n] - x[1][n]);
+                // The terms of the thirteen sums that involve no coefficient n (j = 1..n-1, with
+                // m = n - j), in two passes; an operand several share is loaded once.
+                const V z = 0.0 * d0;
+                V a1 = z, b1 = z, a2 = z, b2 = z;
+                for (int j = 1; j < n; ++j) {
+                    const int m = n - j;
+                    V J1 = j1[j], J2 = j2[j];
+                    keep_in_registers(J1, J2);
+                    a1 += J1 * c1[m];
+                    b1 += J1 * s1[m];
+                    a2 += J2 * c2[m];
+                    b2 += J2 * s2[m];
+                }
+                V ad = z, bd = z, sq = z, e2 = z, e1 = z, uu = z;
+                for (int j = 1; j < n; ++j) {
+                    const int m = n - j;
+                    V JD = jd[j], CD = cd[m], SD = sd[m];
+                    keep_in_registers(JD, CD, SD);
+                    ad += JD * CD;
+                    bd += JD * SD;
+                    e2 += x[3][j] * CD;
+                    e1 += x[2][j] * CD;
+                    sq += sd[j] * SD;
+                    uu += w1[j] * SD;
+                }
+                V f1 = z, f2 = z, pp = z;
+                for (int j = 1; j < n; ++j) {
+                    const int m = n - j;
+                    V W2 = w2[j];
+                    keep_in_registers(W2);
+                    f1 += det[m] * w1[j];
+                    f2 += det[m] * W2;
+                    pp += u[m] * W2;
+                }
+                // Then the terms with a coefficient n, each sum's latest last (the critical path
+                // of an order is these, not the passes above).
+                s1[n] = (a1 + j1[n] * c1[0]) * inv;
+                c1[n] = -((b1 + j1[n] * s1[0]) * inv);
+                s2[n] = (a2 + j2[n] * c2[0]) * inv;
+                c2[n] = -((b2 + j2[n] * s2[0]) * inv);
+                sd[n] = (ad + jd[n] * cd[0]) * inv;
+                cd[n] = -((bd + jd[n] * sd[0]) * inv);
+                const V t = sd[0] * sd[n];
+                det[n] = CC * (sq + (t + t));
+                n1 = k.B * x[2][n] - k.C * ((e2 + cd[0] * x[3][n]) + cd[n] * x[3][0]);
+                n2 = k.A * x[3][n] - k.C * ((e1 + cd[0] * x[2][n]) + cd[n] * x[2][0]);
+                w1[n] = (n1 - (f1 + det[n] * w1[0])) * inv_det0;
+                w2[n] = (n2 - (f2 + det[n] * w2[0])) * inv_det0;
+                u[n] = (uu + sd[n] * w1[0]) + sd[0] * w1[n];
+                Pn = k.C * ((pp + u[0] * w2[n]) + u[n] * w2[0]);
             }
-            det[n] = CC * square(sd, n);
-            if (n == 0) {
-                det[0] = k.D0 + det[0];
-                inv_det0 = 1.0 / det[0];
-            }
-            const V n1 = k.B * x[2][n] - k.C * conv(cd, x[3], n);
-            const V n2 = k.A * x[3][n] - k.C * conv(cd, x[2], n);
-            w1[n] = (n1 - conv_from1(det, w1, n)) * inv_det0;
-            w2[n] = (n2 - conv_from1(det, w2, n)) * inv_det0;
-            u[n] = conv(sd, w1, n);
-            const V Pn = k.C * conv(u, w2, n);
             const double next = 1.0 / (n + 1);
             x[0][n + 1] = w1[n] * next;
             x[1][n + 1] = w2[n] * next;
@@ -92,36 +140,51 @@ struct pendulum_jet {
     }
 
   private:
-    // Coefficient n >= 1 of sin u and cos u from ju_j = j u_j (j = 1..n) and theirs below n.
-    [[gnu::always_inline]] static void sincos_order(const V* ju, V* s, V* c, int n, double inv) {
-        V ss = ju[1] * c[n - 1];
-        V cc = ju[1] * s[n - 1];
-        for (int j = 2; j <= n; ++j) {
-            ss += ju[j] * c[n - j];
-            cc += ju[j] * s[n - j];
-        }
-        s[n] = ss * inv;
-        c[n] = -(cc * inv);
+    // GCC reloads an operand that several products share from memory for each of them (it
+    // rematerialises loads); the jets are bound by their loads (bench/results/
+    // taylor_jet_loads_zen5_2026-12-03.txt), so the loaded values are kept in registers.
+    [[gnu::always_inline]] static void keep_in_register([[maybe_unused]] V& x) {
+#if defined(__x86_64__) || defined(__i386__)
+        asm("" : "+v"(x));
+#endif
     }
-    // coefficient n of a^2: 2 sum_{j < n/2} a_j a_{n-j} (+ a_{n/2}^2)
-    [[gnu::always_inline]] static V square(const V* a, int n) {
-        V r = 0.0 * a[0];
-        for (int j = 0; 2 * j < n; ++j)
-            r += a[j] * a[n - j];
-        r = r + r;
-        if (n % 2 == 0) r += a[n / 2] * a[n / 2];
-        return r;
+    template <class... T>
+    [[gnu::always_inline]] static void keep_in_registers(T&... x) {
+        (keep_in_register(x), ...);
+    }
+    // sum_{j=From..n} a_j b_{n-j} and a_j e_{n-j} (0 for From = 1, n = 0) in one pass, each in
+    // the order of conv
+    template <int From>
+    [[gnu::always_inline]] static void conv_shared_a(const V* a, const V* b, const V* e, int n,
+                                                     V& ab, V& ae) {
+        V r = From == 0 ? a[0] * b[n] : 0.0 * a[0];
+        V q = From == 0 ? a[0] * e[n] : r;
+        for (int j = 1; j <= n; ++j) {
+            V A = a[j];
+            keep_in_registers(A);
+            r += A * b[n - j];
+            q += A * e[n - j];
+        }
+        ab = r;
+        ae = q;
+    }
+    // sum_{j=0..n} a_j b_{n-j} and c_j b_{n-j} in one pass (each in the order of conv)
+    [[gnu::always_inline]] static void conv_shared_b(const V* a, const V* c, const V* b, int n,
+                                                     V& ab, V& cb) {
+        V r = a[0] * b[n];
+        V q = c[0] * b[n];
+        for (int j = 1; j <= n; ++j) {
+            V B = b[n - j];
+            keep_in_registers(B);
+            r += a[j] * B;
+            q += c[j] * B;
+        }
+        ab = r;
+        cb = q;
     }
     // sum_{j=0..n} a_j b_{n-j}
     [[gnu::always_inline]] static V conv(const V* a, const V* b, int n) {
         V r = a[0] * b[n];
-        for (int j = 1; j <= n; ++j)
-            r += a[j] * b[n - j];
-        return r;
-    }
-    // sum_{j=1..n} a_j b_{n-j} (0 for n = 0)
-    [[gnu::always_inline]] static V conv_from1(const V* a, const V* b, int n) {
-        V r = 0.0 * a[0];
         for (int j = 1; j <= n; ++j)
             r += a[j] * b[n - j];
         return r;
@@ -133,13 +196,20 @@ struct pendulum_jet {
         dd[n] = v[0][n] - v[1][n];
         const V ds1 = conv(c1, v[0], n);
         const V ds2 = conv(c2, v[1], n);
-        dsd[n] = conv(cd, dd, n);
-        dcd[n] = -conv(sd, dd, n);
+        V cd_dd, sd_dd;
+        conv_shared_b(cd, sd, dd, n, cd_dd, sd_dd);
+        dsd[n] = cd_dd;
+        dcd[n] = -sd_dd;
         ddet[n] = CC2 * conv(sd, dsd, n);
-        const V dn1 = k.B * v[2][n] - k.C * (conv(dcd, x[3], n) + conv(cd, v[3], n));
-        const V dn2 = k.A * v[3][n] - k.C * (conv(dcd, x[2], n) + conv(cd, v[2], n));
-        dw1[n] = (dn1 - conv(w1, ddet, n) - conv_from1(det, dw1, n)) * inv_det0;
-        dw2[n] = (dn2 - conv(w2, ddet, n) - conv_from1(det, dw2, n)) * inv_det0;
+        V dcd_l2, dcd_l1, cd_v2, cd_v1, w1_ddet, w2_ddet, det_dw1, det_dw2;
+        conv_shared_a<0>(dcd, x[3], x[2], n, dcd_l2, dcd_l1);
+        conv_shared_a<0>(cd, v[3], v[2], n, cd_v2, cd_v1);
+        const V dn1 = k.B * v[2][n] - k.C * (dcd_l2 + cd_v2);
+        const V dn2 = k.A * v[3][n] - k.C * (dcd_l1 + cd_v1);
+        conv_shared_b(w1, w2, ddet, n, w1_ddet, w2_ddet);
+        conv_shared_a<1>(det, dw1, dw2, n, det_dw1, det_dw2);
+        dw1[n] = (dn1 - w1_ddet - det_dw1) * inv_det0;
+        dw2[n] = (dn2 - w2_ddet - det_dw2) * inv_det0;
         du[n] = conv(dsd, w1, n) + conv(sd, dw1, n);
         const V dP = k.C * (conv(du, w2, n) + conv(u, dw2, n));
         v[0][n + 1] = dw1[n] * next;
@@ -171,19 +241,34 @@ template <class T>
 /// dense output itself, the polynomial the detectors search, so it needs no heuristic margin
 /// (the RK lanes' cubic Hermite range, flip_angle_range, is widened by one), computed in the
 /// group's vectors with the step's end. T is double or a vector of lanes (lane by lane the same
-/// operations as a double).
+/// operations as a double). N angles at once: their Horner sums interleaved (each one's bits
+/// those of N = 1), so that their chains of dependent operations overlap.
+template <class T, int N>
+[[gnu::always_inline]] inline void taylor_angle_ranges(const T* const (&c)[N], int p, const T& h,
+                                                       T (&lo)[N], T (&hi)[N]) {
+    using detail::lane_abs;
+    T r[N];
+    for (int i = 0; i < N; ++i)
+        r[i] = lane_abs(c[i][p]);  // p >= 2 (min_taylor_order)
+    for (int k = p - 1; k >= 2; --k)
+        for (int i = 0; i < N; ++i)
+            r[i] = r[i] * h + lane_abs(c[i][k]);
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    for (int i = 0; i < N; ++i) {
+        const T R = r[i] * h * h;
+        const T a = c[i][0], b = c[i][0] + c[i][1] * h;
+        const T margin = 128 * eps * (1.0 + lane_abs(a) + lane_abs(b) + R);
+        lo[i] = (a < b ? a : b) - R - margin;
+        hi[i] = (a < b ? b : a) + R + margin;
+    }
+}
 template <class T>
 [[gnu::always_inline]] inline void taylor_angle_range(const T* c, int p, const T& h, T& lo, T& hi) {
-    using detail::lane_abs;
-    T r = lane_abs(c[p]);  // p >= 2 (min_taylor_order)
-    for (int k = p - 1; k >= 2; --k)
-        r = r * h + lane_abs(c[k]);
-    r = r * h * h;
-    const T a = c[0], b = c[0] + c[1] * h;
-    constexpr double eps = std::numeric_limits<double>::epsilon();
-    const T margin = 128 * eps * (1.0 + lane_abs(a) + lane_abs(b) + r);
-    lo = (a < b ? a : b) - r - margin;
-    hi = (a < b ? b : a) + r + margin;
+    const T* const cs[1] = {c};
+    T l[1], u[1];
+    taylor_angle_ranges(cs, p, h, l, u);
+    lo = l[0];
+    hi = u[0];
 }
 
 }  // namespace flipflux
