@@ -136,7 +136,7 @@ template <class V, bool Tangent>
 }
 
 // The angles' ranges over a step of size h of lane l of a jet<V, Tangent> (scalar
-// taylor_angle_range, the bits of the vector one): after the energy check halved the step.
+// taylor_angle_ranges, the bits of the vector one): after the energy check halved the step.
 template <class V, bool Tangent>
 std::array<std::array<double, 2>, 2> jet_lane_ranges(const void* jet, int l, int p, double h) {
     const auto& j = *static_cast<const pendulum_jet<V, Tangent>*>(jet);

@@ -305,11 +305,11 @@ TEST(TaylorEnsemble, CrossingTimesReachTheGoldenEvents) {
 // pairs). The trajectories part by chaos, so the counts differ trajectory by trajectory, but not
 // systematically. 3 standard errors of 64 pairs, this test before, failed at 3.16 when the jets'
 // sums were reordered (the same seed's 256 pairs: 3.30); over 3000 other seeds of 64 pairs that
-// code's z had mean 0.003 and spread 1.00, 11 beyond 3 and none beyond 4 (the previous code's
-// 18 and none), over 1000 seeds of 256 pairs 4 beyond 3 and none beyond 4
-// (bench/results/taylor_jet_loads_zen5_2026-12-03.txt). 4 standard errors of 256 pairs are about
-// 2 flips of a trajectory's ~41, tighter than 3 of 64 pairs (3 flips). Taylor's energy drift is
-// below DOP853's.
+// code's upright z had mean 0.003 and spread 1.00, 11 beyond 3 and none beyond 4 (the previous
+// code's 18 and none; the approximate curve's 13 and one), over 1000 seeds of 256 pairs 4 and 3
+// beyond 3, none beyond 4 (bench/results/taylor_jet_loads_zen5_2026-12-03.txt). 4 standard
+// errors of 256 pairs are about 2.1 flips of a trajectory's ~41, tighter than 3 of 64 pairs (3.2
+// flips). Taylor's energy drift is below DOP853's.
 TEST(TaylorEnsemble, FlipCountsAgreeWithDop853OnTheSameStates) {
     const double_pendulum<double> m;
     constexpr std::size_t npairs = 256;

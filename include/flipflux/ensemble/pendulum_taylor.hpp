@@ -13,9 +13,9 @@
 //     u = sd w1,  P = C u w2
 //     (th1, th2, l1, l2)' = (w1, w2, -P - alpha s1, P - beta s2),   x_{k+1} = f_k / (k + 1):
 // thirteen convolutions per order. Their terms that hold no coefficient of the current order are
-// summed first, in two passes over j that load each operand once (the jets are bound by their
-// loads and by the chain of an order's newest terms, not by their arithmetic); the newest terms
-// come last in each sum. The tangent (variational) series
+// summed first, in three passes over j, each loading once an operand that several of its products
+// share (the jets are bound by their loads, not by their arithmetic); the newest terms come last
+// in each sum. The tangent (variational) series
 // follow the same way from the pointwise identities d(sin th) = cos th dth, d(cos d) = -sin d dd,
 // d(det) = 2 C^2 sd dsd, d(w) det = dn - w d(det), du = dsd w1 + sd dw1, dP = C (du w2 + u dw2).
 //
@@ -80,8 +80,9 @@ struct pendulum_jet {
                 j2[n] = dn * x[1][n];
                 jd[n] = dn * (x[0][n] - x[1][n]);
                 // The terms of the thirteen sums that involve no coefficient n (j = 1..n-1, with
-                // m = n - j), in two passes; an operand several share is loaded once.
-                const V z = 0.0 * d0;
+                // m = n - j), in three passes; an operand several products of a pass share is
+                // loaded once.
+                const V z{};
                 V a1 = z, b1 = z, a2 = z, b2 = z;
                 for (int j = 1; j < n; ++j) {
                     const int m = n - j;
@@ -152,8 +153,8 @@ struct pendulum_jet {
     [[gnu::always_inline]] static void keep_in_registers(T&... x) {
         (keep_in_register(x), ...);
     }
-    // sum_{j=From..n} a_j b_{n-j} and a_j e_{n-j} (0 for From = 1, n = 0) in one pass, each in
-    // the order of conv
+    // sum_{j=From..n} a_j b_{n-j} and a_j e_{n-j} (0 for From = 1, n = 0) in one pass, each
+    // summed in increasing j (as conv)
     template <int From>
     [[gnu::always_inline]] static void conv_shared_a(const V* a, const V* b, const V* e, int n,
                                                      V& ab, V& ae) {
