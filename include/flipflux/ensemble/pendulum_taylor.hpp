@@ -143,9 +143,12 @@ struct pendulum_jet {
   private:
     // GCC reloads an operand that several products share from memory for each of them (it
     // rematerialises loads); the jets are bound by their loads (bench/results/
-    // taylor_jet_loads_zen5_2026-12-03.txt), so the loaded values are kept in registers.
+    // taylor_jet_loads_zen5_2026-12-03.txt), so the loaded values are kept in registers. GCC
+    // only: clang checks the operand against the function's own instruction set before inlining
+    // it into the AVX2/AVX-512 callers, and refuses a 256- or 512-bit register for "v" there
+    // (the fuzz build, -O0 with the sanitizers); its builds do without the hint.
     [[gnu::always_inline]] static void keep_in_register([[maybe_unused]] V& x) {
-#if defined(__x86_64__) || defined(__i386__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
         asm("" : "+v"(x));
 #endif
     }
